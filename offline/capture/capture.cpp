@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// Capture helpers.
+#include "capture/capture.h"
+
+namespace vpe {
+
+Vec3d PinholeCamera::center() const {
+    const auto& r = rotation;
+    const Vec3d& t = translation;
+    // −Rᵀ t
+    return {-(r[0] * t.x + r[3] * t.y + r[6] * t.z), -(r[1] * t.x + r[4] * t.y + r[7] * t.z),
+            -(r[2] * t.x + r[5] * t.y + r[8] * t.z)};
+}
+
+IncidentLight incidentLight(const Capture& capture, const CaptureImage& image,
+                            const Vec3d& surfacePoint) {
+    if (capture.lightKind == LightKind::kDirectional) {
+        return {image.light, image.intensity};
+    }
+    const Vec3d d{image.light.x - surfacePoint.x, image.light.y - surfacePoint.y,
+                  image.light.z - surfacePoint.z};
+    const double distanceSquared = proto::dot(d, d);
+    const double reference = capture.lightReferenceDistance;
+    return {proto::normalized(d), image.intensity * reference * reference / distanceSquared};
+}
+
+}  // namespace vpe

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// Finding and reading a capture.
+#include "capture/capture_loader.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "capture/capture_manifest.h"
+#include "capture/light_file_reader.h"
+#include "common/input_error.h"
+
+namespace vpe {
+
+Capture openCapture(const std::filesystem::path& path) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error)) {
+        if (std::filesystem::exists(path / "capture.json")) {
+            return readCaptureManifest(path / "capture.json");
+        }
+        std::vector<std::filesystem::path> lightFiles;
+        for (const auto& entry : std::filesystem::directory_iterator(path, error)) {
+            if (entry.is_regular_file() && entry.path().extension() == ".lp") {
+                lightFiles.push_back(entry.path());
+            }
+        }
+        if (lightFiles.empty()) {
+            throw InputError(path, "no capture.json or .lp light file in this folder");
+        }
+        if (lightFiles.size() > 1) {
+            std::sort(lightFiles.begin(), lightFiles.end());
+            throw InputError(path, "several .lp files (" + lightFiles[0].filename().string() +
+                                       ", " + lightFiles[1].filename().string() +
+                                       ", ...): name the one to use");
+        }
+        return readLightFile(lightFiles.front());
+    }
+    if (!std::filesystem::exists(path, error)) {
+        throw InputError(path, "no such file or folder");
+    }
+    if (path.extension() == ".json") {
+        return readCaptureManifest(path);
+    }
+    return readLightFile(path);
+}
+
+}  // namespace vpe

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+// The `vpe` subcommands: each registers its options on the CLI11 app and returns the action
+// to run once parsing succeeded.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace vpe::cli {
+
+using Action = std::function<void()>;
+
+void addFitCommand(CLI::App& app, Action& action);
+void addEvalCommand(CLI::App& app, Action& action);
+void addSweepCommand(CLI::App& app, Action& action);
+
+// Prints a JSON object as the last thing on stdout.
+void printJson(const std::string& json);
+
+}  // namespace vpe::cli

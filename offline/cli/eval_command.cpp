@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// vpe eval MODEL.exr CAPTURE
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "capture/capture_loader.h"
+#include "cli/commands.h"
+#include "common/parallel_for.h"
+#include "eval/model_evaluation.h"
+
+namespace vpe::cli {
+
+void addEvalCommand(CLI::App& app, Action& action) {
+    struct Arguments {
+        std::string model;
+        std::string capture;
+        std::string predictions;
+        int threads = 0;
+        bool json = false;
+    };
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "eval", "Predict every image of a capture from a model and report RMS and PSNR");
+    command->add_option("MODEL", args->model, "Model file written by vpe fit")->required();
+    command->add_option("CAPTURE", args->capture, "Capture to predict (e.g. held-out lights)")
+        ->required();
+    command->add_option("--predictions", args->predictions,
+                        "Folder to write the predicted images to (PNG)");
+    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    command->callback([args, &action] {
+        action = [args] {
+            EvaluationOptions options;
+            options.threads = resolveThreadCount(args->threads);
+            if (!args->predictions.empty()) {
+                options.predictionsDir = args->predictions;
+            }
+            const Capture capture = openCapture(args->capture);
+            const EvaluationReport report = evaluateModel(args->model, capture, options);
+            if (!args->json) {
+                std::printf("%-32s %10s %10s\n", "image", "rms(8bit)", "psnr(dB)");
+                for (const ImageScore& image : report.images) {
+                    std::printf("%-32s %10.3f %10.2f\n", image.name.c_str(), image.rms, image.psnr);
+                }
+                std::printf("%-32s %10.3f %10.2f\n", "overall", report.rms, report.psnr);
+            }
+            std::fprintf(stderr,
+                         "%zu images, %zu pixels scored (%zu without a valid fit): RMS %.3f "
+                         "levels, PSNR %.2f dB (pooled %.2f dB)\n",
+                         report.images.size(), report.pixels, report.skippedPixels, report.rms,
+                         report.psnr, report.psnrPooled);
+            if (args->json) {
+                nlohmann::json json;
+                json["rms"] = report.rms;
+                json["psnr"] = report.psnr;
+                json["psnr_pooled"] = report.psnrPooled;
+                json["pixels"] = report.pixels;
+                json["skipped_pixels"] = report.skippedPixels;
+                json["images"] = nlohmann::json::array();
+                for (const ImageScore& image : report.images) {
+                    json["images"].push_back(
+                        {{"name", image.name}, {"rms", image.rms}, {"psnr", image.psnr}});
+                }
+                printJson(json.dump());
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

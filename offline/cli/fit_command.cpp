@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+// vpe fit CAPTURE --out MODEL.exr
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "capture/capture_loader.h"
+#include "cli/commands.h"
+#include "common/parallel_for.h"
+#include "fit/capture_fitter.h"
+
+namespace vpe::cli {
+
+void printJson(const std::string& json) {
+    std::cout << json << std::endl;
+}
+
+void addFitCommand(CLI::App& app, Action& action) {
+    struct Arguments {
+        std::string capture;
+        std::string out;
+        int harmonics = proto::kDefaultHarmonics;
+        double lambda = proto::kDefaultLambda;
+        std::string normals;
+        int threads = 0;
+        std::string precision = "auto";
+        bool json = false;
+        bool noPreview = false;
+    };
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "fit", "Fit a per-pixel Fourier BRDF to a capture and write the model (OpenEXR)");
+    command
+        ->add_option("CAPTURE", args->capture,
+                     "Folder with a .lp file or capture.json, or the path of either")
+        ->required();
+    command->add_option("--out", args->out, "Model file to write (.exr)")->required();
+    command->add_option("--harmonics", args->harmonics, "Harmonics M (2M + 2 coefficients)")
+        ->capture_default_str();
+    command->add_option("--lambda", args->lambda, "Smoothness weight λ")->capture_default_str();
+    command->add_option("--normals", args->normals,
+                        "Normal map to use instead of the capture's own or photometric stereo");
+    command->add_option("--threads", args->threads, "Worker threads (0: all cores)")
+        ->capture_default_str();
+    command
+        ->add_option("--precision", args->precision,
+                     "auto (exact when λ < 1e-3), fast (float sums) or exact (double sums)")
+        ->check(CLI::IsMember({"auto", "fast", "exact"}))
+        ->capture_default_str();
+    command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
+    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    command->callback([args, &action] {
+        action = [args] {
+            FitOptions options;
+            options.harmonics = args->harmonics;
+            options.lambda = args->lambda;
+            options.threads = resolveThreadCount(args->threads);
+            options.precision = args->precision == "fast"    ? FitPrecision::kFast
+                                : args->precision == "exact" ? FitPrecision::kExact
+                                                             : FitPrecision::kAuto;
+            if (!args->normals.empty()) {
+                options.normals = args->normals;
+            }
+            options.writePreview = !args->noPreview;
+            const Capture capture = openCapture(args->capture);
+            const FitReport report = fitCapture(capture, options, args->out);
+            std::fprintf(stderr,
+                         "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: %s) "
+                         "in %.2f s; mean residual RMS %.4f\n",
+                         report.validPixels, report.pixels, report.images, options.harmonics,
+                         options.lambda, report.normalsSource.c_str(), report.totalSeconds,
+                         report.meanRms);
+            if (args->json) {
+                nlohmann::json json;
+                json["pixels"] = report.pixels;
+                json["valid_pixels"] = report.validPixels;
+                json["images"] = report.images;
+                json["width"] = report.width;
+                json["height"] = report.height;
+                json["harmonics"] = options.harmonics;
+                json["lambda"] = options.lambda;
+                json["normals"] = report.normalsSource;
+                json["mean_rms"] = report.meanRms;
+                json["model"] = args->out;
+                if (!report.preview.empty()) {
+                    json["preview"] = report.preview.string();
+                }
+                json["seconds"] = {{"decode", report.decodeSeconds},
+                                   {"normals", report.normalsSeconds},
+                                   {"fit", report.fitSeconds},
+                                   {"write", report.writeSeconds},
+                                   {"total", report.totalSeconds}};
+                printJson(json.dump());
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

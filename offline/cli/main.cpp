@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// vpe: the offline tools. Bad input ends with one line on stderr and exit status 2.
+#include <cstdio>
+#include <exception>
+
+#include "cli/commands.h"
+#include "common/input_error.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"vpe: capture to Fourier BRDF model, texture, bake (see README.md)", "vpe"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "vpe 0.1.0");
+    vpe::cli::Action action;
+    vpe::cli::addFitCommand(app, action);
+    vpe::cli::addEvalCommand(app, action);
+    vpe::cli::addSweepCommand(app, action);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& error) {
+        // Help and version requests arrive as "errors" with exit code 0.
+        if (error.get_exit_code() == 0) {
+            return app.exit(error);
+        }
+        std::fprintf(stderr, "vpe: %s (see vpe --help)\n", error.what());
+        return 2;
+    }
+    try {
+        action();
+    } catch (const vpe::InputError& error) {
+        std::fprintf(stderr, "vpe: %s\n", error.what());
+        return 2;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "vpe: out of memory\n");
+        return 1;
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "vpe: internal error: %s\n", error.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// ProgressBar: drawn with carriage returns on a TTY only.
+#include "common/progress_bar.h"
+
+#include <cstdio>
+
+#include <unistd.h>
+
+namespace vpe {
+
+ProgressBar::ProgressBar(std::string label, std::size_t total)
+    : label_(std::move(label)),
+      total_(total == 0 ? 1 : total),
+      enabled_(::isatty(STDERR_FILENO) != 0),
+      start_(std::chrono::steady_clock::now()),
+      lastDraw_(start_) {}
+
+ProgressBar::~ProgressBar() {
+    finish();
+}
+
+void ProgressBar::advance(std::size_t steps) {
+    const std::size_t done = done_.fetch_add(steps) + steps;
+    if (!enabled_) {
+        return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    std::unique_lock lock(drawMutex_, std::try_to_lock);
+    if (lock.owns_lock() && now - lastDraw_ > std::chrono::milliseconds(100)) {
+        lastDraw_ = now;
+        draw(done, false);
+    }
+}
+
+void ProgressBar::finish() {
+    std::lock_guard lock(drawMutex_);
+    if (finished_) {
+        return;
+    }
+    finished_ = true;
+    if (enabled_) {
+        draw(done_.load(), true);
+        std::fputc('\n', stderr);
+    }
+}
+
+void ProgressBar::draw(std::size_t done, bool final) {
+    constexpr int kWidth = 30;
+    const double fraction = done >= total_ ? 1.0 : static_cast<double>(done) / total_;
+    const int filled = static_cast<int>(fraction * kWidth);
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    char bar[kWidth + 1];
+    for (int i = 0; i < kWidth; ++i) {
+        bar[i] = i < filled ? '#' : '.';
+    }
+    bar[kWidth] = '\0';
+    if (final || fraction <= 0.0) {
+        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s   ", label_.c_str(), bar,
+                     100.0 * fraction, elapsed);
+    } else {
+        const double remaining = elapsed * (1.0 - fraction) / fraction;
+        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s, %.0f s left   ", label_.c_str(), bar,
+                     100.0 * fraction, elapsed, remaining);
+    }
+    std::fflush(stderr);
+}
+
+}  // namespace vpe

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// ProgressBar: a one-line bar on stderr for long offline work; silent when stderr is not a
+// terminal (CI logs, pipes), so scripted output stays clean.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstddef>
+#include <mutex>
+#include <string>
+
+namespace vpe {
+
+class ProgressBar {
+public:
+    ProgressBar(std::string label, std::size_t total);
+    ~ProgressBar();
+    ProgressBar(const ProgressBar&) = delete;
+    ProgressBar& operator=(const ProgressBar&) = delete;
+
+    // Thread-safe; redraws at most ten times a second.
+    void advance(std::size_t steps = 1);
+    void finish();
+
+private:
+    void draw(std::size_t done, bool final);
+
+    std::string label_;
+    std::size_t total_;
+    bool enabled_;
+    bool finished_ = false;
+    std::atomic<std::size_t> done_{0};
+    std::mutex drawMutex_;
+    std::chrono::steady_clock::time_point start_;
+    std::chrono::steady_clock::time_point lastDraw_;
+};
+
+}  // namespace vpe

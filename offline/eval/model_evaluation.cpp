@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: MIT
+// Held-out evaluation of a model.
+#include "eval/model_evaluation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/srgb.h"
+
+#include "capture/image_band_reader.h"
+#include "capture/surface_geometry.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "common/progress_bar.h"
+#include "image/image_file.h"
+#include "model/fourier_model_file.h"
+
+namespace vpe {
+
+double psnrFromMse(double mse) {
+    // A perfect prediction is capped at 100 dB rather than infinity, so JSON stays numeric.
+    return mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
+}
+
+EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& capture,
+                               const EvaluationOptions& options) {
+    ModelReader model(modelPath);
+    const ModelInfo& info = model.info();
+    ImageBandReader reader(capture, options.threads);
+    if (reader.width() != info.width || reader.height() != info.height) {
+        throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
+                                             std::to_string(reader.height()) + " but the model " +
+                                             modelPath.string() + " is " +
+                                             std::to_string(info.width) + "x" +
+                                             std::to_string(info.height));
+    }
+    const int width = info.width;
+    const int height = info.height;
+    const int imageCount = reader.imageCount();
+    NormalMap placeholder;  // normals come from the model, rows at a time
+    placeholder.resize(width, height);
+    const SurfaceGeometry geometry(capture, placeholder);
+
+    std::vector<std::vector<std::uint8_t>> predictions;
+    if (options.predictionsDir) {
+        predictions.assign(
+            static_cast<std::size_t>(imageCount),
+            std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height * 3, 0));
+    }
+    std::vector<double> squaredError(static_cast<std::size_t>(imageCount), 0.0);
+    std::size_t scored = 0;
+    std::mutex mergeMutex;
+
+    const int bandRows = reader.rowsForBudget(std::size_t{128} << 20);
+    SampleBand band;
+    ModelRows rows;
+    ProgressBar progress("eval", static_cast<std::size_t>(height));
+    for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
+        const int bandHeight = std::min(bandRows, height - rowBegin);
+        reader.readBand(rowBegin, bandHeight, nullptr, band);
+        model.readRows(rowBegin, bandHeight, rows);
+        parallelFor(
+            static_cast<std::size_t>(bandHeight), 1, options.threads,
+            [&](std::size_t begin, std::size_t end) {
+                std::vector<double> localError(static_cast<std::size_t>(imageCount), 0.0);
+                std::size_t localScored = 0;
+                for (std::size_t r = begin; r < end; ++r) {
+                    const int row = static_cast<int>(r);
+                    const int y = rowBegin + row;
+                    for (int x = 0; x < width; ++x) {
+                        const std::size_t p = rows.pixel(row, x);
+                        if (!rows.valid[p]) {
+                            continue;
+                        }
+                        ++localScored;
+                        const Vec3d normal{rows.normal[p * 3], rows.normal[p * 3 + 1],
+                                           rows.normal[p * 3 + 2]};
+                        const Vec3d view = geometry.toViewer(x, y);
+                        const Vec3d position = geometry.position(x, y);
+                        for (int s = 0; s < imageCount; ++s) {
+                            const IncidentLight light = incidentLight(
+                                capture, capture.images[static_cast<std::size_t>(s)], position);
+                            const auto angles =
+                                proto::reflectionAngles(normal, light.direction, view);
+                            for (int c = 0; c < 3; ++c) {
+                                const double predicted =
+                                    light.irradiance *
+                                    proto::evaluateFourierBrdf(rows.coefficientsAt(row, x, c),
+                                                               info.harmonics, angles.cosThetaD,
+                                                               angles.cosThetaS);
+                                const double p8 =
+                                    proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0));
+                                const double t8 = proto::linearToSrgb(std::clamp(
+                                    static_cast<double>(band.value(s, c, row, x)), 0.0, 1.0));
+                                localError[static_cast<std::size_t>(s)] += (p8 - t8) * (p8 - t8);
+                                if (!predictions.empty()) {
+                                    predictions[static_cast<std::size_t>(s)]
+                                               [(static_cast<std::size_t>(y) * width + x) * 3 + c] =
+                                                   static_cast<std::uint8_t>(std::lround(p8 * 255));
+                                }
+                            }
+                        }
+                    }
+                }
+                std::lock_guard lock(mergeMutex);
+                for (int s = 0; s < imageCount; ++s) {
+                    squaredError[static_cast<std::size_t>(s)] +=
+                        localError[static_cast<std::size_t>(s)];
+                }
+                scored += localScored;
+            });
+        progress.advance(static_cast<std::size_t>(bandHeight));
+    }
+    progress.finish();
+
+    EvaluationReport report;
+    report.pixels = scored;
+    report.skippedPixels = static_cast<std::size_t>(width) * height - scored;
+    if (scored == 0) {
+        throw InputError(modelPath, "no pixel has a valid fit: nothing to evaluate");
+    }
+    double pooled = 0;
+    double psnrSum = 0;
+    for (int s = 0; s < imageCount; ++s) {
+        ImageScore score;
+        score.name = capture.images[static_cast<std::size_t>(s)].file.filename().string();
+        score.mse = squaredError[static_cast<std::size_t>(s)] / (3.0 * static_cast<double>(scored));
+        score.rms = std::sqrt(score.mse) * 255.0;
+        score.psnr = psnrFromMse(score.mse);
+        pooled += score.mse;
+        psnrSum += score.psnr;
+        report.images.push_back(score);
+    }
+    pooled /= imageCount;
+    report.rms = std::sqrt(pooled) * 255.0;
+    report.psnr = psnrSum / imageCount;
+    report.psnrPooled = psnrFromMse(pooled);
+    if (options.predictionsDir) {
+        for (int s = 0; s < imageCount; ++s) {
+            const std::filesystem::path name =
+                capture.images[static_cast<std::size_t>(s)].file.stem().string() + ".png";
+            writeImage8(*options.predictionsDir / name, width, height, 3,
+                        predictions[static_cast<std::size_t>(s)]);
+        }
+    }
+    return report;
+}
+
+}  // namespace vpe

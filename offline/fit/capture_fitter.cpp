@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: MIT
+// The `vpe fit` pipeline: decode a band, fit it on all threads, write it.
+#include "fit/capture_fitter.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include "capture/image_band_reader.h"
+#include "capture/surface_geometry.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "common/progress_bar.h"
+#include "fit/chunk_setup.h"
+#include "image/image_file.h"
+#include "model/fourier_model_file.h"
+#include "normals/normal_source.h"
+#include "preview/relight_preview.h"
+
+namespace vpe {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height) {
+    if (!capture.mask) {
+        return {};
+    }
+    const FloatImage image = readImage(*capture.mask);
+    if (image.width != width || image.height != height) {
+        throw InputError(*capture.mask, "mask size " + std::to_string(image.width) + "x" +
+                                            std::to_string(image.height) +
+                                            " differs from the images' " + std::to_string(width) +
+                                            "x" + std::to_string(height));
+    }
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(width) * height);
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        mask[i] = image.pixels[i * static_cast<std::size_t>(image.channels)] > 0 ? 1 : 0;
+    }
+    return mask;
+}
+
+}  // namespace
+
+fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda) {
+    switch (precision) {
+        case FitPrecision::kFast:
+            return fit::AccumulationPrecision::kFloatBlocks;
+        case FitPrecision::kExact:
+            return fit::AccumulationPrecision::kDouble;
+        case FitPrecision::kAuto:
+            break;
+    }
+    return lambda < 1e-3 ? fit::AccumulationPrecision::kDouble
+                         : fit::AccumulationPrecision::kFloatBlocks;
+}
+
+FitReport fitCapture(const Capture& capture, const FitOptions& options,
+                     const std::filesystem::path& modelPath) {
+    const auto start = Clock::now();
+    const int coefficients = proto::coefficientCount(options.harmonics);
+    if (options.harmonics < 0 || options.harmonics > proto::kMaxHarmonics) {
+        throw InputError("--harmonics " + std::to_string(options.harmonics) +
+                         " is out of range (0.." + std::to_string(proto::kMaxHarmonics) + ")");
+    }
+    if (!(options.lambda >= 0) || !std::isfinite(options.lambda)) {
+        throw InputError("--lambda must be a finite number >= 0");
+    }
+    if (static_cast<int>(capture.images.size()) < coefficients) {
+        throw InputError(capture.source,
+                         std::to_string(capture.images.size()) + " images cannot determine " +
+                             std::to_string(coefficients) +
+                             " coefficients: M = " + std::to_string(options.harmonics) +
+                             " needs N >= 2M + 2 = " + std::to_string(coefficients));
+    }
+
+    FitReport report;
+    auto decodeStart = Clock::now();
+    ImageBandReader reader(capture, options.threads);
+    report.decodeSeconds += secondsSince(decodeStart);
+    report.width = reader.width();
+    report.height = reader.height();
+    report.images = reader.imageCount();
+    report.pixels = static_cast<std::size_t>(report.width) * report.height;
+    const std::vector<std::uint8_t> mask = readMask(capture, report.width, report.height);
+
+    const auto normalsStart = Clock::now();
+    NormalsResult normals =
+        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+    report.normalsSource = normals.source;
+    report.normalsSeconds = secondsSince(normalsStart);
+    const SurfaceGeometry geometry(capture, std::move(normals.normals));
+
+    const std::vector<fit::KernelLight> lights = fit::kernelLights(capture);
+    const fit::KernelLightSet lightSet = fit::kernelLightSet(capture, lights);
+    const fit::AccumulationPrecision precision =
+        resolvePrecision(options.precision, options.lambda);
+
+    ModelInfo info;
+    info.width = report.width;
+    info.height = report.height;
+    info.harmonics = options.harmonics;
+    info.lambda = options.lambda;
+    info.samples = report.images;
+    info.capture = capture.source.string();
+    ModelWriter writer(modelPath, info);
+    RelightPreview preview(report.width, report.height, options.harmonics);
+
+    const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
+    const int chunksPerRow = (report.width + fit::kLanes - 1) / fit::kLanes;
+    SampleBand band;
+    ModelRows rows;
+    double rmsSum = 0;
+    std::mutex rmsMutex;
+    ProgressBar progress("fit", static_cast<std::size_t>(report.height));
+    for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
+        const int bandHeight = std::min(bandRows, report.height - rowBegin);
+        decodeStart = Clock::now();
+        reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
+        report.decodeSeconds += secondsSince(decodeStart);
+
+        const auto fitStart = Clock::now();
+        rows.resize(report.width, bandHeight, coefficients);
+        parallelFor(
+            static_cast<std::size_t>(bandHeight) * chunksPerRow, 4, options.threads,
+            [&](std::size_t begin, std::size_t end) {
+                auto sums = std::make_unique<fit::NormalEquationSums>();
+                auto solution = std::make_unique<fit::ChunkSolution>();
+                fit::ChunkGeometry chunk;
+                double localRms = 0;
+                for (std::size_t index = begin; index < end; ++index) {
+                    const int r = static_cast<int>(index / chunksPerRow);
+                    const int x0 = static_cast<int>(index % chunksPerRow) * fit::kLanes;
+                    bool laneValid[fit::kLanes];
+                    fit::fillChunkGeometry(geometry, x0, rowBegin + r, chunk, laneValid);
+                    fit::accumulateNormalEquations(chunk, lightSet,
+                                                   fit::chunkObservations(band, r, x0),
+                                                   options.harmonics, precision, *sums);
+                    fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *solution);
+                    for (int lane = 0; lane < fit::kLanes && x0 + lane < report.width; ++lane) {
+                        const std::size_t p = rows.pixel(r, x0 + lane);
+                        const bool valid = laneValid[lane] && solution->valid[lane];
+                        rows.valid[p] = valid ? 1 : 0;
+                        for (int a = 0; a < 3; ++a) {
+                            rows.normal[p * 3 + a] = chunk.normal[a][lane];
+                        }
+                        if (!valid) {
+                            continue;  // coefficients and RMS stay zero
+                        }
+                        for (int c = 0; c < 3; ++c) {
+                            std::copy_n(solution->coefficients[lane][c], coefficients,
+                                        rows.coefficient.begin() +
+                                            static_cast<long>((p * 3 + c) * coefficients));
+                            rows.rms[p * 3 + c] = solution->rms[lane][c];
+                            localRms += static_cast<double>(solution->rms[lane][c]) / 3.0;
+                        }
+                    }
+                }
+                std::lock_guard lock(rmsMutex);
+                rmsSum += localRms;
+            });
+        for (std::uint8_t v : rows.valid) {
+            report.validPixels += v;
+        }
+        report.fitSeconds += secondsSince(fitStart);
+
+        const auto writeStart = Clock::now();
+        writer.writeRows(rowBegin, rows);
+        if (options.writePreview) {
+            preview.addRows(rowBegin, rows);
+        }
+        report.writeSeconds += secondsSince(writeStart);
+        progress.advance(static_cast<std::size_t>(bandHeight));
+    }
+    progress.finish();
+    const auto writeStart = Clock::now();
+    writer.finish();
+    if (options.writePreview) {
+        report.preview = modelPath;
+        report.preview.replace_extension(".preview.png");
+        preview.write(report.preview);
+    }
+    report.writeSeconds += secondsSince(writeStart);
+    report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
+    report.totalSeconds = secondsSince(start);
+    return report;
+}
+
+}  // namespace vpe

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// fitCapture: the `vpe fit` pipeline. Streams the capture in bands of rows, fits every
+// pixel's Fourier BRDF (paper eq. 16–19) on all threads and writes the model file band by
+// band, so memory stays bounded whatever the number and size of the images.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "vpe/proto/fourier_brdf.h"
+
+#include "capture/capture.h"
+#include "fit/normal_equations.h"
+
+namespace vpe {
+
+enum class FitPrecision {
+    kAuto,   // exact for unregularized fits (λ < 1e-3), fast otherwise
+    kFast,   // float accumulation blocks
+    kExact,  // double accumulation
+};
+
+struct FitOptions {
+    int harmonics = proto::kDefaultHarmonics;
+    double lambda = proto::kDefaultLambda;
+    unsigned threads = 1;
+    FitPrecision precision = FitPrecision::kAuto;
+    std::optional<std::filesystem::path> normals;
+    std::size_t bandBudgetBytes = std::size_t{192} << 20;  // decoded samples held at once
+    bool writePreview = true;
+};
+
+struct FitReport {
+    std::size_t pixels = 0;
+    std::size_t validPixels = 0;
+    int images = 0;
+    int width = 0;
+    int height = 0;
+    std::string normalsSource;
+    double normalsSeconds = 0;
+    double decodeSeconds = 0;
+    double fitSeconds = 0;
+    double writeSeconds = 0;
+    double totalSeconds = 0;
+    double meanRms = 0;  // residual RMS over valid pixels, linear, unit irradiance
+    std::filesystem::path preview;
+};
+
+fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);
+
+FitReport fitCapture(const Capture& capture, const FitOptions& options,
+                     const std::filesystem::path& modelPath);
+
+}  // namespace vpe

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// Kernel input setup.
+#include "fit/chunk_setup.h"
+
+namespace vpe::fit {
+
+std::vector<KernelLight> kernelLights(const Capture& capture) {
+    std::vector<KernelLight> lights;
+    lights.reserve(capture.images.size());
+    for (const CaptureImage& image : capture.images) {
+        lights.push_back({static_cast<float>(image.light.x), static_cast<float>(image.light.y),
+                          static_cast<float>(image.light.z),
+                          static_cast<float>(1.0 / image.intensity)});
+    }
+    return lights;
+}
+
+KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLight>& lights) {
+    KernelLightSet set;
+    set.lights = lights.data();
+    set.count = static_cast<int>(lights.size());
+    set.point = capture.lightKind == LightKind::kPoint;
+    set.referenceDistanceSquared =
+        static_cast<float>(capture.lightReferenceDistance * capture.lightReferenceDistance);
+    return set;
+}
+
+void fillChunkGeometry(const SurfaceGeometry& geometry, int x0, int y, ChunkGeometry& chunk,
+                       bool (&laneValid)[kLanes]) {
+    for (int lane = 0; lane < kLanes; ++lane) {
+        const int x = x0 + lane;
+        laneValid[lane] = x < geometry.width() && geometry.valid(x, y);
+        Vec3d n{0, 0, 1}, v{0, 0, 1}, p{0, 0, 0};
+        if (x < geometry.width()) {
+            v = geometry.toViewer(x, y);
+            p = geometry.position(x, y);
+            if (laneValid[lane]) {
+                n = geometry.normal(x, y);
+            }
+        }
+        chunk.normal[0][lane] = static_cast<float>(n.x);
+        chunk.normal[1][lane] = static_cast<float>(n.y);
+        chunk.normal[2][lane] = static_cast<float>(n.z);
+        chunk.view[0][lane] = static_cast<float>(v.x);
+        chunk.view[1][lane] = static_cast<float>(v.y);
+        chunk.view[2][lane] = static_cast<float>(v.z);
+        chunk.position[0][lane] = static_cast<float>(p.x);
+        chunk.position[1][lane] = static_cast<float>(p.y);
+        chunk.position[2][lane] = static_cast<float>(p.z);
+    }
+}
+
+ChunkObservations chunkObservations(const SampleBand& band, int row, int x0) {
+    ChunkObservations observations;
+    observations.values = band.values.data() + band.offset(row, x0);
+    observations.sampleStride = band.sampleStride();
+    observations.channelStride = band.channelStride();
+    observations.weights = band.weights.data() + band.offset(row, x0);
+    observations.weightStride = band.weightStride();
+    return observations;
+}
+
+}  // namespace vpe::fit

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+// Filling the kernel's per-chunk inputs (geometry of kLanes pixels, light list, pointers into
+// a SampleBand) from a capture: shared by fitting and the sweep.
+#pragma once
+
+#include <vector>
+
+#include "capture/capture.h"
+#include "capture/sample_band.h"
+#include "capture/surface_geometry.h"
+#include "fit/normal_equations.h"
+
+namespace vpe::fit {
+
+std::vector<KernelLight> kernelLights(const Capture& capture);
+
+KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLight>& lights);
+
+// Geometry of pixels x0 .. x0 + kLanes − 1 of image row y; lanes past the row end or without
+// a normal get a harmless placeholder and laneValid = false.
+void fillChunkGeometry(const SurfaceGeometry& geometry, int x0, int y, ChunkGeometry& chunk,
+                       bool (&laneValid)[kLanes]);
+
+ChunkObservations chunkObservations(const SampleBand& band, int row, int x0);
+
+}  // namespace vpe::fit

@@ -1,0 +1,474 @@
+// SPDX-License-Identifier: MIT
+// Normal equations of the Fourier BRDF fit: accumulation (the hot loop, SIMD over pixels)
+// and batched Cholesky solve.
+#include "fit/normal_equations.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+#include "vpe/proto/reflection_geometry.h"
+
+#include "fit/simd_pack.h"
+
+// The hot loop is compiled for several x86-64 levels and picked at run time, so one binary
+// uses AVX-512 where it exists and still runs on any x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define VPE_KERNEL_CLONES \
+    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define VPE_KERNEL_CLONES
+#endif
+
+namespace vpe::fit {
+
+namespace {
+
+using FloatPack = simd::Pack<float, kLanes>;
+using DoublePack = simd::Pack<double, kLanes>;
+using proto::cosineIndex;
+using proto::kMaxHarmonics;
+using proto::sineIndex;
+
+// Samples summed in float before the block is added to the double sums: short enough that
+// float rounding stays near 1e-7 relative, long enough to keep the flush cheap.
+constexpr int kSampleBlock = 32;
+
+template <typename P>
+struct Partials {
+    P cosine[2 * kMaxHarmonics + 1];
+    P sine[2 * kMaxHarmonics + 1];
+    P lambertCosine[kMaxHarmonics + 1];
+    P lambertSine[kMaxHarmonics + 1];
+    P lambertSquare;
+    P projection[kChannels][kMaxCoefficients];
+    P squares[kChannels];
+    P count;
+};
+
+template <typename P, int N>
+[[gnu::always_inline]] inline void flushRows(P (&from)[N], double (&to)[N][kLanes], int rows) {
+    for (int r = 0; r < rows; ++r) {
+        for (int lane = 0; lane < kLanes; ++lane) {
+            to[r][lane] += static_cast<double>(from[r][lane]);
+        }
+        from[r] = P(0);
+    }
+}
+
+template <typename P>
+[[gnu::always_inline]] inline void flushOne(P& from, double (&to)[kLanes]) {
+    for (int lane = 0; lane < kLanes; ++lane) {
+        to[lane] += static_cast<double>(from[lane]);
+    }
+    from = P(0);
+}
+
+// Float packs for the fast path; the exact path accumulates in double throughout.
+template <typename P>
+[[gnu::always_inline]] inline P loadPack(const float* p) {
+    if constexpr (sizeof(typename P::Vector) == sizeof(FloatPack::Vector)) {
+        return P::load(p);
+    } else {
+        return P(__builtin_convertvector(FloatPack::load(p).v, typename P::Vector));
+    }
+}
+
+// What one sample contributes, for kLanes pixels.
+template <typename P>
+struct SampleTerms {
+    P cosThetaS;
+    P lambert;                   // max(cos θd, 0)
+    P weight;                    // w
+    P weightedLambert;           // w·d
+    P weightedValue[kChannels];  // w·y
+    P value[kChannels];          // y, normalized by the light's irradiance
+};
+
+template <typename P, bool kPointLights>
+[[gnu::always_inline]] inline SampleTerms<P> sampleTerms(
+    const proto::Vec3<P>& normal, const proto::Vec3<P>& view, const proto::Vec3<P>& position,
+    const KernelLightSet& lights, const ChunkObservations& observations, int s, bool dummy) {
+    const KernelLight& light = lights.lights[s];
+    proto::Vec3<P> toLight;
+    P scale;
+    if constexpr (kPointLights) {
+        const P dx = P(light.x) - position.x;
+        const P dy = P(light.y) - position.y;
+        const P dz = P(light.z) - position.z;
+        const P distanceSquared = dx * dx + dy * dy + dz * dz;
+        const P inverseDistance = P(1) / sqrt(distanceSquared);
+        toLight = {dx * inverseDistance, dy * inverseDistance, dz * inverseDistance};
+        scale = distanceSquared * P(light.inverseIntensity / lights.referenceDistanceSquared);
+    } else {
+        toLight = {P(light.x), P(light.y), P(light.z)};
+        scale = P(light.inverseIntensity);
+    }
+    const proto::ReflectionAngles<P> angles = proto::reflectionAngles(normal, toLight, view);
+    SampleTerms<P> terms;
+    terms.cosThetaS = angles.cosThetaS;
+    terms.lambert = proto::lambertBasis(angles.cosThetaD);
+    terms.weight = dummy ? P(0) : loadPack<P>(observations.weights + s * observations.weightStride);
+    terms.weightedLambert = terms.weight * terms.lambert;
+    const float* values = observations.values + s * observations.sampleStride;
+    for (int c = 0; c < kChannels; ++c) {
+        terms.value[c] = loadPack<P>(values + c * observations.channelStride) * scale;
+        terms.weightedValue[c] = terms.weight * terms.value[c];
+    }
+    return terms;
+}
+
+// Several samples per step: every accumulator load and store then carries kGroup FMAs, which
+// is what bounds this loop (there are far more accumulators than registers).
+// Four float samples fit the registers; double packs are twice as wide, so two.
+template <typename P>
+constexpr int kGroup = sizeof(typename P::Vector) == sizeof(FloatPack::Vector) ? 4 : 2;
+
+template <typename P>
+[[gnu::always_inline]] inline void accumulateGroup(const SampleTerms<P> (&t)[kGroup<P>],
+                                                   int harmonics, Partials<P>& p) {
+    using SampleTerms = vpe::fit::SampleTerms<P>;
+    auto sum = [&](auto term) {
+        P total = term(t[0]);
+        for (int g = 1; g < kGroup<P>; ++g) {
+            total = total + term(t[g]);
+        }
+        return total;
+    };
+    p.count += sum([](const SampleTerms& x) { return x.weight; });
+    p.cosine[0] += sum([](const SampleTerms& x) { return x.weight; });
+    p.lambertSquare += sum([](const SampleTerms& x) { return x.weightedLambert * x.lambert; });
+    p.lambertCosine[0] += sum([](const SampleTerms& x) { return x.weightedLambert; });
+    for (int c = 0; c < kChannels; ++c) {
+        p.squares[c] += sum([c](const SampleTerms& x) { return x.weightedValue[c] * x.value[c]; });
+        p.projection[c][proto::kLambertIndex] +=
+            sum([c](const SampleTerms& x) { return x.weightedValue[c] * x.lambert; });
+        p.projection[c][proto::kConstantIndex] +=
+            sum([c](const SampleTerms& x) { return x.weightedValue[c]; }) *
+            P(proto::kConstantBasis);
+    }
+    auto h = [&]<std::size_t... g>(std::index_sequence<g...>) {
+        return std::array<proto::HarmonicRecurrence<P>, kGroup<P>>{
+            proto::HarmonicRecurrence<P>(t[g].cosThetaS)...};
+    }
+    (std::make_index_sequence<kGroup<P>>());
+    P cosK[kGroup<P>], sinK[kGroup<P>];
+    int k = 1;
+    for (; k <= harmonics; ++k) {
+        for (int g = 0; g < kGroup<P>; ++g) {
+            cosK[g] = h[g].cosine();
+            sinK[g] = h[g].sine();
+            h[g].next();
+        }
+        auto dotCos = [&](auto weight) {
+            P total = weight(t[0]) * cosK[0];
+            for (int g = 1; g < kGroup<P>; ++g) {
+                total = total + weight(t[g]) * cosK[g];
+            }
+            return total;
+        };
+        auto dotSin = [&](auto weight) {
+            P total = weight(t[0]) * sinK[0];
+            for (int g = 1; g < kGroup<P>; ++g) {
+                total = total + weight(t[g]) * sinK[g];
+            }
+            return total;
+        };
+        auto weight = [](const SampleTerms& x) { return x.weight; };
+        auto weightedLambert = [](const SampleTerms& x) { return x.weightedLambert; };
+        p.cosine[k] += dotCos(weight);
+        p.sine[k] += dotSin(weight);
+        p.lambertCosine[k] += dotCos(weightedLambert);
+        p.lambertSine[k] += dotSin(weightedLambert);
+        for (int c = 0; c < kChannels; ++c) {
+            auto weightedValue = [c](const SampleTerms& x) { return x.weightedValue[c]; };
+            p.projection[c][cosineIndex(k)] += dotCos(weightedValue);
+            p.projection[c][sineIndex(k)] += dotSin(weightedValue);
+        }
+    }
+    // Products of two harmonics reach 2M: only the plain sums continue.
+    for (; k <= 2 * harmonics; ++k) {
+        P cosTotal = t[0].weight * h[0].cosine();
+        P sinTotal = t[0].weight * h[0].sine();
+        h[0].next();
+        for (int g = 1; g < kGroup<P>; ++g) {
+            cosTotal = cosTotal + t[g].weight * h[g].cosine();
+            sinTotal = sinTotal + t[g].weight * h[g].sine();
+            h[g].next();
+        }
+        p.cosine[k] += cosTotal;
+        p.sine[k] += sinTotal;
+    }
+}
+
+template <typename P, bool kPointLights>
+[[gnu::always_inline]] inline void accumulateSamples(const ChunkGeometry& geometry,
+                                                     const KernelLightSet& lights,
+                                                     const ChunkObservations& observations,
+                                                     int harmonics, NormalEquationSums& sums) {
+    const int coefficients = proto::coefficientCount(harmonics);
+    const int gramHarmonics = 2 * harmonics;
+    const proto::Vec3<P> normal{loadPack<P>(geometry.normal[0]), loadPack<P>(geometry.normal[1]),
+                                loadPack<P>(geometry.normal[2])};
+    const proto::Vec3<P> view{loadPack<P>(geometry.view[0]), loadPack<P>(geometry.view[1]),
+                              loadPack<P>(geometry.view[2])};
+    proto::Vec3<P> position{P(0), P(0), P(0)};
+    if constexpr (kPointLights) {
+        position = {loadPack<P>(geometry.position[0]), loadPack<P>(geometry.position[1]),
+                    loadPack<P>(geometry.position[2])};
+    }
+
+    Partials<P> partial;
+    std::memset(static_cast<void*>(&partial), 0, sizeof(partial));
+    for (int blockBegin = 0; blockBegin < lights.count; blockBegin += kSampleBlock) {
+        const int blockEnd = std::min(lights.count, blockBegin + kSampleBlock);
+        for (int s = blockBegin; s < blockEnd; s += kGroup<P>) {
+            // A short last group repeats its first sample at zero weight.
+            SampleTerms<P> terms[kGroup<P>];
+            for (int g = 0; g < kGroup<P>; ++g) {
+                const bool pad = s + g >= blockEnd;
+                terms[g] = sampleTerms<P, kPointLights>(normal, view, position, lights,
+                                                        observations, pad ? s : s + g, pad);
+            }
+            accumulateGroup(terms, harmonics, partial);
+        }
+        flushRows(partial.cosine, sums.cosine, gramHarmonics + 1);
+        flushRows(partial.sine, sums.sine, gramHarmonics + 1);
+        flushRows(partial.lambertCosine, sums.lambertCosine, harmonics + 1);
+        flushRows(partial.lambertSine, sums.lambertSine, harmonics + 1);
+        flushOne(partial.lambertSquare, sums.lambertSquare);
+        for (int c = 0; c < kChannels; ++c) {
+            flushRows(partial.projection[c], sums.projection[c], coefficients);
+            flushOne(partial.squares[c], sums.squares[c]);
+        }
+        flushOne(partial.count, sums.count);
+    }
+}
+
+VPE_KERNEL_CLONES
+void accumulateFast(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                    const ChunkObservations& observations, int harmonics,
+                    NormalEquationSums& sums) {
+    if (lights.point) {
+        accumulateSamples<FloatPack, true>(geometry, lights, observations, harmonics, sums);
+    } else {
+        accumulateSamples<FloatPack, false>(geometry, lights, observations, harmonics, sums);
+    }
+}
+
+VPE_KERNEL_CLONES
+void accumulateExact(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                     const ChunkObservations& observations, int harmonics,
+                     NormalEquationSums& sums) {
+    if (lights.point) {
+        accumulateSamples<DoublePack, true>(geometry, lights, observations, harmonics, sums);
+    } else {
+        accumulateSamples<DoublePack, false>(geometry, lights, observations, harmonics, sums);
+    }
+}
+
+// One entry of the normal matrix from the sums (product-to-sum identities), for T = double
+// (one lane) or DoublePack (all lanes); get(row) reads a [kLanes] row of the sums.
+template <typename T, typename Get>
+[[gnu::always_inline]] inline T normalMatrixEntry(const NormalEquationSums& sums, int i, int j,
+                                                  Get get) {
+    if (i > j) {
+        std::swap(i, j);
+    }
+    constexpr double kHalf = 0.5;
+    const T r2 = T(proto::kConstantBasis);
+    auto cosSum = [&](int k) { return get(sums.cosine[k < 0 ? -k : k]); };
+    auto sinSum = [&](int k) {
+        if (k == 0) {
+            return T(0.0);
+        }
+        return k > 0 ? get(sums.sine[k]) : T(0.0) - get(sums.sine[-k]);
+    };
+    if (i == proto::kLambertIndex) {
+        if (j == proto::kLambertIndex) {
+            return get(sums.lambertSquare);
+        }
+        if (j == proto::kConstantIndex) {
+            return get(sums.lambertCosine[0]) * r2;
+        }
+        return (j % 2 == 0) ? get(sums.lambertCosine[j / 2]) : get(sums.lambertSine[j / 2]);
+    }
+    if (i == proto::kConstantIndex) {
+        if (j == proto::kConstantIndex) {
+            return cosSum(0) * T(kHalf);
+        }
+        return ((j % 2 == 0) ? cosSum(j / 2) : sinSum(j / 2)) * r2;
+    }
+    const int a = i / 2;
+    const int b = j / 2;
+    const bool aCos = i % 2 == 0;
+    const bool bCos = j % 2 == 0;
+    if (aCos && bCos) {
+        return (cosSum(a - b) + cosSum(a + b)) * T(kHalf);
+    }
+    if (!aCos && !bCos) {
+        return (cosSum(a - b) - cosSum(a + b)) * T(kHalf);
+    }
+    // cos(pθ) sin(qθ) = ½ [sin((q+p)θ) + sin((q−p)θ)]
+    const int p = aCos ? a : b;
+    const int q = aCos ? b : a;
+    return (sinSum(q + p) + sinSum(q - p)) * T(kHalf);
+}
+
+}  // namespace
+
+void accumulateNormalEquations(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                               const ChunkObservations& observations, int harmonics,
+                               AccumulationPrecision precision, NormalEquationSums& sums) {
+    std::memset(static_cast<void*>(&sums), 0, sizeof(sums));
+    sums.harmonics = std::clamp(harmonics, 0, kMaxHarmonics);
+    if (precision == AccumulationPrecision::kFloatBlocks) {
+        accumulateFast(geometry, lights, observations, sums.harmonics, sums);
+    } else {
+        accumulateExact(geometry, lights, observations, sums.harmonics, sums);
+    }
+}
+
+void assembleNormalMatrix(const NormalEquationSums& sums, int lane, int harmonics, double* matrix) {
+    const int k = proto::coefficientCount(harmonics);
+    auto get = [lane](const double(&row)[kLanes]) { return row[lane]; };
+    for (int i = 0; i < k; ++i) {
+        for (int j = 0; j < k; ++j) {
+            matrix[i * k + j] = normalMatrixEntry<double>(sums, i, j, get);
+        }
+    }
+}
+
+// Lower triangle, packed row by row: the whole factor of a 22-coefficient model stays in L1.
+constexpr int packedIndex(int i, int j) {
+    return i * (i + 1) / 2 + j;
+}
+
+VPE_KERNEL_CLONES
+void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double lambda,
+                          ChunkSolution& solution) {
+    harmonics = std::min(harmonics, sums.harmonics);
+    const int k = proto::coefficientCount(harmonics);
+    auto get = [](const double(&row)[kLanes]) __attribute__((always_inline)) {
+        return DoublePack::load(row);
+    };
+
+    static thread_local DoublePack factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
+    DoublePack diagonal[kMaxCoefficients];
+    for (int i = 0; i < k; ++i) {
+        for (int j = 0; j <= i; ++j) {
+            factor[packedIndex(i, j)] = normalMatrixEntry<DoublePack>(sums, i, j, get);
+        }
+        factor[packedIndex(i, i)] =
+            factor[packedIndex(i, i)] + DoublePack(lambda * proto::smoothnessWeight(i));
+        diagonal[i] = factor[packedIndex(i, i)];
+    }
+
+    // Left-looking Cholesky. Each dot product is a chain of dependent FMAs, so four rows
+    // are reduced together to keep the FMA units busy.
+    bool singular[kLanes] = {};
+    DoublePack inverseDiagonal[kMaxCoefficients];
+    for (int j = 0; j < k; ++j) {
+        const DoublePack* rowJ = &factor[packedIndex(j, 0)];
+        DoublePack pivot = rowJ[j];
+        for (int p = 0; p < j; ++p) {
+            pivot = pivot - rowJ[p] * rowJ[p];
+        }
+        // A pivot that cancels to rounding noise means the samples do not determine this
+        // coefficient; substitute 1 to keep the arithmetic finite and mark the lane.
+        for (int lane = 0; lane < kLanes; ++lane) {
+            if (!(pivot.v[lane] > 1e-11 * std::fabs(diagonal[j][lane]))) {
+                singular[lane] = true;
+                pivot.v[lane] = 1.0;
+            }
+        }
+        const DoublePack root = sqrt(pivot);
+        inverseDiagonal[j] = DoublePack(1.0) / root;
+        factor[packedIndex(j, j)] = root;
+        int i = j + 1;
+        for (; i + 3 < k; i += 4) {
+            DoublePack* r0 = &factor[packedIndex(i, 0)];
+            DoublePack* r1 = &factor[packedIndex(i + 1, 0)];
+            DoublePack* r2 = &factor[packedIndex(i + 2, 0)];
+            DoublePack* r3 = &factor[packedIndex(i + 3, 0)];
+            DoublePack v0 = r0[j], v1 = r1[j], v2 = r2[j], v3 = r3[j];
+            for (int p = 0; p < j; ++p) {
+                const DoublePack l = rowJ[p];
+                v0 = v0 - r0[p] * l;
+                v1 = v1 - r1[p] * l;
+                v2 = v2 - r2[p] * l;
+                v3 = v3 - r3[p] * l;
+            }
+            r0[j] = v0 * inverseDiagonal[j];
+            r1[j] = v1 * inverseDiagonal[j];
+            r2[j] = v2 * inverseDiagonal[j];
+            r3[j] = v3 * inverseDiagonal[j];
+        }
+        for (; i < k; ++i) {
+            DoublePack* row = &factor[packedIndex(i, 0)];
+            DoublePack value = row[j];
+            for (int p = 0; p < j; ++p) {
+                value = value - row[p] * rowJ[p];
+            }
+            row[j] = value * inverseDiagonal[j];
+        }
+    }
+
+    // Both triangular solves run the three channels side by side (independent chains).
+    DoublePack x[kChannels][kMaxCoefficients];
+    for (int i = 0; i < k; ++i) {  // L z = b
+        const DoublePack* row = &factor[packedIndex(i, 0)];
+        DoublePack v[kChannels];
+        for (int c = 0; c < kChannels; ++c) {
+            v[c] = DoublePack::load(sums.projection[c][i]);
+        }
+        for (int p = 0; p < i; ++p) {
+            for (int c = 0; c < kChannels; ++c) {
+                v[c] = v[c] - row[p] * x[c][p];
+            }
+        }
+        for (int c = 0; c < kChannels; ++c) {
+            x[c][i] = v[c] * inverseDiagonal[i];
+        }
+    }
+    for (int i = k - 1; i >= 0; --i) {  // Lᵀ x = z
+        DoublePack v[kChannels] = {x[0][i], x[1][i], x[2][i]};
+        for (int p = i + 1; p < k; ++p) {
+            const DoublePack l = factor[packedIndex(p, i)];
+            for (int c = 0; c < kChannels; ++c) {
+                v[c] = v[c] - l * x[c][p];
+            }
+        }
+        for (int c = 0; c < kChannels; ++c) {
+            x[c][i] = v[c] * inverseDiagonal[i];
+        }
+    }
+
+    for (int lane = 0; lane < kLanes; ++lane) {
+        solution.valid[lane] = !singular[lane] && sums.count[lane] >= k - 0.5;
+    }
+    for (int c = 0; c < kChannels; ++c) {
+        // Residual from the sums: with (G + λR)x = b, Σ r² = Σy² − xᵀb − λ xᵀRx.
+        DoublePack explained(0.0), penalty(0.0);
+        for (int i = 0; i < k; ++i) {
+            explained = explained + x[c][i] * DoublePack::load(sums.projection[c][i]);
+            penalty = penalty + x[c][i] * x[c][i] * DoublePack(lambda * proto::smoothnessWeight(i));
+        }
+        const DoublePack residual = DoublePack::load(sums.squares[c]) - explained - penalty;
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const bool valid = solution.valid[lane];
+            for (int i = 0; i < kMaxCoefficients; ++i) {
+                solution.coefficients[lane][c][i] =
+                    (valid && i < k) ? static_cast<float>(x[c][i][lane]) : 0.0f;
+            }
+            solution.rms[lane][c] = valid ? static_cast<float>(std::sqrt(
+                                                std::max(residual[lane], 0.0) / sums.count[lane]))
+                                          : 0.0f;
+        }
+    }
+}
+
+}  // namespace vpe::fit

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// Whole-image I/O with OpenImageIO.
+#include "image/image_file.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include "common/atomic_output.h"
+#include "common/input_error.h"
+
+namespace vpe {
+
+FloatImage readImage(const std::filesystem::path& path) {
+    auto input = OIIO::ImageInput::open(path.string());
+    if (!input) {
+        std::string reason = OIIO::geterror();
+        throw InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
+    }
+    const OIIO::ImageSpec& spec = input->spec();
+    FloatImage image;
+    image.width = spec.width;
+    image.height = spec.height;
+    image.channels = spec.nchannels;
+    image.integerSource = !spec.format.is_floating_point();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+        throw InputError(path, "image has no pixels");
+    }
+    image.pixels.resize(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
+        throw InputError(path, "cannot decode image: " + input->geterror());
+    }
+    return image;
+}
+
+void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
+                 const std::vector<std::uint8_t>& pixels) {
+    AtomicOutput output(path);
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) {
+        throw InputError(path, "cannot write this image format: " + OIIO::geterror());
+    }
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+    if (!out->open(output.temporaryPath().string(), spec) ||
+        !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
+        throw InputError(path, "cannot write image: " + out->geterror());
+    }
+    output.commit();
+}
+
+}  // namespace vpe

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Whole-image reads and writes through OpenImageIO: masks, normal and position maps, and the
+// pictures vpe writes for people (PNG, written atomically).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace vpe {
+
+struct FloatImage {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    std::vector<float> pixels;   // interleaved, row 0 at the top
+    bool integerSource = false;  // decoded from an integer format (values scaled to [0, 1])
+    float at(int x, int y, int c) const {
+        return pixels[(static_cast<std::size_t>(y) * width + x) * channels + c];
+    }
+};
+
+// Reads every channel as float: integer formats are scaled to [0, 1], no transfer function
+// is applied. Throws InputError naming the file.
+FloatImage readImage(const std::filesystem::path& path);
+
+// Writes an 8-bit image (1, 3 or 4 channels) atomically; the format follows the extension.
+void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
+                 const std::vector<std::uint8_t>& pixels);
+
+}  // namespace vpe

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+// The model file: one multi-channel OpenEXR image holding, per pixel, the Fourier BRDF
+// coefficients of each colour channel, the normal, the fit's residual RMS and a validity
+// flag. Channel names (documented in docs/model-file.md) group each coefficient as an RGB
+// layer — "kd.R kd.G kd.B", "a0.*", "a1.*", "b1.*", ... — so standard EXR viewers show
+// any coefficient as a picture. Written and read in bands of rows.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace vpe {
+
+struct ModelInfo {
+    int width = 0;
+    int height = 0;
+    int harmonics = 0;
+    double lambda = 0;
+    int samples = 0;  // images the fit used
+    std::string variant = "paper";
+    std::string capture;  // what was fitted (for people reading the header)
+};
+
+// "kd", "a0", "a1", "b1", ..., in coefficient order.
+std::string coefficientName(int index);
+
+// A band of model rows, pixel-major.
+struct ModelRows {
+    int width = 0;
+    int rows = 0;
+    int coefficients = 0;             // 2M + 2 per colour channel
+    std::vector<float> coefficient;   // [row][x][channel][k]
+    std::vector<float> normal;        // [row][x][3]
+    std::vector<float> rms;           // [row][x][3], linear, normalized to unit irradiance
+    std::vector<std::uint8_t> valid;  // [row][x]
+
+    void resize(int w, int r, int k);
+    std::size_t pixel(int row, int x) const { return static_cast<std::size_t>(row) * width + x; }
+    const float* coefficientsAt(int row, int x, int channel) const {
+        return coefficient.data() + (pixel(row, x) * 3 + channel) * coefficients;
+    }
+};
+
+class ModelWriter {
+public:
+    // Writes to a temporary file next to `path`; finish() moves it into place.
+    ModelWriter(const std::filesystem::path& path, const ModelInfo& info);
+    ~ModelWriter();
+    ModelWriter(const ModelWriter&) = delete;
+    ModelWriter& operator=(const ModelWriter&) = delete;
+
+    void writeRows(int rowBegin, const ModelRows& rows);
+    void finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+class ModelReader {
+public:
+    // Checks that the file is a vpe model and names what is wrong if not.
+    explicit ModelReader(const std::filesystem::path& path);
+    ~ModelReader();
+    ModelReader(const ModelReader&) = delete;
+    ModelReader& operator=(const ModelReader&) = delete;
+
+    const ModelInfo& info() const;
+    void readRows(int rowBegin, int rows, ModelRows& out);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vpe

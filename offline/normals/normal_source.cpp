@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// Normal source selection.
+#include "normals/normal_source.h"
+
+#include "common/input_error.h"
+#include "normals/photometric_stereo.h"
+
+namespace vpe {
+
+NormalsResult acquireNormals(const Capture& capture,
+                             const std::optional<std::filesystem::path>& overridePath, int width,
+                             int height, unsigned threads) {
+    NormalsResult result;
+    std::optional<std::filesystem::path> file = overridePath ? overridePath : capture.normalMap;
+    if (file) {
+        result.normals =
+            readNormalMap(*file, overridePath ? NormalEncoding::kAuto : capture.normalEncoding);
+        result.source = file->string();
+        if (result.normals.width != width || result.normals.height != height) {
+            throw InputError(*file, "normal map size " + std::to_string(result.normals.width) +
+                                        "x" + std::to_string(result.normals.height) +
+                                        " differs from the images' " + std::to_string(width) + "x" +
+                                        std::to_string(height));
+        }
+        return result;
+    }
+    PhotometricStereoOptions options;
+    options.threads = threads;
+    result.normals = estimateNormals(capture, options);
+    result.source = "photometric stereo";
+    return result;
+}
+
+}  // namespace vpe
