@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Writes small captures whose truth is known exactly: every pixel's images are rendered from
+// given Fourier coefficients through proto's evaluator, so a fit can be checked to rounding.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "capture/capture.h"
+
+namespace vpe::testing {
+
+enum class SyntheticFormat {
+    kExr,          // float, linear: exact
+    kPng16Linear,  // 16-bit linear PNG
+    kPng8Srgb,     // 8-bit sRGB PNG
+};
+
+struct SyntheticCaptureSpec {
+    int width = 24;
+    int height = 16;
+    int harmonics = 3;
+    std::vector<Vec3d> lights;  // unit directions; default: a full sphere of 64 lights
+    SyntheticFormat format = SyntheticFormat::kExr;
+    // Normal of pixel (x, y); default: a gentle dome facing the camera.
+    std::function<Vec3d(int x, int y)> normal;
+    // Writes 2M + 2 coefficients of pixel (x, y), channel c; default: seeded random values
+    // around a plausible diffuse + specular material.
+    std::function<void(int x, int y, int c, double* coefficients)> coefficients;
+    std::uint32_t seed = 1;
+    // capture.json with float normals (exact) instead of dirs.lp + 16-bit normals.png.
+    bool manifest = true;
+};
+
+struct SyntheticCapture {
+    std::filesystem::path dir;
+    std::vector<double> coefficients;  // [y][x][c][k]
+    std::vector<Vec3d> normals;        // [y][x]
+    int coefficientCount = 0;
+    const double* at(int x, int y, int c, int width) const {
+        return coefficients.data() +
+               ((static_cast<std::size_t>(y) * width + x) * 3 + c) * coefficientCount;
+    }
+};
+
+SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
+                                       const SyntheticCaptureSpec& spec);
+
+// Lights spread over the whole sphere (Fibonacci lattice): well-conditioned fits.
+std::vector<Vec3d> sphereLights(int count);
+// An RTI dome: rings at the given elevations (degrees), `perRing` lights each.
+std::vector<Vec3d> domeLights(const std::vector<double>& elevations, int perRing,
+                              double azimuthOffsetDegrees = 0);
+
+}  // namespace vpe::testing
