@@ -8,26 +8,20 @@
 
 namespace vpe {
 
-SurfaceGeometry::SurfaceGeometry(const Capture& capture, NormalMap normals)
-    : camera_(capture.camera), plane_(capture.plane), normals_(std::move(normals)) {
+SurfaceGeometry::SurfaceGeometry(const Capture& capture, int width, int height)
+    : camera_(capture.camera), plane_(capture.plane), width_(width), height_(height) {
     if (capture.positionMap) {
         positions_ = readImage(*capture.positionMap);
         if (positions_->channels < 3) {
             throw InputError(*capture.positionMap, "position map needs 3 channels (X, Y, Z)");
         }
-        if (positions_->width != normals_.width || positions_->height != normals_.height) {
-            throw InputError(*capture.positionMap, "size " + std::to_string(positions_->width) +
-                                                       "x" + std::to_string(positions_->height) +
-                                                       " differs from the images' " +
-                                                       std::to_string(normals_.width) + "x" +
-                                                       std::to_string(normals_.height));
+        if (positions_->width != width_ || positions_->height != height_) {
+            throw InputError(*capture.positionMap,
+                             "size " + std::to_string(positions_->width) + "x" +
+                                 std::to_string(positions_->height) + " differs from the images' " +
+                                 std::to_string(width_) + "x" + std::to_string(height_));
         }
     }
-}
-
-Vec3d SurfaceGeometry::normal(int x, int y) const {
-    const std::size_t i = normals_.index(x, y) * 3;
-    return {normals_.xyz[i], normals_.xyz[i + 1], normals_.xyz[i + 2]};
 }
 
 Vec3d SurfaceGeometry::position(int x, int y) const {
@@ -35,8 +29,8 @@ Vec3d SurfaceGeometry::position(int x, int y) const {
         return {positions_->at(x, y, 0), positions_->at(x, y, 1), positions_->at(x, y, 2)};
     }
     if (const auto* ortho = std::get_if<OrthographicCamera>(&camera_)) {
-        const double px = (x + 0.5 - normals_.width / 2.0) * ortho->pixelSize;
-        const double py = (normals_.height / 2.0 - y - 0.5) * ortho->pixelSize;
+        const double px = (x + 0.5 - width_ / 2.0) * ortho->pixelSize;
+        const double py = (height_ / 2.0 - y - 0.5) * ortho->pixelSize;
         double pz = 0;
         if (plane_ && std::fabs(plane_->normal.z) > 1e-9) {
             pz = plane_->point.z - (plane_->normal.x * (px - plane_->point.x) +

@@ -26,6 +26,7 @@ void addFitCommand(CLI::App& app, Action& action) {
         std::string normals;
         int threads = 0;
         std::string precision = "auto";
+        std::string model = "paper";
         bool json = false;
         bool noPreview = false;
     };
@@ -49,6 +50,12 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "auto (exact when λ < 1e-3), fast (float sums) or exact (double sums)")
         ->check(CLI::IsMember({"auto", "fast", "exact"}))
         ->capture_default_str();
+    command
+        ->add_option("--model", args->model,
+                     "paper: eq. 16-19 under the capture's stated geometry; extended: also "
+                     "calibrate camera field of view and light distance (docs/extended-model.md)")
+        ->check(CLI::IsMember({"paper", "extended"}))
+        ->capture_default_str();
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action] {
@@ -64,6 +71,8 @@ void addFitCommand(CLI::App& app, Action& action) {
                 options.normals = args->normals;
             }
             options.writePreview = !args->noPreview;
+            options.variant =
+                args->model == "extended" ? ModelVariant::kExtended : ModelVariant::kPaper;
             const Capture capture = openCapture(args->capture);
             const FitReport report = fitCapture(capture, options, args->out);
             std::fprintf(stderr,
@@ -72,8 +81,25 @@ void addFitCommand(CLI::App& app, Action& action) {
                          report.validPixels, report.pixels, report.images, options.harmonics,
                          options.lambda, report.normalsSource.c_str(), report.totalSeconds,
                          report.meanRms);
+            if (options.variant == ModelVariant::kExtended) {
+                std::fprintf(stderr,
+                             "geometry: field of view %.1f°, light distance %.2f half-widths "
+                             "(held-out RMS %.3f vs %.3f uncalibrated, %.2f s)\n",
+                             report.calibration.fieldOfViewDegrees,
+                             report.calibration.lightDistance, report.calibratedRms,
+                             report.uncalibratedRms, report.calibrationSeconds);
+            }
             if (args->json) {
                 nlohmann::json json;
+                json["model_variant"] = args->model;
+                if (options.variant == ModelVariant::kExtended) {
+                    json["calibration"] = {
+                        {"field_of_view_degrees", report.calibration.fieldOfViewDegrees},
+                        {"light_distance", report.calibration.lightDistance},
+                        {"heldout_rms", report.calibratedRms},
+                        {"uncalibrated_heldout_rms", report.uncalibratedRms},
+                        {"seconds", report.calibrationSeconds}};
+                }
                 json["pixels"] = report.pixels;
                 json["valid_pixels"] = report.validPixels;
                 json["images"] = report.images;

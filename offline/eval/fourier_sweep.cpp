@@ -69,8 +69,8 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
                                           "x" + std::to_string(height));
     }
     NormalsResult normals = acquireNormals(train, options.normals, width, height, options.threads);
-    const SurfaceGeometry trainGeometry(train, normals.normals);
-    const SurfaceGeometry testGeometry(test, std::move(normals.normals));
+    const SurfaceGeometry trainGeometry(train, width, height);
+    const SurfaceGeometry testGeometry(test, width, height);
 
     const std::vector<fit::KernelLight> trainLights = fit::kernelLights(train);
     const fit::KernelLightSet trainSet = fit::kernelLightSet(train, trainLights);
@@ -104,7 +104,7 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
                     const int x0 = static_cast<int>(index % chunksPerRow) * fit::kLanes;
                     const int y = rowBegin + r;
                     bool laneValid[fit::kLanes];
-                    fit::fillChunkGeometry(trainGeometry, x0, y, chunk, laneValid);
+                    fit::fillChunkGeometry(trainGeometry, normals.normals, x0, y, chunk, laneValid);
                     // A research figure: always the exact accumulation (λ = 0 is in it).
                     fit::accumulateNormalEquations(
                         chunk, trainSet, fit::chunkObservations(trainBand, r, x0),
@@ -120,7 +120,7 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
                             continue;
                         }
                         const int x = x0 + lane;
-                        const Vec3d n = testGeometry.normal(x, y);
+                        const Vec3d n = normals.normals.at(x, y);
                         const Vec3d v = testGeometry.toViewer(x, y);
                         const Vec3d p = testGeometry.position(x, y);
                         for (int s = 0; s < testCount; ++s) {

@@ -16,6 +16,7 @@
 #include "common/progress_bar.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "model/light_transport.h"
 
 namespace vpe {
 
@@ -24,11 +25,17 @@ double psnrFromMse(double mse) {
     return mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
 }
 
-EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& capture,
+EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& statedCapture,
                                const EvaluationOptions& options) {
     ModelReader model(modelPath);
     const ModelInfo& info = model.info();
-    ImageBandReader reader(capture, options.threads);
+    ImageBandReader reader(statedCapture, options.threads);
+    // A model fitted under a calibrated geometry predicts other captures of the same dome
+    // under that geometry too.
+    const Capture capture =
+        acceptsGeometryCalibration(statedCapture)
+            ? applyGeometryCalibration(statedCapture, info.calibration, info.width, info.height)
+            : statedCapture;
     if (reader.width() != info.width || reader.height() != info.height) {
         throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
                                              std::to_string(reader.height()) + " but the model " +
@@ -39,9 +46,7 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
     const int width = info.width;
     const int height = info.height;
     const int imageCount = reader.imageCount();
-    NormalMap placeholder;  // normals come from the model, rows at a time
-    placeholder.resize(width, height);
-    const SurfaceGeometry geometry(capture, placeholder);
+    const SurfaceGeometry geometry(capture, width, height);  // normals come from the model
 
     std::vector<std::vector<std::uint8_t>> predictions;
     if (options.predictionsDir) {
@@ -84,9 +89,21 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                                 capture, capture.images[static_cast<std::size_t>(s)], position);
                             const auto angles =
                                 proto::reflectionAngles(normal, light.direction, view);
+                            // The extended model's capture-specific light transport (cast
+                            // shadows, interreflection) of this texel under this light.
+                            const double transport =
+                                rows.transport.empty()
+                                    ? 1.0
+                                    : std::max(
+                                          0.0,
+                                          evaluateLightTransport(
+                                              &rows.transport[p * kTransportTerms],
+                                              transportDirection(
+                                                  capture,
+                                                  capture.images[static_cast<std::size_t>(s)])));
                             for (int c = 0; c < 3; ++c) {
                                 const double predicted =
-                                    light.irradiance *
+                                    transport * light.irradiance *
                                     proto::evaluateFourierBrdf(rows.coefficientsAt(row, x, c),
                                                                info.harmonics, angles.cosThetaD,
                                                                angles.cosThetaS);

@@ -13,6 +13,8 @@
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
 #include "fit/chunk_setup.h"
+#include "fit/extended_chunk_fit.h"
+#include "fit/geometry_search.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
 #include "normals/normal_source.h"
@@ -61,7 +63,7 @@ fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambd
                          : fit::AccumulationPrecision::kFloatBlocks;
 }
 
-FitReport fitCapture(const Capture& capture, const FitOptions& options,
+FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
                      const std::filesystem::path& modelPath) {
     const auto start = Clock::now();
     const int coefficients = proto::coefficientCount(options.harmonics);
@@ -72,30 +74,46 @@ FitReport fitCapture(const Capture& capture, const FitOptions& options,
     if (!(options.lambda >= 0) || !std::isfinite(options.lambda)) {
         throw InputError("--lambda must be a finite number >= 0");
     }
-    if (static_cast<int>(capture.images.size()) < coefficients) {
-        throw InputError(capture.source,
-                         std::to_string(capture.images.size()) + " images cannot determine " +
-                             std::to_string(coefficients) +
+    if (static_cast<int>(originalCapture.images.size()) < coefficients) {
+        throw InputError(originalCapture.source,
+                         std::to_string(originalCapture.images.size()) +
+                             " images cannot determine " + std::to_string(coefficients) +
                              " coefficients: M = " + std::to_string(options.harmonics) +
                              " needs N >= 2M + 2 = " + std::to_string(coefficients));
     }
 
     FitReport report;
     auto decodeStart = Clock::now();
-    ImageBandReader reader(capture, options.threads);
+    auto reader = std::make_unique<ImageBandReader>(originalCapture, options.threads);
     report.decodeSeconds += secondsSince(decodeStart);
-    report.width = reader.width();
-    report.height = reader.height();
-    report.images = reader.imageCount();
+    report.width = reader->width();
+    report.height = reader->height();
+    report.images = reader->imageCount();
     report.pixels = static_cast<std::size_t>(report.width) * report.height;
-    const std::vector<std::uint8_t> mask = readMask(capture, report.width, report.height);
+    const std::vector<std::uint8_t> mask = readMask(originalCapture, report.width, report.height);
 
     const auto normalsStart = Clock::now();
-    NormalsResult normals =
-        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+    NormalsResult normals = acquireNormals(originalCapture, options.normals, report.width,
+                                           report.height, options.threads);
     report.normalsSource = normals.source;
     report.normalsSeconds = secondsSince(normalsStart);
-    const SurfaceGeometry geometry(capture, std::move(normals.normals));
+
+    Capture capture = originalCapture;
+    if (options.variant == ModelVariant::kExtended && acceptsGeometryCalibration(capture)) {
+        const auto calibrationStart = Clock::now();
+        GeometrySearchOptions search;
+        search.harmonics = options.harmonics;
+        search.lambda = options.lambda;
+        search.threads = options.threads;
+        const GeometrySearchResult found =
+            searchGeometryCalibration(capture, normals.normals, search);
+        report.calibration = found.best;
+        report.calibratedRms = found.bestRms;
+        report.uncalibratedRms = found.identityRms;
+        capture = applyGeometryCalibration(capture, found.best, report.width, report.height);
+        report.calibrationSeconds = secondsSince(calibrationStart);
+    }
+    const SurfaceGeometry geometry(capture, report.width, report.height);
 
     const std::vector<fit::KernelLight> lights = fit::kernelLights(capture);
     const fit::KernelLightSet lightSet = fit::kernelLightSet(capture, lights);
@@ -109,10 +127,21 @@ FitReport fitCapture(const Capture& capture, const FitOptions& options,
     info.lambda = options.lambda;
     info.samples = report.images;
     info.capture = capture.source.string();
+    info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
+    info.calibration = report.calibration;
     ModelWriter writer(modelPath, info);
     RelightPreview preview(report.width, report.height, options.harmonics);
 
-    const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
+    const bool extended = options.variant == ModelVariant::kExtended;
+    std::unique_ptr<fit::ExtendedLightTable> lightTable;
+    fit::ExtendedFitSettings extendedSettings;
+    if (extended) {
+        lightTable = std::make_unique<fit::ExtendedLightTable>(capture);
+        extendedSettings.harmonics = options.harmonics;
+        extendedSettings.lambda = options.lambda;
+        extendedSettings.precision = precision;
+    }
+    const int bandRows = reader->rowsForBudget(options.bandBudgetBytes);
     const int chunksPerRow = (report.width + fit::kLanes - 1) / fit::kLanes;
     SampleBand band;
     ModelRows rows;
@@ -122,27 +151,35 @@ FitReport fitCapture(const Capture& capture, const FitOptions& options,
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);
         decodeStart = Clock::now();
-        reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
+        reader->readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
         report.decodeSeconds += secondsSince(decodeStart);
 
         const auto fitStart = Clock::now();
-        rows.resize(report.width, bandHeight, coefficients);
+        rows.resize(report.width, bandHeight, coefficients, extended);
         parallelFor(
             static_cast<std::size_t>(bandHeight) * chunksPerRow, 4, options.threads,
             [&](std::size_t begin, std::size_t end) {
                 auto sums = std::make_unique<fit::NormalEquationSums>();
-                auto solution = std::make_unique<fit::ChunkSolution>();
+                auto plain = std::make_unique<fit::ChunkSolution>();
+                auto withTransport = std::make_unique<fit::ExtendedChunkSolution>();
+                const fit::ChunkSolution* solution = extended ? &withTransport->brdf : plain.get();
                 fit::ChunkGeometry chunk;
                 double localRms = 0;
                 for (std::size_t index = begin; index < end; ++index) {
                     const int r = static_cast<int>(index / chunksPerRow);
                     const int x0 = static_cast<int>(index % chunksPerRow) * fit::kLanes;
                     bool laneValid[fit::kLanes];
-                    fit::fillChunkGeometry(geometry, x0, rowBegin + r, chunk, laneValid);
-                    fit::accumulateNormalEquations(chunk, lightSet,
-                                                   fit::chunkObservations(band, r, x0),
-                                                   options.harmonics, precision, *sums);
-                    fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *solution);
+                    fit::fillChunkGeometry(geometry, normals.normals, x0, rowBegin + r, chunk,
+                                           laneValid);
+                    if (extended) {
+                        fit::fitChunkExtended(capture, *lightTable, chunk, laneValid, lightSet,
+                                              band, r, x0, extendedSettings, *withTransport);
+                    } else {
+                        fit::accumulateNormalEquations(chunk, lightSet,
+                                                       fit::chunkObservations(band, r, x0),
+                                                       options.harmonics, precision, *sums);
+                        fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *plain);
+                    }
                     for (int lane = 0; lane < fit::kLanes && x0 + lane < report.width; ++lane) {
                         const std::size_t p = rows.pixel(r, x0 + lane);
                         const bool valid = laneValid[lane] && solution->valid[lane];
@@ -159,6 +196,11 @@ FitReport fitCapture(const Capture& capture, const FitOptions& options,
                                             static_cast<long>((p * 3 + c) * coefficients));
                             rows.rms[p * 3 + c] = solution->rms[lane][c];
                             localRms += static_cast<double>(solution->rms[lane][c]) / 3.0;
+                        }
+                        if (extended) {
+                            std::copy_n(
+                                withTransport->transport[lane], kTransportTerms,
+                                rows.transport.begin() + static_cast<long>(p * kTransportTerms));
                         }
                     }
                 }

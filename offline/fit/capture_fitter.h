@@ -12,6 +12,7 @@
 #include "vpe/proto/fourier_brdf.h"
 
 #include "capture/capture.h"
+#include "capture/geometry_calibration.h"
 #include "fit/normal_equations.h"
 
 namespace vpe {
@@ -22,7 +23,13 @@ enum class FitPrecision {
     kExact,  // double accumulation
 };
 
+enum class ModelVariant {
+    kPaper,     // the paper's fit, exactly (eq. 16–19) under the capture's stated geometry
+    kExtended,  // also calibrates the capture geometry (see docs/extended-model.md)
+};
+
 struct FitOptions {
+    ModelVariant variant = ModelVariant::kPaper;
     int harmonics = proto::kDefaultHarmonics;
     double lambda = proto::kDefaultLambda;
     unsigned threads = 1;
@@ -46,6 +53,11 @@ struct FitReport {
     double totalSeconds = 0;
     double meanRms = 0;  // residual RMS over valid pixels, linear, unit irradiance
     std::filesystem::path preview;
+    // Extended variant: the calibration found and its held-out RMS against the identity's.
+    GeometryCalibration calibration;
+    double calibrationSeconds = 0;
+    double calibratedRms = 0;
+    double uncalibratedRms = 0;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);

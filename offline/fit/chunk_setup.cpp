@@ -25,28 +25,34 @@ KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLi
     return set;
 }
 
-void fillChunkGeometry(const SurfaceGeometry& geometry, int x0, int y, ChunkGeometry& chunk,
-                       bool (&laneValid)[kLanes]) {
-    for (int lane = 0; lane < kLanes; ++lane) {
-        const int x = x0 + lane;
-        laneValid[lane] = x < geometry.width() && geometry.valid(x, y);
-        Vec3d n{0, 0, 1}, v{0, 0, 1}, p{0, 0, 0};
-        if (x < geometry.width()) {
-            v = geometry.toViewer(x, y);
-            p = geometry.position(x, y);
-            if (laneValid[lane]) {
-                n = geometry.normal(x, y);
-            }
+void fillChunkLane(const SurfaceGeometry& geometry, const NormalMap& normals, int x, int y,
+                   int lane, ChunkGeometry& chunk, bool& laneValid) {
+    const bool inside = x >= 0 && x < geometry.width();
+    laneValid = inside && normals.validAt(x, y);
+    Vec3d n{0, 0, 1}, v{0, 0, 1}, p{0, 0, 0};
+    if (inside) {
+        v = geometry.toViewer(x, y);
+        p = geometry.position(x, y);
+        if (laneValid) {
+            n = normals.at(x, y);
         }
-        chunk.normal[0][lane] = static_cast<float>(n.x);
-        chunk.normal[1][lane] = static_cast<float>(n.y);
-        chunk.normal[2][lane] = static_cast<float>(n.z);
-        chunk.view[0][lane] = static_cast<float>(v.x);
-        chunk.view[1][lane] = static_cast<float>(v.y);
-        chunk.view[2][lane] = static_cast<float>(v.z);
-        chunk.position[0][lane] = static_cast<float>(p.x);
-        chunk.position[1][lane] = static_cast<float>(p.y);
-        chunk.position[2][lane] = static_cast<float>(p.z);
+    }
+    chunk.normal[0][lane] = static_cast<float>(n.x);
+    chunk.normal[1][lane] = static_cast<float>(n.y);
+    chunk.normal[2][lane] = static_cast<float>(n.z);
+    chunk.view[0][lane] = static_cast<float>(v.x);
+    chunk.view[1][lane] = static_cast<float>(v.y);
+    chunk.view[2][lane] = static_cast<float>(v.z);
+    chunk.position[0][lane] = static_cast<float>(p.x);
+    chunk.position[1][lane] = static_cast<float>(p.y);
+    chunk.position[2][lane] = static_cast<float>(p.z);
+}
+
+void fillChunkGeometry(const SurfaceGeometry& geometry, const NormalMap& normals, int x0, int y,
+                       ChunkGeometry& chunk, bool (&laneValid)[kLanes]) {
+    for (int lane = 0; lane < kLanes; ++lane) {
+        const int x = x0 + lane < geometry.width() ? x0 + lane : -1;
+        fillChunkLane(geometry, normals, x, y, lane, chunk, laneValid[lane]);
     }
 }
 

@@ -10,6 +10,7 @@
 
 #include "common/atomic_output.h"
 #include "common/input_error.h"
+#include "model/light_transport.h"
 
 namespace vpe {
 
@@ -20,8 +21,12 @@ constexpr int kFormatVersion = 1;
 constexpr const char* kColour = "RGB";
 constexpr const char* kAxis = "XYZ";
 
+std::string transportName(int term) {
+    return std::string("transport.t") + (term < 10 ? "0" : "") + std::to_string(term);
+}
+
 // Every channel of the file, in the order the rows are packed.
-std::vector<std::string> channelNames(int coefficients) {
+std::vector<std::string> channelNames(int coefficients, bool withTransport) {
     std::vector<std::string> names;
     for (int k = 0; k < coefficients; ++k) {
         for (int c = 0; c < 3; ++c) {
@@ -35,6 +40,11 @@ std::vector<std::string> channelNames(int coefficients) {
         names.push_back(std::string("rms.") + kColour[c]);
     }
     names.push_back("valid");
+    if (withTransport) {
+        for (int t = 0; t < kTransportTerms; ++t) {
+            names.push_back(transportName(t));
+        }
+    }
     return names;
 }
 
@@ -50,7 +60,7 @@ std::string coefficientName(int index) {
     return (index % 2 == 0 ? "a" : "b") + std::to_string(proto::harmonicOf(index));
 }
 
-void ModelRows::resize(int w, int r, int k) {
+void ModelRows::resize(int w, int r, int k, bool withTransport) {
     width = w;
     rows = r;
     coefficients = k;
@@ -59,6 +69,7 @@ void ModelRows::resize(int w, int r, int k) {
     normal.assign(pixels * 3, 0.0f);
     rms.assign(pixels * 3, 0.0f);
     valid.assign(pixels, 0);
+    transport.assign(withTransport ? pixels * kTransportTerms : 0, 0.0f);
 }
 
 struct ModelWriter::Impl {
@@ -67,6 +78,7 @@ struct ModelWriter::Impl {
     std::unique_ptr<OIIO::ImageOutput> image;
     int channels = 0;
     int coefficients = 0;
+    bool transport = false;
     std::vector<float> scanlines;
 
     Impl(const std::filesystem::path& p) : path(p), output(p) {}
@@ -78,7 +90,8 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
         throw InputError(path, "the model file must have the .exr extension");
     }
     impl_->coefficients = proto::coefficientCount(info.harmonics);
-    const std::vector<std::string> names = channelNames(impl_->coefficients);
+    impl_->transport = info.hasTransport();
+    const std::vector<std::string> names = channelNames(impl_->coefficients, impl_->transport);
     impl_->channels = static_cast<int>(names.size());
     OIIO::ImageSpec spec(info.width, info.height, impl_->channels, OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
@@ -91,6 +104,8 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     spec.attribute("vpeSamples", info.samples);
     spec.attribute("vpeVariant", info.variant);
     spec.attribute("vpeCapture", info.capture);
+    spec.attribute("vpeFieldOfView", static_cast<float>(info.calibration.fieldOfViewDegrees));
+    spec.attribute("vpeLightDistance", static_cast<float>(info.calibration.lightDistance));
     spec.attribute("vpeUnits",
                    "linear radiance per unit light irradiance; layout kd,a0,a1,b1,...; "
                    "see proto/MODEL.md");
@@ -123,6 +138,11 @@ void ModelWriter::writeRows(int rowBegin, const ModelRows& rows) {
                 *out++ = rows.rms[p * 3 + c];
             }
             *out++ = rows.valid[p] ? 1.0f : 0.0f;
+            if (impl_->transport) {
+                for (int t = 0; t < kTransportTerms; ++t) {
+                    *out++ = rows.transport[p * kTransportTerms + t];
+                }
+            }
         }
     }
     if (!impl_->image->write_scanlines(rowBegin, rowBegin + rows.rows, 0, OIIO::TypeDesc::FLOAT,
@@ -147,6 +167,7 @@ struct ModelReader::Impl {
     int normalChannel[3] = {};
     int rmsChannel[3] = {};
     int validChannel = 0;
+    std::vector<int> transportChannel;  // empty without transport
     std::vector<float> scanlines;
 };
 
@@ -176,7 +197,16 @@ ModelReader::ModelReader(const std::filesystem::path& path) : impl_(std::make_un
     info.lambda = spec.get_float_attribute("vpeLambda", 0.0f);
     info.samples = spec.get_int_attribute("vpeSamples", 0);
     info.variant = spec.get_string_attribute("vpeVariant", "paper");
+    if (info.variant != "paper" && info.variant != "extended") {
+        throw InputError(path, "unknown model variant '" + info.variant + "'");
+    }
     info.capture = spec.get_string_attribute("vpeCapture");
+    info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
+    info.calibration.lightDistance = spec.get_float_attribute("vpeLightDistance", 0.0f);
+    if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&
+          info.calibration.lightDistance >= 0)) {
+        throw InputError(path, "geometry calibration out of range");
+    }
     if (info.harmonics < 0 || info.harmonics > proto::kMaxHarmonics) {
         throw InputError(path,
                          "harmonic count " + std::to_string(info.harmonics) + " is out of range");
@@ -202,6 +232,11 @@ ModelReader::ModelReader(const std::filesystem::path& path) : impl_(std::make_un
         impl_->rmsChannel[a] = find(std::string("rms.") + kColour[a]);
     }
     impl_->validChannel = find("valid");
+    if (info.hasTransport()) {
+        for (int t = 0; t < kTransportTerms; ++t) {
+            impl_->transportChannel.push_back(find(transportName(t)));
+        }
+    }
 }
 
 ModelReader::~ModelReader() = default;
@@ -214,7 +249,7 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
     const int k = proto::coefficientCount(impl_->info.harmonics);
     const int width = impl_->info.width;
     const int channels = impl_->channels;
-    out.resize(width, rows, k);
+    out.resize(width, rows, k, !impl_->transportChannel.empty());
     impl_->scanlines.resize(static_cast<std::size_t>(width) * rows * channels);
     if (!impl_->image->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0, channels,
                                       OIIO::TypeDesc::FLOAT, impl_->scanlines.data())) {
@@ -235,6 +270,9 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
                 out.rms[p * 3 + a] = in[impl_->rmsChannel[a]];
             }
             out.valid[p] = in[impl_->validChannel] > 0.5f ? 1 : 0;
+            for (std::size_t t = 0; t < impl_->transportChannel.size(); ++t) {
+                out.transport[p * kTransportTerms + t] = in[impl_->transportChannel[t]];
+            }
         }
     }
 }

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "capture/geometry_calibration.h"
+
 namespace vpe {
 
 struct ModelInfo {
@@ -22,6 +24,10 @@ struct ModelInfo {
     int samples = 0;  // images the fit used
     std::string variant = "paper";
     std::string capture;  // what was fitted (for people reading the header)
+    // The capture geometry the model was fitted under (extended variant): evaluation of
+    // another capture from the same dome applies it too.
+    GeometryCalibration calibration;
+    bool hasTransport() const { return variant == "extended"; }
 };
 
 // "kd", "a0", "a1", "b1", ..., in coefficient order.
@@ -36,8 +42,11 @@ struct ModelRows {
     std::vector<float> normal;        // [row][x][3]
     std::vector<float> rms;           // [row][x][3], linear, normalized to unit irradiance
     std::vector<std::uint8_t> valid;  // [row][x]
+    // Extended variant only: the capture-specific light transport T, kTransportTerms per
+    // pixel (model/light_transport.h); empty for the paper's model.
+    std::vector<float> transport;  // [row][x][term]
 
-    void resize(int w, int r, int k);
+    void resize(int w, int r, int k, bool withTransport = false);
     std::size_t pixel(int row, int x) const { return static_cast<std::size_t>(row) * width + x; }
     const float* coefficientsAt(int row, int x, int channel) const {
         return coefficient.data() + (pixel(row, x) * 3 + channel) * coefficients;

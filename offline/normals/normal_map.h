@@ -23,6 +23,11 @@ struct NormalMap {
         valid.assign(static_cast<std::size_t>(w) * h, 0);
     }
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width + x; }
+    bool validAt(int x, int y) const { return valid[index(x, y)] != 0; }
+    Vec3d at(int x, int y) const {
+        const std::size_t i = index(x, y) * 3;
+        return {xyz[i], xyz[i + 1], xyz[i + 2]};
+    }
 };
 
 // Reads a normal map. kAuto: integer images are (n + 1)/2, floating-point images hold n.

@@ -120,10 +120,7 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
             mask[i] = image.pixels[i * static_cast<std::size_t>(image.channels)] > 0 ? 1 : 0;
         }
     }
-    // Positions (for point lights) do not depend on normals: use an empty normal map.
-    NormalMap placeholder;
-    placeholder.resize(width, height);
-    const SurfaceGeometry geometry(capture, placeholder);
+    const SurfaceGeometry geometry(capture, width, height);
 
     NormalMap normals;
     normals.resize(width, height);

@@ -1,0 +1,197 @@
+// SPDX-License-Identifier: MIT
+// Alternating fit of BRDF and light transport.
+#include "fit/extended_chunk_fit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <Eigen/Dense>
+
+namespace vpe::fit {
+
+namespace {
+
+double luminance(double r, double g, double b) {
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+}
+double luminance(float r, float g, float b) {
+    return luminance(static_cast<double>(r), static_cast<double>(g), static_cast<double>(b));
+}
+
+}  // namespace
+
+ExtendedLightTable::ExtendedLightTable(const Capture& capture) {
+    transportBasis.reserve(capture.images.size());
+    for (const CaptureImage& image : capture.images) {
+        std::array<double, kTransportTerms> basis;
+        lightTransportBasis(transportDirection(capture, image), basis.data());
+        transportBasis.push_back(basis);
+    }
+}
+
+void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
+                      const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                      const KernelLightSet& lights, const SampleBand& band, int row, int x0,
+                      const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
+    const int samples = lights.count;
+    const std::size_t laneBlock = static_cast<std::size_t>(samples) * kLanes;
+    // Per sample and lane: raw observations, usable weight, saturation, model geometry.
+    thread_local std::vector<float> values, weights, scaled, scaledWeights, transport;
+    thread_local std::vector<std::uint8_t> saturated, censored;
+    thread_local std::vector<double> cosD, cosS, irradiance;
+    values.resize(laneBlock * 3);
+    scaled.resize(laneBlock * 3);
+    weights.resize(laneBlock);
+    scaledWeights.resize(laneBlock);
+    transport.assign(laneBlock, 1.0f);
+    saturated.resize(laneBlock);
+    censored.assign(laneBlock, 0);
+    cosD.resize(laneBlock);
+    cosS.resize(laneBlock);
+    irradiance.resize(laneBlock);
+    for (int s = 0; s < samples; ++s) {
+        const CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+            const std::size_t from = band.offset(row, x0 + lane);
+            weights[at] = band.weights[s * band.weightStride() + from];
+            saturated[at] = band.saturated[s * band.weightStride() + from];
+            for (int c = 0; c < 3; ++c) {
+                values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] =
+                    band.values[s * band.sampleStride() + c * band.channelStride() + from];
+            }
+            const Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
+                          geometry.normal[2][lane]};
+            const Vec3d v{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]};
+            const Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
+                          geometry.position[2][lane]};
+            const IncidentLight light = incidentLight(capture, image, p);
+            const auto angles = proto::reflectionAngles(n, light.direction, v);
+            cosD[at] = angles.cosThetaD;
+            cosS[at] = angles.cosThetaS;
+            irradiance[at] = light.irradiance;
+        }
+    }
+    for (int lane = 0; lane < kLanes; ++lane) {
+        double identity[kTransportTerms];
+        identityTransport(identity);
+        for (int k = 0; k < kTransportTerms; ++k) {
+            out.transport[lane][k] = static_cast<float>(identity[k]);
+        }
+    }
+
+    auto sums = std::make_unique<NormalEquationSums>();
+    auto firstRound = std::make_unique<ChunkSolution>();
+    const int rounds = std::max(1, settings.rounds);
+    for (int round = 0;; ++round) {
+        // f given T: observations y / T, weights T² (the least-squares form of y ≈ T f).
+        for (std::size_t at = 0; at < laneBlock; ++at) {
+            const double t = transport[at];
+            const bool use = t >= settings.minimumTransport && !censored[at];
+            scaledWeights[at] =
+                use ? static_cast<float>(static_cast<double>(weights[at]) * t * t) : 0.0f;
+            const std::size_t s = at / kLanes, lane = at % kLanes;
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t i = (s * 3 + c) * kLanes + lane;
+                scaled[i] = use ? static_cast<float>(static_cast<double>(values[i]) / t) : 0.0f;
+            }
+        }
+        ChunkObservations observations;
+        observations.values = scaled.data();
+        observations.sampleStride = 3 * kLanes;
+        observations.channelStride = kLanes;
+        observations.weights = scaledWeights.data();
+        observations.weightStride = kLanes;
+        accumulateNormalEquations(geometry, lights, observations, settings.harmonics,
+                                  settings.precision, *sums);
+        solveNormalEquations(*sums, settings.harmonics, settings.lambda, out.brdf);
+        if (round == 0) {
+            *firstRound = out.brdf;
+        }
+        if (round + 1 >= rounds) {
+            break;
+        }
+        // T given f, per lane, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖².
+        for (int lane = 0; lane < kLanes; ++lane) {
+            if (!laneValid[lane] || !out.brdf.valid[lane]) {
+                continue;
+            }
+            Eigen::Matrix<double, kTransportTerms, kTransportTerms> a;
+            Eigen::Matrix<double, kTransportTerms, 1> b;
+            a.setZero();
+            b.setZero();
+            std::vector<double> predicted(static_cast<std::size_t>(samples));
+            double weightSum = 0;
+            int used = 0;
+            for (int s = 0; s < samples; ++s) {
+                const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+                double rgb[3];
+                for (int c = 0; c < 3; ++c) {
+                    rgb[c] = irradiance[at] *
+                             proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
+                                                        settings.harmonics, cosD[at], cosS[at]);
+                }
+                predicted[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
+                if (weights[at] <= 0 || censored[at]) {
+                    continue;
+                }
+                const double p = predicted[static_cast<std::size_t>(s)];
+                const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
+                const double l = luminance(values[base], values[base + kLanes],
+                                           values[base + 2 * kLanes]);  // NOLINT
+                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
+                    table.transportBasis[static_cast<std::size_t>(s)].data());
+                const double w = weights[at];
+                a.noalias() += (w * p * p) * h * h.transpose();
+                b.noalias() += (w * p * l) * h;
+                weightSum += w * p * p;
+                ++used;
+            }
+            if (used == 0 || !(weightSum > 0)) {
+                continue;
+            }
+            const double ridge = settings.transportRidge * weightSum / used;
+            Eigen::Matrix<double, kTransportTerms, 1> identity;
+            identityTransport(identity.data());
+            a.diagonal().array() += ridge;
+            b += ridge * identity;
+            const Eigen::Matrix<double, kTransportTerms, 1> t = a.ldlt().solve(b);
+            if (!t.allFinite()) {
+                continue;
+            }
+            for (int k = 0; k < kTransportTerms; ++k) {
+                out.transport[lane][k] = static_cast<float>(t[k]);
+            }
+            for (int s = 0; s < samples; ++s) {
+                const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
+                    table.transportBasis[static_cast<std::size_t>(s)].data());
+                const double value = std::clamp(t.dot(h), 0.0, 4.0);
+                transport[at] = static_cast<float>(value);
+                // A clipped sample the model already reaches tells nothing more: censor it.
+                const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
+                const double l = luminance(values[base], values[base + kLanes],
+                                           values[base + 2 * kLanes]);  // NOLINT
+                censored[at] = saturated[at] && value * predicted[static_cast<std::size_t>(s)] >= l;
+            }
+        }
+    }
+    // A texel whose transport leaves too few samples (nearly always in shadow) keeps the
+    // plain fit and T ≡ 1 rather than dropping out.
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!out.brdf.valid[lane] && firstRound->valid[lane]) {
+            std::copy_n(&firstRound->coefficients[lane][0][0], kChannels * kMaxCoefficients,
+                        &out.brdf.coefficients[lane][0][0]);
+            std::copy_n(firstRound->rms[lane], kChannels, out.brdf.rms[lane]);
+            out.brdf.valid[lane] = true;
+            double identity[kTransportTerms];
+            identityTransport(identity);
+            for (int k = 0; k < kTransportTerms; ++k) {
+                out.transport[lane][k] = static_cast<float>(identity[k]);
+            }
+        }
+    }
+}
+
+}  // namespace vpe::fit

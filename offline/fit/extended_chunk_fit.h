@@ -1,0 +1,45 @@
+// SPDX-License-Identifier: MIT
+// The extended model's per-chunk fit: I(l) = T(l) · f(θd, θs), alternating between
+//   - f, the transferable Fourier BRDF (paper eq. 19), fitted on y / T with weights T²
+//     (the same SIMD kernel), so shadowed samples stop dragging the material down; and
+//   - T, the texel's light-transport factor over the rig's light directions (cast shadows,
+//     interreflection), a ridge-regularized spherical-harmonic fit towards T ≡ 1.
+// Saturated samples are censored: they count only while the model predicts less than the
+// clipped value (a lower bound), never pulling a highlight down to the clip level.
+#pragma once
+
+#include <vector>
+
+#include "capture/capture.h"
+#include "capture/sample_band.h"
+#include "fit/normal_equations.h"
+#include "model/light_transport.h"
+
+namespace vpe::fit {
+
+struct ExtendedFitSettings {
+    int harmonics = 10;
+    double lambda = 3.14;
+    AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
+    int rounds = 3;                  // f, T, f, T, f
+    double transportRidge = 1.0;     // relative to the average sample's weight in the T fit
+    double minimumTransport = 0.02;  // T below this drops the sample from the f fit
+};
+
+struct ExtendedChunkSolution {
+    ChunkSolution brdf;
+    float transport[kLanes][kTransportTerms];
+};
+
+// Light data shared by all chunks of a capture.
+struct ExtendedLightTable {
+    std::vector<std::array<double, kTransportTerms>> transportBasis;  // per sample
+    explicit ExtendedLightTable(const Capture& capture);
+};
+
+void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
+                      const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                      const KernelLightSet& lights, const SampleBand& band, int row, int x0,
+                      const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+
+}  // namespace vpe::fit

@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: MIT
+// Geometry calibration search.
+#include "fit/geometry_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <mutex>
+
+#include "vpe/proto/srgb.h"
+
+#include "capture/image_band_reader.h"
+#include "capture/surface_geometry.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "fit/chunk_setup.h"
+
+namespace vpe {
+
+namespace {
+
+// Every image's observations of a grid of pixels, in the kernel's lane layout: pixel p sits
+// in chunk p / kLanes, lane p % kLanes.
+struct PixelSamples {
+    std::vector<int> x, y;
+    int images = 0;
+    std::vector<float> values;   // [chunk][image][channel][lane]
+    std::vector<float> weights;  // [chunk][image][lane]
+    int chunks() const { return static_cast<int>((x.size() + fit::kLanes - 1) / fit::kLanes); }
+    std::size_t valueIndex(int chunk, int image, int channel, int lane) const {
+        return ((static_cast<std::size_t>(chunk) * images + image) * 3 + channel) * fit::kLanes +
+               lane;
+    }
+    std::size_t weightIndex(int chunk, int image, int lane) const {
+        return (static_cast<std::size_t>(chunk) * images + image) * fit::kLanes + lane;
+    }
+};
+
+PixelSamples gatherSamples(const Capture& capture, const NormalMap& normals, int wanted,
+                           unsigned threads) {
+    std::size_t validCount = 0;
+    for (std::uint8_t v : normals.valid) {
+        validCount += v;
+    }
+    if (validCount == 0) {
+        throw InputError(capture.source, "no pixel has a normal: cannot calibrate geometry");
+    }
+    const int step =
+        std::max(1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / wanted)));
+    PixelSamples samples;
+    for (int y = step / 2; y < normals.height; y += step) {
+        for (int x = step / 2; x < normals.width; x += step) {
+            if (normals.validAt(x, y)) {
+                samples.x.push_back(x);
+                samples.y.push_back(y);
+            }
+        }
+    }
+    ImageBandReader reader(capture, threads);
+    samples.images = reader.imageCount();
+    samples.values.assign(
+        static_cast<std::size_t>(samples.chunks()) * samples.images * 3 * fit::kLanes, 0.0f);
+    samples.weights.assign(
+        static_cast<std::size_t>(samples.chunks()) * samples.images * fit::kLanes, 0.0f);
+    const int bandRows = reader.rowsForBudget(std::size_t{96} << 20);
+    SampleBand band;
+    std::size_t next = 0;  // samples are in row order
+    for (int rowBegin = 0; rowBegin < reader.height(); rowBegin += bandRows) {
+        const int rows = std::min(bandRows, reader.height() - rowBegin);
+        reader.readBand(rowBegin, rows, nullptr, band);
+        for (; next < samples.x.size() && samples.y[next] < rowBegin + rows; ++next) {
+            const int chunk = static_cast<int>(next / fit::kLanes);
+            const int lane = static_cast<int>(next % fit::kLanes);
+            const int r = samples.y[next] - rowBegin;
+            for (int s = 0; s < samples.images; ++s) {
+                for (int c = 0; c < 3; ++c) {
+                    samples.values[samples.valueIndex(chunk, s, c, lane)] =
+                        band.value(s, c, r, samples.x[next]);
+                }
+                samples.weights[samples.weightIndex(chunk, s, lane)] =
+                    band.weight(s, r, samples.x[next]);
+            }
+        }
+    }
+    return samples;
+}
+
+double scoreHypothesis(const Capture& capture, const NormalMap& normals,
+                       const PixelSamples& samples, const GeometryCalibration& calibration,
+                       const GeometrySearchOptions& options) {
+    const Capture calibrated =
+        applyGeometryCalibration(capture, calibration, normals.width, normals.height);
+    const SurfaceGeometry geometry(calibrated, normals.width, normals.height);
+    const std::vector<fit::KernelLight> lights = fit::kernelLights(calibrated);
+    const fit::KernelLightSet lightSet = fit::kernelLightSet(calibrated, lights);
+    double squared = 0;
+    double count = 0;
+    std::mutex mergeMutex;
+    parallelFor(
+        static_cast<std::size_t>(samples.chunks()), 4, options.threads,
+        [&](std::size_t begin, std::size_t end) {
+            auto sums = std::make_unique<fit::NormalEquationSums>();
+            auto solution = std::make_unique<fit::ChunkSolution>();
+            std::vector<float> weights(static_cast<std::size_t>(samples.images) * fit::kLanes);
+            fit::ChunkGeometry chunk;
+            double localSquared = 0, localCount = 0;
+            for (std::size_t ci = begin; ci < end; ++ci) {
+                const int c = static_cast<int>(ci);
+                bool laneValid[fit::kLanes];
+                for (int lane = 0; lane < fit::kLanes; ++lane) {
+                    const std::size_t p = static_cast<std::size_t>(c) * fit::kLanes + lane;
+                    const bool present = p < samples.x.size();
+                    fit::fillChunkLane(geometry, normals, present ? samples.x[p] : -1,
+                                       present ? samples.y[p] : 0, lane, chunk, laneValid[lane]);
+                }
+                for (int s = 0; s < samples.images; ++s) {
+                    const bool heldOut = s % options.holdOutEvery == options.holdOutEvery - 1;
+                    for (int lane = 0; lane < fit::kLanes; ++lane) {
+                        weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
+                            heldOut ? 0.0f : samples.weights[samples.weightIndex(c, s, lane)];
+                    }
+                }
+                fit::ChunkObservations observations;
+                observations.values = &samples.values[samples.valueIndex(c, 0, 0, 0)];
+                observations.sampleStride = 3 * fit::kLanes;
+                observations.channelStride = fit::kLanes;
+                observations.weights = weights.data();
+                observations.weightStride = fit::kLanes;
+                fit::accumulateNormalEquations(chunk, lightSet, observations, options.harmonics,
+                                               fit::AccumulationPrecision::kFloatBlocks, *sums);
+                fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *solution);
+                for (int lane = 0; lane < fit::kLanes; ++lane) {
+                    if (!laneValid[lane] || !solution->valid[lane]) {
+                        continue;
+                    }
+                    const std::size_t p = static_cast<std::size_t>(c) * fit::kLanes + lane;
+                    const Vec3d n{chunk.normal[0][lane], chunk.normal[1][lane],
+                                  chunk.normal[2][lane]};
+                    const Vec3d v = geometry.toViewer(samples.x[p], samples.y[p]);
+                    const Vec3d position = geometry.position(samples.x[p], samples.y[p]);
+                    for (int s = options.holdOutEvery - 1; s < samples.images;
+                         s += options.holdOutEvery) {
+                        if (samples.weights[samples.weightIndex(c, s, lane)] <= 0) {
+                            continue;
+                        }
+                        const IncidentLight light = incidentLight(
+                            calibrated, calibrated.images[static_cast<std::size_t>(s)], position);
+                        const auto angles = proto::reflectionAngles(n, light.direction, v);
+                        for (int k = 0; k < 3; ++k) {
+                            const double predicted =
+                                light.irradiance *
+                                proto::evaluateFourierBrdf(solution->coefficients[lane][k],
+                                                           options.harmonics, angles.cosThetaD,
+                                                           angles.cosThetaS);
+                            const double observed =
+                                samples.values[samples.valueIndex(c, s, k, lane)];
+                            const double e = proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0)) -
+                                             proto::linearToSrgb(std::clamp(observed, 0.0, 1.0));
+                            localSquared += e * e;
+                            localCount += 1;
+                        }
+                    }
+                }
+            }
+            std::lock_guard lock(mergeMutex);
+            squared += localSquared;
+            count += localCount;
+        });
+    return count > 0 ? std::sqrt(squared / count) * 255.0 : 1e9;
+}
+
+}  // namespace
+
+GeometrySearchResult searchGeometryCalibration(const Capture& capture, const NormalMap& normals,
+                                               const GeometrySearchOptions& options) {
+    const PixelSamples samples =
+        gatherSamples(capture, normals, options.samplePixels, options.threads);
+    GeometrySearchResult result;
+    auto score = [&](const GeometryCalibration& calibration) {
+        for (const GeometryHypothesisScore& known : result.scores) {
+            if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
+                known.calibration.lightDistance == calibration.lightDistance) {
+                return known.rms;
+            }
+        }
+        const double rms = scoreHypothesis(capture, normals, samples, calibration, options);
+        result.scores.push_back({calibration, rms});
+        if (result.scores.size() == 1 || rms < result.bestRms) {
+            result.best = calibration;
+            result.bestRms = rms;
+        }
+        return rms;
+    };
+    result.identityRms = score(GeometryCalibration{});
+    // Coarse grid: field of view in degrees, light distance in image half-widths (0 = far).
+    for (double fov : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
+        for (double distance : {0.0, 32.0, 16.0, 8.0, 6.0, 4.0, 3.0}) {
+            score({fov, distance});
+        }
+    }
+    // Coordinate descent with shrinking steps around the best hypothesis.
+    double fovStep = 5.0;
+    double distanceFactor = 1.25;
+    for (int round = 0; round < 3; ++round) {
+        bool improved = true;
+        while (improved) {
+            improved = false;
+            const GeometryCalibration centre = result.best;
+            const double before = result.bestRms;
+            for (double delta : {-fovStep, fovStep}) {
+                const double fov = centre.fieldOfViewDegrees + delta;
+                if (fov >= 0 && fov <= 90) {
+                    score({fov, centre.lightDistance});
+                }
+            }
+            if (centre.lightDistance > 0) {
+                for (double factor : {1.0 / distanceFactor, distanceFactor}) {
+                    const double distance = centre.lightDistance * factor;
+                    if (distance >= 1.5 && distance <= 100) {
+                        score({centre.fieldOfViewDegrees, distance});
+                    }
+                }
+            }
+            improved = result.bestRms < before;
+        }
+        fovStep /= 2;
+        distanceFactor = std::sqrt(distanceFactor);
+    }
+    return result;
+}
+
+}  // namespace vpe
