@@ -74,6 +74,10 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     if (!(options.lambda >= 0) || !std::isfinite(options.lambda)) {
         throw InputError("--lambda must be a finite number >= 0");
     }
+    // Refuse a wrong output name before decoding anything.
+    if (modelPath.extension() != ".exr") {
+        throw InputError(modelPath, "the model file must have the .exr extension");
+    }
     if (static_cast<int>(originalCapture.images.size()) < coefficients) {
         throw InputError(originalCapture.source,
                          std::to_string(originalCapture.images.size()) +

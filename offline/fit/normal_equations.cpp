@@ -325,6 +325,7 @@ void accumulateNormalEquations(const ChunkGeometry& geometry, const KernelLightS
                                AccumulationPrecision precision, NormalEquationSums& sums) {
     std::memset(static_cast<void*>(&sums), 0, sizeof(sums));
     sums.harmonics = std::clamp(harmonics, 0, kMaxHarmonics);
+    sums.roundingLevel = precision == AccumulationPrecision::kFloatBlocks ? 1e-7 : 1e-13;
     if (precision == AccumulationPrecision::kFloatBlocks) {
         accumulateFast(geometry, lights, observations, sums.harmonics, sums);
     } else {
@@ -358,12 +359,17 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
 
     static thread_local DoublePack factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
     DoublePack diagonal[kMaxCoefficients];
+    DoublePack trace(0.0);
     for (int i = 0; i < k; ++i) {
         for (int j = 0; j <= i; ++j) {
             factor[packedIndex(i, j)] = normalMatrixEntry<DoublePack>(sums, i, j, get);
         }
+        trace = trace + factor[packedIndex(i, i)];
+    }
+    const DoublePack ridge = trace * DoublePack(sums.roundingLevel / k);
+    for (int i = 0; i < k; ++i) {
         factor[packedIndex(i, i)] =
-            factor[packedIndex(i, i)] + DoublePack(lambda * proto::smoothnessWeight(i));
+            factor[packedIndex(i, i)] + ridge + DoublePack(lambda * proto::smoothnessWeight(i));
         diagonal[i] = factor[packedIndex(i, i)];
     }
 
@@ -451,11 +457,12 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
         solution.valid[lane] = !singular[lane] && sums.count[lane] >= k - 0.5;
     }
     for (int c = 0; c < kChannels; ++c) {
-        // Residual from the sums: with (G + λR)x = b, Σ r² = Σy² − xᵀb − λ xᵀRx.
+        // Residual from the sums: with (G + λR + δI)x = b, Σ r² = Σy² − xᵀb − xᵀ(λR + δI)x.
         DoublePack explained(0.0), penalty(0.0);
         for (int i = 0; i < k; ++i) {
             explained = explained + x[c][i] * DoublePack::load(sums.projection[c][i]);
-            penalty = penalty + x[c][i] * x[c][i] * DoublePack(lambda * proto::smoothnessWeight(i));
+            penalty = penalty +
+                      x[c][i] * x[c][i] * (DoublePack(lambda * proto::smoothnessWeight(i)) + ridge);
         }
         const DoublePack residual = DoublePack::load(sums.squares[c]) - explained - penalty;
         for (int lane = 0; lane < kLanes; ++lane) {

@@ -54,6 +54,11 @@ struct ChunkObservations {
 // Stored in double: accumulated in float over short blocks of samples, then added here.
 struct NormalEquationSums {
     int harmonics = 0;
+    // Relative rounding error of the sums (float blocks ~1e-7, double ~1e-13). The solve adds
+    // this much of the mean diagonal as a ridge: invisible beside any real λ, but it turns a
+    // rank-deficient system (λ = 0 with the nearly redundant cos/sin basis) into its
+    // minimum-norm least-squares solution instead of a failure.
+    double roundingLevel = 0;
     double cosine[2 * proto::kMaxHarmonics + 1][kLanes];
     double sine[2 * proto::kMaxHarmonics + 1][kLanes];
     double lambertCosine[proto::kMaxHarmonics + 1][kLanes];
