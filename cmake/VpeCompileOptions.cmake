@@ -11,10 +11,25 @@ function(vpe_set_compile_options target)
         # -Wrestrict: GCC 12 reports false overlaps inside std::string at -O3 (GCC bug 105329).
         target_compile_options(${target} PRIVATE -Wduplicated-cond -Wlogical-op -Wno-restrict)
     endif()
+    if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+        # Clang's -Wdouble-promotion also flags float → double in initializations and returns
+        # (widening a float sample into a Vec3d), which the code does on purpose; GCC, whose
+        # warning only covers arithmetic promotions, keeps guarding the float kernels.
+        target_compile_options(${target} PRIVATE -Wno-double-promotion)
+    endif()
 endfunction()
 
 if(VPE_SANITIZE)
     add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer
+                        -fno-sanitize-recover=undefined)
+    add_link_options(-fsanitize=address,undefined)
+endif()
+
+if(VPE_BUILD_FUZZERS)
+    # libFuzzer is guided by coverage of the code under test, so every library is instrumented,
+    # not only the fuzz targets; UBSan must abort for the fuzzer to notice. The fuzz
+    # executables add -fsanitize=fuzzer at link time to get libFuzzer's main.
+    add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer
                         -fno-sanitize-recover=undefined)
     add_link_options(-fsanitize=address,undefined)
 endif()

@@ -2,7 +2,23 @@
 // Capture helpers.
 #include "capture/capture.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace vpe {
+
+std::optional<Vec3d> unitDirection(const Vec3d& v) {
+    const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    if (!(largest > 0)) {
+        return std::nullopt;
+    }
+    const Vec3d scaled{v.x / largest, v.y / largest, v.z / largest};
+    const double scaledLength = std::sqrt(proto::dot(scaled, scaled));  // in [1, √3]
+    if (!(largest * scaledLength > 1e-9)) {
+        return std::nullopt;
+    }
+    return Vec3d{scaled.x / scaledLength, scaled.y / scaledLength, scaled.z / scaledLength};
+}
 
 Vec3d PinholeCamera::center() const {
     const auto& r = rotation;

@@ -84,6 +84,11 @@ struct Capture {
     }
 };
 
+// The unit vector along v, or nothing when it is too short to have a direction (length
+// ≤ 1e-9). Components are scaled by the largest first, so neither 1e200 (squares overflow)
+// nor 1e-200 (squares underflow) turns a valid direction into a NaN or a zero one.
+std::optional<Vec3d> unitDirection(const Vec3d& v);
+
 // The light of one image as it arrives at a surface point: the unit direction towards it and
 // its irradiance (normal to the light) relative to the unit that models are normalized to.
 struct IncidentLight {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -18,12 +19,37 @@ namespace {
 
 using Json = nlohmann::json;
 
+// Finds the byte where parsing stops. A number beyond double range fails as out_of_range,
+// which unlike parse_error carries no position, so the text is parsed again to find it.
+class JsonErrorLocator : public nlohmann::json_sax<Json> {
+public:
+    std::size_t byte = 0;
+
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t, const string_t&) override { return true; }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return true; }
+    bool key(string_t&) override { return true; }
+    bool end_object() override { return true; }
+    bool start_array(std::size_t) override { return true; }
+    bool end_array() override { return true; }
+    bool parse_error(std::size_t position, const std::string&, const Json::exception&) override {
+        byte = position;
+        return false;
+    }
+};
+
 class ManifestReader {
 public:
     explicit ManifestReader(std::filesystem::path source) : source_(std::move(source)) {}
 
+    // An empty key is the manifest itself.
     [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-        throw InputError(source_, key + ": " + problem);
+        throw InputError(source_, key.empty() ? problem : key + ": " + problem);
     }
 
     void requireObject(const Json& value, const std::string& key,
@@ -163,6 +189,15 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
         const std::size_t colon = what.rfind(": ");
         what = colon == std::string::npos ? what : what.substr(colon + 2);
         throw InputError(source, lineOfByte(text, error.byte), "invalid JSON: " + what);
+    } catch (const Json::out_of_range& error) {
+        // Only a number beyond double range ("1e400") gets here; the message follows the
+        // library's "[json.exception.out_of_range.406] " prefix.
+        std::string what = error.what();
+        const std::size_t bracket = what.find("] ");
+        what = bracket == std::string::npos ? what : what.substr(bracket + 2);
+        JsonErrorLocator locator;
+        Json::sax_parse(text.begin(), text.end(), &locator);
+        throw InputError(source, lineOfByte(text, locator.byte), "invalid JSON: " + what);
     }
     const ManifestReader reader(source);
     reader.requireObject(root, "",
@@ -227,11 +262,11 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
         image.file = reader.file(images[i]["file"], key + ".file");
         image.light = reader.vector(images[i]["light"], key + ".light");
         if (capture.lightKind == LightKind::kDirectional) {
-            const double length = std::sqrt(proto::dot(image.light, image.light));
-            if (!(length > 1e-9)) {
+            const std::optional<Vec3d> direction = unitDirection(image.light);
+            if (!direction) {
                 reader.fail(key + ".light", "zero-length light vector");
             }
-            image.light = {image.light.x / length, image.light.y / length, image.light.z / length};
+            image.light = *direction;
         }
         if (images[i].contains("intensity")) {
             image.intensity = reader.positiveNumber(images[i]["intensity"], key + ".intensity");
@@ -273,11 +308,11 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
         if (root["plane"].contains("normal")) {
             plane.normal = reader.vector(root["plane"]["normal"], "plane.normal");
         }
-        const double length = std::sqrt(proto::dot(plane.normal, plane.normal));
-        if (!(length > 1e-9)) {
+        const std::optional<Vec3d> normal = unitDirection(plane.normal);
+        if (!normal) {
             reader.fail("plane.normal", "zero-length vector");
         }
-        plane.normal = {plane.normal.x / length, plane.normal.y / length, plane.normal.z / length};
+        plane.normal = *normal;
         capture.plane = plane;
     }
     if (root.contains("mask")) {

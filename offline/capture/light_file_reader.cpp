@@ -2,6 +2,7 @@
 // RTI .lp light file reader.
 #include "capture/light_file_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -26,7 +27,7 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
         }
     }
     if (lines.empty()) {
-        throw InputError(source, "empty light file: expected the number of images on line 1");
+        throw InputError(source, 1, "empty light file: expected the number of images");
     }
     const std::vector<std::string_view> header = text::splitFields(lines.front().text);
     const std::optional<long> declared =
@@ -43,8 +44,12 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
     }
     const long listed = static_cast<long>(lines.size()) - 1;
     if (listed != *declared) {
-        throw InputError(source, "declares " + std::to_string(*declared) + " images but lists " +
-                                     std::to_string(listed));
+        // Too many: point at the first line beyond the count; too few: at the count itself.
+        const int line = listed > *declared ? lines[static_cast<std::size_t>(*declared) + 1].number
+                                            : lines.front().number;
+        throw InputError(source, line,
+                         "declares " + std::to_string(*declared) + " images but lists " +
+                             std::to_string(listed));
     }
 
     Capture capture;
@@ -71,8 +76,8 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
             }
             xyz[axis] = *value;
         }
-        const double length = std::sqrt(xyz[0] * xyz[0] + xyz[1] * xyz[1] + xyz[2] * xyz[2]);
-        if (!(length > 1e-9)) {
+        const std::optional<Vec3d> direction = unitDirection(Vec3d{xyz[0], xyz[1], xyz[2]});
+        if (!direction) {
             throw InputError(source, line.number, "zero-length light vector");
         }
         // The image path is everything before the three numbers, so names may hold spaces.
@@ -81,7 +86,7 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
         const std::string name(nameBegin, static_cast<std::size_t>(nameEnd - nameBegin));
         CaptureImage image;
         image.file = folder / std::filesystem::path(name).make_preferred();
-        image.light = {xyz[0] / length, xyz[1] / length, xyz[2] / length};
+        image.light = *direction;
         image.line = line.number;
         capture.images.push_back(std::move(image));
     }

@@ -26,8 +26,7 @@ const std::vector<Vec3d>& RelightPreview::lights() {
     return kLights;
 }
 
-RelightPreview::RelightPreview(int width, int height, int harmonics)
-    : width_(width), height_(height), harmonics_(harmonics) {
+RelightPreview::RelightPreview(int width, int height, int harmonics) : harmonics_(harmonics) {
     step_ = std::max(1, (std::max(width, height) + kMaxTile - 1) / kMaxTile);
     tileWidth_ = (width + step_ - 1) / step_;
     tileHeight_ = (height + step_ - 1) / step_;

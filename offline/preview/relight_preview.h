@@ -25,7 +25,7 @@ public:
     static const std::vector<Vec3d>& lights();
 
 private:
-    int width_, height_, harmonics_, step_, tileWidth_, tileHeight_;
+    int harmonics_, step_, tileWidth_, tileHeight_;
     std::vector<std::uint8_t> pixels_;
 };
 

@@ -65,6 +65,10 @@ std::vector<std::string_view> splitFields(std::string_view line) {
 std::optional<double> parseNumber(std::string_view field) {
     if (!field.empty() && field.front() == '+') {
         field.remove_prefix(1);
+        // from_chars takes a '-' of its own, which would let "+-1" through as -1.
+        if (!field.empty() && field.front() == '-') {
+            return std::nullopt;
+        }
     }
     double value = 0;
     const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
