@@ -168,15 +168,12 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
             source.nextRow = rowBegin + rows;
             // Grey images feed all three channels; a second or fourth channel is alpha.
             const int colourChannels = channels >= 3 ? 3 : 1;
-            float* values = band.values.data() + i * band.sampleStride();
-            float* weights = band.weights.data() + i * band.weightStride();
-            std::uint8_t* saturated = band.saturated.data() + i * band.weightStride();
             for (int r = 0; r < rows; ++r) {
                 const std::uint8_t* maskRow =
                     mask ? mask + static_cast<std::size_t>(rowBegin + r) * width_ : nullptr;
                 for (int x = 0; x < width_; ++x) {
                     const std::size_t in = (static_cast<std::size_t>(r) * width_ + x) * channels;
-                    const std::size_t out = band.offset(r, x);
+                    const int image = static_cast<int>(i);
                     bool usable = maskRow == nullptr || maskRow[x] != 0;
                     bool full = false;
                     for (int c = 0; c < SampleBand::kChannels; ++c) {
@@ -201,10 +198,10 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
                                     std::copysign(proto::srgbToLinear(std::fabs(value)), value));
                             }
                         }
-                        values[c * band.channelStride() + out] = value;
+                        band.values[band.valueIndex(image, c, r, x)] = value;
                     }
-                    weights[out] = usable ? 1.0f : 0.0f;
-                    saturated[out] = full ? 1 : 0;
+                    band.weights[band.sampleIndex(image, r, x)] = usable ? 1.0f : 0.0f;
+                    band.saturated[band.sampleIndex(image, r, x)] = full ? 1 : 0;
                 }
             }
         }

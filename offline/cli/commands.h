@@ -14,6 +14,7 @@ using Action = std::function<void()>;
 void addFitCommand(CLI::App& app, Action& action);
 void addEvalCommand(CLI::App& app, Action& action);
 void addSweepCommand(CLI::App& app, Action& action);
+void addNormalsCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     vpe::cli::addFitCommand(app, action);
     vpe::cli::addEvalCommand(app, action);
     vpe::cli::addSweepCommand(app, action);
+    vpe::cli::addNormalsCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -5,15 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <mutex>
 
 #include "capture/image_band_reader.h"
 #include "capture/surface_geometry.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
-#include "fit/chunk_setup.h"
-#include "fit/extended_chunk_fit.h"
+#include "fit/band_fitter.h"
 #include "fit/geometry_search.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
@@ -119,10 +117,13 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     }
     const SurfaceGeometry geometry(capture, report.width, report.height);
 
-    const std::vector<fit::KernelLight> lights = fit::kernelLights(capture);
-    const fit::KernelLightSet lightSet = fit::kernelLightSet(capture, lights);
-    const fit::AccumulationPrecision precision =
-        resolvePrecision(options.precision, options.lambda);
+    fit::BandFitSettings bandSettings;
+    bandSettings.harmonics = options.harmonics;
+    bandSettings.lambda = options.lambda;
+    bandSettings.precision = resolvePrecision(options.precision, options.lambda);
+    bandSettings.extended = options.variant == ModelVariant::kExtended;
+    bandSettings.threads = options.threads;
+    const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
 
     ModelInfo info;
     info.width = report.width;
@@ -136,21 +137,10 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     ModelWriter writer(modelPath, info);
     RelightPreview preview(report.width, report.height, options.harmonics);
 
-    const bool extended = options.variant == ModelVariant::kExtended;
-    std::unique_ptr<fit::ExtendedLightTable> lightTable;
-    fit::ExtendedFitSettings extendedSettings;
-    if (extended) {
-        lightTable = std::make_unique<fit::ExtendedLightTable>(capture);
-        extendedSettings.harmonics = options.harmonics;
-        extendedSettings.lambda = options.lambda;
-        extendedSettings.precision = precision;
-    }
     const int bandRows = reader->rowsForBudget(options.bandBudgetBytes);
-    const int chunksPerRow = (report.width + fit::kLanes - 1) / fit::kLanes;
     SampleBand band;
     ModelRows rows;
     double rmsSum = 0;
-    std::mutex rmsMutex;
     ProgressBar progress("fit", static_cast<std::size_t>(report.height));
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);
@@ -159,60 +149,14 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         report.decodeSeconds += secondsSince(decodeStart);
 
         const auto fitStart = Clock::now();
-        rows.resize(report.width, bandHeight, coefficients, extended);
-        parallelFor(
-            static_cast<std::size_t>(bandHeight) * chunksPerRow, 4, options.threads,
-            [&](std::size_t begin, std::size_t end) {
-                auto sums = std::make_unique<fit::NormalEquationSums>();
-                auto plain = std::make_unique<fit::ChunkSolution>();
-                auto withTransport = std::make_unique<fit::ExtendedChunkSolution>();
-                const fit::ChunkSolution* solution = extended ? &withTransport->brdf : plain.get();
-                fit::ChunkGeometry chunk;
-                double localRms = 0;
-                for (std::size_t index = begin; index < end; ++index) {
-                    const int r = static_cast<int>(index / chunksPerRow);
-                    const int x0 = static_cast<int>(index % chunksPerRow) * fit::kLanes;
-                    bool laneValid[fit::kLanes];
-                    fit::fillChunkGeometry(geometry, normals.normals, x0, rowBegin + r, chunk,
-                                           laneValid);
-                    if (extended) {
-                        fit::fitChunkExtended(capture, *lightTable, chunk, laneValid, lightSet,
-                                              band, r, x0, extendedSettings, *withTransport);
-                    } else {
-                        fit::accumulateNormalEquations(chunk, lightSet,
-                                                       fit::chunkObservations(band, r, x0),
-                                                       options.harmonics, precision, *sums);
-                        fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *plain);
-                    }
-                    for (int lane = 0; lane < fit::kLanes && x0 + lane < report.width; ++lane) {
-                        const std::size_t p = rows.pixel(r, x0 + lane);
-                        const bool valid = laneValid[lane] && solution->valid[lane];
-                        rows.valid[p] = valid ? 1 : 0;
-                        for (int a = 0; a < 3; ++a) {
-                            rows.normal[p * 3 + a] = chunk.normal[a][lane];
-                        }
-                        if (!valid) {
-                            continue;  // coefficients and RMS stay zero
-                        }
-                        for (int c = 0; c < 3; ++c) {
-                            std::copy_n(solution->coefficients[lane][c], coefficients,
-                                        rows.coefficient.begin() +
-                                            static_cast<long>((p * 3 + c) * coefficients));
-                            rows.rms[p * 3 + c] = solution->rms[lane][c];
-                            localRms += static_cast<double>(solution->rms[lane][c]) / 3.0;
-                        }
-                        if (extended) {
-                            std::copy_n(
-                                withTransport->transport[lane], kTransportTerms,
-                                rows.transport.begin() + static_cast<long>(p * kTransportTerms));
-                        }
-                    }
+        fitter.fit(band, rows);
+        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+            if (rows.valid[p]) {
+                ++report.validPixels;
+                for (int c = 0; c < 3; ++c) {
+                    rmsSum += static_cast<double>(rows.rms[p * 3 + c]) / 3.0;
                 }
-                std::lock_guard lock(rmsMutex);
-                rmsSum += localRms;
-            });
-        for (std::uint8_t v : rows.valid) {
-            report.validPixels += v;
+            }
         }
         report.fitSeconds += secondsSince(fitStart);
 

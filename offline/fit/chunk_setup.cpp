@@ -58,11 +58,12 @@ void fillChunkGeometry(const SurfaceGeometry& geometry, const NormalMap& normals
 
 ChunkObservations chunkObservations(const SampleBand& band, int row, int x0) {
     ChunkObservations observations;
-    observations.values = band.values.data() + band.offset(row, x0);
-    observations.sampleStride = band.sampleStride();
-    observations.channelStride = band.channelStride();
-    observations.weights = band.weights.data() + band.offset(row, x0);
-    observations.weightStride = band.weightStride();
+    static_assert(SampleBand::kChunkWidth == kLanes, "a band chunk is one kernel vector");
+    observations.values = band.values.data() + band.valueIndex(0, 0, row, x0);
+    observations.sampleStride = static_cast<std::size_t>(SampleBand::kChannels) * kLanes;
+    observations.channelStride = kLanes;
+    observations.weights = band.weights.data() + band.sampleIndex(0, row, x0);
+    observations.weightStride = kLanes;
     return observations;
 }
 

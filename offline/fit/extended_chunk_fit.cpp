@@ -54,12 +54,11 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         const CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
         for (int lane = 0; lane < kLanes; ++lane) {
             const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            const std::size_t from = band.offset(row, x0 + lane);
-            weights[at] = band.weights[s * band.weightStride() + from];
-            saturated[at] = band.saturated[s * band.weightStride() + from];
+            weights[at] = band.weight(s, row, x0 + lane);
+            saturated[at] = band.isSaturated(s, row, x0 + lane) ? 1 : 0;
             for (int c = 0; c < 3; ++c) {
                 values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] =
-                    band.values[s * band.sampleStride() + c * band.channelStride() + from];
+                    band.value(s, c, row, x0 + lane);
             }
             const Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
                           geometry.normal[2][lane]};
@@ -81,16 +80,122 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         }
     }
 
+    thread_local std::vector<float> robust;  // shadow down-weighting of the BRDF fit
+    robust.assign(laneBlock, 1.0f);
+    std::vector<double> predicted(static_cast<std::size_t>(samples));
+    std::vector<double> magnitudes;
+    auto observedLuminance = [&](int s, int lane) {
+        const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
+        return luminance(values[base], values[base + kLanes], values[base + 2 * kLanes]);
+    };
+    // The BRDF's luminance prediction of every sample of a lane, in image units.
+    auto predictLane = [&](int lane) {
+        for (int s = 0; s < samples; ++s) {
+            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+            double rgb[3];
+            for (int c = 0; c < 3; ++c) {
+                rgb[c] = irradiance[at] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
+                                                                     settings.harmonics, cosD[at],
+                                                                     cosS[at]);
+            }
+            predicted[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
+        }
+    };
+    // T given f, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖².
+    auto fitTransport = [&](int lane) {
+        Eigen::Matrix<double, kTransportTerms, kTransportTerms> a;
+        Eigen::Matrix<double, kTransportTerms, 1> b;
+        a.setZero();
+        b.setZero();
+        double weightSum = 0;
+        int used = 0;
+        for (int s = 0; s < samples; ++s) {
+            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+            if (weights[at] <= 0 || censored[at]) {
+                continue;
+            }
+            const double p = predicted[static_cast<std::size_t>(s)];
+            const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
+                table.transportBasis[static_cast<std::size_t>(s)].data());
+            const double w = weights[at];
+            a.noalias() += (w * p * p) * h * h.transpose();
+            b.noalias() += (w * p * observedLuminance(s, lane)) * h;
+            weightSum += w * p * p;
+            ++used;
+        }
+        if (used == 0 || !(weightSum > 0)) {
+            return;
+        }
+        const double ridge = settings.transportRidge * weightSum / used;
+        Eigen::Matrix<double, kTransportTerms, 1> identity;
+        identityTransport(identity.data());
+        a.diagonal().array() += ridge;
+        b += ridge * identity;
+        const Eigen::Matrix<double, kTransportTerms, 1> t = a.ldlt().solve(b);
+        if (!t.allFinite()) {
+            return;
+        }
+        for (int k = 0; k < kTransportTerms; ++k) {
+            out.transport[lane][k] = static_cast<float>(t[k]);
+        }
+        for (int s = 0; s < samples; ++s) {
+            const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
+                table.transportBasis[static_cast<std::size_t>(s)].data());
+            transport[static_cast<std::size_t>(s) * kLanes + lane] =
+                static_cast<float>(std::clamp(t.dot(h), 0.0, 4.0));
+        }
+    };
+    // Shadows only darken: residuals far below the model (relative to the lane's robust
+    // scale) get Tukey weights, residuals above it keep weight 1, so the BRDF follows the
+    // lit appearance and the shadowing is left for T. Clipped samples the model already
+    // reaches are censored.
+    auto updateRobustWeights = [&](int lane) {
+        magnitudes.clear();
+        double mean = 0;
+        for (int s = 0; s < samples; ++s) {
+            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+            const double model =
+                static_cast<double>(transport[at]) * predicted[static_cast<std::size_t>(s)];
+            const double observed = observedLuminance(s, lane);
+            censored[at] = saturated[at] && model >= observed;
+            if (weights[at] > 0 && !censored[at]) {
+                magnitudes.push_back(std::fabs(observed - model));
+                mean += observed;
+            }
+        }
+        if (magnitudes.empty()) {
+            return;
+        }
+        mean /= static_cast<double>(magnitudes.size());
+        std::nth_element(magnitudes.begin(),
+                         magnitudes.begin() + static_cast<long>(magnitudes.size() / 2),
+                         magnitudes.end());
+        const double scale =
+            std::max(1.4826 * magnitudes[magnitudes.size() / 2], 1e-3 * mean + 1e-6);
+        const double cutoff = settings.shadowCutoff * scale;
+        for (int s = 0; s < samples; ++s) {
+            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
+            const double r =
+                observedLuminance(s, lane) -
+                static_cast<double>(transport[at]) * predicted[static_cast<std::size_t>(s)];
+            const double u = r / cutoff;
+            robust[at] =
+                r >= 0 ? 1.0f : (u > -1 ? static_cast<float>((1 - u * u) * (1 - u * u)) : 0.0f);
+        }
+    };
+
     auto sums = std::make_unique<NormalEquationSums>();
     auto firstRound = std::make_unique<ChunkSolution>();
     const int rounds = std::max(1, settings.rounds);
     for (int round = 0;; ++round) {
-        // f given T: observations y / T, weights T² (the least-squares form of y ≈ T f).
+        // f given T: observations y / T, weights T² (the least-squares form of y ≈ T f),
+        // times the shadow weights.
         for (std::size_t at = 0; at < laneBlock; ++at) {
-            const double t = transport[at];
+            const double t = static_cast<double>(transport[at]);
             const bool use = t >= settings.minimumTransport && !censored[at];
-            scaledWeights[at] =
-                use ? static_cast<float>(static_cast<double>(weights[at]) * t * t) : 0.0f;
+            scaledWeights[at] = use ? static_cast<float>(static_cast<double>(weights[at]) *
+                                                         static_cast<double>(robust[at]) * t * t)
+                                    : 0.0f;
             const std::size_t s = at / kLanes, lane = at % kLanes;
             for (int c = 0; c < 3; ++c) {
                 const std::size_t i = (s * 3 + c) * kLanes + lane;
@@ -112,69 +217,16 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         if (round + 1 >= rounds) {
             break;
         }
-        // T given f, per lane, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖².
+        // Round 0's BRDF still carries the shadows, so T waits for the reweighted fit.
         for (int lane = 0; lane < kLanes; ++lane) {
             if (!laneValid[lane] || !out.brdf.valid[lane]) {
                 continue;
             }
-            Eigen::Matrix<double, kTransportTerms, kTransportTerms> a;
-            Eigen::Matrix<double, kTransportTerms, 1> b;
-            a.setZero();
-            b.setZero();
-            std::vector<double> predicted(static_cast<std::size_t>(samples));
-            double weightSum = 0;
-            int used = 0;
-            for (int s = 0; s < samples; ++s) {
-                const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-                double rgb[3];
-                for (int c = 0; c < 3; ++c) {
-                    rgb[c] = irradiance[at] *
-                             proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                        settings.harmonics, cosD[at], cosS[at]);
-                }
-                predicted[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
-                if (weights[at] <= 0 || censored[at]) {
-                    continue;
-                }
-                const double p = predicted[static_cast<std::size_t>(s)];
-                const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
-                const double l = luminance(values[base], values[base + kLanes],
-                                           values[base + 2 * kLanes]);  // NOLINT
-                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
-                    table.transportBasis[static_cast<std::size_t>(s)].data());
-                const double w = weights[at];
-                a.noalias() += (w * p * p) * h * h.transpose();
-                b.noalias() += (w * p * l) * h;
-                weightSum += w * p * p;
-                ++used;
+            predictLane(lane);
+            if (round >= 1) {
+                fitTransport(lane);
             }
-            if (used == 0 || !(weightSum > 0)) {
-                continue;
-            }
-            const double ridge = settings.transportRidge * weightSum / used;
-            Eigen::Matrix<double, kTransportTerms, 1> identity;
-            identityTransport(identity.data());
-            a.diagonal().array() += ridge;
-            b += ridge * identity;
-            const Eigen::Matrix<double, kTransportTerms, 1> t = a.ldlt().solve(b);
-            if (!t.allFinite()) {
-                continue;
-            }
-            for (int k = 0; k < kTransportTerms; ++k) {
-                out.transport[lane][k] = static_cast<float>(t[k]);
-            }
-            for (int s = 0; s < samples; ++s) {
-                const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
-                    table.transportBasis[static_cast<std::size_t>(s)].data());
-                const double value = std::clamp(t.dot(h), 0.0, 4.0);
-                transport[at] = static_cast<float>(value);
-                // A clipped sample the model already reaches tells nothing more: censor it.
-                const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
-                const double l = luminance(values[base], values[base + kLanes],
-                                           values[base + 2 * kLanes]);  // NOLINT
-                censored[at] = saturated[at] && value * predicted[static_cast<std::size_t>(s)] >= l;
-            }
+            updateRobustWeights(lane);
         }
     }
     // A texel whose transport leaves too few samples (nearly always in shadow) keeps the

@@ -21,8 +21,9 @@ struct ExtendedFitSettings {
     int harmonics = 10;
     double lambda = 3.14;
     AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
-    int rounds = 3;                  // f, T, f, T, f
+    int rounds = 4;                  // BRDF fits: f, (T, f) × 3 with shadow weights
     double transportRidge = 1.0;     // relative to the average sample's weight in the T fit
+    double shadowCutoff = 3.0;       // Tukey cutoff for darker-than-model residuals, in robust σ
     double minimumTransport = 0.02;  // T below this drops the sample from the f fit
 };
 

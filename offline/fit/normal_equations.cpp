@@ -4,10 +4,9 @@
 #include "fit/normal_equations.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstring>
-#include <utility>
+#include <new>
 
 #include "vpe/proto/reflection_geometry.h"
 
@@ -121,86 +120,52 @@ template <typename P, bool kPointLights>
     return terms;
 }
 
-// Several samples per step: every accumulator load and store then carries kGroup FMAs, which
-// is what bounds this loop (there are far more accumulators than registers).
-// Four float samples fit the registers; double packs are twice as wide, so two.
-template <typename P>
-constexpr int kGroup = sizeof(typename P::Vector) == sizeof(FloatPack::Vector) ? 4 : 2;
-
-template <typename P>
-[[gnu::always_inline]] inline void accumulateGroup(const SampleTerms<P> (&t)[kGroup<P>],
-                                                   int harmonics, Partials<P>& p) {
-    using SampleTerms = vpe::fit::SampleTerms<P>;
-    auto sum = [&](auto term) {
-        P total = term(t[0]);
-        for (int g = 1; g < kGroup<P>; ++g) {
-            total = total + term(t[g]);
+// Harmonics m0 .. m0 + G − 1 over one block of samples, with their accumulators held in
+// registers: each sample's recurrence state is loaded, advanced G steps and stored back, so
+// memory traffic is per group of harmonics, not per accumulator update. `full` adds the
+// Lambert and projection sums (harmonics ≤ M); beyond M only the plain sums continue.
+template <int G, bool kFull, typename P>
+[[gnu::always_inline]] inline void accumulateHarmonicGroup(const SampleTerms<P>* terms,
+                                                           proto::HarmonicRecurrence<P>* state,
+                                                           int count, int m0, Partials<P>& p) {
+    constexpr int kSums = kFull ? 4 + 2 * kChannels : 2;
+    P acc[G][kSums];
+    for (int j = 0; j < G; ++j) {
+        for (int i = 0; i < kSums; ++i) {
+            acc[j][i] = P(0);
         }
-        return total;
-    };
-    p.count += sum([](const SampleTerms& x) { return x.weight; });
-    p.cosine[0] += sum([](const SampleTerms& x) { return x.weight; });
-    p.lambertSquare += sum([](const SampleTerms& x) { return x.weightedLambert * x.lambert; });
-    p.lambertCosine[0] += sum([](const SampleTerms& x) { return x.weightedLambert; });
-    for (int c = 0; c < kChannels; ++c) {
-        p.squares[c] += sum([c](const SampleTerms& x) { return x.weightedValue[c] * x.value[c]; });
-        p.projection[c][proto::kLambertIndex] +=
-            sum([c](const SampleTerms& x) { return x.weightedValue[c] * x.lambert; });
-        p.projection[c][proto::kConstantIndex] +=
-            sum([c](const SampleTerms& x) { return x.weightedValue[c]; }) *
-            P(proto::kConstantBasis);
     }
-    auto h = [&]<std::size_t... g>(std::index_sequence<g...>) {
-        return std::array<proto::HarmonicRecurrence<P>, kGroup<P>>{
-            proto::HarmonicRecurrence<P>(t[g].cosThetaS)...};
-    }
-    (std::make_index_sequence<kGroup<P>>());
-    P cosK[kGroup<P>], sinK[kGroup<P>];
-    int k = 1;
-    for (; k <= harmonics; ++k) {
-        for (int g = 0; g < kGroup<P>; ++g) {
-            cosK[g] = h[g].cosine();
-            sinK[g] = h[g].sine();
-            h[g].next();
-        }
-        auto dotCos = [&](auto weight) {
-            P total = weight(t[0]) * cosK[0];
-            for (int g = 1; g < kGroup<P>; ++g) {
-                total = total + weight(t[g]) * cosK[g];
+    for (int s = 0; s < count; ++s) {
+        const SampleTerms<P>& t = terms[s];
+        proto::HarmonicRecurrence<P>& h = state[s];
+        for (int j = 0; j < G; ++j) {
+            const P c = h.cosine();
+            const P sn = h.sine();
+            h.next();
+            acc[j][0] += t.weight * c;
+            acc[j][1] += t.weight * sn;
+            if constexpr (kFull) {
+                acc[j][2] += t.weightedLambert * c;
+                acc[j][3] += t.weightedLambert * sn;
+                for (int k = 0; k < kChannels; ++k) {
+                    acc[j][4 + 2 * k] += t.weightedValue[k] * c;
+                    acc[j][5 + 2 * k] += t.weightedValue[k] * sn;
+                }
             }
-            return total;
-        };
-        auto dotSin = [&](auto weight) {
-            P total = weight(t[0]) * sinK[0];
-            for (int g = 1; g < kGroup<P>; ++g) {
-                total = total + weight(t[g]) * sinK[g];
-            }
-            return total;
-        };
-        auto weight = [](const SampleTerms& x) { return x.weight; };
-        auto weightedLambert = [](const SampleTerms& x) { return x.weightedLambert; };
-        p.cosine[k] += dotCos(weight);
-        p.sine[k] += dotSin(weight);
-        p.lambertCosine[k] += dotCos(weightedLambert);
-        p.lambertSine[k] += dotSin(weightedLambert);
-        for (int c = 0; c < kChannels; ++c) {
-            auto weightedValue = [c](const SampleTerms& x) { return x.weightedValue[c]; };
-            p.projection[c][cosineIndex(k)] += dotCos(weightedValue);
-            p.projection[c][sineIndex(k)] += dotSin(weightedValue);
         }
     }
-    // Products of two harmonics reach 2M: only the plain sums continue.
-    for (; k <= 2 * harmonics; ++k) {
-        P cosTotal = t[0].weight * h[0].cosine();
-        P sinTotal = t[0].weight * h[0].sine();
-        h[0].next();
-        for (int g = 1; g < kGroup<P>; ++g) {
-            cosTotal = cosTotal + t[g].weight * h[g].cosine();
-            sinTotal = sinTotal + t[g].weight * h[g].sine();
-            h[g].next();
+    for (int j = 0; j < G; ++j) {
+        const int m = m0 + j;
+        p.cosine[m] += acc[j][0];
+        p.sine[m] += acc[j][1];
+        if constexpr (kFull) {
+            p.lambertCosine[m] += acc[j][2];
+            p.lambertSine[m] += acc[j][3];
+            for (int k = 0; k < kChannels; ++k) {
+                p.projection[k][cosineIndex(m)] += acc[j][4 + 2 * k];
+                p.projection[k][sineIndex(m)] += acc[j][5 + 2 * k];
+            }
         }
-        p.cosine[k] += cosTotal;
-        p.sine[k] += sinTotal;
     }
 }
 
@@ -220,20 +185,46 @@ template <typename P, bool kPointLights>
         position = {loadPack<P>(geometry.position[0]), loadPack<P>(geometry.position[1]),
                     loadPack<P>(geometry.position[2])};
     }
+    // Float packs keep two harmonics' ten accumulators in registers; double packs are two
+    // registers each, so one.
+    constexpr int kPair = sizeof(typename P::Vector) == sizeof(FloatPack::Vector) ? 2 : 1;
 
     Partials<P> partial;
     std::memset(static_cast<void*>(&partial), 0, sizeof(partial));
+    SampleTerms<P> terms[kSampleBlock];
+    alignas(64) unsigned char stateStorage[kSampleBlock * sizeof(proto::HarmonicRecurrence<P>)];
+    auto* state = reinterpret_cast<proto::HarmonicRecurrence<P>*>(stateStorage);
     for (int blockBegin = 0; blockBegin < lights.count; blockBegin += kSampleBlock) {
-        const int blockEnd = std::min(lights.count, blockBegin + kSampleBlock);
-        for (int s = blockBegin; s < blockEnd; s += kGroup<P>) {
-            // A short last group repeats its first sample at zero weight.
-            SampleTerms<P> terms[kGroup<P>];
-            for (int g = 0; g < kGroup<P>; ++g) {
-                const bool pad = s + g >= blockEnd;
-                terms[g] = sampleTerms<P, kPointLights>(normal, view, position, lights,
-                                                        observations, pad ? s : s + g, pad);
+        const int count = std::min(lights.count - blockBegin, kSampleBlock);
+        for (int i = 0; i < count; ++i) {
+            terms[i] = sampleTerms<P, kPointLights>(normal, view, position, lights, observations,
+                                                    blockBegin + i, false);
+            new (&state[i]) proto::HarmonicRecurrence<P>(terms[i].cosThetaS);
+            const SampleTerms<P>& t = terms[i];
+            partial.count += t.weight;
+            partial.cosine[0] += t.weight;
+            partial.lambertSquare += t.weightedLambert * t.lambert;
+            partial.lambertCosine[0] += t.weightedLambert;
+            for (int c = 0; c < kChannels; ++c) {
+                partial.squares[c] += t.weightedValue[c] * t.value[c];
+                partial.projection[c][proto::kLambertIndex] += t.weightedValue[c] * t.lambert;
+                partial.projection[c][proto::kConstantIndex] +=
+                    t.weightedValue[c] * P(proto::kConstantBasis);
             }
-            accumulateGroup(terms, harmonics, partial);
+        }
+        int m = 1;
+        for (; m + kPair - 1 <= harmonics; m += kPair) {
+            accumulateHarmonicGroup<kPair, true>(terms, state, count, m, partial);
+        }
+        for (; m <= harmonics; ++m) {
+            accumulateHarmonicGroup<1, true>(terms, state, count, m, partial);
+        }
+        // Products of two harmonics reach 2M: only the plain sums continue.
+        for (; m + 3 <= gramHarmonics; m += 4) {
+            accumulateHarmonicGroup<4, false>(terms, state, count, m, partial);
+        }
+        for (; m <= gramHarmonics; ++m) {
+            accumulateHarmonicGroup<1, false>(terms, state, count, m, partial);
         }
         flushRows(partial.cosine, sums.cosine, gramHarmonics + 1);
         flushRows(partial.sine, sums.sine, gramHarmonics + 1);

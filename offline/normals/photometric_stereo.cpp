@@ -141,8 +141,7 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
                     samples.clear();
                     const Vec3d position = geometry.position(x, y);
                     for (int s = 0; s < band.images; ++s) {
-                        const std::size_t at = s * band.weightStride() + band.offset(r, x);
-                        if (band.weights[at] <= 0 || band.saturated[at]) {
+                        if (band.weight(s, r, x) <= 0 || band.isSaturated(s, r, x)) {
                             continue;
                         }
                         const IncidentLight light = incidentLight(

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: MIT
+// vpe normals CAPTURE --out normals.png [--truth FILE]
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "capture/capture_loader.h"
+#include "cli/commands.h"
+#include "common/parallel_for.h"
+#include "normals/photometric_stereo.h"
+
+namespace vpe::cli {
+
+void addNormalsCommand(CLI::App& app, Action& action) {
+    struct Arguments {
+        std::string capture;
+        std::string out;
+        std::string truth;
+        int threads = 0;
+        bool json = false;
+    };
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "normals", "Estimate normals by robust photometric stereo; compare with a reference");
+    command->add_option("CAPTURE", args->capture, "Capture (its own normal map is not used)")
+        ->required();
+    command->add_option("--out", args->out, "Normal map to write, (n + 1)/2 as 8-bit PNG")
+        ->required();
+    command->add_option("--truth", args->truth,
+                        "Reference normal map: report the angular error (default: the "
+                        "capture's own normal map, if it has one)");
+    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    command->callback([args, &action] {
+        action = [args] {
+            const Capture capture = openCapture(args->capture);
+            PhotometricStereoOptions options;
+            options.threads = resolveThreadCount(args->threads);
+            const NormalMap estimate = estimateNormals(capture, options);
+            writeNormalMapPng(args->out, estimate);
+            nlohmann::json json;
+            std::size_t valid = 0;
+            for (std::uint8_t v : estimate.valid) {
+                valid += v;
+            }
+            json["pixels"] = estimate.valid.size();
+            json["valid_pixels"] = valid;
+            std::optional<std::filesystem::path> truthPath;
+            if (!args->truth.empty()) {
+                truthPath = args->truth;
+            } else if (capture.normalMap) {
+                truthPath = capture.normalMap;
+            }
+            if (truthPath) {
+                const NormalMap truth =
+                    readNormalMap(*truthPath, args->truth.empty() ? capture.normalEncoding
+                                                                  : NormalEncoding::kAuto);
+                const AngularError error = compareNormalMaps(estimate, truth);
+                std::fprintf(stderr, "normals vs %s: mean %.3f°, median %.3f° over %zu pixels\n",
+                             truthPath->c_str(), error.meanDegrees, error.medianDegrees,
+                             error.pixels);
+                json["truth"] = truthPath->string();
+                json["mean_error_degrees"] = error.meanDegrees;
+                json["median_error_degrees"] = error.medianDegrees;
+                json["compared_pixels"] = error.pixels;
+            }
+            if (args->json) {
+                printJson(json.dump());
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Installs the Debian 12 packages vpe needs that are missing. As root it runs apt-get;
+# otherwise it prints the exact apt line and stops, so nothing is installed behind your back.
+#   scripts/install-deps.sh          build + run the offline tools and the demo
+#   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer
+set -euo pipefail
+
+packages=(
+    cmake ninja-build g++ pkg-config          # build
+    libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF, OpenEXR), oiiotool
+    libeigen3-dev nlohmann-json3-dev libcli11-dev
+)
+if [[ "${1:-}" == "--test" ]]; then
+    packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)
+fi
+
+missing=()
+for package in "${packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+        missing+=("$package")
+    fi
+done
+if [[ ${#missing[@]} -eq 0 ]]; then
+    exit 0
+fi
+
+if [[ $(id -u) -eq 0 ]]; then
+    echo "vpe: installing ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+    echo "vpe: missing Debian packages; install them with:" >&2
+    echo "  sudo apt-get install --no-install-recommends ${missing[*]}" >&2
+    exit 1
+fi
