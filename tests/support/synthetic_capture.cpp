@@ -12,6 +12,8 @@
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
+#include "capture/surface_geometry.h"
+
 namespace vpe::testing {
 
 namespace {
@@ -105,6 +107,13 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     }
     const char* extension = spec.format == SyntheticFormat::kExr ? ".exr" : ".png";
     std::vector<std::string> names;
+    // The geometry the images are rendered under (the .lp keeps the bare directions).
+    Capture stated;
+    for (const Vec3d& light : lights) {
+        stated.images.push_back({"", light, 1.0, 0});
+    }
+    const Capture rendered = applyGeometryCalibration(stated, spec.geometry, w, h);
+    const SurfaceGeometry geometry(rendered, w, h);
     std::vector<float> rgb(static_cast<std::size_t>(w) * h * 3);
     for (std::size_t s = 0; s < lights.size(); ++s) {
         const std::string name = "light" + std::to_string(s) + extension;
@@ -112,10 +121,14 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
         for (int y = 0; y < h; ++y) {
             for (int x = 0; x < w; ++x) {
                 const std::size_t p = static_cast<std::size_t>(y) * w + x;
-                const auto angles =
-                    proto::reflectionAngles(capture.normals[p], lights[s], Vec3d{0, 0, 1});
+                const IncidentLight light =
+                    incidentLight(rendered, rendered.images[s], geometry.position(x, y));
+                const auto angles = proto::reflectionAngles(capture.normals[p], light.direction,
+                                                            geometry.toViewer(x, y));
+                const double shadow = spec.transport ? spec.transport(x, y, lights[s]) : 1.0;
                 for (int c = 0; c < 3; ++c) {
                     rgb[p * 3 + c] = static_cast<float>(
+                        shadow * light.irradiance *
                         proto::evaluateFourierBrdf(capture.at(x, y, c, w), spec.harmonics,
                                                    angles.cosThetaD, angles.cosThetaS));
                 }

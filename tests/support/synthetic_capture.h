@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "capture/capture.h"
+#include "capture/geometry_calibration.h"
 
 namespace vpe::testing {
 
@@ -32,6 +33,11 @@ struct SyntheticCaptureSpec {
     std::uint32_t seed = 1;
     // capture.json with float normals (exact) instead of dirs.lp + 16-bit normals.png.
     bool manifest = true;
+    // Render under this camera and light geometry while the .lp still states directions
+    // (what a real dome's light file does); identity = orthographic and directional.
+    GeometryCalibration geometry;
+    // Multiplies the rendering of pixel (x, y) under a light direction: cast shadows.
+    std::function<double(int x, int y, const Vec3d& light)> transport;
 };
 
 struct SyntheticCapture {

@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: MIT
+// The model file: bit-exact round trip, channel names EXR tools see, refusals naming the file.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include "vpe/proto/fourier_brdf.h"
+
+#include "common/input_error.h"
+#include "model/fourier_model_file.h"
+#include "support/test_data.h"
+
+namespace vpe {
+namespace {
+
+ModelInfo sampleInfo(int width, int height, int harmonics) {
+    ModelInfo info;
+    info.width = width;
+    info.height = height;
+    info.harmonics = harmonics;
+    info.lambda = 0.5;  // exact in float, the attribute's type
+    info.samples = 49;
+    info.variant = "paper";
+    info.capture = "/captures/object1/dirs.lp";
+    return info;
+}
+
+// Random values over many magnitudes and both signs, so any conversion would show.
+ModelRows randomRows(int width, int rows, int harmonics, std::uint32_t seed) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> mantissa(-1.0f, 1.0f);
+    std::uniform_int_distribution<int> exponent(-20, 20);
+    auto value = [&] { return std::ldexp(mantissa(random), exponent(random)); };
+    ModelRows out;
+    out.resize(width, rows, proto::coefficientCount(harmonics));
+    for (float& v : out.coefficient) {
+        v = value();
+    }
+    for (float& v : out.normal) {
+        v = value();
+    }
+    for (float& v : out.rms) {
+        v = std::fabs(value());
+    }
+    for (std::size_t i = 0; i < out.valid.size(); ++i) {
+        out.valid[i] = (i * 7 + seed) % 3 != 0 ? 1 : 0;
+    }
+    return out;
+}
+
+void writeModel(const std::filesystem::path& path, const ModelInfo& info, const ModelRows& rows) {
+    ModelWriter writer(path, info);
+    // Two bands, as the fitter writes them.
+    const int split = info.height / 2;
+    ModelRows band;
+    for (int begin : {0, split}) {
+        const int count = begin == 0 ? split : info.height - split;
+        band.resize(rows.width, count, rows.coefficients);
+        const std::size_t pixels = static_cast<std::size_t>(rows.width) * count;
+        const std::size_t first = static_cast<std::size_t>(rows.width) * begin;
+        const auto k = static_cast<std::size_t>(rows.coefficients);
+        std::copy_n(rows.coefficient.begin() + static_cast<long>(first * 3 * k), pixels * 3 * k,
+                    band.coefficient.begin());
+        std::copy_n(rows.normal.begin() + static_cast<long>(first * 3), pixels * 3,
+                    band.normal.begin());
+        std::copy_n(rows.rms.begin() + static_cast<long>(first * 3), pixels * 3, band.rms.begin());
+        std::copy_n(rows.valid.begin() + static_cast<long>(first), pixels, band.valid.begin());
+        writer.writeRows(begin, band);
+    }
+    writer.finish();
+}
+
+bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+std::string inputErrorOf(const std::function<void()>& action) {
+    try {
+        action();
+    } catch (const InputError& error) {
+        return error.what();
+    }
+    return "(no InputError)";
+}
+
+void writePlainExr(const std::filesystem::path& path, int width, int height,
+                   const std::function<void(OIIO::ImageSpec&)>& decorate = {}) {
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::FLOAT);
+    if (decorate) {
+        decorate(spec);
+    }
+    const std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3, 0.5f);
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out && out->open(path.string(), spec) &&
+                out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close());
+}
+
+TEST(ModelFile, CoefficientNamesFollowTheInterleavedLayout) {
+    const char* const expected[] = {"kd", "a0", "a1", "b1", "a2", "b2"};
+    for (int k = 0; k < 6; ++k) {
+        EXPECT_EQ(coefficientName(k), expected[k]) << k;
+    }
+    EXPECT_EQ(coefficientName(proto::cosineIndex(15)), "a15");
+    EXPECT_EQ(coefficientName(proto::sineIndex(15)), "b15");
+}
+
+TEST(ModelFile, RoundTripIsBitExact) {
+    testing::TemporaryFolder folder;
+    const ModelInfo info = sampleInfo(7, 5, 2);
+    const ModelRows written = randomRows(info.width, info.height, info.harmonics, 3);
+    writeModel(folder / "model.exr", info, written);
+
+    ModelReader reader(folder / "model.exr");
+    EXPECT_EQ(reader.info().width, info.width);
+    EXPECT_EQ(reader.info().height, info.height);
+    EXPECT_EQ(reader.info().harmonics, info.harmonics);
+    EXPECT_EQ(reader.info().lambda, info.lambda);
+    EXPECT_EQ(reader.info().samples, info.samples);
+    EXPECT_EQ(reader.info().variant, info.variant);
+    EXPECT_EQ(reader.info().capture, info.capture);
+    ModelRows read;
+    reader.readRows(0, info.height, read);
+    EXPECT_EQ(read.width, info.width);
+    EXPECT_EQ(read.rows, info.height);
+    EXPECT_EQ(read.coefficients, 6);
+    EXPECT_TRUE(sameBits(read.coefficient, written.coefficient));
+    EXPECT_TRUE(sameBits(read.normal, written.normal));
+    EXPECT_TRUE(sameBits(read.rms, written.rms));
+    EXPECT_EQ(read.valid, written.valid);
+}
+
+TEST(ModelFile, RowsCanBeReadInBands) {
+    testing::TemporaryFolder folder;
+    const ModelInfo info = sampleInfo(5, 6, 1);
+    const ModelRows written = randomRows(info.width, info.height, info.harmonics, 11);
+    writeModel(folder / "model.exr", info, written);
+    ModelReader reader(folder / "model.exr");
+    ModelRows band;
+    for (int begin = 0; begin < info.height; begin += 4) {
+        const int rows = std::min(4, info.height - begin);
+        reader.readRows(begin, rows, band);
+        for (int r = 0; r < rows; ++r) {
+            for (int x = 0; x < info.width; ++x) {
+                for (int c = 0; c < 3; ++c) {
+                    for (int k = 0; k < band.coefficients; ++k) {
+                        ASSERT_EQ(band.coefficientsAt(r, x, c)[k],
+                                  written.coefficientsAt(begin + r, x, c)[k]);
+                    }
+                }
+                ASSERT_EQ(band.valid[band.pixel(r, x)], written.valid[written.pixel(begin + r, x)]);
+            }
+        }
+    }
+}
+
+TEST(ModelFile, ChannelNamesAreVisibleToStandardExrTools) {
+    testing::TemporaryFolder folder;
+    const ModelInfo info = sampleInfo(3, 2, 2);
+    writeModel(folder / "model.exr", info, randomRows(3, 2, 2, 5));
+    auto input = OIIO::ImageInput::open((folder / "model.exr").string());
+    ASSERT_TRUE(input);
+    const std::vector<std::string>& names = input->spec().channelnames;
+    for (const char* name :
+         {"kd.R", "kd.G", "kd.B", "a0.G", "a1.B", "b1.R", "a2.G", "b2.B", "normal.X", "normal.Y",
+          "normal.Z", "rms.R", "rms.G", "rms.B", "valid"}) {
+        EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+    }
+    // 6 coefficients × RGB, the normal, the RMS and the flag: nothing else.
+    EXPECT_EQ(names.size(), 6u * 3 + 3 + 3 + 1);
+    EXPECT_EQ(input->spec().get_string_attribute("vpeFormat"), "vpe-fourier-brdf");
+    EXPECT_EQ(input->spec().get_int_attribute("vpeHarmonics"), 2);
+}
+
+TEST(ModelFile, ReaderRefusesAPlainExr) {
+    testing::TemporaryFolder folder;
+    const std::filesystem::path path = folder / "plain.exr";
+    writePlainExr(path, 4, 4);
+    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("vpeFormat"), std::string::npos) << message;
+}
+
+TEST(ModelFile, ReaderRefusesAnotherFormatVersion) {
+    testing::TemporaryFolder folder;
+    const std::filesystem::path path = folder / "future.exr";
+    writePlainExr(path, 4, 4, [](OIIO::ImageSpec& spec) {
+        spec.attribute("vpeFormat", "vpe-fourier-brdf");
+        spec.attribute("vpeFormatVersion", 2);
+        spec.attribute("vpeHarmonics", 0);
+    });
+    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("version 2"), std::string::npos) << message;
+}
+
+TEST(ModelFile, ReaderRefusesAMissingFile) {
+    testing::TemporaryFolder folder;
+    const std::filesystem::path path = folder / "absent.exr";
+    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+}
+
+TEST(ModelFile, ReaderRefusesATruncatedFile) {
+    testing::TemporaryFolder folder;
+    const std::filesystem::path path = folder / "model.exr";
+    // Random values do not compress: the cut falls inside the pixel data, past the header.
+    const ModelInfo info = sampleInfo(64, 64, 3);
+    writeModel(path, info, randomRows(info.width, info.height, info.harmonics, 7));
+    std::string bytes;
+    {
+        std::ifstream stream(path, std::ios::binary);
+        std::ostringstream text;
+        text << stream.rdbuf();
+        bytes = text.str();
+    }
+    for (const double keep : {0.6, 0.2, 0.01}) {
+        SCOPED_TRACE("kept " + std::to_string(keep));
+        {
+            std::ofstream stream(path, std::ios::binary | std::ios::trunc);
+            stream.write(bytes.data(),
+                         static_cast<std::streamsize>(static_cast<double>(bytes.size()) * keep));
+        }
+        const std::string message = inputErrorOf([&] {
+            ModelReader reader(path);
+            ModelRows rows;
+            reader.readRows(0, reader.info().height, rows);
+        });
+        EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    }
+}
+
+TEST(ModelFile, WriterRefusesAnotherExtension) {
+    testing::TemporaryFolder folder;
+    const std::string message =
+        inputErrorOf([&] { ModelWriter writer(folder / "model.tif", sampleInfo(2, 2, 0)); });
+    EXPECT_NE(message.find("model.tif"), std::string::npos) << message;
+    EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+}
+
+TEST(ModelFile, WriterWithoutFinishLeavesNoFile) {
+    testing::TemporaryFolder folder;
+    const ModelInfo info = sampleInfo(4, 4, 1);
+    { ModelWriter writer(folder / "unwritten.exr", info); }
+    {
+        ModelWriter writer(folder / "partial.exr", info);
+        writer.writeRows(0, randomRows(info.width, 2, info.harmonics, 1));
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(folder.path()))
+        << std::filesystem::directory_iterator(folder.path())->path();
+}
+
+}  // namespace
+}  // namespace vpe
