@@ -44,6 +44,7 @@ if [[ -d "$data/synthrti" ]]; then
     fit_and_score glossy-relief "$data/synthrti/Single/Object1/material4"
     fit_and_score shadowed-figures "$data/synthrti/Multi/Object2/material1"
     echo "== the paper's Fig. 6 on SynthRTI Single/Object1/material4" >&2
+    mkdir -p "$out/sweep"
     "$vpe" sweep "$data/synthrti/Single/Object1/material4/Dome" \
         "$data/synthrti/Single/Object1/material4/Test" --out "$out/sweep" | tee "$out/sweep/table.txt"
 else

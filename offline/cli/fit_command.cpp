@@ -27,6 +27,7 @@ void addFitCommand(CLI::App& app, Action& action) {
         int threads = 0;
         std::string precision = "auto";
         std::string model = "paper";
+        bool regularizationGiven = false;
         bool json = false;
         bool noPreview = false;
     };
@@ -38,9 +39,15 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "Folder with a .lp file or capture.json, or the path of either")
         ->required();
     command->add_option("--out", args->out, "Model file to write (.exr)")->required();
-    command->add_option("--harmonics", args->harmonics, "Harmonics M (2M + 2 coefficients)")
-        ->capture_default_str();
-    command->add_option("--lambda", args->lambda, "Smoothness weight λ")->capture_default_str();
+    CLI::Option* harmonicsOption =
+        command
+            ->add_option("--harmonics", args->harmonics,
+                         "Harmonics M (2M + 2 coefficients); extended model: chosen by "
+                         "held-out validation unless given")
+            ->capture_default_str();
+    CLI::Option* lambdaOption =
+        command->add_option("--lambda", args->lambda, "Smoothness weight λ (as --harmonics)")
+            ->capture_default_str();
     command->add_option("--normals", args->normals,
                         "Normal map to use instead of the capture's own or photometric stereo");
     command->add_option("--threads", args->threads, "Worker threads (0: all cores)")
@@ -58,7 +65,8 @@ void addFitCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
+    command->callback([args, &action, harmonicsOption, lambdaOption] {
+        args->regularizationGiven = harmonicsOption->count() > 0 || lambdaOption->count() > 0;
         action = [args] {
             FitOptions options;
             options.harmonics = args->harmonics;
@@ -73,21 +81,25 @@ void addFitCommand(CLI::App& app, Action& action) {
             options.writePreview = !args->noPreview;
             options.variant =
                 args->model == "extended" ? ModelVariant::kExtended : ModelVariant::kPaper;
+            // The extended model picks M and λ by held-out validation unless they are given.
+            options.selectRegularization =
+                options.variant == ModelVariant::kExtended && !args->regularizationGiven;
             const Capture capture = openCapture(args->capture);
             const FitReport report = fitCapture(capture, options, args->out);
             std::fprintf(stderr,
                          "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: %s) "
                          "in %.2f s; mean residual RMS %.4f\n",
-                         report.validPixels, report.pixels, report.images, options.harmonics,
-                         options.lambda, report.normalsSource.c_str(), report.totalSeconds,
+                         report.validPixels, report.pixels, report.images, report.harmonics,
+                         report.lambda, report.normalsSource.c_str(), report.totalSeconds,
                          report.meanRms);
             if (options.variant == ModelVariant::kExtended) {
                 std::fprintf(stderr,
-                             "geometry: field of view %.1f°, light distance %.2f half-widths "
-                             "(held-out RMS %.3f vs %.3f uncalibrated, %.2f s)\n",
+                             "selected: field of view %.1f°, light distance %.2f half-widths, "
+                             "M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
                              report.calibration.fieldOfViewDegrees,
-                             report.calibration.lightDistance, report.calibratedRms,
-                             report.uncalibratedRms, report.calibrationSeconds);
+                             report.calibration.lightDistance, report.harmonics, report.lambda,
+                             report.calibratedRms, report.uncalibratedRms,
+                             report.calibrationSeconds);
             }
             if (args->json) {
                 nlohmann::json json;
@@ -105,8 +117,8 @@ void addFitCommand(CLI::App& app, Action& action) {
                 json["images"] = report.images;
                 json["width"] = report.width;
                 json["height"] = report.height;
-                json["harmonics"] = options.harmonics;
-                json["lambda"] = options.lambda;
+                json["harmonics"] = report.harmonics;
+                json["lambda"] = report.lambda;
                 json["normals"] = report.normalsSource;
                 json["mean_rms"] = report.meanRms;
                 json["model"] = args->out;

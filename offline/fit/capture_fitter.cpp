@@ -12,7 +12,7 @@
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
 #include "fit/band_fitter.h"
-#include "fit/geometry_search.h"
+#include "fit/held_out_search.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
 #include "normals/normal_source.h"
@@ -101,26 +101,35 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     report.normalsSeconds = secondsSince(normalsStart);
 
     Capture capture = originalCapture;
-    if (options.variant == ModelVariant::kExtended && acceptsGeometryCalibration(capture)) {
-        const auto calibrationStart = Clock::now();
-        GeometrySearchOptions search;
+    int harmonics = options.harmonics;
+    double lambda = options.lambda;
+    const bool calibrate =
+        options.variant == ModelVariant::kExtended && acceptsGeometryCalibration(capture);
+    if (calibrate || options.selectRegularization) {
+        const auto searchStart = Clock::now();
+        HeldOutSearchOptions search;
+        search.calibrateGeometry = calibrate;
+        search.selectRegularization = options.selectRegularization;
         search.harmonics = options.harmonics;
         search.lambda = options.lambda;
         search.threads = options.threads;
-        const GeometrySearchResult found =
-            searchGeometryCalibration(capture, normals.normals, search);
-        report.calibration = found.best;
-        report.calibratedRms = found.bestRms;
-        report.uncalibratedRms = found.identityRms;
-        capture = applyGeometryCalibration(capture, found.best, report.width, report.height);
-        report.calibrationSeconds = secondsSince(calibrationStart);
+        const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+        report.calibration = found.calibration;
+        report.calibratedRms = found.rms;
+        report.uncalibratedRms = found.baselineRms;
+        harmonics = found.harmonics;
+        lambda = found.lambda;
+        capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
+        report.calibrationSeconds = secondsSince(searchStart);
     }
+    report.harmonics = harmonics;
+    report.lambda = lambda;
     const SurfaceGeometry geometry(capture, report.width, report.height);
 
     fit::BandFitSettings bandSettings;
-    bandSettings.harmonics = options.harmonics;
-    bandSettings.lambda = options.lambda;
-    bandSettings.precision = resolvePrecision(options.precision, options.lambda);
+    bandSettings.harmonics = harmonics;
+    bandSettings.lambda = lambda;
+    bandSettings.precision = resolvePrecision(options.precision, lambda);
     bandSettings.extended = options.variant == ModelVariant::kExtended;
     bandSettings.threads = options.threads;
     const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
@@ -128,14 +137,14 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     ModelInfo info;
     info.width = report.width;
     info.height = report.height;
-    info.harmonics = options.harmonics;
-    info.lambda = options.lambda;
+    info.harmonics = harmonics;
+    info.lambda = lambda;
     info.samples = report.images;
     info.capture = capture.source.string();
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
     info.calibration = report.calibration;
     ModelWriter writer(modelPath, info);
-    RelightPreview preview(report.width, report.height, options.harmonics);
+    RelightPreview preview(report.width, report.height, harmonics);
 
     const int bandRows = reader->rowsForBudget(options.bandBudgetBytes);
     SampleBand band;

@@ -30,6 +30,9 @@ enum class ModelVariant {
 
 struct FitOptions {
     ModelVariant variant = ModelVariant::kPaper;
+    // Choose M and λ by held-out validation on the training lights instead of using the
+    // values below (the CLI does so for the extended model unless they are given).
+    bool selectRegularization = false;
     int harmonics = proto::kDefaultHarmonics;
     double lambda = proto::kDefaultLambda;
     unsigned threads = 1;
@@ -52,8 +55,11 @@ struct FitReport {
     double writeSeconds = 0;
     double totalSeconds = 0;
     double meanRms = 0;  // residual RMS over valid pixels, linear, unit irradiance
+    int harmonics = 0;   // as fitted (selected, or as given)
+    double lambda = 0;
     std::filesystem::path preview;
-    // Extended variant: the calibration found and its held-out RMS against the identity's.
+    // Held-out search (extended variant): the calibration and regularization found, and
+    // the held-out RMS against that of the stated geometry with the given M and λ.
     GeometryCalibration calibration;
     double calibrationSeconds = 0;
     double calibratedRms = 0;

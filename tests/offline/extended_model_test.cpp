@@ -7,7 +7,7 @@
 #include "capture/capture_loader.h"
 #include "eval/model_evaluation.h"
 #include "fit/capture_fitter.h"
-#include "fit/geometry_search.h"
+#include "fit/held_out_search.h"
 #include "model/fourier_model_file.h"
 #include "model/light_transport.h"
 #include "support/synthetic_capture.h"
@@ -71,13 +71,14 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
             normals.valid[i] = 1;
         }
     }
-    GeometrySearchOptions options;
+    HeldOutSearchOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    const GeometrySearchResult result = searchGeometryCalibration(capture, normals, options);
-    EXPECT_NEAR(result.best.fieldOfViewDegrees, 40.0, 5.0);
-    EXPECT_NEAR(result.best.lightDistance, 5.0, 1.0);
-    EXPECT_LT(result.bestRms, 0.25 * result.identityRms);
+    options.selectRegularization = false;
+    const HeldOutSearchResult result = searchHeldOut(capture, normals, options);
+    EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
+    EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
+    EXPECT_LT(result.rms, 0.25 * result.baselineRms);
 }
 
 TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Geometry calibration search.
-#include "fit/geometry_search.h"
+// Held-out selection of geometry and regularization.
+#include "fit/held_out_search.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,11 +17,9 @@
 
 namespace vpe {
 
-namespace {
-
 // Every image's observations of a grid of pixels, in the kernel's lane layout: pixel p sits
 // in chunk p / kLanes, lane p % kLanes.
-struct PixelSamples {
+struct HeldOutValidator::Samples {
     std::vector<int> x, y;
     int images = 0;
     std::vector<float> values;   // [chunk][image][channel][lane]
@@ -36,8 +34,11 @@ struct PixelSamples {
     }
 };
 
-PixelSamples gatherSamples(const Capture& capture, const NormalMap& normals, int wanted,
-                           unsigned threads) {
+namespace {
+
+std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
+                                                         const NormalMap& normals, int wanted,
+                                                         unsigned threads) {
     std::size_t validCount = 0;
     for (std::uint8_t v : normals.valid) {
         validCount += v;
@@ -47,7 +48,8 @@ PixelSamples gatherSamples(const Capture& capture, const NormalMap& normals, int
     }
     const int step =
         std::max(1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / wanted)));
-    PixelSamples samples;
+    auto owned = std::make_unique<HeldOutValidator::Samples>();
+    HeldOutValidator::Samples& samples = *owned;
     for (int y = step / 2; y < normals.height; y += step) {
         for (int x = step / 2; x < normals.width; x += step) {
             if (normals.validAt(x, y)) {
@@ -82,12 +84,26 @@ PixelSamples gatherSamples(const Capture& capture, const NormalMap& normals, int
             }
         }
     }
-    return samples;
+    return owned;
 }
 
-double scoreHypothesis(const Capture& capture, const NormalMap& normals,
-                       const PixelSamples& samples, const GeometryCalibration& calibration,
-                       const GeometrySearchOptions& options) {
+}  // namespace
+
+HeldOutValidator::HeldOutValidator(const Capture& capture, const NormalMap& normals,
+                                   int samplePixels, int holdOutEvery, unsigned threads)
+    : capture_(capture),
+      normals_(normals),
+      holdOutEvery_(holdOutEvery),
+      threads_(threads),
+      samples_(gatherSamples(capture, normals, samplePixels, threads)) {}
+
+HeldOutValidator::~HeldOutValidator() = default;
+
+double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics,
+                               double lambda) const {
+    const Capture& capture = capture_;
+    const NormalMap& normals = normals_;
+    const Samples& samples = *samples_;
     const Capture calibrated =
         applyGeometryCalibration(capture, calibration, normals.width, normals.height);
     const SurfaceGeometry geometry(calibrated, normals.width, normals.height);
@@ -97,7 +113,7 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
     double count = 0;
     std::mutex mergeMutex;
     parallelFor(
-        static_cast<std::size_t>(samples.chunks()), 4, options.threads,
+        static_cast<std::size_t>(samples.chunks()), 4, threads_,
         [&](std::size_t begin, std::size_t end) {
             auto sums = std::make_unique<fit::NormalEquationSums>();
             auto solution = std::make_unique<fit::ChunkSolution>();
@@ -114,7 +130,7 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
                                        present ? samples.y[p] : 0, lane, chunk, laneValid[lane]);
                 }
                 for (int s = 0; s < samples.images; ++s) {
-                    const bool heldOut = s % options.holdOutEvery == options.holdOutEvery - 1;
+                    const bool heldOut = s % holdOutEvery_ == holdOutEvery_ - 1;
                     for (int lane = 0; lane < fit::kLanes; ++lane) {
                         weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
                             heldOut ? 0.0f : samples.weights[samples.weightIndex(c, s, lane)];
@@ -126,9 +142,9 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
                 observations.channelStride = fit::kLanes;
                 observations.weights = weights.data();
                 observations.weightStride = fit::kLanes;
-                fit::accumulateNormalEquations(chunk, lightSet, observations, options.harmonics,
+                fit::accumulateNormalEquations(chunk, lightSet, observations, harmonics,
                                                fit::AccumulationPrecision::kFloatBlocks, *sums);
-                fit::solveNormalEquations(*sums, options.harmonics, options.lambda, *solution);
+                fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
                 for (int lane = 0; lane < fit::kLanes; ++lane) {
                     if (!laneValid[lane] || !solution->valid[lane]) {
                         continue;
@@ -138,8 +154,7 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
                                   chunk.normal[2][lane]};
                     const Vec3d v = geometry.toViewer(samples.x[p], samples.y[p]);
                     const Vec3d position = geometry.position(samples.x[p], samples.y[p]);
-                    for (int s = options.holdOutEvery - 1; s < samples.images;
-                         s += options.holdOutEvery) {
+                    for (int s = holdOutEvery_ - 1; s < samples.images; s += holdOutEvery_) {
                         if (samples.weights[samples.weightIndex(c, s, lane)] <= 0) {
                             continue;
                         }
@@ -148,10 +163,9 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
                         const auto angles = proto::reflectionAngles(n, light.direction, v);
                         for (int k = 0; k < 3; ++k) {
                             const double predicted =
-                                light.irradiance *
-                                proto::evaluateFourierBrdf(solution->coefficients[lane][k],
-                                                           options.harmonics, angles.cosThetaD,
-                                                           angles.cosThetaS);
+                                light.irradiance * proto::evaluateFourierBrdf(
+                                                       solution->coefficients[lane][k], harmonics,
+                                                       angles.cosThetaD, angles.cosThetaS);
                             const double observed =
                                 samples.values[samples.valueIndex(c, s, k, lane)];
                             const double e = proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0)) -
@@ -169,62 +183,89 @@ double scoreHypothesis(const Capture& capture, const NormalMap& normals,
     return count > 0 ? std::sqrt(squared / count) * 255.0 : 1e9;
 }
 
-}  // namespace
-
-GeometrySearchResult searchGeometryCalibration(const Capture& capture, const NormalMap& normals,
-                                               const GeometrySearchOptions& options) {
-    const PixelSamples samples =
-        gatherSamples(capture, normals, options.samplePixels, options.threads);
-    GeometrySearchResult result;
-    auto score = [&](const GeometryCalibration& calibration) {
-        for (const GeometryHypothesisScore& known : result.scores) {
+HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
+                                  const HeldOutSearchOptions& options) {
+    const HeldOutValidator validator(capture, normals, options.samplePixels, options.holdOutEvery,
+                                     options.threads);
+    HeldOutSearchResult result;
+    result.harmonics = options.harmonics;
+    result.lambda = options.lambda;
+    auto score = [&](const GeometryCalibration& calibration, int harmonics, double lambda) {
+        for (const HeldOutTrial& known : result.trials) {
             if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
-                known.calibration.lightDistance == calibration.lightDistance) {
+                known.calibration.lightDistance == calibration.lightDistance &&
+                known.harmonics == harmonics && known.lambda == lambda) {
                 return known.rms;
             }
         }
-        const double rms = scoreHypothesis(capture, normals, samples, calibration, options);
-        result.scores.push_back({calibration, rms});
-        if (result.scores.size() == 1 || rms < result.bestRms) {
-            result.best = calibration;
-            result.bestRms = rms;
+        const double rms = validator.score(calibration, harmonics, lambda);
+        result.trials.push_back({calibration, harmonics, lambda, rms});
+        if (result.trials.size() == 1 || rms < result.rms) {
+            result.calibration = calibration;
+            result.harmonics = harmonics;
+            result.lambda = lambda;
+            result.rms = rms;
         }
         return rms;
     };
-    result.identityRms = score(GeometryCalibration{});
-    // Coarse grid: field of view in degrees, light distance in image half-widths (0 = far).
-    for (double fov : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
-        for (double distance : {0.0, 32.0, 16.0, 8.0, 6.0, 4.0, 3.0}) {
-            score({fov, distance});
-        }
-    }
-    // Coordinate descent with shrinking steps around the best hypothesis.
-    double fovStep = 5.0;
-    double distanceFactor = 1.25;
-    for (int round = 0; round < 3; ++round) {
-        bool improved = true;
-        while (improved) {
-            improved = false;
-            const GeometryCalibration centre = result.best;
-            const double before = result.bestRms;
-            for (double delta : {-fovStep, fovStep}) {
-                const double fov = centre.fieldOfViewDegrees + delta;
-                if (fov >= 0 && fov <= 90) {
-                    score({fov, centre.lightDistance});
-                }
-            }
-            if (centre.lightDistance > 0) {
-                for (double factor : {1.0 / distanceFactor, distanceFactor}) {
-                    const double distance = centre.lightDistance * factor;
-                    if (distance >= 1.5 && distance <= 100) {
-                        score({centre.fieldOfViewDegrees, distance});
+    result.baselineRms = score(GeometryCalibration{}, options.harmonics, options.lambda);
+
+    // Geometry: a coarse grid of field of view (degrees) and light distance (image
+    // half-widths, 0 = far), then coordinate descent with shrinking steps.
+    auto refineGeometry = [&](int rounds) {
+        double fovStep = 5.0;
+        double distanceFactor = 1.25;
+        for (int round = 0; round < rounds; ++round) {
+            bool improved = true;
+            while (improved) {
+                const HeldOutSearchResult before = result;
+                for (double delta : {-fovStep, fovStep}) {
+                    const double fov = before.calibration.fieldOfViewDegrees + delta;
+                    if (fov >= 0 && fov <= 90) {
+                        score({fov, before.calibration.lightDistance}, before.harmonics,
+                              before.lambda);
                     }
                 }
+                if (before.calibration.lightDistance > 0) {
+                    for (double factor : {1.0 / distanceFactor, distanceFactor}) {
+                        const double distance = before.calibration.lightDistance * factor;
+                        if (distance >= 1.5 && distance <= 100) {
+                            score({before.calibration.fieldOfViewDegrees, distance},
+                                  before.harmonics, before.lambda);
+                        }
+                    }
+                }
+                improved = result.rms < before.rms;
             }
-            improved = result.bestRms < before;
+            fovStep /= 2;
+            distanceFactor = std::sqrt(distanceFactor);
         }
-        fovStep /= 2;
-        distanceFactor = std::sqrt(distanceFactor);
+    };
+    if (options.calibrateGeometry) {
+        for (double fov : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
+            for (double distance : {0.0, 32.0, 16.0, 8.0, 6.0, 4.0, 3.0}) {
+                score({fov, distance}, options.harmonics, options.lambda);
+            }
+        }
+        refineGeometry(3);
+    }
+    // Regularization under the chosen geometry; the paper's M = 10, λ = 3.14 is one of the
+    // candidates, so selection can only keep or improve the held-out error.
+    if (options.selectRegularization) {
+        const GeometryCalibration geometry = result.calibration;
+        const int trainingLights = static_cast<int>(capture.images.size()) -
+                                   static_cast<int>(capture.images.size()) / options.holdOutEvery;
+        for (int harmonics : {6, 10, 15}) {
+            if (proto::coefficientCount(harmonics) > trainingLights) {
+                continue;  // the held-out fit could not determine the coefficients
+            }
+            for (double lambda : {0.03, 0.1, 0.3, 1.0, 3.14, 10.0}) {
+                score(geometry, harmonics, lambda);
+            }
+        }
+        if (options.calibrateGeometry) {
+            refineGeometry(1);  // the geometry may shift a little with a sharper BRDF
+        }
     }
     return result;
 }
