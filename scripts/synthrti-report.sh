@@ -27,8 +27,11 @@ for set in "$data"/*/Object*/material*; do
     extended=$("$vpe" eval "$work/extended.exr" "$set/Test" --json 2>/dev/null | field psnr)
     fov=$(field field_of_view_degrees <<< "$fit")
     distance=$(field light_distance <<< "$fit")
+    harmonics=$(field harmonics <<< "$fit")
+    lambda=$(field lambda <<< "$fit")
     normals=$("$vpe" normals "$set/Dome" --out "$work/normals.png" --json 2>/dev/null | field mean_error_degrees)
-    printf '%s %s %s %s %s %s\n' "$name" "$paper" "$extended" "$fov" "$distance" "$normals" | tee -a "$rows" >&2
+    printf '%s %s %s %s %s %s %s %s\n' "$name" "$paper" "$extended" "$fov" "$distance" \
+        "$harmonics" "$lambda" "$normals" | tee -a "$rows" >&2
 done
 
 {
@@ -39,21 +42,23 @@ done
     echo "held-out Test images, and score with \`vpe eval\`'s metric (prediction clamped to"
     echo "[0, 1], sRGB-encoded, PSNR = 10·log10(1/MSE) per image, averaged over the images)."
     echo "\"paper\" is eq. 16–19 with M = 10, λ = 3.14 fitted in linear radiance under the .lp's"
-    echo "directional lights and orthographic camera; \"extended\" is \`vpe fit --model extended\`"
-    echo "(same M and λ; see extended-model.md). Normals: \`vpe normals\` (robust photometric stereo,"
-    echo "directional lights assumed) against the ground truth, mean angular error."
+    echo "directional lights and orthographic camera; \"extended\" is \`vpe fit --model extended\`,"
+    echo "which calibrates the camera and light geometry and selects M and λ on held-out Dome"
+    echo "lights (never Test), and adds a light-transport factor (see extended-model.md)."
+    echo "Normals: \`vpe normals\` (robust photometric stereo, directional lights and orthographic"
+    echo "camera assumed) against the ground truth, mean angular error."
     echo
     awk '{ split($1, p, "/"); g = p[1];
-           n[g]++; a[g] += $2; b[g] += $3; c[g] += $6;
-           N++; A += $2; B += $3; C += $6 }
+           n[g]++; a[g] += $2; b[g] += $3; c[g] += $8;
+           N++; A += $2; B += $3; C += $8 }
          END { print "| sets | count | paper PSNR (dB) | extended PSNR (dB) | normals error (°) |";
                print "|---|---|---|---|---|";
                for (g in n) printf "| %s | %d | %.2f | %.2f | %.2f |\n", g, n[g], a[g]/n[g], b[g]/n[g], c[g]/n[g];
                printf "| **all** | %d | **%.2f** | **%.2f** | %.2f |\n", N, A/N, B/N, C/N }' "$rows"
     echo
-    echo "| set | paper | extended | calibrated field of view (°) | light distance (half-widths) | normals error (°) |"
-    echo "|---|---|---|---|---|---|"
-    awk '{ printf "| %s | %.2f | %.2f | %.1f | %.2f | %.2f |\n", $1, $2, $3, $4, $5, $6 }' "$rows"
+    echo "| set | paper | extended | field of view (°) | light distance (half-widths) | M | λ | normals error (°) |"
+    echo "|---|---|---|---|---|---|---|---|"
+    awk '{ printf "| %s | %.2f | %.2f | %.1f | %.2f | %d | %g | %.2f |\n", $1, $2, $3, $4, $5, $6, $7, $8 }' "$rows"
 } > "$work/report.md"
 mkdir -p "$(dirname "$report")"
 mv "$work/report.md" "$report"

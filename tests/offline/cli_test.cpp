@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/proto/fourier_brdf.h"
+
 #include "support/command_runner.h"
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
@@ -368,6 +370,60 @@ TEST(Cli, SweepWritesCsvSvgAndJson) {
     for (const auto& entry : std::filesystem::directory_iterator(out)) {
         EXPECT_FALSE(entry.path().filename().string().starts_with(".")) << entry.path();
     }
+}
+
+}  // namespace
+}  // namespace vpe
+
+namespace vpe {
+namespace {
+
+TEST(Cli, NormalsEstimatesAndComparesWithTheCapturesOwnMap) {
+    testing::TemporaryFolder folder;
+    testing::SyntheticCaptureSpec spec = smallSpec(16, 12);
+    spec.harmonics = 0;  // Lambertian + constant: photometric stereo's own model
+    spec.lights = testing::domeLights({15, 35, 55, 75, 90}, 10);
+    spec.coefficients = [](int, int, int c, double* k) {
+        k[proto::kLambertIndex] = 0.5 + 0.1 * c;
+        k[proto::kConstantIndex] = 0.0;
+    };
+    writeSyntheticCapture(folder / "capture", spec);
+    const CommandResult result = runCommand(vpe({"normals", (folder / "capture").string(), "--out",
+                                                 (folder / "normals.png").string(), "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json json = lastJsonLine(result.out);
+    EXPECT_EQ(json.at("valid_pixels").get<int>(), 16 * 12);
+    EXPECT_LT(json.at("mean_error_degrees").get<double>(), 0.5);
+    EXPECT_TRUE(std::filesystem::is_regular_file(folder / "normals.png"));
+}
+
+TEST(Cli, ExtendedFitReportsWhatItSelected) {
+    testing::TemporaryFolder folder;
+    testing::SyntheticCaptureSpec spec = smallSpec(16, 12);
+    spec.manifest = false;  // a light file: the geometry is the extended model's to calibrate
+    spec.lights = testing::domeLights({10, 30, 50, 70, 90}, 12);
+    writeSyntheticCapture(folder / "capture", spec);
+    const CommandResult result =
+        runCommand(vpe({"fit", (folder / "capture").string(), "--out",
+                        (folder / "model.exr").string(), "--model", "extended", "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json json = lastJsonLine(result.out);
+    EXPECT_EQ(json.at("model_variant"), "extended");
+    ASSERT_TRUE(json.contains("calibration"));
+    EXPECT_LE(json.at("calibration").at("heldout_rms").get<double>(),
+              json.at("calibration").at("uncalibrated_heldout_rms").get<double>());
+    // The truth is orthographic and directional: calibration may not invent perspective.
+    EXPECT_LT(json.at("calibration").at("field_of_view_degrees").get<double>(), 10.0);
+    const int harmonics = json.at("harmonics").get<int>();
+    EXPECT_TRUE(harmonics == 6 || harmonics == 10 || harmonics == 15) << harmonics;
+
+    // Given --harmonics and --lambda, they are used as given.
+    const CommandResult fixed = runCommand(
+        vpe({"fit", (folder / "capture").string(), "--out", (folder / "fixed.exr").string(),
+             "--model", "extended", "--harmonics", "4", "--lambda", "2", "--json"}));
+    ASSERT_EQ(fixed.exitStatus, 0) << fixed.err;
+    EXPECT_EQ(lastJsonLine(fixed.out).at("harmonics").get<int>(), 4);
+    EXPECT_EQ(lastJsonLine(fixed.out).at("lambda").get<double>(), 2.0);
 }
 
 }  // namespace
