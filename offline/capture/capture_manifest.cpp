@@ -4,14 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <optional>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
+#include "text/line_reader.h"
 
 namespace vpe {
 
@@ -326,13 +325,7 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
 }
 
 Capture readCaptureManifest(const std::filesystem::path& path) {
-    std::ifstream stream(path, std::ios::binary);
-    if (!stream) {
-        throw InputError(path, "cannot open capture manifest");
-    }
-    std::ostringstream contents;
-    contents << stream.rdbuf();
-    return parseCaptureManifest(contents.str(), path);
+    return parseCaptureManifest(text::readTextFile(path, "capture manifest"), path);
 }
 
 }  // namespace vpe

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "common/input_error.h"
 #include "text/line_reader.h"
@@ -94,13 +92,7 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
 }
 
 Capture readLightFile(const std::filesystem::path& path) {
-    std::ifstream stream(path, std::ios::binary);
-    if (!stream) {
-        throw InputError(path, "cannot open light file");
-    }
-    std::ostringstream contents;
-    contents << stream.rdbuf();
-    Capture capture = parseLightFile(contents.str(), path);
+    Capture capture = parseLightFile(text::readTextFile(path, "light file"), path);
     const std::filesystem::path normals = path.parent_path() / "normals.png";
     if (std::filesystem::exists(normals)) {
         capture.normalMap = normals;

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 // vpe fit CAPTURE --out MODEL.exr
 #include <cstdio>
-#include <iostream>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -12,10 +11,6 @@
 #include "fit/capture_fitter.h"
 
 namespace vpe::cli {
-
-void printJson(const std::string& json) {
-    std::cout << json << std::endl;
-}
 
 void addFitCommand(CLI::App& app, Action& action) {
     struct Arguments {

@@ -6,6 +6,14 @@
 #include "cli/commands.h"
 #include "common/input_error.h"
 
+namespace vpe::cli {
+
+void printJson(const std::string& json) {
+    std::printf("%s\n", json.c_str());
+}
+
+}  // namespace vpe::cli
+
 int main(int argc, char** argv) {
     CLI::App app{"vpe: capture to Fourier BRDF model, texture, bake (see README.md)", "vpe"};
     app.require_subcommand(1);

@@ -4,6 +4,10 @@
 
 #include <charconv>
 #include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/input_error.h"
 
 namespace vpe::text {
 
@@ -14,6 +18,16 @@ bool isBlank(char c) {
 }
 
 }  // namespace
+
+std::string readTextFile(const std::filesystem::path& path, std::string_view what) {
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream) {
+        throw InputError(path, "cannot open " + std::string(what));
+    }
+    std::ostringstream contents;
+    contents << stream.rdbuf();
+    return contents.str();
+}
 
 std::string_view trim(std::string_view text) {
     while (!text.empty() && isBlank(text.front())) {

@@ -3,6 +3,7 @@
 // UTF-8 byte-order mark, and strict, locale-independent number parsing.
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,9 @@ struct Line {
     int number;             // 1-based
     std::string_view text;  // without the line ending, trimmed of surrounding blanks
 };
+
+// The whole file; throws InputError "PATH: cannot open WHAT" when it cannot be read.
+std::string readTextFile(const std::filesystem::path& path, std::string_view what);
 
 std::vector<Line> splitLines(std::string_view text);
 std::vector<std::string_view> splitFields(std::string_view line);
