@@ -206,6 +206,7 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
             }
         }
     });
+    band.markFullyUsableChunks();
 }
 
 }  // namespace vpe

@@ -7,6 +7,7 @@
 // fitting at 330 images than a planar [image][channel][row][x] layout).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -25,6 +26,9 @@ struct SampleBand {
     std::vector<float> values;            // [row][chunk][image][channel][lane]
     std::vector<float> weights;           // [row][chunk][image][lane]: 1 usable, 0 not
     std::vector<std::uint8_t> saturated;  // [row][chunk][image][lane]: a channel hit full scale
+    // [row][chunk]: 1 when every sample of the chunk has weight 1 (the common case), so the
+    // fitter can skip loading weights. Set by markFullyUsableChunks().
+    std::vector<std::uint8_t> fullyUsable;
 
     void resize(int imageCount, int imageWidth, int rowCount) {
         images = imageCount;
@@ -37,6 +41,15 @@ struct SampleBand {
         values.assign(samples * kChannels, 0.0f);
         weights.assign(samples, 0.0f);
         saturated.assign(samples, 0);
+        fullyUsable.assign(static_cast<std::size_t>(rows) * chunksPerRow, 0);
+    }
+
+    void markFullyUsableChunks() {
+        const std::size_t perChunk = static_cast<std::size_t>(images) * kChunkWidth;
+        for (std::size_t c = 0; c < fullyUsable.size(); ++c) {
+            const float* w = weights.data() + c * perChunk;
+            fullyUsable[c] = std::all_of(w, w + perChunk, [](float v) { return v == 1.0f; });
+        }
     }
 
     std::size_t chunk(int row, int x) const {

@@ -62,7 +62,9 @@ ChunkObservations chunkObservations(const SampleBand& band, int row, int x0) {
     observations.values = band.values.data() + band.valueIndex(0, 0, row, x0);
     observations.sampleStride = static_cast<std::size_t>(SampleBand::kChannels) * kLanes;
     observations.channelStride = kLanes;
-    observations.weights = band.weights.data() + band.sampleIndex(0, row, x0);
+    observations.weights = band.fullyUsable[band.chunk(row, x0)]
+                               ? nullptr
+                               : band.weights.data() + band.sampleIndex(0, row, x0);
     observations.weightStride = kLanes;
     return observations;
 }

@@ -34,7 +34,8 @@ using proto::sineIndex;
 
 // Samples summed in float before the block is added to the double sums: short enough that
 // float rounding stays near 1e-7 relative, long enough to keep the flush cheap.
-constexpr int kSampleBlock = 32;
+constexpr int kSampleBlock = 64;
+constexpr int kPrefetchDistance = 8;
 
 template <typename P>
 struct Partials {
@@ -110,7 +111,10 @@ template <typename P, bool kPointLights>
     SampleTerms<P> terms;
     terms.cosThetaS = angles.cosThetaS;
     terms.lambert = proto::lambertBasis(angles.cosThetaD);
-    terms.weight = dummy ? P(0) : loadPack<P>(observations.weights + s * observations.weightStride);
+    terms.weight = dummy ? P(0)
+                   : observations.weights
+                       ? loadPack<P>(observations.weights + s * observations.weightStride)
+                       : P(1);
     terms.weightedLambert = terms.weight * terms.lambert;
     const float* values = observations.values + s * observations.sampleStride;
     for (int c = 0; c < kChannels; ++c) {
@@ -189,14 +193,42 @@ template <typename P, bool kPointLights>
     // registers each, so one.
     constexpr int kPair = sizeof(typename P::Vector) == sizeof(FloatPack::Vector) ? 2 : 1;
 
+    // Only the rows this M uses are cleared (the full arrays are sized for kMaxHarmonics);
+    // flushing clears them again after each block.
     Partials<P> partial;
-    std::memset(static_cast<void*>(&partial), 0, sizeof(partial));
+    for (int k = 0; k <= gramHarmonics; ++k) {
+        partial.cosine[k] = P(0);
+        partial.sine[k] = P(0);
+    }
+    for (int m = 0; m <= harmonics; ++m) {
+        partial.lambertCosine[m] = P(0);
+        partial.lambertSine[m] = P(0);
+    }
+    for (int c = 0; c < kChannels; ++c) {
+        for (int j = 0; j < coefficients; ++j) {
+            partial.projection[c][j] = P(0);
+        }
+        partial.squares[c] = P(0);
+    }
+    partial.lambertSquare = P(0);
+    partial.count = P(0);
     SampleTerms<P> terms[kSampleBlock];
     alignas(64) unsigned char stateStorage[kSampleBlock * sizeof(proto::HarmonicRecurrence<P>)];
     auto* state = reinterpret_cast<proto::HarmonicRecurrence<P>*>(stateStorage);
     for (int blockBegin = 0; blockBegin < lights.count; blockBegin += kSampleBlock) {
         const int count = std::min(lights.count - blockBegin, kSampleBlock);
         for (int i = 0; i < count; ++i) {
+            // The band streams from memory at ~5 GB/s; ask for samples a few ahead.
+            const int ahead = blockBegin + i + kPrefetchDistance;
+            if (ahead < lights.count) {
+                const float* next = observations.values + ahead * observations.sampleStride;
+                for (std::size_t offset = 0; offset < 3 * kLanes; offset += 16) {
+                    __builtin_prefetch(next + offset);
+                }
+                if (observations.weights) {
+                    __builtin_prefetch(observations.weights + ahead * observations.weightStride);
+                }
+            }
             terms[i] = sampleTerms<P, kPointLights>(normal, view, position, lights, observations,
                                                     blockBegin + i, false);
             new (&state[i]) proto::HarmonicRecurrence<P>(terms[i].cosThetaS);
@@ -314,8 +346,26 @@ template <typename T, typename Get>
 void accumulateNormalEquations(const ChunkGeometry& geometry, const KernelLightSet& lights,
                                const ChunkObservations& observations, int harmonics,
                                AccumulationPrecision precision, NormalEquationSums& sums) {
-    std::memset(static_cast<void*>(&sums), 0, sizeof(sums));
     sums.harmonics = std::clamp(harmonics, 0, kMaxHarmonics);
+    // Clear only what this M reads and writes; the arrays are sized for kMaxHarmonics.
+    const int m = sums.harmonics;
+    const auto clear = [](double(&row)[kLanes]) { std::fill(row, row + kLanes, 0.0); };
+    for (int k = 0; k <= 2 * m; ++k) {
+        clear(sums.cosine[k]);
+        clear(sums.sine[k]);
+    }
+    for (int k = 0; k <= m; ++k) {
+        clear(sums.lambertCosine[k]);
+        clear(sums.lambertSine[k]);
+    }
+    for (int c = 0; c < kChannels; ++c) {
+        for (int j = 0; j < proto::coefficientCount(m); ++j) {
+            clear(sums.projection[c][j]);
+        }
+        clear(sums.squares[c]);
+    }
+    clear(sums.lambertSquare);
+    clear(sums.count);
     sums.roundingLevel = precision == AccumulationPrecision::kFloatBlocks ? 1e-7 : 1e-13;
     if (precision == AccumulationPrecision::kFloatBlocks) {
         accumulateFast(geometry, lights, observations, sums.harmonics, sums);
@@ -458,9 +508,10 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
         const DoublePack residual = DoublePack::load(sums.squares[c]) - explained - penalty;
         for (int lane = 0; lane < kLanes; ++lane) {
             const bool valid = solution.valid[lane];
-            for (int i = 0; i < kMaxCoefficients; ++i) {
+            // Only the 2M + 2 coefficients of this M are written; readers never look further.
+            for (int i = 0; i < k; ++i) {
                 solution.coefficients[lane][c][i] =
-                    (valid && i < k) ? static_cast<float>(x[c][i][lane]) : 0.0f;
+                    valid ? static_cast<float>(x[c][i][lane]) : 0.0f;
             }
             solution.rms[lane][c] = valid ? static_cast<float>(std::sqrt(
                                                 std::max(residual[lane], 0.0) / sums.count[lane]))

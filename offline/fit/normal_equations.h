@@ -41,7 +41,8 @@ struct ChunkObservations {
     const float* values = nullptr;
     std::size_t sampleStride = 0;
     std::size_t channelStride = 0;
-    const float* weights = nullptr;  // 0 drops a sample (decode failure, mask, censoring)
+    // 0 drops a sample (decode failure, mask, censoring); null: every sample has weight 1.
+    const float* weights = nullptr;
     std::size_t weightStride = 0;
 };
 
@@ -70,6 +71,7 @@ struct NormalEquationSums {
 };
 
 struct ChunkSolution {
+    // Entries 0 .. 2M + 1 of the last solve; entries past them are left as they were.
     float coefficients[kLanes][kChannels][kMaxCoefficients];
     float rms[kLanes][kChannels];  // residual RMS over the used samples, normalized units
     bool valid[kLanes];

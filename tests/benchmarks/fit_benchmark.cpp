@@ -69,11 +69,13 @@ struct BenchmarkBand {
                 }
             }
         }
+        band.markFullyUsableChunks();
     }
 };
 
 const BenchmarkBand& sharedBand() {
-    static const BenchmarkBand band(512, 8);
+    // The band `vpe fit` processes for a 330-image 2048-wide capture (192 MiB budget).
+    static const BenchmarkBand band(2048, 16);
     return band;
 }
 
