@@ -96,7 +96,10 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     OIIO::ImageSpec spec(info.width, info.height, impl_->channels, OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
     spec.alpha_channel = -1;
-    spec.attribute("compression", "zip");
+    // ZIP per scanline: the model is written in bands of ~16 rows, and 16-line ZIP blocks
+    // would make each band one block that only one thread can compress (measured on a
+    // 2048² model: 16 s instead of 29 s; same size on real models).
+    spec.attribute("compression", "zips");
     spec.attribute("vpeFormat", kFormatName);
     spec.attribute("vpeFormatVersion", kFormatVersion);
     spec.attribute("vpeHarmonics", info.harmonics);
