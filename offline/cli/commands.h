@@ -15,6 +15,7 @@ void addFitCommand(CLI::App& app, Action& action);
 void addEvalCommand(CLI::App& app, Action& action);
 void addSweepCommand(CLI::App& app, Action& action);
 void addNormalsCommand(CLI::App& app, Action& action);
+void addSynthCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

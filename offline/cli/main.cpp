@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     vpe::cli::addEvalCommand(app, action);
     vpe::cli::addSweepCommand(app, action);
     vpe::cli::addNormalsCommand(app, action);
+    vpe::cli::addSynthCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -31,6 +31,31 @@ FloatImage readImage(const std::filesystem::path& path) {
     return image;
 }
 
+void writeImage(const std::filesystem::path& path, int width, int height, int channels,
+                const std::vector<float>& pixels, PixelFormat format) {
+    AtomicOutput output(path);
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) {
+        throw InputError(path, "cannot write this image format: " + OIIO::geterror());
+    }
+    const OIIO::TypeDesc type = format == PixelFormat::kUint8    ? OIIO::TypeDesc::UINT8
+                                : format == PixelFormat::kUint16 ? OIIO::TypeDesc::UINT16
+                                                                 : OIIO::TypeDesc::FLOAT;
+    OIIO::ImageSpec spec(width, height, channels, type);
+    if (format == PixelFormat::kFloat) {
+        spec.attribute("compression", "zip");
+    }
+    // OpenEXR headers otherwise carry the write time, and identical renders (vpe synth with
+    // one seed) would differ byte for byte.
+    spec.attribute("DateTime", "");
+    // OpenImageIO converts float to integer formats by clamping to [0, 1] and scaling.
+    if (!out->open(output.temporaryPath().string(), spec) ||
+        !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
+        throw InputError(path, "cannot write image: " + out->geterror());
+    }
+    output.commit();
+}
+
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
                  const std::vector<std::uint8_t>& pixels) {
     AtomicOutput output(path);

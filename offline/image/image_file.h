@@ -24,6 +24,13 @@ struct FloatImage {
 // is applied. Throws InputError naming the file.
 FloatImage readImage(const std::filesystem::path& path);
 
+enum class PixelFormat { kUint8, kUint16, kFloat };
+
+// Writes float pixels atomically as 8-bit, 16-bit (values clamped to [0, 1] and scaled)
+// or float; the file format follows the extension (.png, .tif, .exr, ...).
+void writeImage(const std::filesystem::path& path, int width, int height, int channels,
+                const std::vector<float>& pixels, PixelFormat format);
+
 // Writes an 8-bit image (1, 3 or 4 channels) atomically; the format follows the extension.
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
                  const std::vector<std::uint8_t>& pixels);

@@ -1,0 +1,361 @@
+// SPDX-License-Identifier: MIT
+// Rendering and writing the synthetic capture.
+#include "synth/capture_synthesizer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/srgb.h"
+
+#include "common/atomic_output.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "common/progress_bar.h"
+#include "image/image_file.h"
+#include "model/fourier_model_file.h"
+#include "synth/light_rigs.h"
+#include "synth/pottery_scene.h"
+
+namespace vpe::synth {
+
+namespace {
+
+constexpr double kFullWell = 5000.0;  // electrons at full scale: shot noise σ = √(y / 5000)
+constexpr double kReadNoise = 0.002;  // of full scale
+
+// The Fourier-family truth: coefficients that follow the material (diffuse albedo, a lobe
+// that narrows with gloss), so the pattern stays visible in a Fourier capture too.
+void fourierCoefficients(const MicrofacetMaterial& material, int harmonics, int channel,
+                         double* coefficients) {
+    const double albedo[3] = {material.albedo.x, material.albedo.y, material.albedo.z};
+    const double gloss = 0.3 * std::clamp(1.0 - material.roughness, 0.0, 1.0);
+    coefficients[proto::kLambertIndex] = albedo[channel];
+    coefficients[proto::kConstantIndex] = 0.01;
+    for (int m = 1; m <= harmonics; ++m) {
+        coefficients[proto::cosineIndex(m)] = gloss * std::exp(-0.35 * m);
+        coefficients[proto::sineIndex(m)] = 0.1 * gloss * std::exp(-0.5 * m) * (channel + 1) / 3.0;
+    }
+}
+
+double gaussian(std::uint64_t key) {
+    const double u1 = std::max(uniformFromBits(mixBits(key)), 1e-300);
+    const double u2 = uniformFromBits(mixBits(key ^ 0xabcdef1234567ull));
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+const char* extensionOf(SynthEncoding encoding) {
+    return encoding == SynthEncoding::kExr ? ".exr" : ".png";
+}
+
+PixelFormat formatOf(SynthEncoding encoding) {
+    switch (encoding) {
+        case SynthEncoding::kLinear16:
+            return PixelFormat::kUint16;
+        case SynthEncoding::kExr:
+            return PixelFormat::kFloat;
+        case SynthEncoding::kSrgb8:
+            return PixelFormat::kUint8;
+    }
+    return PixelFormat::kFloat;
+}
+
+nlohmann::json vectorJson(const Vec3d& v) {
+    return nlohmann::json::array({v.x, v.y, v.z});
+}
+
+// Writes one capture.json: the pinhole camera, the rig's lights, the truth's geometry.
+void writeManifest(const std::filesystem::path& folder, const PotteryScene& scene,
+                   const LightRig& rig, const std::vector<Vec3d>& lights,
+                   const std::vector<std::string>& files, SynthEncoding encoding) {
+    const PinholeCamera& camera = scene.camera();
+    nlohmann::json manifest;
+    manifest["format"] = "vpe-capture";
+    manifest["version"] = 1;
+    manifest["encoding"] = encoding == SynthEncoding::kSrgb8 ? "srgb" : "linear";
+    manifest["camera"] = {{"model", "pinhole"},
+                          {"fx", camera.fx},
+                          {"fy", camera.fy},
+                          {"cx", camera.cx},
+                          {"cy", camera.cy},
+                          {"rotation", camera.rotation},
+                          {"translation", vectorJson(camera.translation)}};
+    if (rig.kind == LightKind::kPoint) {
+        manifest["lights"] = {{"type", "point"}, {"reference_distance", rig.referenceDistance}};
+    } else {
+        manifest["lights"] = {{"type", "directional"}};
+    }
+    manifest["normals"] = {{"file", "../truth/normals.exr"}, {"encoding", "raw"}};
+    manifest["positions"] = "../truth/positions.exr";
+    manifest["mask"] = "../truth/mask.png";
+    manifest["images"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        manifest["images"].push_back({{"file", files[i]}, {"light", vectorJson(lights[i])}});
+    }
+    writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
+}
+
+}  // namespace
+
+SynthReport synthesizeCapture(const SynthOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (options.size < 8 || options.size > 4096) {
+        throw InputError("--size " + std::to_string(options.size) + " is out of range (8..4096)");
+    }
+    if (options.rig != "paper" && options.rig != "dome") {
+        throw InputError("--rig must be paper or dome, not '" + options.rig + "'");
+    }
+    if (options.fourierHarmonics < 0 || options.fourierHarmonics > proto::kMaxHarmonics) {
+        throw InputError("--fourier-harmonics is out of range (0.." +
+                         std::to_string(proto::kMaxHarmonics) + ")");
+    }
+    const std::filesystem::path out = options.out;
+    if (std::filesystem::exists(out) && !std::filesystem::exists(out / "truth" / "synth.json") &&
+        !std::filesystem::is_empty(out)) {
+        throw InputError(out, "exists and is not a vpe synth output: refusing to replace it");
+    }
+    // Everything is written beside DIR and swapped in at the end.
+    const std::filesystem::path partial =
+        out.parent_path() /
+        ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(partial);
+    struct Cleanup {
+        std::filesystem::path path;
+        ~Cleanup() {
+            std::error_code ignored;
+            std::filesystem::remove_all(path, ignored);
+        }
+    } cleanup{partial};
+    for (const char* folder : {"train", "test", "truth"}) {
+        std::filesystem::create_directories(partial / folder);
+    }
+
+    const PotteryScene scene(options.size, options.seed);
+    const LightRig rig = options.rig == "paper" ? paperRig() : domeRig();
+    const int n = options.size;
+    const std::size_t pixels = static_cast<std::size_t>(n) * n;
+    std::vector<SurfacePoint> surface(pixels, SurfacePoint{});
+    parallelFor(static_cast<std::size_t>(n), 4, options.threads,
+                [&](std::size_t begin, std::size_t end) {
+                    for (std::size_t y = begin; y < end; ++y) {
+                        for (int x = 0; x < n; ++x) {
+                            surface[y * n + static_cast<std::size_t>(x)] =
+                                scene.surfaceAt(x, static_cast<int>(y));
+                        }
+                    }
+                });
+    const int harmonics = options.fourierHarmonics;
+    const int k = proto::coefficientCount(harmonics);
+    std::vector<double> fourier;
+    if (options.reflectance == SynthReflectance::kFourier) {
+        fourier.assign(pixels * 3 * static_cast<std::size_t>(k), 0.0);
+        for (std::size_t p = 0; p < pixels; ++p) {
+            for (int c = 0; c < 3; ++c) {
+                fourierCoefficients(surface[p].material, harmonics, c,
+                                    &fourier[(p * 3 + static_cast<std::size_t>(c)) * k]);
+            }
+        }
+    }
+
+    SynthReport report;
+    report.size = n;
+    report.trainImages = static_cast<int>(rig.train.size());
+    report.testImages = static_cast<int>(rig.test.size());
+    std::atomic<std::uint64_t> shadowed{0}, lit{0}, clipped{0}, samples{0};
+    const Vec3d camera = scene.cameraCenter();
+    const std::string extension = extensionOf(options.encoding);
+    ProgressBar progress("synth", rig.train.size() + rig.test.size());
+    auto renderSet = [&](const std::vector<Vec3d>& lights, const std::string& folder,
+                         std::uint64_t setKey) {
+        std::vector<std::string> files(lights.size());
+        parallelFor(lights.size(), 1, options.threads, [&](std::size_t begin, std::size_t end) {
+            std::vector<float> image(pixels * 3);
+            for (std::size_t i = begin; i < end; ++i) {
+                std::uint64_t localShadowed = 0, localLit = 0, localClipped = 0;
+                for (std::size_t p = 0; p < pixels; ++p) {
+                    const SurfacePoint& s = surface[p];
+                    float* rgb = &image[p * 3];
+                    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+                    if (!s.hit) {
+                        continue;
+                    }
+                    Vec3d toLight = lights[i];
+                    double irradiance = 1.0;
+                    if (rig.kind == LightKind::kPoint) {
+                        const Vec3d d{toLight.x - s.position.x, toLight.y - s.position.y,
+                                      toLight.z - s.position.z};
+                        irradiance =
+                            rig.referenceDistance * rig.referenceDistance / proto::dot(d, d);
+                        toLight = proto::normalized(d);
+                    }
+                    const Vec3d toViewer = proto::normalized(Vec3d{
+                        camera.x - s.position.x, camera.y - s.position.y, camera.z - s.position.z});
+                    const bool facing = proto::dot(s.normal, toLight) > 0;
+                    localLit += facing ? 1 : 0;
+                    // Shadowed: black, as in a dark capture room (noise still applies).
+                    const bool inShadow =
+                        options.shadows && facing && scene.reliefShadows(s, toLight);
+                    localShadowed += inShadow ? 1 : 0;
+                    double value[3] = {0, 0, 0};
+                    if (inShadow) {
+                        // no direct light
+                    } else if (fourier.empty()) {
+                        const Vec3d radiance =
+                            microfacetRadiance(s.material, s.normal, toLight, toViewer);
+                        value[0] = radiance.x;
+                        value[1] = radiance.y;
+                        value[2] = radiance.z;
+                    } else {
+                        const auto angles = proto::reflectionAngles(s.normal, toLight, toViewer);
+                        for (int c = 0; c < 3; ++c) {
+                            value[c] = proto::evaluateFourierBrdf(
+                                &fourier[(p * 3 + static_cast<std::size_t>(c)) * k], harmonics,
+                                angles.cosThetaD, angles.cosThetaS);
+                        }
+                    }
+                    for (int c = 0; c < 3; ++c) {
+                        double y = irradiance * value[c];
+                        if (options.noise == SynthNoise::kCamera) {
+                            const std::uint64_t key = mixBits(options.seed ^ mixBits(setKey + i)) ^
+                                                      mixBits(p * 3 + static_cast<std::size_t>(c));
+                            y += std::sqrt(std::max(y, 0.0) / kFullWell + kReadNoise * kReadNoise) *
+                                 gaussian(key);
+                        }
+                        if (options.encoding == SynthEncoding::kSrgb8) {
+                            y = proto::linearToSrgb(std::clamp(y, 0.0, 1.0));
+                        }
+                        localClipped += y >= 1.0 ? 1 : 0;
+                        rgb[c] = static_cast<float>(y);
+                    }
+                }
+                char name[32];
+                std::snprintf(name, sizeof name, "light%03zu", i);
+                files[i] = std::string(name) + extension;
+                writeImage(partial / folder / files[i], n, n, 3, image, formatOf(options.encoding));
+                shadowed += localShadowed;
+                lit += localLit;
+                clipped += localClipped;
+                samples += pixels * 3;
+                progress.advance();
+            }
+        });
+        writeManifest(partial / folder, scene, rig, lights, files, options.encoding);
+    };
+    renderSet(rig.train, "train", 1);
+    renderSet(rig.test, "test", 1000000);
+    progress.finish();
+
+    // Truth: geometry, labels, parameters, lights.
+    std::vector<float> normals(pixels * 3), normalsPreview(pixels * 3), positions(pixels * 3),
+        parameters(pixels * 8), labels(pixels), labelsPreview(pixels * 3), mask(pixels);
+    std::size_t streakPixels = 0, hitPixels = 0;
+    for (std::size_t p = 0; p < pixels; ++p) {
+        const SurfacePoint& s = surface[p];
+        const double n3[3] = {s.normal.x, s.normal.y, s.normal.z};
+        const double p3[3] = {s.position.x, s.position.y, s.position.z};
+        for (int c = 0; c < 3; ++c) {
+            normals[p * 3 + c] = s.hit ? static_cast<float>(n3[c]) : 0.0f;
+            normalsPreview[p * 3 + c] = s.hit ? static_cast<float>((n3[c] + 1) / 2) : 0.0f;
+            positions[p * 3 + c] = static_cast<float>(p3[c]);
+        }
+        const double values[8] = {s.material.albedo.x,
+                                  s.material.albedo.y,
+                                  s.material.albedo.z,
+                                  s.material.roughness,
+                                  s.material.f0,
+                                  static_cast<double>(s.label),
+                                  s.relief,
+                                  s.streak};
+        for (int c = 0; c < 8; ++c) {
+            parameters[p * 8 + c] = s.hit ? static_cast<float>(values[c]) : 0.0f;
+        }
+        labels[p] = static_cast<float>(s.label) / 255.0f;  // label index as the 8-bit value
+        const Vec3d colour = s.label ? Vec3d{0.75, 0.22, 0.12} : Vec3d{0.80, 0.70, 0.52};
+        labelsPreview[p * 3] = static_cast<float>(colour.x);
+        labelsPreview[p * 3 + 1] = static_cast<float>(colour.y);
+        labelsPreview[p * 3 + 2] = static_cast<float>(colour.z);
+        mask[p] = s.hit ? 1.0f : 0.0f;
+        streakPixels += s.hit && s.label ? 1 : 0;
+        hitPixels += s.hit ? 1 : 0;
+    }
+    const std::filesystem::path truth = partial / "truth";
+    writeImage(truth / "normals.exr", n, n, 3, normals, PixelFormat::kFloat);
+    writeImage(truth / "normals.png", n, n, 3, normalsPreview, PixelFormat::kUint8);
+    writeImage(truth / "positions.exr", n, n, 3, positions, PixelFormat::kFloat);
+    writeImage(truth / "parameters.exr", n, n, 8, parameters, PixelFormat::kFloat);
+    writeImage(truth / "labels.png", n, n, 1, labels, PixelFormat::kUint8);
+    writeImage(truth / "labels-preview.png", n, n, 3, labelsPreview, PixelFormat::kUint8);
+    writeImage(truth / "mask.png", n, n, 1, mask, PixelFormat::kUint8);
+    if (!fourier.empty()) {
+        ModelInfo info;
+        info.width = info.height = n;
+        info.harmonics = harmonics;
+        info.samples = 0;
+        info.capture = "vpe synth --reflectance fourier (the truth)";
+        ModelWriter writer(truth / "fourier.exr", info);
+        ModelRows rows;
+        rows.resize(n, n, k);
+        for (std::size_t p = 0; p < pixels; ++p) {
+            rows.valid[p] = surface[p].hit ? 1 : 0;
+            const double n3[3] = {surface[p].normal.x, surface[p].normal.y, surface[p].normal.z};
+            for (int c = 0; c < 3; ++c) {
+                rows.normal[p * 3 + c] = static_cast<float>(n3[c]);
+            }
+            for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(k); ++i) {
+                rows.coefficient[p * 3 * k + i] = static_cast<float>(fourier[p * 3 * k + i]);
+            }
+        }
+        writer.writeRows(0, rows);
+        writer.finish();
+    }
+    nlohmann::json description;
+    description["generator"] = "vpe synth";
+    description["seed"] = options.seed;
+    description["size"] = n;
+    description["rig"] = rig.name;
+    description["noise"] = options.noise == SynthNoise::kCamera ? "camera" : "none";
+    description["shadows"] = options.shadows;
+    description["encoding"] = options.encoding == SynthEncoding::kExr     ? "exr"
+                              : options.encoding == SynthEncoding::kSrgb8 ? "srgb8"
+                                                                          : "linear16";
+    description["reflectance"] = fourier.empty() ? "microfacet" : "fourier";
+    description["parameters_channels"] = {"albedo.R", "albedo.G", "albedo.B", "roughness",
+                                          "f0",       "label",    "relief",   "streak"};
+    description["labels"] = {"ground", "streak"};
+    description["lights"] = {{"kind", rig.kind == LightKind::kPoint ? "point" : "directional"},
+                             {"reference_distance", rig.referenceDistance},
+                             {"train", nlohmann::json::array()},
+                             {"test", nlohmann::json::array()}};
+    for (const Vec3d& l : rig.train) {
+        description["lights"]["train"].push_back(vectorJson(l));
+    }
+    for (const Vec3d& l : rig.test) {
+        description["lights"]["test"].push_back(vectorJson(l));
+    }
+    writeTextFileAtomically(truth / "synth.json", description.dump(1) + "\n");
+
+    // Swap the finished capture into place.
+    if (std::filesystem::exists(out)) {
+        std::filesystem::remove_all(out);
+    }
+    if (!out.parent_path().empty()) {
+        std::filesystem::create_directories(out.parent_path());
+    }
+    std::filesystem::rename(partial, out);
+
+    report.streakFraction = hitPixels ? static_cast<double>(streakPixels) / hitPixels : 0.0;
+    report.shadowedFraction = lit ? static_cast<double>(shadowed) / static_cast<double>(lit) : 0.0;
+    report.clippedFraction =
+        samples ? static_cast<double>(clipped) / static_cast<double>(samples) : 0.0;
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+}  // namespace vpe::synth
