@@ -1,72 +1,101 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The demo: everything built so far, end to end, writing pictures to demo-output/ (or $1).
-# Fits the paper's Fourier BRDF and vpe's extended model to real captures, scores them on
-# held-out lights, reproduces the paper's Fig. 6, and lays the results out as contact
-# sheets. Installs missing Debian packages itself.
+# The demo: the whole pipeline built so far, end to end, writing pictures to demo-output/
+# (or $1). It renders the built-in synthetic Bizen capture, fits the paper's Fourier BRDF
+# and vpe's extended model, scores them on held-out lights, reproduces the paper's Fig. 6,
+# and lays the results out as contact sheets; then does the same on real captures when
+# ../shared/data (or $VPE_DATA) has them. Installs missing Debian packages itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+source scripts/lib/pictures.sh
 
+started=$(date +%s)
 out=$(realpath -m "${1:-demo-output}")
 data=${VPE_DATA:-$(realpath -m ../shared/data)}
 cmake --preset release >/dev/null
 cmake --build --preset release --target vpe -j "$(nproc)"
 vpe=build/release/offline/vpe
+rm -rf "$out"
 mkdir -p "$out"
 summary="$out/summary.txt"
 : > "$summary"
 psnr() { sed -n 's/.*"psnr":\([0-9.]*\).*/\1/p' | tail -1; }
+step() { printf '\n== %s\n' "$*" >&2; }
 
-# truth | paper model | extended model for four held-out lights, one row per light.
-contact_sheet() {  # sheet test-folder paper-predictions extended-predictions
-    local sheet=$1 test=$2 paper=$3 extended=$4 tiles=()
-    for image in image01 image06 image11 image16; do
-        tiles+=("$test/$image.jpg" "$paper/$image.png" "$extended/$image.png")
-    done
-    oiiotool "${tiles[@]}" --mosaic:pad=4 3x4 -o "$sheet"
-}
-
-fit_and_score() {  # name capture-folder
-    local name=$1 set=$2 dir="$out/$1"
+# Fits the paper's model and the extended one to TRAIN, predicts TEST, records the PSNRs.
+fit_and_score() {  # name train test
+    local name=$1 train=$2 test=$3 dir="$out/$1"
     mkdir -p "$dir"
-    echo "== $name: paper model (M = 10, λ = 3.14) and extended model" >&2
-    "$vpe" fit "$set/Dome" --out "$dir/paper.exr" --json > "$dir/paper-fit.json"
-    "$vpe" eval "$dir/paper.exr" "$set/Test" --predictions "$dir/paper-test" --json > "$dir/paper-eval.json"
-    "$vpe" fit "$set/Dome" --out "$dir/extended.exr" --model extended --json > "$dir/extended-fit.json"
-    "$vpe" eval "$dir/extended.exr" "$set/Test" --predictions "$dir/extended-test" --json > "$dir/extended-eval.json"
-    contact_sheet "$dir/contact-sheet.png" "$set/Test" "$dir/paper-test" "$dir/extended-test"
+    "$vpe" fit "$train" --out "$dir/paper.exr" --json > "$dir/paper-fit.json"
+    "$vpe" eval "$dir/paper.exr" "$test" --predictions "$dir/paper-test" --json > "$dir/paper-eval.json"
+    "$vpe" fit "$train" --out "$dir/extended.exr" --model extended --json > "$dir/extended-fit.json"
+    "$vpe" eval "$dir/extended.exr" "$test" --predictions "$dir/extended-test" --json \
+        > "$dir/extended-eval.json"
     printf '%-28s held-out PSNR: paper %6.2f dB, extended %6.2f dB\n' "$name" \
         "$(psnr < "$dir/paper-eval.json")" "$(psnr < "$dir/extended-eval.json")" | tee -a "$summary"
 }
 
+# Rows of held-out lights (truth | paper | extended); tiles go to DIR/tiles.
+prediction_rows() {  # dir test-folder truth-encoding extension light...
+    local dir=$1 test=$2 encoding=$3 extension=$4
+    shift 4
+    mkdir -p "$dir/tiles"
+    for light in "$@"; do
+        tile "$test/$light$extension" "$dir/tiles/$light-truth.png" "truth, $light" "$encoding"
+        tile "$dir/paper-test/$light.png" "$dir/tiles/$light-paper.png" "paper M=10"
+        tile "$dir/extended-test/$light.png" "$dir/tiles/$light-extended.png" "extended"
+        rows+=("$dir/tiles/$light-truth.png" "$dir/tiles/$light-paper.png" "$dir/tiles/$light-extended.png")
+    done
+}
+
+step "the built-in synthetic Bizen capture (vpe synth: paper rig, camera noise)"
+synthetic="$out/synthetic-bizen"
+"$vpe" synth --out "$synthetic/capture" --size 160 --noise camera
+fit_and_score synthetic-bizen "$synthetic/capture/train" "$synthetic/capture/test"
+rows=()
+prediction_rows "$synthetic" "$synthetic/capture/test" linear .png light002 light004 light011 light017
+channels_picture "$synthetic/paper.exr" rms.R,rms.G,rms.B "$synthetic/tiles/rms-map.png" 20 0
+tile "$synthetic/tiles/rms-map.png" "$synthetic/tiles/rms.png" "fit RMS x20 (paper)"
+channels_picture "$synthetic/paper.exr" normal.X,normal.Y,normal.Z "$synthetic/tiles/normal-map.png" 0.5 0.5
+tile "$synthetic/tiles/normal-map.png" "$synthetic/tiles/normals.png" "normal map"
+tile "$synthetic/capture/truth/labels-preview.png" "$synthetic/tiles/labels.png" "materials (truth)"
+sheet 3 "$synthetic/contact-sheet.png" "${rows[@]}" \
+    "$synthetic/tiles/rms.png" "$synthetic/tiles/normals.png" "$synthetic/tiles/labels.png"
+step "the paper's Fig. 6 on it (vpe sweep)"
+mkdir -p "$synthetic/sweep"
+"$vpe" sweep "$synthetic/capture/train" "$synthetic/capture/test" --out "$synthetic/sweep" \
+    | tee "$synthetic/sweep/table.txt"
+
 if [[ -d "$data/synthrti" ]]; then
-    fit_and_score glossy-relief "$data/synthrti/Single/Object1/material4"
-    fit_and_score shadowed-figures "$data/synthrti/Multi/Object2/material1"
-    echo "== the paper's Fig. 6 on SynthRTI Single/Object1/material4" >&2
-    mkdir -p "$out/sweep"
-    "$vpe" sweep "$data/synthrti/Single/Object1/material4/Dome" \
-        "$data/synthrti/Single/Object1/material4/Test" --out "$out/sweep" | tee "$out/sweep/table.txt"
+    for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
+        name=${set#*:}
+        path="$data/synthrti/${set%%:*}"
+        step "SynthRTI ${set%%:*} ($name)"
+        fit_and_score "synthrti-$name" "$path/Dome" "$path/Test"
+        rows=()
+        prediction_rows "$out/synthrti-$name" "$path/Test" srgb .jpg image01 image06 image11 image16
+        sheet 3 "$out/synthrti-$name/contact-sheet.png" "${rows[@]}"
+    done
 else
-    echo "vpe demo: SynthRTI captures not found under $data (set VPE_DATA)" >&2
+    echo "(SynthRTI not found under $data: skipping the real-capture part)" | tee -a "$summary"
 fi
 if [[ -d "$data/loewenkopf" ]]; then
-    echo "== loewenkopf: a real photograph set, normals by photometric stereo" >&2
+    step "loewenkopf: a real photograph set, normals by photometric stereo"
     mkdir -p "$out/loewenkopf"
     "$vpe" fit "$data/loewenkopf" --out "$out/loewenkopf/paper.exr" --json > "$out/loewenkopf/fit.json"
-    echo "loewenkopf                   fitted with photometric-stereo normals: $out/loewenkopf/paper.preview.png" | tee -a "$summary"
+    echo "loewenkopf                   fitted with photometric-stereo normals" | tee -a "$summary"
 fi
-if [[ ! -s "$summary" ]]; then
-    echo "vpe demo: no capture to run on: put the captures in ../shared/data or set VPE_DATA" >&2
-    exit 1
-fi
+rm -rf "$out"/*/tiles
 
 cat >&2 <<TEXT
 
-Pictures written to $out:
-  */contact-sheet.png        held-out lights: truth | paper model | extended model (rows: lights)
-  */paper.preview.png        each model relit head-on and from three 45° lights
-  */paper-test, */extended-test   every held-out prediction
-  sweep/sweep.svg, sweep.csv the paper's Fig. 6: RMS vs harmonics M for five λ
-  summary.txt                the figures above
+Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
+  synthetic-bizen/contact-sheet.png   held-out lights: truth | paper model | extended model;
+                                      last row: fit RMS map, normal map, material labels
+  synthetic-bizen/sweep/sweep.svg     the paper's Fig. 6: held-out RMS vs M for five λ
+  synthetic-bizen/capture/            the rendered capture (train/, test/, truth/)
+  synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
+  */paper.preview.png                 each model relit head-on and from three 45° lights
+  summary.txt                         the figures above
 TEXT

@@ -10,6 +10,7 @@ packages=(
     cmake ninja-build g++ pkg-config          # build
     libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF, OpenEXR), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev
+    fonts-dejavu-core                         # labels on contact sheets
 )
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)

@@ -93,12 +93,15 @@ std::string SvgLinePlot::render() const {
     if (!std::isfinite(xMin)) {
         xMin = 0, xMax = 1, yMin = 0, yMax = 1;
     }
-    yMin = std::min(yMin, 0.0);
+    // The axis spans the data (plus a margin), not zero: differences between curves are
+    // what these plots are for.
+    const double margin = std::max(0.05 * (yMax - yMin), 1e-9);
     const std::vector<double> xTicks = niceTicks(xMin, xMax, 8);
-    const std::vector<double> yTicks = niceTicks(yMin, yMax * 1.05, 6);
+    const std::vector<double> yTicks = niceTicks(yMin - margin, yMax + margin, 6);
     xMin = std::min(xMin, xTicks.front());
     xMax = std::max(xMax, xTicks.back());
-    yMax = std::max(yMax, yTicks.back());
+    yMin = std::min(yMin - margin, yTicks.front());
+    yMax = std::max(yMax + margin, yTicks.back());
     const double plotWidth = kWidth - kLeft - kRight;
     const double plotHeight = kHeight - kTop - kBottom;
     auto px = [&](double x) { return kLeft + (x - xMin) / (xMax - xMin) * plotWidth; };
