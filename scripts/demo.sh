@@ -9,18 +9,16 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 source scripts/lib/pictures.sh
+source scripts/lib/vpe.sh
 
 started=$(date +%s)
 out=$(realpath -m "${1:-demo-output}")
 data=${VPE_DATA:-$(realpath -m ../shared/data)}
-cmake --preset release >/dev/null
-cmake --build --preset release --target vpe -j "$(nproc)"
-vpe=build/release/offline/vpe
+build_vpe
 rm -rf "$out"
 mkdir -p "$out"
 summary="$out/summary.txt"
 : > "$summary"
-psnr() { sed -n 's/.*"psnr":\([0-9.]*\).*/\1/p' | tail -1; }
 step() { printf '\n== %s\n' "$*" >&2; }
 
 # Fits the paper's model and the extended one to TRAIN, predicts TEST, records the PSNRs.
@@ -33,7 +31,8 @@ fit_and_score() {  # name train test
     "$vpe" eval "$dir/extended.exr" "$test" --predictions "$dir/extended-test" --json \
         > "$dir/extended-eval.json"
     printf '%-28s held-out PSNR: paper %6.2f dB, extended %6.2f dB\n' "$name" \
-        "$(psnr < "$dir/paper-eval.json")" "$(psnr < "$dir/extended-eval.json")" | tee -a "$summary"
+        "$(json_field psnr < "$dir/paper-eval.json")" "$(json_field psnr < "$dir/extended-eval.json")" \
+        | tee -a "$summary"
 }
 
 # Rows of held-out lights (truth | paper | extended); tiles go to DIR/tiles.

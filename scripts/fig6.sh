@@ -7,13 +7,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 source scripts/lib/pictures.sh
+source scripts/lib/vpe.sh
 out=$(realpath -m "${1:-docs/fig6}")
-cmake --preset release >/dev/null
-cmake --build --preset release --target vpe -j "$(nproc)"
-vpe=$(realpath build/release/offline/vpe)
+build_vpe
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-field() { sed -n "s/.*\"$1\":\([0-9.eE+-]*\).*/\1/p" | tail -1; }
 mkdir -p "$work/out"
 
 # The paper's setting: a real camera (shot + read noise) delivering 8-bit sRGB images.
@@ -45,7 +43,7 @@ for noise in "none linear16 noiseless, 16-bit linear" "camera linear16 camera no
     for shadows in on off; do
         "$vpe" synth --out "$work/c" --noise "$kind" --encoding "$encoding" --shadows "$shadows" >/dev/null 2>&1
         "$vpe" fit "$work/c/train" --out "$work/c.exr" --no-preview >/dev/null 2>&1
-        p=$("$vpe" eval "$work/c.exr" "$work/c/test" --json 2>/dev/null | field psnr)
+        p=$("$vpe" eval "$work/c.exr" "$work/c/test" --json 2>/dev/null | json_field psnr)
         printf '| %s | %s | %.2f |\n' "$label" "$shadows" "$p" >> "$psnr_table"
     done
 done

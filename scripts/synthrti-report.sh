@@ -10,26 +10,24 @@ scripts/install-deps.sh
 data=${VPE_DATA:-$(realpath -m ../shared/data)}/synthrti
 report=$(realpath -m "${1:-docs/synthrti-accuracy.md}")
 [[ -d "$data" ]] || { echo "synthrti-report: no SynthRTI data in $data" >&2; exit 1; }
-cmake --preset release >/dev/null
-cmake --build --preset release --target vpe -j "$(nproc)"
-vpe=$(realpath build/release/offline/vpe)
+source scripts/lib/vpe.sh
+build_vpe
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-field() { sed -n "s/.*\"$1\":\([0-9.eE+-]*\).*/\1/p" | tail -1; }
 
 rows="$work/rows.txt"
 : > "$rows"
 for set in "$data"/*/Object*/material*; do
     name=${set#"$data"/}
     "$vpe" fit "$set/Dome" --out "$work/paper.exr" --no-preview --json > /dev/null 2>&1
-    paper=$("$vpe" eval "$work/paper.exr" "$set/Test" --json 2>/dev/null | field psnr)
+    paper=$("$vpe" eval "$work/paper.exr" "$set/Test" --json 2>/dev/null | json_field psnr)
     fit=$("$vpe" fit "$set/Dome" --out "$work/extended.exr" --model extended --no-preview --json 2>/dev/null)
-    extended=$("$vpe" eval "$work/extended.exr" "$set/Test" --json 2>/dev/null | field psnr)
-    fov=$(field field_of_view_degrees <<< "$fit")
-    distance=$(field light_distance <<< "$fit")
-    harmonics=$(field harmonics <<< "$fit")
-    lambda=$(field lambda <<< "$fit")
-    normals=$("$vpe" normals "$set/Dome" --out "$work/normals.png" --json 2>/dev/null | field mean_error_degrees)
+    extended=$("$vpe" eval "$work/extended.exr" "$set/Test" --json 2>/dev/null | json_field psnr)
+    fov=$(json_field field_of_view_degrees <<< "$fit")
+    distance=$(json_field light_distance <<< "$fit")
+    harmonics=$(json_field harmonics <<< "$fit")
+    lambda=$(json_field lambda <<< "$fit")
+    normals=$("$vpe" normals "$set/Dome" --out "$work/normals.png" --json 2>/dev/null | json_field mean_error_degrees)
     printf '%s %s %s %s %s %s %s %s\n' "$name" "$paper" "$extended" "$fov" "$distance" \
         "$harmonics" "$lambda" "$normals" | tee -a "$rows" >&2
 done
