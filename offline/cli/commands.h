@@ -16,6 +16,11 @@ void addEvalCommand(CLI::App& app, Action& action);
 void addSweepCommand(CLI::App& app, Action& action);
 void addNormalsCommand(CLI::App& app, Action& action);
 void addSynthCommand(CLI::App& app, Action& action);
+void addSegmentCommand(CLI::App& app, Action& action);
+void addQuiltCommand(CLI::App& app, Action& action);
+void addRelightCommand(CLI::App& app, Action& action);
+void addComposeCommand(CLI::App& app, Action& action);
+void addQuiltQualityCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

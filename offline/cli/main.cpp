@@ -24,6 +24,11 @@ int main(int argc, char** argv) {
     vpe::cli::addSweepCommand(app, action);
     vpe::cli::addNormalsCommand(app, action);
     vpe::cli::addSynthCommand(app, action);
+    vpe::cli::addSegmentCommand(app, action);
+    vpe::cli::addQuiltCommand(app, action);
+    vpe::cli::addRelightCommand(app, action);
+    vpe::cli::addComposeCommand(app, action);
+    vpe::cli::addQuiltQualityCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -32,7 +32,8 @@ FloatImage readImage(const std::filesystem::path& path) {
 }
 
 void writeImage(const std::filesystem::path& path, int width, int height, int channels,
-                const std::vector<float>& pixels, PixelFormat format) {
+                const std::vector<float>& pixels, PixelFormat format,
+                const std::vector<std::string>& channelNames) {
     AtomicOutput output(path);
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) {
@@ -42,6 +43,10 @@ void writeImage(const std::filesystem::path& path, int width, int height, int ch
                                 : format == PixelFormat::kUint16 ? OIIO::TypeDesc::UINT16
                                                                  : OIIO::TypeDesc::FLOAT;
     OIIO::ImageSpec spec(width, height, channels, type);
+    if (!channelNames.empty()) {
+        spec.channelnames = channelNames;
+        spec.alpha_channel = -1;
+    }
     if (format == PixelFormat::kFloat) {
         spec.attribute("compression", "zip");
     }

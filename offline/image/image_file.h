@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace vpe {
@@ -28,8 +29,10 @@ enum class PixelFormat { kUint8, kUint16, kFloat };
 
 // Writes float pixels atomically as 8-bit, 16-bit (values clamped to [0, 1] and scaled)
 // or float; the file format follows the extension (.png, .tif, .exr, ...).
+// Channel names default to R, G, B(, A).
 void writeImage(const std::filesystem::path& path, int width, int height, int channels,
-                const std::vector<float>& pixels, PixelFormat format);
+                const std::vector<float>& pixels, PixelFormat format,
+                const std::vector<std::string>& channelNames = {});
 
 // Writes an 8-bit image (1, 3 or 4 channels) atomically; the format follows the extension.
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,

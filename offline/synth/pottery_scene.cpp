@@ -91,7 +91,7 @@ double PotteryScene::streakAt(double u, double v) const {
                          0.09 * pattern_.fractal(2.0 * u + 5 * k, 2.0 * v - 3 * k, 3);
         const double cell = w / periods[k] + streakPhase_[k];
         const double distance = std::fabs(cell - std::floor(cell) - 0.5) * periods[k];
-        const double width = 0.03 + 0.012 * pattern_.at(6.0 * u + 11 * k, 6.0 * v);
+        const double width = 0.058 + 0.02 * pattern_.at(4.0 * u + 11 * k, 4.0 * v);
         streak = std::max(streak, std::exp(-(distance / width) * (distance / width)));
     }
     return streak;

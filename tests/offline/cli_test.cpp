@@ -13,6 +13,7 @@
 
 #include "vpe/proto/fourier_brdf.h"
 
+#include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
@@ -21,16 +22,11 @@ namespace vpe {
 namespace {
 
 using testing::CommandResult;
+using testing::expectInputError;
 using testing::runCommand;
 using testing::vpeExecutable;
 
-std::vector<std::string> vpe(const std::vector<std::string>& arguments) {
-    std::vector<std::string> command{vpeExecutable()};
-    for (const std::string& argument : arguments) {
-        command.push_back(argument);
-    }
-    return command;
-}
+constexpr auto& vpe = testing::vpeCommand;
 
 // A tiny capture: every test here runs the binary several times, so keep decoding cheap.
 testing::SyntheticCaptureSpec smallSpec(int width = 8, int height = 6) {
@@ -54,21 +50,6 @@ std::size_t countLines(const std::string& text) {
     return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
 }
 
-// Bad input: status 2 and exactly one line on stderr, "vpe: ..." naming what is wrong.
-void expectInputError(const CommandResult& result, const std::vector<std::string>& mentions) {
-    EXPECT_EQ(result.exitStatus, 2) << result.err;
-    EXPECT_EQ(result.err.rfind("vpe: ", 0), 0u) << result.err;
-    EXPECT_EQ(countLines(result.err), 1u) << result.err;
-    EXPECT_FALSE(result.err.empty()) << "no message";
-    if (!result.err.empty()) {
-        EXPECT_EQ(result.err.back(), '\n') << result.err;
-    }
-    for (const std::string& mention : mentions) {
-        EXPECT_NE(result.err.find(mention), std::string::npos)
-            << "'" << mention << "' not in: " << result.err;
-    }
-}
-
 // A failed command leaves neither its output nor a temporary file ("." + name + ".tmp...").
 void expectNoOutput(const std::filesystem::path& folder, const std::string& output) {
     if (!std::filesystem::exists(folder)) {
@@ -83,15 +64,7 @@ void expectNoOutput(const std::filesystem::path& folder, const std::string& outp
     }
 }
 
-nlohmann::json lastJsonLine(const std::string& out) {
-    std::string text = out;
-    while (!text.empty() && text.back() == '\n') {
-        text.pop_back();
-    }
-    const std::size_t newline = text.rfind('\n');
-    const std::string line = newline == std::string::npos ? text : text.substr(newline + 1);
-    return nlohmann::json::parse(line);
-}
+using testing::lastJsonLine;
 
 std::string readText(const std::filesystem::path& path) {
     std::ifstream stream(path, std::ios::binary);

@@ -67,4 +67,10 @@ CommandResult runCommand(const std::vector<std::string>& arguments) {
     return result;
 }
 
+std::vector<std::string> vpeCommand(const std::vector<std::string>& arguments) {
+    std::vector<std::string> command{vpeExecutable()};
+    command.insert(command.end(), arguments.begin(), arguments.end());
+    return command;
+}
+
 }  // namespace vpe::testing

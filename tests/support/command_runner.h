@@ -18,4 +18,7 @@ std::string vpeExecutable();
 
 CommandResult runCommand(const std::vector<std::string>& arguments);
 
+// The `vpe` executable followed by the arguments, for runCommand.
+std::vector<std::string> vpeCommand(const std::vector<std::string>& arguments);
+
 }  // namespace vpe::testing

@@ -1,0 +1,649 @@
+// SPDX-License-Identifier: MIT
+// Region-restricted Image Quilting with FFT overlap search.
+#include "quilt/image_quilter.h"
+
+#include <fftw3.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <tuple>
+
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "synth/procedural_noise.h"
+
+namespace vpe::quilt {
+
+namespace {
+
+// FFTW's planner is not thread-safe; execution of an existing plan on new arrays is.
+std::mutex& plannerMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+struct FftwFree {
+    void operator()(void* p) const { fftwf_free(p); }
+};
+using RealBuffer = std::unique_ptr<float, FftwFree>;
+using ComplexBuffer = std::unique_ptr<fftwf_complex, FftwFree>;
+
+RealBuffer allocateReal(std::size_t n) { return RealBuffer(fftwf_alloc_real(n)); }
+ComplexBuffer allocateComplex(std::size_t n) { return ComplexBuffer(fftwf_alloc_complex(n)); }
+
+// The smallest size ≥ n with no prime factor above 7: FFTW is fast on those.
+int fftFriendly(int n) {
+    for (int m = std::max(n, 1);; ++m) {
+        int r = m;
+        for (int p : {2, 3, 5, 7}) {
+            while (r % p == 0) {
+                r /= p;
+            }
+        }
+        if (r == 1) {
+            return m;
+        }
+    }
+}
+
+// Sums over axis-aligned boxes in O(1).
+class IntegralImage {
+public:
+    IntegralImage(int width, int height) : width_(width), sums_((width + 1) * static_cast<std::size_t>(height + 1), 0.0) {}
+    void build(const std::vector<double>& values, int height) {
+        for (int y = 0; y < height; ++y) {
+            double row = 0;
+            for (int x = 0; x < width_; ++x) {
+                row += values[static_cast<std::size_t>(y) * width_ + x];
+                at(x + 1, y + 1) = at(x + 1, y) + row;
+            }
+        }
+    }
+    double sum(int x0, int y0, int x1, int y1) const {  // [x0, x1) × [y0, y1)
+        return get(x1, y1) - get(x0, y1) - get(x1, y0) + get(x0, y0);
+    }
+
+private:
+    double& at(int x, int y) { return sums_[static_cast<std::size_t>(y) * (width_ + 1) + x]; }
+    double get(int x, int y) const { return sums_[static_cast<std::size_t>(y) * (width_ + 1) + x]; }
+    int width_;
+    std::vector<double> sums_;
+};
+
+struct Rect {
+    int x0, y0, x1, y1;  // [x0, x1) × [y0, y1) in block coordinates
+};
+
+// The overlap of a block with what is already placed: a left strip, a top strip, or both.
+struct OverlapShape {
+    bool left = false;
+    bool top = false;
+    bool contains(int qx, int qy, int overlap) const {
+        return (left && qx < overlap) || (top && qy < overlap);
+    }
+};
+
+// Everything about one region that does not change from block to block.
+class RegionSearch {
+public:
+    RegionSearch(const SourceTexture& source, const std::vector<std::uint8_t>& labels, int region,
+                 int block, const QuiltSettings& settings)
+        : source_(source), block_(block) {
+        static std::atomic<std::uint64_t> nextId{1};
+        id_ = nextId++;
+        findBounds(labels, region);
+        findCandidates(labels, region);
+        if (candidateCount_ == 0) {
+            return;
+        }
+        if (settings.search == QuiltSettings::Search::kFft) {
+            buildProjection(labels, region, settings);
+            buildSpectra();
+        }
+    }
+
+    std::uint64_t id() const { return id_; }  // tells per-thread scratch apart
+    std::size_t candidateCount() const { return candidateCount_; }
+    int components() const { return components_; }
+    int boundsX() const { return bx_; }
+    int boundsY() const { return by_; }
+    int positionsX() const { return bw_ - block_ + 1; }
+    int positionsY() const { return bh_ - block_ + 1; }
+    bool valid(int px, int py) const {
+        return valid_[static_cast<std::size_t>(py) * positionsX() + px] != 0;
+    }
+    // The i-th valid candidate, for picking a first block.
+    std::pair<int, int> candidate(std::size_t i) const {
+        for (int py = 0; py < positionsY(); ++py) {
+            for (int px = 0; px < positionsX(); ++px) {
+                if (valid(px, py) && i-- == 0) {
+                    return {px, py};
+                }
+            }
+        }
+        return {0, 0};
+    }
+    // PCA components of source pixel (x, y) (image coordinates).
+    const float* projected(int x, int y) const {
+        return projected_.data() +
+               (static_cast<std::size_t>(y - by_) * bw_ + (x - bx_)) * components_;
+    }
+    int fftWidth() const { return fw_; }
+    int fftHeight() const { return fh_; }
+    std::size_t spectrumSize() const { return static_cast<std::size_t>(fh_) * (fw_ / 2 + 1); }
+    const fftwf_complex* spectrum(int k) const { return spectra_[static_cast<std::size_t>(k)].get(); }
+    fftwf_plan forward() const { return forward_; }
+    fftwf_plan inverse() const { return inverse_; }
+    // Σ over the overlap shape, at candidate p, of the squared PCA components.
+    double overlapEnergy(int px, int py, const OverlapShape& shape, int overlap) const {
+        const int x = px, y = py;  // bounding-box coordinates of the block's corner
+        double e = 0;
+        if (shape.left) {
+            e += squares_->sum(x, y, x + overlap, y + block_);
+        }
+        if (shape.top) {
+            e += squares_->sum(x, y, x + block_, y + overlap);
+        }
+        if (shape.left && shape.top) {
+            e -= squares_->sum(x, y, x + overlap, y + overlap);
+        }
+        return e;
+    }
+    ~RegionSearch() {
+        std::lock_guard lock(plannerMutex());
+        if (forward_) {
+            fftwf_destroy_plan(forward_);
+        }
+        if (inverse_) {
+            fftwf_destroy_plan(inverse_);
+        }
+    }
+
+private:
+    void findBounds(const std::vector<std::uint8_t>& labels, int region) {
+        int x0 = source_.width, y0 = source_.height, x1 = -1, y1 = -1;
+        for (int y = 0; y < source_.height; ++y) {
+            for (int x = 0; x < source_.width; ++x) {
+                if (labels[static_cast<std::size_t>(y) * source_.width + x] == region) {
+                    x0 = std::min(x0, x);
+                    y0 = std::min(y0, y);
+                    x1 = std::max(x1, x);
+                    y1 = std::max(y1, y);
+                }
+            }
+        }
+        bx_ = x0;
+        by_ = y0;
+        bw_ = std::max(0, x1 - x0 + 1);
+        bh_ = std::max(0, y1 - y0 + 1);
+    }
+
+    void findCandidates(const std::vector<std::uint8_t>& labels, int region) {
+        if (bw_ < block_ || bh_ < block_) {
+            return;
+        }
+        std::vector<double> inside(static_cast<std::size_t>(bw_) * bh_);
+        for (int y = 0; y < bh_; ++y) {
+            for (int x = 0; x < bw_; ++x) {
+                inside[static_cast<std::size_t>(y) * bw_ + x] =
+                    labels[static_cast<std::size_t>(y + by_) * source_.width + x + bx_] == region;
+            }
+        }
+        IntegralImage count(bw_, bh_);
+        count.build(inside, bh_);
+        valid_.assign(static_cast<std::size_t>(positionsX()) * positionsY(), 0);
+        const double full = static_cast<double>(block_) * block_;
+        for (int py = 0; py < positionsY(); ++py) {
+            for (int px = 0; px < positionsX(); ++px) {
+                if (count.sum(px, py, px + block_, py + block_) >= full - 0.5) {
+                    valid_[static_cast<std::size_t>(py) * positionsX() + px] = 1;
+                    ++candidateCount_;
+                }
+            }
+        }
+    }
+
+    // Principal components of the region's coefficient vectors: the search runs on the few
+    // that hold most of the variance (SSD of differences is unchanged by centring).
+    void buildProjection(const std::vector<std::uint8_t>& labels, int region,
+                         const QuiltSettings& settings) {
+        const int c = source_.channels;
+        Eigen::VectorXd mean = Eigen::VectorXd::Zero(c);
+        Eigen::MatrixXd scatter = Eigen::MatrixXd::Zero(c, c);
+        std::size_t n = 0;
+        for (int y = by_; y < by_ + bh_; ++y) {
+            for (int x = bx_; x < bx_ + bw_; ++x) {
+                if (labels[static_cast<std::size_t>(y) * source_.width + x] != region) {
+                    continue;
+                }
+                const Eigen::Map<const Eigen::VectorXf> v(source_.at(x, y), c);
+                mean += v.cast<double>();
+                ++n;
+            }
+        }
+        mean /= static_cast<double>(std::max<std::size_t>(n, 1));
+        for (int y = by_; y < by_ + bh_; ++y) {
+            for (int x = bx_; x < bx_ + bw_; ++x) {
+                if (labels[static_cast<std::size_t>(y) * source_.width + x] != region) {
+                    continue;
+                }
+                const Eigen::VectorXd d =
+                    Eigen::Map<const Eigen::VectorXf>(source_.at(x, y), c).cast<double>() - mean;
+                scatter.selfadjointView<Eigen::Lower>().rankUpdate(d);
+            }
+        }
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(
+            scatter.selfadjointView<Eigen::Lower>());
+        const Eigen::VectorXd values = solver.eigenvalues().reverse();
+        const double total = std::max(values.sum(), 1e-300);
+        double kept = 0;
+        components_ = 0;
+        while (components_ < std::min(settings.maxComponents, c) &&
+               (kept / total < settings.pcaVariance || components_ == 0)) {
+            kept += values[components_];
+            ++components_;
+        }
+        const Eigen::MatrixXd basis = solver.eigenvectors().rowwise().reverse().leftCols(components_);
+        projected_.assign(static_cast<std::size_t>(bw_) * bh_ * components_, 0.0f);
+        std::vector<double> squares(static_cast<std::size_t>(bw_) * bh_, 0.0);
+        for (int y = 0; y < bh_; ++y) {
+            for (int x = 0; x < bw_; ++x) {
+                if (labels[static_cast<std::size_t>(y + by_) * source_.width + x + bx_] != region) {
+                    continue;  // never inside a valid block: left at zero
+                }
+                const Eigen::VectorXd d =
+                    Eigen::Map<const Eigen::VectorXf>(source_.at(x + bx_, y + by_), c).cast<double>() -
+                    mean;
+                const Eigen::VectorXd p = basis.transpose() * d;
+                float* out = &projected_[(static_cast<std::size_t>(y) * bw_ + x) * components_];
+                double s = 0;
+                for (int k = 0; k < components_; ++k) {
+                    out[k] = static_cast<float>(p[k]);
+                    s += static_cast<double>(out[k]) * static_cast<double>(out[k]);
+                }
+                squares[static_cast<std::size_t>(y) * bw_ + x] = s;
+            }
+        }
+        squares_ = std::make_unique<IntegralImage>(bw_, bh_);
+        squares_->build(squares, bh_);
+    }
+
+    // FFTs of the region's PCA components, padded to an FFT-friendly size. Cyclic correlation
+    // is exact for every valid block: a candidate corner plus a block offset stays inside.
+    void buildSpectra() {
+        fw_ = fftFriendly(bw_);
+        fh_ = fftFriendly(bh_);
+        RealBuffer image = allocateReal(static_cast<std::size_t>(fw_) * fh_);
+        ComplexBuffer scratch = allocateComplex(spectrumSize());
+        {
+            std::lock_guard lock(plannerMutex());
+            forward_ = fftwf_plan_dft_r2c_2d(fh_, fw_, image.get(), scratch.get(), FFTW_ESTIMATE);
+            inverse_ = fftwf_plan_dft_c2r_2d(fh_, fw_, scratch.get(), image.get(), FFTW_ESTIMATE);
+        }
+        for (int k = 0; k < components_; ++k) {
+            std::fill(image.get(), image.get() + static_cast<std::size_t>(fw_) * fh_, 0.0f);
+            for (int y = 0; y < bh_; ++y) {
+                for (int x = 0; x < bw_; ++x) {
+                    image.get()[static_cast<std::size_t>(y) * fw_ + x] =
+                        projected_[(static_cast<std::size_t>(y) * bw_ + x) * components_ + k];
+                }
+            }
+            spectra_.push_back(allocateComplex(spectrumSize()));
+            fftwf_execute_dft_r2c(forward_, image.get(), spectra_.back().get());
+        }
+    }
+
+    const SourceTexture& source_;
+    int block_;
+    std::uint64_t id_ = 0;
+    int bx_ = 0, by_ = 0, bw_ = 0, bh_ = 0, fw_ = 0, fh_ = 0;
+    std::vector<std::uint8_t> valid_;
+    std::size_t candidateCount_ = 0;
+    int components_ = 0;
+    std::vector<float> projected_;
+    std::unique_ptr<IntegralImage> squares_;
+    std::vector<ComplexBuffer> spectra_;
+    fftwf_plan forward_ = nullptr;
+    fftwf_plan inverse_ = nullptr;
+};
+
+// Per-thread scratch for the FFT search.
+struct SearchScratch {
+    RealBuffer image;
+    ComplexBuffer templateSpectrum;
+    ComplexBuffer accumulated;
+    explicit SearchScratch(const RegionSearch& search)
+        : image(allocateReal(static_cast<std::size_t>(search.fftWidth()) * search.fftHeight())),
+          templateSpectrum(allocateComplex(search.spectrumSize())),
+          accumulated(allocateComplex(search.spectrumSize())) {}
+};
+
+struct Candidate {
+    double error;
+    int px, py;  // bounding-box coordinates
+    bool operator<(const Candidate& other) const {
+        return error < other.error || (error == other.error && (py < other.py || (py == other.py && px < other.px)));
+    }
+};
+
+class Quilter {
+public:
+    Quilter(const SourceTexture& source, const RegionSearch& search, int region, int width,
+            int height, int block, int overlap, const QuiltSettings& settings)
+        : source_(source), search_(search), region_(region), block_(block), overlap_(overlap),
+          step_(block - overlap), settings_(settings) {
+        blocksX_ = std::max(1, (width - overlap + step_ - 1) / step_);
+        blocksY_ = std::max(1, (height - overlap + step_ - 1) / step_);
+        canvasWidth_ = blocksX_ * step_ + overlap;
+        canvasHeight_ = blocksY_ * step_ + overlap;
+        sourceX_.assign(static_cast<std::size_t>(canvasWidth_) * canvasHeight_, -1);
+        sourceY_.assign(sourceX_.size(), -1);
+    }
+
+    void run() {
+        // Skewed wavefronts d = i + 2j: a block depends on its left, top and top-right
+        // neighbours (the last overlaps its top-right corner), all on earlier fronts, and
+        // blocks of one front are at least two steps apart, so they never touch.
+        const int fronts = blocksX_ + 2 * blocksY_;
+        for (int d = 0; d < fronts; ++d) {
+            std::vector<std::pair<int, int>> front;
+            for (int j = 0; j < blocksY_; ++j) {
+                const int i = d - 2 * j;
+                if (i >= 0 && i < blocksX_) {
+                    front.emplace_back(i, j);
+                }
+            }
+            parallelFor(front.size(), 1, settings_.threads, [&](std::size_t begin, std::size_t end) {
+                thread_local std::unique_ptr<SearchScratch> scratch;
+                thread_local std::uint64_t scratchFor = 0;
+                if (settings_.search == QuiltSettings::Search::kFft && scratchFor != search_.id()) {
+                    scratch = std::make_unique<SearchScratch>(search_);
+                    scratchFor = search_.id();
+                }
+                for (std::size_t f = begin; f < end; ++f) {
+                    placeBlock(front[f].first, front[f].second, scratch.get());
+                }
+            });
+        }
+    }
+
+    RegionQuilt result(int width, int height) const {
+        RegionQuilt out;
+        out.width = width;
+        out.height = height;
+        out.sourceX.resize(static_cast<std::size_t>(width) * height);
+        out.sourceY.resize(out.sourceX.size());
+        for (int y = 0; y < height; ++y) {
+            for (int x = 0; x < width; ++x) {
+                out.sourceX[static_cast<std::size_t>(y) * width + x] = sourceX_[index(x, y)];
+                out.sourceY[static_cast<std::size_t>(y) * width + x] = sourceY_[index(x, y)];
+            }
+        }
+        out.block = block_;
+        out.overlap = overlap_;
+        out.components = search_.components();
+        out.candidates = search_.candidateCount();
+        out.blocks = blocksX_ * blocksY_;
+        return out;
+    }
+
+private:
+    std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * canvasWidth_ + x; }
+
+    void placeBlock(int i, int j, SearchScratch* scratch) {
+        const int ox = i * step_, oy = j * step_;
+        const OverlapShape shape{i > 0, j > 0};
+        std::uint64_t rng = synth::mixBits(settings_.seed ^ synth::mixBits(
+                                                                static_cast<std::uint64_t>(region_) * 0x9e37 +
+                                                                static_cast<std::uint64_t>(j) * 0x10000 +
+                                                                static_cast<std::uint64_t>(i)));
+        auto random = [&rng](std::size_t n) {
+            rng = synth::mixBits(rng);
+            return static_cast<std::size_t>(synth::uniformFromBits(rng) * static_cast<double>(n)) % n;
+        };
+        int px, py;
+        if (!shape.left && !shape.top) {
+            std::tie(px, py) = search_.candidate(random(search_.candidateCount()));
+        } else {
+            std::vector<Candidate> shortlist = settings_.search == QuiltSettings::Search::kFft
+                                                   ? fftShortlist(ox, oy, shape, *scratch)
+                                                   : allCandidates(ox, oy, shape);
+            // Exact errors on all channels, then a random pick within (1 + ε) of the best.
+            for (Candidate& c : shortlist) {
+                c.error = exactError(ox, oy, c.px, c.py, shape);
+            }
+            std::sort(shortlist.begin(), shortlist.end());
+            if (shortlist.empty()) {
+                throw std::logic_error("quilting: a region with candidates gave an empty shortlist");
+            }
+            const double limit = shortlist.front().error * (1.0 + settings_.tolerance) + 1e-12;
+            std::size_t within = 0;
+            while (within < shortlist.size() && shortlist[within].error <= limit) {
+                ++within;
+            }
+            const Candidate& chosen = shortlist[random(within)];
+            px = chosen.px;
+            py = chosen.py;
+        }
+        paste(ox, oy, px, py, shape);
+    }
+
+    // The coefficient vector currently at output pixel (x, y).
+    const float* placed(int x, int y) const {
+        const std::size_t at = index(x, y);
+        return source_.at(sourceX_[at], sourceY_[at]);
+    }
+
+    double exactError(int ox, int oy, int px, int py, const OverlapShape& shape) const {
+        const int c = source_.channels;
+        const int sx = search_.boundsX() + px, sy = search_.boundsY() + py;
+        double error = 0;
+        for (int qy = 0; qy < block_; ++qy) {
+            for (int qx = 0; qx < block_; ++qx) {
+                if (!shape.contains(qx, qy, overlap_)) {
+                    continue;
+                }
+                const float* a = placed(ox + qx, oy + qy);
+                const float* b = source_.at(sx + qx, sy + qy);
+                for (int k = 0; k < c; ++k) {
+                    const double d = static_cast<double>(a[k]) - static_cast<double>(b[k]);
+                    error += d * d;
+                }
+            }
+        }
+        return error;
+    }
+
+    std::vector<Candidate> allCandidates(int, int, const OverlapShape&) const {
+        std::vector<Candidate> all;
+        for (int py = 0; py < search_.positionsY(); ++py) {
+            for (int px = 0; px < search_.positionsX(); ++px) {
+                if (search_.valid(px, py)) {
+                    all.push_back({0.0, px, py});
+                }
+            }
+        }
+        return all;
+    }
+
+    // Overlap SSD of every candidate on the PCA components: Σ S² − 2 Σ S·T + Σ T², the cross
+    // term for all positions at once as Σ_k IFFT(Ŝ_k · conj(T̂_k)) — one inverse transform.
+    std::vector<Candidate> fftShortlist(int ox, int oy, const OverlapShape& shape,
+                                        SearchScratch& scratch) const {
+        const int fw = search_.fftWidth(), fh = search_.fftHeight();
+        const int p = search_.components();
+        const std::size_t spectrum = search_.spectrumSize();
+        float* image = scratch.image.get();
+        fftwf_complex* t = scratch.templateSpectrum.get();
+        fftwf_complex* acc = scratch.accumulated.get();
+        std::fill(&acc[0][0], &acc[0][0] + 2 * spectrum, 0.0f);
+        double templateEnergy = 0;
+        for (int k = 0; k < p; ++k) {
+            std::fill(image, image + static_cast<std::size_t>(fw) * fh, 0.0f);
+            for (int qy = 0; qy < block_; ++qy) {
+                for (int qx = 0; qx < block_; ++qx) {
+                    if (!shape.contains(qx, qy, overlap_)) {
+                        continue;
+                    }
+                    const std::size_t at = index(ox + qx, oy + qy);
+                    const float v = search_.projected(sourceX_[at], sourceY_[at])[k];
+                    image[static_cast<std::size_t>(qy) * fw + qx] = v;
+                    templateEnergy += static_cast<double>(v) * static_cast<double>(v);
+                }
+            }
+            fftwf_execute_dft_r2c(search_.forward(), image, t);
+            const fftwf_complex* s = search_.spectrum(k);
+            for (std::size_t f = 0; f < spectrum; ++f) {
+                // Ŝ · conj(T̂)
+                acc[f][0] += s[f][0] * t[f][0] + s[f][1] * t[f][1];
+                acc[f][1] += s[f][1] * t[f][0] - s[f][0] * t[f][1];
+            }
+        }
+        fftwf_execute_dft_c2r(search_.inverse(), acc, image);
+        const double scale = 1.0 / (static_cast<double>(fw) * fh);  // FFTW is unnormalized
+        // Keep the `shortlist` smallest approximate errors.
+        std::vector<Candidate> best;
+        best.reserve(static_cast<std::size_t>(settings_.shortlist) + 1);
+        for (int py = 0; py < search_.positionsY(); ++py) {
+            for (int px = 0; px < search_.positionsX(); ++px) {
+                if (!search_.valid(px, py)) {
+                    continue;
+                }
+                const double cross = static_cast<double>(image[static_cast<std::size_t>(py) * fw + px]) * scale;
+                const Candidate c{search_.overlapEnergy(px, py, shape, overlap_) - 2.0 * cross + templateEnergy,
+                                  px, py};
+                if (static_cast<int>(best.size()) < settings_.shortlist) {
+                    best.push_back(c);
+                    std::push_heap(best.begin(), best.end());
+                } else if (c < best.front()) {
+                    std::pop_heap(best.begin(), best.end());
+                    best.back() = c;
+                    std::push_heap(best.begin(), best.end());
+                }
+            }
+        }
+        return best;
+    }
+
+    // Minimum-error boundary cuts through the overlap (dynamic programming), then copy the
+    // block's positions on the new side.
+    void paste(int ox, int oy, int px, int py, const OverlapShape& shape) {
+        const int sx = search_.boundsX() + px, sy = search_.boundsY() + py;
+        const int c = source_.channels;
+        auto error = [&](int qx, int qy) {
+            const float* a = placed(ox + qx, oy + qy);
+            const float* b = source_.at(sx + qx, sy + qy);
+            double e = 0;
+            for (int k = 0; k < c; ++k) {
+                const double d = static_cast<double>(a[k]) - static_cast<double>(b[k]);
+                e += d * d;
+            }
+            return e;
+        };
+        std::vector<int> cutX(static_cast<std::size_t>(block_), 0), cutY(static_cast<std::size_t>(block_), 0);
+        if (shape.left) {
+            cutX = minimumCut(block_, overlap_, [&](int along, int across) { return error(across, along); });
+        }
+        if (shape.top) {
+            cutY = minimumCut(block_, overlap_, [&](int along, int across) { return error(along, across); });
+        }
+        for (int qy = 0; qy < block_; ++qy) {
+            for (int qx = 0; qx < block_; ++qx) {
+                const bool newLeft = !shape.left || qx >= cutX[static_cast<std::size_t>(qy)];
+                const bool newTop = !shape.top || qy >= cutY[static_cast<std::size_t>(qx)];
+                if (newLeft && newTop) {
+                    const std::size_t at = index(ox + qx, oy + qy);
+                    sourceX_[at] = sx + qx;
+                    sourceY_[at] = sy + qy;
+                }
+            }
+        }
+    }
+
+    // The cheapest path along a strip `length` long and `width` wide (moving at most one
+    // step across per step along); returns, per position along, where the new side starts.
+    template <typename Error>
+    static std::vector<int> minimumCut(int length, int width, Error error) {
+        std::vector<double> cost(static_cast<std::size_t>(length) * width);
+        for (int a = 0; a < length; ++a) {
+            for (int b = 0; b < width; ++b) {
+                double previous = 0;
+                if (a > 0) {
+                    previous = std::numeric_limits<double>::infinity();
+                    for (int db = -1; db <= 1; ++db) {
+                        if (b + db >= 0 && b + db < width) {
+                            previous = std::min(previous, cost[static_cast<std::size_t>(a - 1) * width + b + db]);
+                        }
+                    }
+                }
+                cost[static_cast<std::size_t>(a) * width + b] = error(a, b) + previous;
+            }
+        }
+        std::vector<int> cut(static_cast<std::size_t>(length));
+        int b = static_cast<int>(std::min_element(cost.end() - width, cost.end()) - (cost.end() - width));
+        for (int a = length - 1; a >= 0; --a) {
+            cut[static_cast<std::size_t>(a)] = b;
+            if (a > 0) {
+                int bestB = b;
+                double bestCost = std::numeric_limits<double>::infinity();
+                for (int db = -1; db <= 1; ++db) {
+                    const int nb = b + db;
+                    if (nb >= 0 && nb < width && cost[static_cast<std::size_t>(a - 1) * width + nb] < bestCost) {
+                        bestCost = cost[static_cast<std::size_t>(a - 1) * width + nb];
+                        bestB = nb;
+                    }
+                }
+                b = bestB;
+            }
+        }
+        return cut;
+    }
+
+    const SourceTexture& source_;
+    const RegionSearch& search_;
+    int region_, block_, overlap_, step_;
+    QuiltSettings settings_;
+    int blocksX_ = 0, blocksY_ = 0, canvasWidth_ = 0, canvasHeight_ = 0;
+    std::vector<std::int32_t> sourceX_, sourceY_;
+};
+
+}  // namespace
+
+RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
+                        int region, int width, int height, const QuiltSettings& settings) {
+    if (width <= 0 || height <= 0) {
+        throw InputError("output size must be positive");
+    }
+    if (settings.block < 8 || settings.overlap < 1 || 2 * settings.overlap >= settings.block) {
+        throw InputError("--block must be at least 8 and --overlap between 1 and block/2");
+    }
+    // A thin region may not hold the requested block, or hold so few that the texture would
+    // repeat them: shrink the block (overlap in proportion) until there is a real choice.
+    constexpr std::size_t kEnoughCandidates = 256;
+    for (int block = settings.block; block >= 8; block = block * 3 / 4) {
+        // Keep at least three pixels of overlap: with two, the boundary cut has too little room and
+        // the seams show as lines (seen on the synthetic streaks). Less than half a block.
+        const int overlap = std::clamp(settings.overlap * block / settings.block, std::min(3, settings.overlap),
+                                       (block - 1) / 2);
+        const RegionSearch search(source, labels, region, block, settings);
+        const bool smallest = block * 3 / 4 < 8;
+        if (search.candidateCount() == 0 ||
+            (search.candidateCount() < kEnoughCandidates && !smallest)) {
+            continue;
+        }
+        Quilter quilter(source, search, region, width, height, block, overlap, settings);
+        quilter.run();
+        return quilter.result(width, height);
+    }
+    throw InputError("region " + std::to_string(region) +
+                     " is too small or too thin to hold an 8-pixel block");
+}
+
+}  // namespace vpe::quilt

@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: MIT
+// The texture stage end to end, as the demo runs it: a built-in synthetic capture, fitted,
+// segmented (automatically and from seeds) against its true materials, quilted per region,
+// measured, and composed; and the bad-input contract of `vpe segment` and `vpe quilt`.
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "segment/label_map.h"
+#include "support/cli_expectations.h"
+#include "support/command_runner.h"
+#include "support/label_seeds.h"
+#include "support/test_data.h"
+#include "text/line_reader.h"
+#include "texture/quilt_folder.h"
+
+namespace vpe {
+namespace {
+
+using testing::expectInputError;
+using testing::lastJsonLine;
+using testing::runCommand;
+constexpr auto& vpe = testing::vpeCommand;
+
+std::string fileBytes(const std::filesystem::path& file) {
+    return text::readTextFile(file, "position map");
+}
+
+// One fitted synthetic capture shared by the tests here (rendering and fitting it is the
+// slow part: ~3 s).
+class TexturePipeline : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        folder_ = new testing::TemporaryFolder;
+        const std::string capture = (*folder_ / "capture").string();
+        const testing::CommandResult synth =
+            runCommand(vpe({"synth", "--out", capture, "--size", "96"}));
+        ASSERT_EQ(synth.exitStatus, 0) << synth.err;
+        const testing::CommandResult fit =
+            runCommand(vpe({"fit", capture + "/train", "--out", model(), "--no-preview"}));
+        ASSERT_EQ(fit.exitStatus, 0) << fit.err;
+    }
+    static void TearDownTestSuite() {
+        delete folder_;
+        folder_ = nullptr;
+    }
+    static std::string path(const std::string& name) { return (*folder_ / name).string(); }
+    static std::string model() { return path("model.exr"); }
+    static std::string truth() { return path("capture/truth/labels.png"); }
+
+    static testing::TemporaryFolder* folder_;
+};
+
+testing::TemporaryFolder* TexturePipeline::folder_ = nullptr;
+
+TEST_F(TexturePipeline, AutomaticSegmentationFindsTheTwoMaterials) {
+    const testing::CommandResult result =
+        runCommand(vpe({"segment", model(), "--out", path("auto.png"), "--auto", "auto", "--truth",
+                        truth(), "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json report = lastJsonLine(result.out);
+    EXPECT_EQ(report["clusters"], 2);  // chosen by the silhouette among 2..8
+    EXPECT_GE(report["mean_iou"].get<double>(), 0.95);
+    EXPECT_TRUE(std::filesystem::exists(path("auto-overlay.png")));
+}
+
+TEST_F(TexturePipeline, SeededSegmentationFindsTheTwoMaterials) {
+    const std::string seeds =
+        testing::seedsArgument(testing::innermostPixels(readLabelImage(truth())));
+    for (const char* space : {"appearance", "colour"}) {
+        const testing::CommandResult result =
+            runCommand(vpe({"segment", model(), "--out", path("seeded.png"), "--seeds", seeds,
+                            "--space", space, "--truth", truth(), "--json"}));
+        ASSERT_EQ(result.exitStatus, 0) << result.err;
+        const nlohmann::json report = lastJsonLine(result.out);
+        EXPECT_EQ(report["labels"], 2);
+        EXPECT_GE(report["mean_iou"].get<double>(), 0.95) << space;
+    }
+}
+
+TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
+    ASSERT_EQ(runCommand(vpe({"segment", model(), "--out", path("labels.png"), "--auto", "2"}))
+                  .exitStatus,
+              0);
+    const std::string quilt = path("quilt");
+    testing::CommandResult result =
+        runCommand(vpe({"quilt", model(), "--labels", path("labels.png"), "--size", "96x80",
+                        "--block", "16", "--overlap", "4", "--out", quilt, "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    nlohmann::json report = lastJsonLine(result.out);
+    EXPECT_EQ(report["regions"], 2);
+    EXPECT_EQ(report["width"], 96);
+    EXPECT_EQ(report["height"], 80);
+    EXPECT_GT(report["seconds"].get<double>(), 0.0);
+    for (int region = 0; region < 2; ++region) {
+        EXPECT_TRUE(std::filesystem::exists(texture::regionMapPath(quilt, region)));
+        EXPECT_TRUE(std::filesystem::exists(texture::positionsPath(quilt, region)));
+    }
+
+    result = runCommand(vpe(
+        {"quilt-quality", model(), "--labels", path("labels.png"), "--quilt", quilt, "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    report = lastJsonLine(result.out);
+    for (const nlohmann::json& region : report["regions"]) {
+        EXPECT_DOUBLE_EQ(region["correctness"].get<double>(), 1.0);  // every source in region
+        EXPECT_DOUBLE_EQ(region["copy_max_difference"].get<double>(), 0.0);
+        EXPECT_LT(region["largest_copy"]["fraction"].get<double>(), 0.5);
+    }
+
+    result = runCommand(vpe({"compose", quilt, "--out", path("composed.exr"), "--weights",
+                             "stripes:period=32,stripes:period=32:invert", "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    // 2.5 periods of stripes over 80 rows: near, not exactly, half each.
+    EXPECT_NEAR(lastJsonLine(result.out)["weights"][0]["mean"].get<double>(), 0.5, 0.1);
+    result = runCommand(vpe(
+        {"relight", path("composed.exr"), "--out", path("composed.png"), "--light", "0.3,0.4,1"}));
+    EXPECT_EQ(result.exitStatus, 0) << result.err;
+}
+
+TEST_F(TexturePipeline, QuiltIsDeterministicWhateverTheThreads) {
+    ASSERT_EQ(
+        runCommand(vpe({"segment", model(), "--out", path("det.png"), "--auto", "2"})).exitStatus,
+        0);
+    for (const char* threads : {"1", "2"}) {
+        const testing::CommandResult result =
+            runCommand(vpe({"quilt", model(), "--labels", path("det.png"), "--size", "64x64",
+                            "--block", "12", "--overlap", "3", "--seed", "9", "--threads", threads,
+                            "--out", path(std::string("det") + threads)}));
+        ASSERT_EQ(result.exitStatus, 0) << result.err;
+    }
+    for (int region = 0; region < 2; ++region) {
+        EXPECT_EQ(fileBytes(texture::positionsPath(path("det1"), region)),
+                  fileBytes(texture::positionsPath(path("det2"), region)))
+            << "region " << region << ": position maps differ between 1 and 2 threads";
+    }
+}
+
+TEST_F(TexturePipeline, SegmentRefusesBadInputNamingIt) {
+    const std::string out = path("bad/labels.png");
+    expectInputError(runCommand(vpe({"segment", model(), "--out", out})), {"--seeds", "--auto"});
+    expectInputError(runCommand(vpe({"segment", model(), "--out", out, "--seeds", "1,2;x"})),
+                     {"'x'"});
+    expectInputError(runCommand(vpe({"segment", model(), "--out", out, "--seeds", "5,5;500,3"})),
+                     {"(500, 3)", "outside"});
+    expectInputError(runCommand(vpe({"segment", model(), "--out", out, "--auto", "0"})),
+                     {"--auto", "'0'"});
+    expectInputError(runCommand(vpe({"segment", path("missing.exr"), "--out", out, "--auto", "2"})),
+                     {"missing.exr"});
+    expectInputError(runCommand(vpe({"segment", model(), "--out", out, "--auto", "2", "--truth",
+                                     path("capture/truth/normals.png")})),
+                     {"normals.png"});
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST_F(TexturePipeline, QuiltRefusesBadInputNamingIt) {
+    ASSERT_EQ(
+        runCommand(vpe({"segment", model(), "--out", path("q.png"), "--auto", "2"})).exitStatus, 0);
+    const std::string out = path("badquilt");
+    auto quilt = [&](std::vector<std::string> extra) {
+        std::vector<std::string> arguments{"quilt",       model(), "--labels",
+                                           path("q.png"), "--out", out};
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        return runCommand(vpe(arguments));
+    };
+    expectInputError(quilt({"--size", "96"}), {"--size", "96"});
+    expectInputError(quilt({"--size", "0x10"}), {"--size"});
+    expectInputError(quilt({"--size", "64x64", "--overlap", "40", "--block", "16"}), {"overlap"});
+    expectInputError(
+        runCommand(vpe({"quilt", model(), "--labels", path("capture/truth/normals.png"), "--size",
+                        "64x64", "--out", out})),
+        {"normals.png"});
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace vpe
