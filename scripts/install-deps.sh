@@ -10,6 +10,7 @@ packages=(
     cmake ninja-build g++ pkg-config          # build
     libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF, OpenEXR), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
+    libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     fonts-dejavu-core                         # labels on contact sheets
 )
 if [[ "${1:-}" == "--test" ]]; then
