@@ -3,11 +3,11 @@
 #include "quilt/texture_quilt.h"
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
 
+#include "common/atomic_folder.h"
 #include "common/atomic_output.h"
 #include "common/input_error.h"
 #include "common/progress_bar.h"
@@ -62,21 +62,8 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     report.loadSeconds = since(start);
 
     const std::filesystem::path out = options.out;
-    if (std::filesystem::exists(out) && !std::filesystem::exists(out / "quilt.json") &&
-        !std::filesystem::is_empty(out)) {
-        throw InputError(out, "exists and is not a vpe quilt output: refusing to replace it");
-    }
-    const std::filesystem::path partial =
-        out.parent_path() / ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(partial);
-    std::filesystem::create_directories(partial);
-    struct Cleanup {
-        std::filesystem::path path;
-        ~Cleanup() {
-            std::error_code ignored;
-            std::filesystem::remove_all(path, ignored);
-        }
-    } cleanup{partial};
+    AtomicFolder folder(out, "quilt.json", "vpe quilt");
+    const std::filesystem::path& partial = folder.temporaryPath();
 
     nlohmann::json description;
     description["model"] = options.model.string();
@@ -158,13 +145,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     report.seconds = since(start);
     description["seconds"] = report.seconds;
     writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
-    if (std::filesystem::exists(out)) {
-        std::filesystem::remove_all(out);
-    }
-    if (!out.parent_path().empty()) {
-        std::filesystem::create_directories(out.parent_path());
-    }
-    std::filesystem::rename(partial, out);
+    folder.commit();
     return report;
 }
 

@@ -9,11 +9,11 @@
 #include <mutex>
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
+#include "common/atomic_folder.h"
 #include "common/atomic_output.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
@@ -116,22 +116,9 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
                          std::to_string(proto::kMaxHarmonics) + ")");
     }
     const std::filesystem::path out = options.out;
-    if (std::filesystem::exists(out) && !std::filesystem::exists(out / "truth" / "synth.json") &&
-        !std::filesystem::is_empty(out)) {
-        throw InputError(out, "exists and is not a vpe synth output: refusing to replace it");
-    }
     // Everything is written beside DIR and swapped in at the end.
-    const std::filesystem::path partial =
-        out.parent_path() /
-        ("." + out.filename().string() + ".partial-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(partial);
-    struct Cleanup {
-        std::filesystem::path path;
-        ~Cleanup() {
-            std::error_code ignored;
-            std::filesystem::remove_all(path, ignored);
-        }
-    } cleanup{partial};
+    AtomicFolder output(out, std::filesystem::path("truth") / "synth.json", "vpe synth");
+    const std::filesystem::path& partial = output.temporaryPath();
     for (const char* folder : {"train", "test", "truth"}) {
         std::filesystem::create_directories(partial / folder);
     }
@@ -341,13 +328,7 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     writeTextFileAtomically(truth / "synth.json", description.dump(1) + "\n");
 
     // Swap the finished capture into place.
-    if (std::filesystem::exists(out)) {
-        std::filesystem::remove_all(out);
-    }
-    if (!out.parent_path().empty()) {
-        std::filesystem::create_directories(out.parent_path());
-    }
-    std::filesystem::rename(partial, out);
+    output.commit();
 
     report.streakFraction = hitPixels ? static_cast<double>(streakPixels) / hitPixels : 0.0;
     report.shadowedFraction = lit ? static_cast<double>(shadowed) / static_cast<double>(lit) : 0.0;
