@@ -8,6 +8,7 @@ set -euo pipefail
 
 packages=(
     cmake ninja-build g++ pkg-config          # build
+    zlib1g-dev libflatbuffers-dev flatbuffers-compiler  # device bundle (proto/BUNDLE.md)
     libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF, OpenEXR), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files

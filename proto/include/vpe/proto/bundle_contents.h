@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+// The small, by-value parts of a bundle — projector calibration, render settings, model —
+// and the rules they must satisfy. The reader decodes the metadata into these; the offline
+// writer takes them as input; both refuse values for the same reasons (check* below).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vpe::proto {
+
+// As OpenCV's stereo calibration writes it: x_proj = R·x + T maps a point x of the object
+// frame (metres) into the projector's camera frame; K projects it onto the projector's pixels.
+struct ProjectorCalibration {
+    std::uint32_t width = 0;  // pixels
+    std::uint32_t height = 0;
+    std::array<double, 9> intrinsics{};   // K, row-major; bottom row (0, 0, 1)
+    std::array<double, 5> distortion{};   // k1, k2, p1, p2, k3
+    std::array<double, 9> rotation{};     // R, row-major, a rotation
+    std::array<double, 3> translation{};  // T, metres
+};
+
+enum class ResponseKind { kGamma, kCurve };
+
+// The projector's relative output r(v) for an input level v ∈ [0, 1], per channel (R, G, B):
+// v^gamma, or a sampled curve (sample i at v = i / (N − 1), linear in between).
+struct ProjectorResponse {
+    ResponseKind kind = ResponseKind::kGamma;
+    std::array<float, 3> gamma{2.2f, 2.2f, 2.2f};  // kGamma
+    std::array<std::vector<float>, 3> curve;       // kCurve: N ≥ 2, non-decreasing, rising
+};
+
+struct RenderSettings {
+    std::array<float, 3> viewerPosition{};                   // object frame, metres
+    std::array<float, 3> screenAlbedo{0.85f, 0.85f, 0.85f};  // white plaster
+    std::array<float, 3> ambientIrradiance{};  // room light on the screen, unit of peakIrradiance
+    ProjectorResponse response;
+    // Irradiance the projector gives at relative output r = 1, 1 m away, at normal incidence
+    // (it falls off as cos θ / d², renderer/README.md).
+    float peakIrradiance = 1.0f;
+    float gain = 1.0f;  // global exposure of the rendered radiance
+};
+
+// The Fourier BRDF model the textures hold (proto/MODEL.md).
+struct BundleModel {
+    int harmonics = 0;  // M
+    double lambda = 0;  // λ of the fit (informative)
+    // Values per texel: 2M + 2 per colour channel, three channels.
+    int coefficientsPerTexel() const { return 3 * (2 * harmonics + 2); }
+};
+
+// Why these values cannot be rendered, as a phrase naming the field; "" when they can.
+std::string checkProjector(const ProjectorCalibration& projector);
+std::string checkSettings(const RenderSettings& settings);
+std::string checkModel(const BundleModel& model);
+
+}  // namespace vpe::proto

@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: MIT
+#include "vpe/renderer/bundle_scene.h"
+
+#include <stdexcept>
+
+#include "vpe/proto/half_float.h"
+
+namespace vpe::renderer {
+
+std::vector<float> decodeCoefficientMap(const proto::CoefficientMapView& map, int coefficients) {
+    const proto::HalfLayers& layers = map.layers;
+    const std::size_t texels =
+        static_cast<std::size_t>(layers.width) * static_cast<std::size_t>(layers.height);
+    const std::size_t c = static_cast<std::size_t>(coefficients);
+    // Value i of texel t lives in layer i / 4, component i % 4.
+    const auto half = [&](std::size_t t, std::size_t i) {
+        return proto::halfToFloat(layers.halves[((i / 4) * texels + t) * 4 + i % 4]);
+    };
+    std::vector<float> out(texels * c);
+    if (map.encoding == proto::CoefficientEncoding::kFull) {
+        for (std::size_t t = 0; t < texels; ++t) {
+            for (std::size_t i = 0; i < c; ++i) {
+                out[t * c + i] = half(t, i);
+            }
+        }
+        return out;
+    }
+    const std::size_t rank = static_cast<std::size_t>(map.rank);
+    std::vector<float> weights(rank);
+    for (std::size_t t = 0; t < texels; ++t) {
+        for (std::size_t r = 0; r < rank; ++r) {
+            weights[r] = half(t, r);
+        }
+        for (std::size_t i = 0; i < c; ++i) {
+            float value = map.mean[i];
+            for (std::size_t r = 0; r < rank; ++r) {
+                value += weights[r] * map.basis[r * c + i];
+            }
+            out[t * c + i] = value;
+        }
+    }
+    return out;
+}
+
+BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& preset)
+    : bundle_(bundle) {
+    const proto::MeshView& mesh = bundle.mesh();
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+        positions_.push_back(
+            {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]});
+        normals_.push_back({mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]});
+        uvs_.push_back({mesh.uvs[2 * v], 1.0f - mesh.uvs[2 * v + 1]});  // rows from the top → v up
+    }
+    const proto::WeightPresetView* chosen = nullptr;
+    for (const proto::WeightPresetView& candidate : bundle.presets()) {
+        if (preset.empty() || candidate.name == preset) {
+            chosen = &candidate;
+            break;
+        }
+    }
+    if (chosen == nullptr) {
+        std::string names;
+        for (const proto::WeightPresetView& candidate : bundle.presets()) {
+            names += (names.empty() ? "" : ", ") + std::string(candidate.name);
+        }
+        throw std::invalid_argument(bundle.name() + ": no weight preset '" + preset +
+                                    "' (it has: " + names + ")");
+    }
+    presetName_ = std::string(chosen->name);
+    const int c = bundle.model().coefficientsPerTexel();
+    const std::size_t texels = static_cast<std::size_t>(bundle.textureWidth()) *
+                               static_cast<std::size_t>(bundle.textureHeight());
+    for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
+        coefficients_.push_back(decodeCoefficientMap(bundle.regions()[r].coefficients, c));
+        std::vector<float> alpha(texels);
+        for (std::size_t t = 0; t < texels; ++t) {
+            alpha[t] = chosen->encoding == proto::AlphaEncoding::kUnorm8
+                           ? static_cast<float>(chosen->unorm8[r * texels + t]) / 255.0f
+                           : proto::halfToFloat(chosen->halves[r * texels + t]);
+        }
+        weights_.push_back(std::move(alpha));
+    }
+
+    const proto::ProjectorCalibration& calibration = bundle.projector();
+    projector_.camera.width = static_cast<int>(calibration.width);
+    projector_.camera.height = static_cast<int>(calibration.height);
+    projector_.camera.K = calibration.intrinsics;
+    projector_.camera.distortion = calibration.distortion;
+    projector_.camera.R = calibration.rotation;
+    projector_.camera.T = calibration.translation;
+    const proto::RenderSettings& settings = bundle.settings();
+    if (settings.response.kind == proto::ResponseKind::kGamma) {
+        projector_.response =
+            ProjectorResponse::gamma({static_cast<double>(settings.response.gamma[0]),
+                                      static_cast<double>(settings.response.gamma[1]),
+                                      static_cast<double>(settings.response.gamma[2])});
+    } else {
+        std::array<std::vector<double>, 3> levels, outputs;
+        for (std::size_t ch = 0; ch < 3; ++ch) {
+            const std::vector<float>& curve = settings.response.curve[ch];
+            for (std::size_t i = 0; i < curve.size(); ++i) {
+                levels[ch].push_back(static_cast<double>(i) /
+                                     static_cast<double>(curve.size() - 1));
+                outputs[ch].push_back(static_cast<double>(curve[i]));
+            }
+        }
+        projector_.response = ProjectorResponse::sampled(std::move(levels), std::move(outputs));
+    }
+    projector_.peakIrradiance = static_cast<double>(settings.peakIrradiance);
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+        surface_.albedo[ch] = static_cast<double>(settings.screenAlbedo[ch]);
+        surface_.ambientIrradiance[ch] = static_cast<double>(settings.ambientIrradiance[ch]);
+    }
+}
+
+Vec3d BundleScene::bundleViewer() const {
+    const auto& v = bundle_.settings().viewerPosition;
+    return {static_cast<double>(v[0]), static_cast<double>(v[1]), static_cast<double>(v[2])};
+}
+
+RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) const {
+    RenderScene scene;
+    scene.mesh.positions = positions_;
+    scene.mesh.normals = normals_;
+    scene.mesh.uvs = uvs_;
+    scene.mesh.indices = bundle_.mesh().indices;
+    scene.projector = projector_;
+    scene.surface = surface_;
+    scene.material.harmonics = bundle_.model().harmonics;
+    scene.material.width = bundle_.textureWidth();
+    scene.material.height = bundle_.textureHeight();
+    for (std::size_t r = 0; r < coefficients_.size(); ++r) {
+        scene.material.regions.push_back({coefficients_[r], weights_[r]});
+    }
+    scene.light = light;
+    scene.viewer = viewer;
+    return scene;
+}
+
+}  // namespace vpe::renderer

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+// Bilinear, clamp-to-edge sampling of the region maps and the Fourier BRDF per channel.
+#include "vpe/renderer/material_textures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "vpe/proto/reflection_geometry.h"
+
+namespace vpe::renderer {
+
+namespace {
+
+// The four texels around a continuous texel coordinate and their bilinear weights.
+struct BilinearFootprint {
+    std::size_t texel[4];
+    double weight[4];
+};
+
+// Continuous coordinate of texel centres: x = u·width − 0.5 (texel x at its centre), likewise
+// y = (1 − v)·height − 0.5 with row 0 at the top; clamped to the outermost centres, which is
+// clamp-to-edge.
+BilinearFootprint footprint(int width, int height, const Vec2d& uv) {
+    const auto axis = [](double coordinate, int size, int& i0, int& i1, double& f) {
+        double x = coordinate * size - 0.5;
+        x = std::isnan(x) ? 0.0 : std::clamp(x, 0.0, static_cast<double>(size - 1));
+        i0 = static_cast<int>(std::floor(x));
+        i1 = std::min(i0 + 1, size - 1);
+        f = x - i0;
+    };
+    int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    double fx = 0, fy = 0;
+    axis(uv.x, width, x0, x1, fx);
+    axis(1.0 - uv.y, height, y0, y1, fy);
+    const auto index = [width](int x, int y) {
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+               static_cast<std::size_t>(x);
+    };
+    return {{index(x0, y0), index(x1, y0), index(x0, y1), index(x1, y1)},
+            {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy}};
+}
+
+}  // namespace
+
+std::string checkMaterialTextures(const MaterialTextures& material) {
+    if (material.harmonics < 0 || material.harmonics > proto::kMaxHarmonics) {
+        return "harmonics " + std::to_string(material.harmonics) + " is outside 0.." +
+               std::to_string(proto::kMaxHarmonics);
+    }
+    if (material.width < 1 || material.height < 1) {
+        return "size " + std::to_string(material.width) + "x" + std::to_string(material.height) +
+               " is empty";
+    }
+    if (material.regions.empty()) {
+        return "no regions";
+    }
+    const std::size_t texels =
+        static_cast<std::size_t>(material.width) * static_cast<std::size_t>(material.height);
+    const std::size_t values = texels * static_cast<std::size_t>(material.coefficientsPerTexel());
+    for (std::size_t r = 0; r < material.regions.size(); ++r) {
+        const auto& region = material.regions[r];
+        if (region.coefficients.size() != values) {
+            return "region " + std::to_string(r) +
+                   " coefficients: " + std::to_string(region.coefficients.size()) +
+                   " values, expected " + std::to_string(values);
+        }
+        if (!region.weights.empty() && region.weights.size() != texels) {
+            return "region " + std::to_string(r) +
+                   " weights: " + std::to_string(region.weights.size()) + " values, expected " +
+                   std::to_string(texels);
+        }
+    }
+    return "";
+}
+
+void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients) {
+    const int count = material.coefficientsPerTexel();
+    std::fill(coefficients, coefficients + count, 0.0);
+    const BilinearFootprint taps = footprint(material.width, material.height, uv);
+    const auto perTexel = static_cast<std::size_t>(count);
+    for (const auto& region : material.regions) {
+        double regionWeight = 1.0;
+        if (!region.weights.empty()) {
+            regionWeight = 0.0;
+            for (int i = 0; i < 4; ++i) {
+                regionWeight += taps.weight[i] * static_cast<double>(region.weights[taps.texel[i]]);
+            }
+        }
+        if (regionWeight == 0.0) {
+            continue;
+        }
+        for (int i = 0; i < 4; ++i) {
+            const double w = regionWeight * taps.weight[i];
+            if (w == 0.0) {
+                continue;
+            }
+            const float* texel = region.coefficients.data() + taps.texel[i] * perTexel;
+            for (int k = 0; k < count; ++k) {
+                coefficients[k] += w * static_cast<double>(texel[k]);
+            }
+        }
+    }
+}
+
+std::array<double, 3> evaluateMaterial(const double* coefficients, int harmonics,
+                                       const Vec3d& normal, const Vec3d& toLight,
+                                       const Vec3d& toViewer) {
+    const auto angles = proto::reflectionAngles(normal, toLight, toViewer);
+    const int perChannel = proto::coefficientCount(harmonics);
+    std::array<double, 3> f{};
+    double channel[proto::coefficientCount(proto::kMaxHarmonics)];
+    for (int c = 0; c < 3; ++c) {
+        for (int k = 0; k < perChannel; ++k) {
+            channel[k] = coefficients[3 * k + c];  // proto::bundleCoefficientIndex(k, c)
+        }
+        f[static_cast<std::size_t>(c)] = proto::evaluateFourierBrdf<double>(
+            channel, harmonics, angles.cosThetaD, angles.cosThetaS);
+    }
+    return f;
+}
+
+}  // namespace vpe::renderer

@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+// renderProjectorFrame: ray cast every projector pixel, aim for the material's radiance,
+// invert the Lambertian screen and the projector's response.
+#include "vpe/renderer/projector_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "vpe/renderer/lambertian_screen.h"
+#include "vpe/renderer/ray_caster.h"
+#include "vpe/renderer/surface_point.h"
+
+#include "parallel_rows.h"
+#include "target_radiance.h"
+
+namespace vpe::renderer {
+
+ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOptions& options) {
+    if (auto problem = checkRenderScene(scene); !problem.empty()) {
+        throw std::invalid_argument("renderProjectorFrame: " + problem);
+    }
+    if (!(options.gain > 0) || !std::isfinite(options.gain)) {
+        throw std::invalid_argument("renderProjectorFrame: gain must be positive");
+    }
+    const PinholeCamera& camera = scene.projector.camera;
+    const int width = camera.width, height = camera.height;
+    const RayCaster caster(scene.mesh);
+    const Vec3d origin = camera.center();
+
+    ProjectorFrame frame;
+    frame.level = RgbImage(width, height);
+    frame.targetRadiance = RgbImage(width, height);
+    frame.coverage = MaskImage(width, height);
+    frame.clipped = MaskImage(width, height);
+    frame.gainLimit = FloatImage(width, height, std::numeric_limits<float>::infinity());
+
+    forEachRow(height, options.threads, [&](int y) {
+        for (int x = 0; x < width; ++x) {
+            const Vec3d direction = pixelRayDirection(camera, {double(x), double(y)});
+            const auto hit = caster.closestHit(origin, direction);
+            if (!hit) {
+                continue;
+            }
+            const SurfacePoint point = surfacePoint(scene.mesh, origin, direction, *hit);
+            const std::array<double, 3> target =
+                targetRadiance(scene, point, scene.viewer, options.gain);
+            const double scale =
+                projectorIrradianceScale(scene.projector, point.position, point.normal);
+            const CompensatedPixel pixel = compensatePixel(scene.surface, scene.projector.response,
+                                                           scale, target, options.gain);
+            float* level = frame.level.pixel(x, y);
+            float* radiance = frame.targetRadiance.pixel(x, y);
+            for (std::size_t c = 0; c < 3; ++c) {
+                level[c] = static_cast<float>(pixel.level[c]);
+                radiance[c] = static_cast<float>(target[c]);
+            }
+            frame.coverage.at(x, y) = 1;
+            frame.clipped.at(x, y) = static_cast<std::uint8_t>(
+                (pixel.clippedHigh ? kClippedHigh : 0) | (pixel.clippedLow ? kClippedLow : 0));
+            if (std::isfinite(pixel.gainLimit)) {
+                // Rounded down: rendering at the stored gain never clips this pixel.
+                frame.gainLimit.at(x, y) =
+                    std::nextafter(static_cast<float>(pixel.gainLimit), 0.0f);
+            }
+        }
+    });
+
+    // Counted from the masks, serially: rows ran in any order.
+    ProjectorFrameStats& stats = frame.stats;
+    stats.gain = options.gain;
+    for (std::size_t i = 0; i < frame.coverage.values.size(); ++i) {
+        if (!frame.coverage.values[i]) {
+            continue;
+        }
+        ++stats.coveredPixels;
+        const std::uint8_t flags = frame.clipped.values[i];
+        stats.clippedPixels += flags != 0 ? 1 : 0;
+        stats.clippedHighPixels += (flags & kClippedHigh) != 0 ? 1 : 0;
+        stats.clippedLowPixels += (flags & kClippedLow) != 0 ? 1 : 0;
+    }
+    stats.clippedFraction = stats.coveredPixels > 0 ? static_cast<double>(stats.clippedPixels) /
+                                                          static_cast<double>(stats.coveredPixels)
+                                                    : 0.0;
+    return frame;
+}
+
+double gainForClippedFraction(const ProjectorFrame& frame, double maxClippedFraction) {
+    std::vector<float> limits;
+    for (std::size_t i = 0; i < frame.coverage.values.size(); ++i) {
+        if (frame.coverage.values[i]) {
+            limits.push_back(frame.gainLimit.values[i]);
+        }
+    }
+    const double q =
+        std::isnan(maxClippedFraction) ? 0.0 : std::clamp(maxClippedFraction, 0.0, 1.0);
+    const auto allowed =
+        static_cast<std::size_t>(std::floor(q * static_cast<double>(limits.size())));
+    if (allowed >= limits.size()) {
+        return 1.0;
+    }
+    // At gain g, the pixels with gainLimit < g clip: at most `allowed` of them at the
+    // allowed-th smallest limit, one more at any gain above it.
+    std::nth_element(limits.begin(), limits.begin() + static_cast<std::ptrdiff_t>(allowed),
+                     limits.end());
+    return std::min(1.0, static_cast<double>(limits[allowed]));
+}
+
+}  // namespace vpe::renderer

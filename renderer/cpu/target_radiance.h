@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: MIT
+// The material's radiance toward a viewer at a surface point: what the projector frame aims
+// for and what the direct view shows. Private to the CPU renderer.
+#pragma once
+
+#include <array>
+
+#include "vpe/renderer/render_scene.h"
+#include "vpe/renderer/surface_point.h"
+
+namespace vpe::renderer {
+
+// L = gain · E_light(X) · f(θd, θs), each channel clamped to ≥ 0 (0 when the light or the
+// viewer sits on X).
+std::array<double, 3> targetRadiance(const RenderScene& scene, const SurfacePoint& point,
+                                     const Vec3d& viewer, double gain);
+
+}  // namespace vpe::renderer

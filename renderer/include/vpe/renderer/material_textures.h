@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// MaterialTextures: the virtual material on the screen object's UV atlas — per region a
+// Fourier BRDF coefficient map and a weight map (the paper's eq. 20) — and its sampling.
+#pragma once
+
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "vpe/proto/fourier_brdf.h"
+#include "vpe/renderer/vector_types.h"
+
+namespace vpe::renderer {
+
+// Views of caller-owned float arrays, width × height texels each, row 0 the TOP row of the
+// image. Texel (x, y) of a coefficient map holds C = 3·(2M + 2) values at
+// [(y·width + x)·C, +C): value 3·k + c is coefficient k (fourier_brdf.h order kd, a0, a1, b1,
+// …, aM, bM) of colour channel c (R, G, B) — proto::bundleCoefficientIndex(k, c), the
+// bundle's "fourier_brdf:k_major_rgb". A weight map holds one float per texel; the weights
+// of all regions add up to 1 at every texel (not checked). Empty weights mean 1 everywhere
+// (a single region, or a composed map).
+struct MaterialRegion {
+    std::span<const float> coefficients;
+    std::span<const float> weights;
+};
+
+struct MaterialTextures {
+    int harmonics = 0;  // M, 0 … proto::kMaxHarmonics
+    int width = 0, height = 0;
+    std::vector<MaterialRegion> regions;
+
+    int coefficientsPerChannel() const { return proto::coefficientCount(harmonics); }
+    int coefficientsPerTexel() const { return 3 * coefficientsPerChannel(); }
+};
+
+// The largest coefficientsPerTexel(): the size of sampleMaterial's output buffer.
+inline constexpr int kMaxCoefficientsPerTexel = 3 * proto::coefficientCount(proto::kMaxHarmonics);
+
+// Why the textures cannot be rendered, as a phrase; "" when they can.
+std::string checkMaterialTextures(const MaterialTextures& material);
+
+// The blended coefficients at texture coordinate uv, in the texel layout above (3·k + c):
+//   Σ_regions bilinear(weights)(uv) · bilinear(coefficients)(uv)
+// — each map sampled on its own, as a GPU samples two textures. Bilinear with texel centres
+// at ((x + 0.5)/width, 1 − (y + 0.5)/height) in uv, i.e. continuous texel coordinates
+// (u·width − 0.5, (1 − v)·height − 0.5); clamp to edge. Writes coefficientsPerTexel() values.
+void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients);
+
+// Radiance per unit irradiance f(θd, θs) of each channel for blended coefficients (as
+// sampleMaterial writes them), with proto's evaluator and reflection geometry: n, toLight and
+// toViewer are unit vectors pointing away from the surface point. Not clamped.
+std::array<double, 3> evaluateMaterial(const double* coefficients, int harmonics,
+                                       const Vec3d& normal, const Vec3d& toLight,
+                                       const Vec3d& toViewer);
+
+}  // namespace vpe::renderer

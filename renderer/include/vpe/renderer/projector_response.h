@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// ProjectorResponse: the projector's relative output r(level) per channel — the fraction of
+// the channel's full output at a drive level in [0, 1] — and its inverse for compensation.
+#pragma once
+
+#include <array>
+#include <vector>
+
+namespace vpe::renderer {
+
+class ProjectorResponse {
+public:
+    // Linear: r(level) = level.
+    ProjectorResponse() = default;
+
+    // r(level) = level^γ per channel, γ > 0. Throws std::invalid_argument otherwise.
+    static ProjectorResponse gamma(double exponent);
+    static ProjectorResponse gamma(const std::array<double, 3>& exponents);
+    // Piecewise linear through N ≥ 2 samples (levels[k], outputs[c][k]): levels strictly
+    // increasing from exactly 0 to exactly 1 (a bundle's curve: levels[k] = k / (N − 1)),
+    // outputs finite, ≥ 0, non-decreasing, last > first. Each channel is divided by its
+    // output at level 1, so r(1) = 1; r(0) ≥ 0 is the black level. Throws
+    // std::invalid_argument naming the problem.
+    static ProjectorResponse sampled(std::vector<double> levels,
+                                     std::array<std::vector<double>, 3> outputs);
+    // The same with levels of its own per channel (a bundle's channels may have different
+    // sample counts).
+    static ProjectorResponse sampled(std::array<std::vector<double>, 3> levels,
+                                     std::array<std::vector<double>, 3> outputs);
+
+    bool isGamma() const { return levels_[0].empty(); }
+
+    // r(level) of channel 0, 1, 2 (R, G, B); level is clamped to [0, 1], NaN reads as 0.
+    double output(int channel, double level) const;
+    // The inverse with clamping: the lowest level whose output reaches `fraction`. Fractions
+    // at or below the black level give 0, at or above 1 give the lowest level reaching full
+    // output (1 for a gamma); NaN gives 0.
+    double level(int channel, double fraction) const;
+    // r(0): 0 for a gamma.
+    double blackLevel(int channel) const { return output(channel, 0.0); }
+
+private:
+    std::array<double, 3> exponents_{1, 1, 1};
+    std::array<std::vector<double>, 3> levels_;   // empty for a gamma
+    std::array<std::vector<double>, 3> outputs_;  // normalized, r(1) = 1
+};
+
+}  // namespace vpe::renderer

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// RenderScene: everything one frame depends on, as plain data (views and values), and the
+// options of a render call.
+#pragma once
+
+#include "vpe/renderer/material_textures.h"
+#include "vpe/renderer/projector_model.h"
+#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/screen_surface.h"
+#include "vpe/renderer/virtual_light.h"
+
+namespace vpe::renderer {
+
+struct RenderScene {
+    RenderMesh mesh;
+    ProjectorModel projector;
+    ScreenSurface surface;
+    MaterialTextures material;
+    VirtualLight light;
+    Vec3d viewer{0, 0, 1};  // the eye the view-dependent terms are rendered for, metres
+};
+
+struct RenderOptions {
+    // Global exposure: the target radiance L is gain · E_light · f. > 0.
+    double gain = 1.0;
+    // Worker threads (the caller's thread is one of them); 0: std::thread's
+    // hardware_concurrency. Results do not depend on it.
+    int threads = 0;
+};
+
+// Why the scene cannot be rendered, as a phrase ("material: region 1 weights: 10 values,
+// expected 12"); "" when it can.
+std::string checkRenderScene(const RenderScene& scene);
+
+}  // namespace vpe::renderer

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// Small bundles built straight from the schema, for the reader's tests and the device build
+// (no offline writer there). Unlike the writer, the builder can be told to lie: every payload
+// reference passes through a hook before it goes into the metadata, so a test can make one
+// misaligned, too short or out of range while the checksum still matches.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "vpe/proto/bundle_generated.h"
+
+namespace vpe::proto::testing {
+
+struct PayloadRecord {
+    std::uint64_t offset = 0;
+    std::uint64_t size = 0;
+    fb::ElementType type = fb::ElementType::Float32;
+    std::vector<std::uint32_t> shape;
+};
+
+// Defaults describe a valid bundle: 4 vertices and 2 triangles; M = 1 (C = 12); textures
+// 4 x 2 with region 0 'base' full, region 1 'glaze' low-rank (rank 2), a full composed map and
+// presets 'even' (8-bit) and 'glazed' (half floats); a gamma response.
+struct RawBundleSpec {
+    std::uint32_t textureWidth = 4;
+    std::uint32_t textureHeight = 2;
+    int harmonics = 1;
+    std::string layout = "fourier_brdf:k_major_rgb";
+    bool curveResponse = false;
+    std::array<std::vector<float>, 3> curve{
+        {{0.0f, 0.25f, 1.0f}, {0.0f, 0.5f, 1.0f}, {0.0f, 0.75f, 1.0f}}};
+    std::uint32_t triangleIndexOverride = UINT32_MAX;  // written as index 0 when set
+    // Called for each payload — "positions", "normals", "uvs", "indices", "region 0",
+    // "region 1", "composed", "preset 0", "preset 1" — after layout, before the metadata.
+    std::function<void(const std::string& payload, PayloadRecord&)> editPayload;
+};
+
+// The payload values the builder writes, for round-trip checks.
+float positionValue(std::size_t i);
+std::uint16_t halfPattern(std::size_t i);
+
+std::vector<std::byte> buildRawBundle(const RawBundleSpec& spec = {});
+
+// Recomputes the header's checksum after a test changed bytes behind it.
+void resealChecksum(std::vector<std::byte>& bytes);
+
+// A fresh folder, removed with everything in it on destruction.
+class ScratchFolder {
+public:
+    ScratchFolder();
+    ~ScratchFolder();
+    ScratchFolder(const ScratchFolder&) = delete;
+    ScratchFolder& operator=(const ScratchFolder&) = delete;
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
+
+std::filesystem::path writeBytes(const std::filesystem::path& path,
+                                 const std::vector<std::byte>& bytes);
+
+}  // namespace vpe::proto::testing
