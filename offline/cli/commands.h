@@ -21,6 +21,9 @@ void addQuiltCommand(CLI::App& app, Action& action);
 void addRelightCommand(CLI::App& app, Action& action);
 void addComposeCommand(CLI::App& app, Action& action);
 void addQuiltQualityCommand(CLI::App& app, Action& action);
+void addInfoCommand(CLI::App& app, Action& action);
+void addBakeCommand(CLI::App& app, Action& action);
+void addRenderCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

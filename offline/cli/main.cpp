@@ -29,6 +29,9 @@ int main(int argc, char** argv) {
     vpe::cli::addRelightCommand(app, action);
     vpe::cli::addComposeCommand(app, action);
     vpe::cli::addQuiltQualityCommand(app, action);
+    vpe::cli::addBakeCommand(app, action);
+    vpe::cli::addRenderCommand(app, action);
+    vpe::cli::addInfoCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

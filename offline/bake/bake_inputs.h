@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// The conversions from the offline world to the bundle's: a model file's coefficients into
+// the bundle's texel order, scene/'s mesh, calibration and response into proto's types.
+// Conventions that differ, and are converted here (once): mesh UVs follow OBJ (v = 0 at the
+// bottom of the texture), bundle UVs have (0, 0) at the top-left texel; a sampled response
+// curve may have any levels, the bundle's is sampled evenly.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "bake/bundle_writer.h"
+#include "scene/projector_calibration.h"
+#include "scene/projector_response.h"
+#include "scene/screen_mesh.h"
+
+namespace vpe::bake {
+
+struct CoefficientTexture {
+    int width = 0;
+    int height = 0;
+    int harmonics = 0;
+    double lambda = 0;
+    std::vector<float> values;         // C per texel, proto::bundleCoefficientIndex order
+    std::vector<unsigned char> valid;  // per texel
+};
+
+// Reads a model file (vpe fit, quilt, compose): coefficients only. Invalid texels are zero.
+CoefficientTexture readCoefficientTexture(const std::filesystem::path& model);
+
+BundleMesh toBundleMesh(const scene::ScreenMesh& mesh);
+proto::ProjectorCalibration toBundleProjector(const scene::ProjectorCalibration& projector);
+// Sampled curves are resampled at `samples` even levels (linear in between, as both sides
+// interpolate); gammas stay gammas.
+proto::ProjectorResponse toBundleResponse(const scene::ProjectorResponse& response,
+                                          int samples = 256);
+
+}  // namespace vpe::bake

@@ -1,0 +1,586 @@
+// SPDX-License-Identifier: MIT
+// The bundle writer: checks the contents, plans the payloads, builds the FlatBuffer metadata
+// around their offsets, streams header, metadata and payloads with a running CRC-32, then
+// proves the file with the device reader before renaming it into place.
+#include "bake/bundle_writer.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+#include <Eigen/Core>
+#include <unistd.h>
+
+#include "vpe/proto/bundle_generated.h"
+
+#include "common/atomic_output.h"
+#include "common/input_error.h"
+
+namespace vpe::bake {
+
+namespace {
+
+namespace fb = proto::fb;
+
+// The largest finite half float.
+constexpr float kHalfMax = 65504.0f;
+// How far a preset's Σα may be from 1 before it is refused rather than normalized.
+constexpr double kAlphaSumTolerance = 1e-3;
+
+std::uint64_t alignUp(std::uint64_t offset) {
+    const std::uint64_t a = proto::kBundlePayloadAlignment;
+    return (offset + a - 1) / a * a;
+}
+
+std::uint16_t toHalf(float value) {
+    return Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(value));
+}
+
+std::size_t texels(const BundleContents& c) {
+    return static_cast<std::size_t>(c.textureWidth) * static_cast<std::size_t>(c.textureHeight);
+}
+
+// ---- checking the contents -------------------------------------------------------------
+
+class ContentsCheck {
+public:
+    ContentsCheck(const std::filesystem::path& path, const BundleContents& contents)
+        : path_(path), c_(contents) {}
+
+    void run() {
+        ruleFromProto(proto::checkProjector(c_.projector));
+        ruleFromProto(proto::checkSettings(c_.settings));
+        ruleFromProto(proto::checkModel(c_.model));
+        mesh();
+        const int limit = static_cast<int>(proto::kMaxBundleTextureSize);
+        if (c_.textureWidth < 1 || c_.textureHeight < 1 || c_.textureWidth > limit ||
+            c_.textureHeight > limit) {
+            fail("textures: " + std::to_string(c_.textureWidth) + " x " +
+                 std::to_string(c_.textureHeight) +
+                 " is outside 1..4096 (GLES 3.1 on the "
+                 "Raspberry Pi)");
+        }
+        if (c_.regions.empty() || c_.regions.size() > proto::kMaxBundleRegions) {
+            fail("textures: " + std::to_string(c_.regions.size()) + " regions, need 1..256");
+        }
+        for (std::size_t r = 0; r < c_.regions.size(); ++r) {
+            map(c_.regions[r].coefficients,
+                "region " + std::to_string(r) + " '" + c_.regions[r].name + "' coefficients");
+        }
+        if (c_.composed) {
+            map(*c_.composed, "composed coefficients");
+        }
+        std::set<std::string> names;
+        for (std::size_t p = 0; p < c_.presets.size(); ++p) {
+            preset(c_.presets[p], "preset " + std::to_string(p) + " '" + c_.presets[p].name + "'",
+                   names);
+        }
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& problem) const { throw InputError(path_, problem); }
+
+    void ruleFromProto(const std::string& problem) const {
+        if (!problem.empty()) {
+            fail(problem);
+        }
+    }
+
+    void finite(const std::vector<float>& values, const std::string& what, float limit) const {
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            if (!(std::fabs(values[i]) <= limit)) {
+                fail(
+                    what + ": value " + std::to_string(i) + " (" + std::to_string(values[i]) +
+                    (std::isfinite(values[i]) ? ") does not fit a half float" : ") is not finite"));
+            }
+        }
+    }
+
+    void count(std::size_t actual, std::size_t expected, const std::string& what) const {
+        if (actual != expected) {
+            fail(what + ": " + std::to_string(actual) + " values, expected " +
+                 std::to_string(expected));
+        }
+    }
+
+    void mesh() const {
+        const BundleMesh& m = c_.mesh;
+        if (m.positions.empty() || m.positions.size() % 3 != 0) {
+            fail("mesh positions: " + std::to_string(m.positions.size()) +
+                 " values, not a positive multiple of 3");
+        }
+        const std::size_t vertices = m.positions.size() / 3;
+        if (vertices > UINT32_MAX) {
+            fail("mesh: more than 2^32 vertices");
+        }
+        count(m.normals.size(), 3 * vertices, "mesh normals");
+        count(m.uvs.size(), 2 * vertices, "mesh uvs");
+        if (m.indices.empty() || m.indices.size() % 3 != 0) {
+            fail("mesh indices: " + std::to_string(m.indices.size()) +
+                 " values, not a positive multiple of 3");
+        }
+        const float inf = std::numeric_limits<float>::max();
+        finite(m.positions, "mesh positions", inf);
+        finite(m.normals, "mesh normals", inf);
+        finite(m.uvs, "mesh uvs", inf);
+        for (std::size_t i = 0; i < m.indices.size(); ++i) {
+            if (m.indices[i] >= vertices) {
+                fail("mesh indices: triangle " + std::to_string(i / 3) + " refers to vertex " +
+                     std::to_string(m.indices[i]) + ", there are " + std::to_string(vertices));
+            }
+        }
+    }
+
+    void map(const CoefficientMapData& map, const std::string& what) const {
+        const std::size_t c = static_cast<std::size_t>(c_.model.coefficientsPerTexel());
+        if (map.encoding == proto::CoefficientEncoding::kFull) {
+            count(map.coefficients.size(), texels(c_) * c, what);
+            finite(map.coefficients, what, kHalfMax);
+            return;
+        }
+        if (map.rank < 1 || static_cast<std::size_t>(map.rank) > c) {
+            fail(what + ": rank " + std::to_string(map.rank) + " is outside 1.." +
+                 std::to_string(c));
+        }
+        const auto rank = static_cast<std::size_t>(map.rank);
+        const float inf = std::numeric_limits<float>::max();
+        count(map.mean.size(), c, what + " mean");
+        finite(map.mean, what + " mean", inf);
+        count(map.basis.size(), rank * c, what + " basis");
+        finite(map.basis, what + " basis", inf);
+        count(map.weights.size(), texels(c_) * rank, what + " weights");
+        finite(map.weights, what + " weights", kHalfMax);
+    }
+
+    void preset(const WeightPreset& preset, const std::string& what,
+                std::set<std::string>& names) const {
+        if (preset.name.empty()) {
+            fail(what + ": a preset needs a name");
+        }
+        if (!names.insert(preset.name).second) {
+            fail(what + ": another preset has the same name");
+        }
+        const std::size_t n = texels(c_);
+        const std::size_t regions = c_.regions.size();
+        count(preset.alpha.size(), regions * n, what + " alpha");
+        for (std::size_t t = 0; t < n; ++t) {
+            double sum = 0;
+            for (std::size_t k = 0; k < regions; ++k) {
+                const float a = preset.alpha[k * n + t];
+                if (!(std::isfinite(a) && a >= 0)) {
+                    fail(what + " alpha: region " + std::to_string(k) + " at texel (" +
+                         std::to_string(t % static_cast<std::size_t>(c_.textureWidth)) + ", " +
+                         std::to_string(t / static_cast<std::size_t>(c_.textureWidth)) + ") is " +
+                         std::to_string(a) + ", not a finite value ≥ 0");
+                }
+                sum += static_cast<double>(a);
+            }
+            if (std::fabs(sum - 1.0) > kAlphaSumTolerance) {
+                fail(what + " alpha: sums to " + std::to_string(sum) + " at texel (" +
+                     std::to_string(t % static_cast<std::size_t>(c_.textureWidth)) + ", " +
+                     std::to_string(t / static_cast<std::size_t>(c_.textureWidth)) + "), not 1");
+            }
+        }
+    }
+
+    const std::filesystem::path& path_;
+    const BundleContents& c_;
+};
+
+// ---- writing -----------------------------------------------------------------------------
+
+// The output file: counts and checksums what goes in after the header.
+class BundleOutput {
+public:
+    BundleOutput(const std::filesystem::path& temporary, const std::filesystem::path& name)
+        : name_(name), file_(std::fopen(temporary.c_str(), "wb")) {
+        if (file_ == nullptr) {
+            fail("cannot create");
+        }
+        std::setvbuf(file_, nullptr, _IOFBF, std::size_t{1} << 20);
+    }
+    ~BundleOutput() {
+        if (file_ != nullptr) {
+            std::fclose(file_);
+        }
+    }
+    BundleOutput(const BundleOutput&) = delete;
+    BundleOutput& operator=(const BundleOutput&) = delete;
+
+    void write(const void* data, std::size_t size, bool checksummed = true) {
+        if (size > 0 && std::fwrite(data, 1, size, file_) != size) {
+            fail("cannot write");
+        }
+        if (checksummed) {
+            checksum_ =
+                proto::bundleChecksum({static_cast<const std::byte*>(data), size}, checksum_);
+        }
+        offset_ += size;
+    }
+    template <typename T>
+    void write(const std::vector<T>& values) {
+        write(values.data(), values.size() * sizeof(T));
+    }
+    void padTo(std::uint64_t offset) {
+        static constexpr std::byte kZeros[proto::kBundlePayloadAlignment] = {};
+        if (offset < offset_ || offset - offset_ > sizeof kZeros) {
+            throw std::logic_error("bundle writer: bad padding");
+        }
+        write(kZeros, static_cast<std::size_t>(offset - offset_));
+    }
+    std::uint64_t offset() const { return offset_; }
+    std::uint32_t checksum() const { return checksum_; }
+
+    // Writes the header over the placeholder and makes the file durable before the rename.
+    void finish(const proto::BundleHeaderBytes& header) {
+        if (std::fseek(file_, 0, SEEK_SET) != 0 ||
+            std::fwrite(header.data(), 1, header.size(), file_) != header.size() ||
+            std::fflush(file_) != 0 || ::fsync(::fileno(file_)) != 0) {
+            fail("cannot write");
+        }
+        const int closed = std::fclose(file_);
+        file_ = nullptr;
+        if (closed != 0) {
+            fail("cannot write");
+        }
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& what) const {
+        throw InputError(name_, what + ": " + std::strerror(errno));
+    }
+
+    std::filesystem::path name_;
+    std::FILE* file_;
+    std::uint64_t offset_ = 0;
+    std::uint32_t checksum_ = 0;
+};
+
+// One block after the metadata, and how to stream it.
+struct Payload {
+    fb::ElementType type = fb::ElementType::Float32;
+    std::vector<std::uint32_t> shape;
+    std::uint64_t size = 0;
+    std::uint64_t offset = 0;
+    std::function<void(BundleOutput&)> write;
+};
+
+std::uint64_t elementBytes(fb::ElementType type) {
+    return type == fb::ElementType::UInt8 ? 1 : type == fb::ElementType::Float16 ? 2 : 4;
+}
+
+std::size_t addPayload(std::vector<Payload>& payloads, fb::ElementType type,
+                       std::vector<std::uint32_t> shape, std::function<void(BundleOutput&)> write) {
+    Payload payload;
+    payload.type = type;
+    payload.size = elementBytes(type);
+    for (std::uint32_t dim : shape) {
+        payload.size *= dim;
+    }
+    payload.shape = std::move(shape);
+    payload.write = std::move(write);
+    payloads.push_back(std::move(payload));
+    return payloads.size() - 1;
+}
+
+// `values` per texel (C coefficients or R weights), packed four to an RGBA16F layer:
+// layer-major, rows top to bottom, zero padding past the last value.
+void writeHalfLayers(BundleOutput& out, const std::vector<float>& values, std::size_t perTexel,
+                     std::uint32_t layers, std::uint32_t width, std::uint32_t height) {
+    std::vector<std::uint16_t> row(static_cast<std::size_t>(width) * 4);
+    for (std::uint32_t layer = 0; layer < layers; ++layer) {
+        for (std::uint32_t y = 0; y < height; ++y) {
+            const float* texel = values.data() + static_cast<std::size_t>(y) * width * perTexel;
+            for (std::uint32_t x = 0; x < width; ++x, texel += perTexel) {
+                for (std::uint32_t j = 0; j < 4; ++j) {
+                    const std::size_t i = 4 * layer + j;
+                    row[4 * x + j] = toHalf(i < perTexel ? texel[i] : 0.0f);
+                }
+            }
+            out.write(row);
+        }
+    }
+}
+
+std::size_t addHalfLayers(std::vector<Payload>& payloads, const std::vector<float>& values,
+                          int perTexel, int width, int height) {
+    const auto layers = static_cast<std::uint32_t>((perTexel + 3) / 4);
+    const auto w = static_cast<std::uint32_t>(width);
+    const auto h = static_cast<std::uint32_t>(height);
+    const auto stride = static_cast<std::size_t>(perTexel);
+    return addPayload(payloads, fb::ElementType::Float16, {layers, h, w, 4},
+                      [&values, stride, layers, w, h](BundleOutput& out) {
+                          writeHalfLayers(out, values, stride, layers, w, h);
+                      });
+}
+
+// α normalized to sum 1 exactly at each texel ([region][texel] in and out).
+std::vector<float> normalizedAlpha(const std::vector<float>& alpha, std::size_t regions,
+                                   std::size_t texelCount) {
+    std::vector<float> normalized(alpha.size());
+    for (std::size_t t = 0; t < texelCount; ++t) {
+        double sum = 0;
+        for (std::size_t k = 0; k < regions; ++k) {
+            sum += static_cast<double>(alpha[k * texelCount + t]);
+        }
+        for (std::size_t k = 0; k < regions; ++k) {
+            normalized[k * texelCount + t] =
+                static_cast<float>(static_cast<double>(alpha[k * texelCount + t]) / sum);
+        }
+    }
+    return normalized;
+}
+
+// 8-bit weights that add up to exactly 255 at each texel (largest remainder), so that the
+// blend of the regions never gains or loses light.
+std::vector<std::uint8_t> quantizeAlpha(const std::vector<float>& alpha, std::size_t regions,
+                                        std::size_t texelCount) {
+    const std::vector<float> normalized = normalizedAlpha(alpha, regions, texelCount);
+    std::vector<std::uint8_t> quantized(alpha.size());
+    std::vector<double> remainder(regions);
+    std::vector<std::size_t> order(regions);
+    for (std::size_t t = 0; t < texelCount; ++t) {
+        int left = 255;
+        for (std::size_t k = 0; k < regions; ++k) {
+            const double scaled = 255.0 * static_cast<double>(normalized[k * texelCount + t]);
+            const double whole = std::min(std::floor(scaled), 255.0);
+            quantized[k * texelCount + t] = static_cast<std::uint8_t>(whole);
+            remainder[k] = scaled - whole;
+            left -= static_cast<int>(whole);
+        }
+        std::iota(order.begin(), order.end(), std::size_t{0});
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
+        for (std::size_t i = 0; i < order.size() && left > 0; ++i, --left) {
+            ++quantized[order[i] * texelCount + t];
+        }
+    }
+    return quantized;
+}
+
+std::vector<std::uint16_t> halfAlpha(const std::vector<float>& alpha, std::size_t regions,
+                                     std::size_t texelCount) {
+    const std::vector<float> normalized = normalizedAlpha(alpha, regions, texelCount);
+    std::vector<std::uint16_t> halves(normalized.size());
+    std::transform(normalized.begin(), normalized.end(), halves.begin(), toHalf);
+    return halves;
+}
+
+std::size_t addAlpha(std::vector<Payload>& payloads, const WeightPreset& preset,
+                     std::size_t regions, int width, int height) {
+    const std::vector<std::uint32_t> shape{static_cast<std::uint32_t>(regions),
+                                           static_cast<std::uint32_t>(height),
+                                           static_cast<std::uint32_t>(width)};
+    const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    if (preset.encoding == proto::AlphaEncoding::kUnorm8) {
+        return addPayload(payloads, fb::ElementType::UInt8, shape,
+                          [&preset, regions, n](BundleOutput& out) {
+                              out.write(quantizeAlpha(preset.alpha, regions, n));
+                          });
+    }
+    return addPayload(payloads, fb::ElementType::Float16, shape,
+                      [&preset, regions, n](BundleOutput& out) {
+                          out.write(halfAlpha(preset.alpha, regions, n));
+                      });
+}
+
+// Which payload holds what (indices into the payload list).
+struct MapPayloads {
+    std::size_t layers = 0;  // coefficients (full) or weights (low rank)
+};
+struct PayloadIndex {
+    std::size_t positions = 0, normals = 0, uvs = 0, indices = 0;
+    std::vector<MapPayloads> regions;
+    std::optional<MapPayloads> composed;
+    std::vector<std::size_t> presets;
+};
+
+PayloadIndex planPayloads(const BundleContents& c, std::vector<Payload>& payloads) {
+    PayloadIndex index;
+    const auto vertices = static_cast<std::uint32_t>(c.mesh.positions.size() / 3);
+    const auto triangles = static_cast<std::uint32_t>(c.mesh.indices.size() / 3);
+    const auto raw = [](const auto& values) {
+        return [&values](BundleOutput& out) { out.write(values); };
+    };
+    index.positions =
+        addPayload(payloads, fb::ElementType::Float32, {vertices, 3}, raw(c.mesh.positions));
+    index.normals =
+        addPayload(payloads, fb::ElementType::Float32, {vertices, 3}, raw(c.mesh.normals));
+    index.uvs = addPayload(payloads, fb::ElementType::Float32, {vertices, 2}, raw(c.mesh.uvs));
+    index.indices =
+        addPayload(payloads, fb::ElementType::UInt32, {triangles, 3}, raw(c.mesh.indices));
+    const auto planMap = [&](const CoefficientMapData& map) {
+        const bool full = map.encoding == proto::CoefficientEncoding::kFull;
+        return MapPayloads{addHalfLayers(payloads, full ? map.coefficients : map.weights,
+                                         full ? c.model.coefficientsPerTexel() : map.rank,
+                                         c.textureWidth, c.textureHeight)};
+    };
+    for (const BundleRegion& region : c.regions) {
+        index.regions.push_back(planMap(region.coefficients));
+    }
+    if (c.composed) {
+        index.composed = planMap(*c.composed);
+    }
+    for (const WeightPreset& preset : c.presets) {
+        index.presets.push_back(
+            addAlpha(payloads, preset, c.regions.size(), c.textureWidth, c.textureHeight));
+    }
+    return index;
+}
+
+// ---- metadata ----------------------------------------------------------------------------
+
+class MetadataBuilder {
+public:
+    MetadataBuilder(const BundleContents& c, const std::vector<Payload>& payloads,
+                    const PayloadIndex& index)
+        : c_(c), payloads_(payloads), index_(index) {}
+
+    std::vector<std::uint8_t> build() {
+        flatbuffers::FlatBufferBuilder b(4096);
+        const auto mesh = fb::CreateMesh(b, ref(b, index_.positions), ref(b, index_.normals),
+                                         ref(b, index_.uvs), ref(b, index_.indices));
+        const proto::ProjectorCalibration& p = c_.projector;
+        const fb::Mat3d intrinsics(flatbuffers::make_span(p.intrinsics));
+        const fb::Mat3d rotation(flatbuffers::make_span(p.rotation));
+        const fb::Distortion distortion(p.distortion[0], p.distortion[1], p.distortion[2],
+                                        p.distortion[3], p.distortion[4]);
+        const fb::Vec3d translation(p.translation[0], p.translation[1], p.translation[2]);
+        const auto projector = fb::CreateProjector(b, p.width, p.height, &intrinsics, &distortion,
+                                                   &rotation, &translation);
+        const auto settings = buildSettings(b);
+        const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(c_.model.harmonics),
+                                                 c_.model.lambda, proto::kBundleCoefficientLayout);
+        std::vector<flatbuffers::Offset<fb::Region>> regions;
+        for (std::size_t r = 0; r < c_.regions.size(); ++r) {
+            const auto map = buildMap(b, c_.regions[r].coefficients, index_.regions[r]);
+            regions.push_back(fb::CreateRegionDirect(b, c_.regions[r].name.c_str(), map));
+        }
+        flatbuffers::Offset<fb::CoefficientMap> composed;
+        if (c_.composed) {
+            composed = buildMap(b, *c_.composed, *index_.composed);
+        }
+        std::vector<flatbuffers::Offset<fb::WeightPreset>> presets;
+        for (std::size_t i = 0; i < c_.presets.size(); ++i) {
+            presets.push_back(fb::CreateWeightPresetDirect(b, c_.presets[i].name.c_str(),
+                                                           ref(b, index_.presets[i])));
+        }
+        const auto textures = fb::CreateTexturesDirect(
+            b, static_cast<std::uint32_t>(c_.textureWidth),
+            static_cast<std::uint32_t>(c_.textureHeight), &regions, composed, &presets);
+        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
+        return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+    }
+
+private:
+    flatbuffers::Offset<fb::Payload> ref(flatbuffers::FlatBufferBuilder& b, std::size_t i) {
+        const Payload& p = payloads_[i];
+        return fb::CreatePayloadDirect(b, p.offset, p.size, p.type, &p.shape);
+    }
+
+    flatbuffers::Offset<fb::RenderSettings> buildSettings(flatbuffers::FlatBufferBuilder& b) {
+        const proto::RenderSettings& s = c_.settings;
+        flatbuffers::Offset<void> response;
+        fb::ProjectorResponse kind;
+        if (s.response.kind == proto::ResponseKind::kGamma) {
+            const fb::Rgb gamma(s.response.gamma[0], s.response.gamma[1], s.response.gamma[2]);
+            response = fb::CreateGammaResponse(b, &gamma).Union();
+            kind = fb::ProjectorResponse::GammaResponse;
+        } else {
+            response = fb::CreateCurveResponseDirect(b, &s.response.curve[0], &s.response.curve[1],
+                                                     &s.response.curve[2])
+                           .Union();
+            kind = fb::ProjectorResponse::CurveResponse;
+        }
+        const fb::Vec3f viewer(s.viewerPosition[0], s.viewerPosition[1], s.viewerPosition[2]);
+        const fb::Rgb albedo(s.screenAlbedo[0], s.screenAlbedo[1], s.screenAlbedo[2]);
+        const fb::Rgb ambient(s.ambientIrradiance[0], s.ambientIrradiance[1], s.ambientIrradiance[2]);
+        return fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response,
+                                        s.peakIrradiance, s.gain);
+    }
+
+    flatbuffers::Offset<fb::CoefficientMap> buildMap(flatbuffers::FlatBufferBuilder& b,
+                                                     const CoefficientMapData& map,
+                                                     const MapPayloads& payloads) {
+        if (map.encoding == proto::CoefficientEncoding::kFull) {
+            const auto full = fb::CreateFullCoefficients(b, ref(b, payloads.layers));
+            return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
+                                            full.Union());
+        }
+        const auto lowRank =
+            fb::CreateLowRankCoefficientsDirect(b, static_cast<std::uint16_t>(map.rank), &map.mean,
+                                                &map.basis, ref(b, payloads.layers));
+        return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
+                                        lowRank.Union());
+    }
+
+    const BundleContents& c_;
+    const std::vector<Payload>& payloads_;
+    const PayloadIndex& index_;
+};
+
+}  // namespace
+
+BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleContents& contents) {
+    ContentsCheck(path, contents).run();
+
+    std::vector<Payload> payloads;
+    const PayloadIndex index = planPayloads(contents, payloads);
+    // The metadata holds the payloads' offsets, which start after the metadata: lay out,
+    // build, and repeat until its size is stable (the second pass: offsets change values,
+    // never the metadata's shape).
+    std::vector<std::uint8_t> metadata;
+    for (std::size_t size = 0, pass = 0;; size = metadata.size(), ++pass) {
+        std::uint64_t offset = alignUp(proto::kBundleHeaderSize + size);
+        for (Payload& payload : payloads) {
+            payload.offset = offset;
+            offset = alignUp(offset + payload.size);
+        }
+        metadata = MetadataBuilder(contents, payloads, index).build();
+        if (metadata.size() == size) {
+            break;
+        }
+        if (pass > 4) {
+            throw std::logic_error("bundle writer: metadata size does not settle");
+        }
+    }
+
+    AtomicOutput output(path);
+    proto::BundleHeader header;
+    {
+        BundleOutput out(output.temporaryPath(), path);
+        const proto::BundleHeaderBytes placeholder{};
+        out.write(placeholder.data(), placeholder.size(), /*checksummed=*/false);
+        header.metadataOffset = out.offset();
+        header.metadataSize = metadata.size();
+        out.write(metadata);
+        for (const Payload& payload : payloads) {
+            out.padTo(payload.offset);
+            const std::uint64_t start = out.offset();
+            payload.write(out);
+            if (out.offset() - start != payload.size) {
+                throw std::logic_error("bundle writer: payload size differs from its plan");
+            }
+        }
+        header.fileSize = out.offset();
+        header.checksum = out.checksum();
+        out.finish(proto::encodeBundleHeader(header));
+    }
+    // What the device will do with it, before it takes the final name.
+    try {
+        proto::BundleFile::open(output.temporaryPath());
+    } catch (const proto::BundleError& error) {
+        throw std::logic_error("bundle writer: the reader refuses the written bundle: " +
+                               error.problem());
+    }
+    output.commit();
+    return {header.fileSize, header.checksum};
+}
+
+}  // namespace vpe::bake

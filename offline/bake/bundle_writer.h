@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// Writes a device bundle (proto/BUNDLE.md) from plain arrays: mesh, projector calibration,
+// render settings, and coefficient and weight textures as floats, which it encodes as half
+// floats (or 8-bit weights) laid out for direct GL upload.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vpe/proto/bundle.h"
+
+namespace vpe::bake {
+
+struct BundleMesh {
+    std::vector<float> positions;        // 3 per vertex, metres, object frame
+    std::vector<float> normals;          // 3 per vertex, unit
+    std::vector<float> uvs;              // 2 per vertex, (0, 0) the textures' top-left corner
+    std::vector<std::uint32_t> indices;  // 3 per triangle
+};
+
+// A coefficient map of the bundle's texture size; C = model.coefficientsPerTexel() values per
+// texel, ordered by proto::bundleCoefficientIndex(), texels row by row from the top.
+struct CoefficientMapData {
+    proto::CoefficientEncoding encoding = proto::CoefficientEncoding::kFull;
+    std::vector<float> coefficients;  // kFull: C per texel
+    // kLowRank: coefficient(x) = mean + Σ_r weights(x)[r] · basis[r].
+    int rank = 0;
+    std::vector<float> mean;     // C values
+    std::vector<float> basis;    // rank × C values, basis vector r at [r·C, (r + 1)·C)
+    std::vector<float> weights;  // rank per texel
+};
+
+struct BundleRegion {
+    std::string name;
+    CoefficientMapData coefficients;
+};
+
+// One α map per region, [region][row][x]; Σ α = 1 at every texel (to 1e-3; the writer
+// normalizes exactly, so that 8-bit weights add up to 255).
+struct WeightPreset {
+    std::string name;  // unique, not empty
+    proto::AlphaEncoding encoding = proto::AlphaEncoding::kUnorm8;
+    std::vector<float> alpha;
+};
+
+struct BundleContents {
+    BundleMesh mesh;
+    proto::ProjectorCalibration projector;
+    proto::RenderSettings settings;
+    proto::BundleModel model;
+    int textureWidth = 0;  // 1..4096
+    int textureHeight = 0;
+    std::vector<BundleRegion> regions;
+    std::optional<CoefficientMapData> composed;
+    std::vector<WeightPreset> presets;
+};
+
+struct BundleWriteResult {
+    std::uint64_t bytes = 0;
+    std::uint32_t checksum = 0;
+};
+
+// Writes `contents` to a temporary file beside `path`, reads it back through the device
+// reader, and only then renames it into place: on any error nothing is left behind. Contents a
+// device would refuse (sizes that disagree, values that are not finite or do not fit a half
+// float, textures over 4096, a non-monotone response, ...) throw InputError naming `path` and
+// the field.
+BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleContents& contents);
+
+}  // namespace vpe::bake

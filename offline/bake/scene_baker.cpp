@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+#include "bake/scene_baker.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vpe/proto/bundle_format.h"
+#include "vpe/proto/fourier_brdf.h"
+
+#include "bake/bake_inputs.h"
+#include "bake/bundle_writer.h"
+#include "bake/low_rank_encoder.h"
+#include "common/input_error.h"
+#include "scene/procedural_vase.h"
+#include "texture/quilt_folder.h"
+#include "texture/region_compose.h"
+#include "texture/weight_maps.h"
+
+namespace vpe::bake {
+
+namespace {
+
+CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOptions& options,
+                             BakeReport& report) {
+    CoefficientMapData map;
+    if (!options.lowRank) {
+        map.encoding = proto::CoefficientEncoding::kFull;
+        map.coefficients = texture.values;
+        return map;
+    }
+    const int channels = 3 * proto::coefficientCount(texture.harmonics);
+    LowRankOptions lowRank;
+    lowRank.rank = std::min(options.rank, channels);
+    lowRank.threads = options.threads;
+    LowRankCode code = encodeLowRank(texture.values, channels, texture.valid, lowRank);
+    double kept = 0;
+    for (double share : code.explained) {
+        kept += share;
+    }
+    report.explainedVariance = std::min(report.explainedVariance, kept);
+    const std::vector<float> decoded = decodeLowRank(code);
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < texture.valid.size(); ++t) {
+        if (!texture.valid[t]) {
+            continue;
+        }
+        for (int k = 0; k < channels; ++k) {
+            const std::size_t i =
+                t * static_cast<std::size_t>(channels) + static_cast<std::size_t>(k);
+            const double d = static_cast<double>(decoded[i]) - static_cast<double>(texture.values[i]);
+            sum += d * d;
+        }
+        count += static_cast<std::size_t>(channels);
+    }
+    report.coefficientRms =
+        std::max(report.coefficientRms, count ? std::sqrt(sum / static_cast<double>(count)) : 0.0);
+    map.encoding = proto::CoefficientEncoding::kLowRank;
+    map.rank = code.rank;
+    map.mean = std::move(code.mean);
+    map.basis = std::move(code.basis);
+    map.weights = std::move(code.weights);
+    return map;
+}
+
+}  // namespace
+
+BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out) {
+    if (options.texture.empty() == options.quilt.empty()) {
+        throw InputError("bake: give either --texture MODEL.exr or --quilt DIR");
+    }
+    if (!options.quilt.empty() && options.presets.empty()) {
+        throw InputError("bake: --quilt needs at least one --preset NAME=WEIGHTS");
+    }
+    if (!options.texture.empty() && !options.presets.empty()) {
+        throw InputError("bake: --preset goes with --quilt (a composed --texture has one region)");
+    }
+    // Cheap checks first: the projector and the response, then the mesh, then the textures.
+    BundleContents contents;
+    scene::ProjectorCalibration projector;
+    if (options.projector.empty()) {
+        projector = scene::makeDemoProjector(options.demoDistance);
+    } else {
+        scene::ProjectorCalibrationOverrides overrides;
+        overrides.width = options.projectorWidth;
+        overrides.height = options.projectorHeight;
+        overrides.metresPerUnit = options.projectorMetresPerUnit;
+        projector = scene::readProjectorCalibration(options.projector, overrides);
+    }
+    contents.projector = toBundleProjector(projector);
+    contents.settings = options.settings;
+    contents.settings.response = toBundleResponse(scene::parseProjectorResponse(options.response));
+
+    scene::ScreenMesh mesh;
+    if (options.mesh.empty()) {
+        mesh = scene::makeProceduralVase();
+    } else {
+        scene::ScreenMeshLoadOptions load;
+        load.metresPerUnit = options.meshMetresPerUnit;
+        mesh = scene::loadScreenMesh(options.mesh, load);
+    }
+    contents.mesh = toBundleMesh(mesh);
+
+    BakeReport report;
+    report.vertices = mesh.vertexCount();
+    report.triangles = mesh.triangleCount();
+    std::vector<CoefficientTexture> textures;
+    std::vector<std::string> names;
+    if (!options.texture.empty()) {
+        textures.push_back(readCoefficientTexture(options.texture));
+        names.push_back(options.texture.stem().string());
+    } else {
+        const std::vector<std::filesystem::path> maps = texture::listRegionMaps(options.quilt);
+        texture::checkRegionMaps(maps);
+        for (std::size_t r = 0; r < maps.size(); ++r) {
+            textures.push_back(readCoefficientTexture(maps[r]));
+            names.push_back("region" + std::to_string(r));
+        }
+    }
+    const CoefficientTexture& first = textures.front();
+    contents.textureWidth = first.width;
+    contents.textureHeight = first.height;
+    contents.model.harmonics = first.harmonics;
+    contents.model.lambda = first.lambda;
+    for (std::size_t r = 0; r < textures.size(); ++r) {
+        contents.regions.push_back({names[r], encodeMap(textures[r], options, report)});
+    }
+    if (options.presets.empty()) {
+        contents.presets.push_back(
+            {"single", proto::AlphaEncoding::kUnorm8,
+             std::vector<float>(static_cast<std::size_t>(first.width) * first.height, 1.0f)});
+    }
+    for (const PresetSpec& preset : options.presets) {
+        const std::string origin = "--preset " + preset.name;
+        const std::vector<texture::WeightSource> sources =
+            texture::parseWeightSpec(preset.weights, origin);
+        if (sources.size() != textures.size()) {
+            throw InputError(origin + ": " + std::to_string(sources.size()) +
+                             " weight entries for " + std::to_string(textures.size()) +
+                             " regions (one per region)");
+        }
+        const texture::WeightMaps weights =
+            texture::buildWeightMaps(sources, first.width, first.height);
+        WeightPreset baked;
+        baked.name = preset.name;
+        baked.encoding = proto::AlphaEncoding::kUnorm8;
+        for (const std::vector<float>& alpha : weights.alpha) {
+            baked.alpha.insert(baked.alpha.end(), alpha.begin(), alpha.end());
+        }
+        contents.presets.push_back(std::move(baked));
+    }
+
+    const BundleWriteResult written = writeBundle(out, contents);
+    report.textureWidth = first.width;
+    report.textureHeight = first.height;
+    report.harmonics = first.harmonics;
+    report.regions = static_cast<int>(textures.size());
+    const int perTexel = options.lowRank
+                             ? std::min(options.rank, contents.model.coefficientsPerTexel())
+                             : contents.model.coefficientsPerTexel();
+    report.bytesPerTexel = 8 * ((perTexel + 3) / 4);
+    report.bytes = written.bytes;
+    report.checksum = written.checksum;
+    return report;
+}
+
+}  // namespace vpe::bake

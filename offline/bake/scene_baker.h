@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// vpe bake: the screen texture (one composed map, or the quilted region maps with named
+// weight-map presets the device can switch live), the screen object's mesh, the projector's
+// calibration and response, and the viewer, combined into one device bundle.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vpe/proto/bundle_contents.h"
+
+namespace vpe::bake {
+
+struct PresetSpec {
+    std::string name;
+    std::string weights;  // a vpe compose --weights spec, one entry per region
+};
+
+struct BakeOptions {
+    // The texture: a model file, or a vpe quilt folder with at least one preset.
+    std::filesystem::path texture;
+    std::filesystem::path quilt;
+    std::vector<PresetSpec> presets;
+    // The screen object: an OBJ/PLY file, or empty for the built-in vase.
+    std::filesystem::path mesh;
+    double meshMetresPerUnit = 1.0;
+    // The projector: a calibration file, or empty for the demo projector at `demoDistance`.
+    std::filesystem::path projector;
+    std::optional<int> projectorWidth, projectorHeight;
+    std::optional<double> projectorMetresPerUnit;
+    double demoDistance = 0.6;
+    std::string response = "2.2";  // gamma, r,g,b gammas, or a CSV curve
+    proto::RenderSettings settings;
+    bool lowRank = true;
+    int rank = 12;
+    unsigned threads = 1;
+};
+
+struct BakeReport {
+    int textureWidth = 0, textureHeight = 0, harmonics = 0, regions = 0;
+    std::size_t vertices = 0, triangles = 0;
+    int bytesPerTexel = 0;  // per region, as stored
+    // Low-rank codes: share of the coefficient variance kept, and the RMS coefficient error,
+    // worst over the regions.
+    double explainedVariance = 1.0;
+    double coefficientRms = 0.0;
+    std::uint64_t bytes = 0;
+    std::uint32_t checksum = 0;
+};
+
+// Reads, checks, encodes and writes atomically. Throws InputError naming the input at fault.
+BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out);
+
+}  // namespace vpe::bake

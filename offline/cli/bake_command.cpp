@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT
+// vpe bake (--texture MODEL.exr | --quilt DIR --preset NAME=WEIGHTS...) [--mesh FILE]
+//          [--projector FILE] ... --out scene.vpeb
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "bake/scene_baker.h"
+#include "cli/commands.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "scene/scene_settings.h"
+
+namespace vpe::cli {
+
+namespace {
+
+std::array<float, 3> toFloats(const std::array<double, 3>& values) {
+    return {static_cast<float>(values[0]), static_cast<float>(values[1]),
+            static_cast<float>(values[2])};
+}
+
+// "WxH" → width, height.
+std::pair<int, int> parseSize(const std::string& text, const std::string& option) {
+    int width = 0, height = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' ||
+        width <= 0 || height <= 0) {
+        throw InputError(option + ": '" + text + "' is not a size WxH");
+    }
+    return {width, height};
+}
+
+}  // namespace
+
+void addBakeCommand(CLI::App& app, Action& action) {
+    struct Arguments {
+        bake::BakeOptions options;
+        std::string texture, quilt, mesh, projector, projectorSize, out;
+        std::vector<std::string> presets;
+        std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
+        std::string encoding = "low-rank";
+        int threads = 0;
+        bool json = false;
+    };
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "bake", "Combine texture, screen mesh and projector calibration into a device bundle");
+    command->add_option("--texture", args->texture, "One composed texture (model file, .exr)");
+    command->add_option("--quilt", args->quilt,
+                        "Or the region maps of vpe quilt, blended on the device by presets");
+    command->add_option("--preset", args->presets,
+                        "NAME=WEIGHTS: a weight-map preset for --quilt (vpe compose's --weights "
+                        "spec); repeat for more; the first is the default");
+    command->add_option("--mesh", args->mesh,
+                        "Screen object (OBJ or PLY with UVs); default: the built-in vase");
+    command
+        ->add_option("--mesh-scale", args->options.meshMetresPerUnit,
+                     "Metres per mesh unit (0.001 for millimetres)")
+        ->capture_default_str();
+    command->add_option("--projector", args->projector,
+                        "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T); "
+                        "default: a demo projector facing the object");
+    command->add_option("--projector-size", args->projectorSize,
+                        "Projector resolution WxH, when the calibration file has none");
+    command
+        ->add_option("--demo-distance", args->options.demoDistance,
+                     "Distance of the demo projector from the object (m)")
+        ->capture_default_str();
+    command->add_option("--viewer", args->viewer, "Viewer position x,y,z (m, object frame)")
+        ->capture_default_str();
+    command->add_option("--albedo", args->albedo, "Screen albedo: one value or r,g,b")
+        ->capture_default_str();
+    command->add_option("--ambient", args->ambient, "Ambient irradiance r,g,b (linear)")
+        ->capture_default_str();
+    command
+        ->add_option("--response", args->options.response,
+                     "Projector response: a gamma, r,g,b gammas, or a CSV curve "
+                     "(level,r,g,b)")
+        ->capture_default_str();
+    command
+        ->add_option("--peak-irradiance", args->options.settings.peakIrradiance,
+                     "Projector irradiance at 1 m, normal incidence, full level")
+        ->capture_default_str();
+    command
+        ->add_option("--gain", args->options.settings.gain, "Global gain on the rendered radiance")
+        ->capture_default_str();
+    command
+        ->add_option("--encoding", args->encoding,
+                     "Texture encoding: low-rank (PCA basis, half-float weights) or full")
+        ->check(CLI::IsMember({"low-rank", "full"}))
+        ->capture_default_str();
+    command->add_option("--rank", args->options.rank, "Low-rank: basis vectors per region")
+        ->capture_default_str();
+    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    command->add_option("--out", args->out, "Bundle to write (.vpeb)")->required();
+    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    command->callback([args, &action] {
+        action = [args] {
+            const auto start = std::chrono::steady_clock::now();
+            bake::BakeOptions options = args->options;
+            options.texture = args->texture;
+            options.quilt = args->quilt;
+            options.mesh = args->mesh;
+            options.projector = args->projector;
+            if (!args->projectorSize.empty()) {
+                const auto [width, height] = parseSize(args->projectorSize, "--projector-size");
+                options.projectorWidth = width;
+                options.projectorHeight = height;
+            }
+            for (const std::string& preset : args->presets) {
+                const std::size_t equals = preset.find('=');
+                if (equals == std::string::npos || equals == 0 || equals + 1 == preset.size()) {
+                    throw InputError("--preset '" + preset + "': expected NAME=WEIGHTS");
+                }
+                options.presets.push_back({preset.substr(0, equals), preset.substr(equals + 1)});
+            }
+            const auto viewer = scene::parsePosition(args->viewer, "--viewer");
+            options.settings.viewerPosition = {static_cast<float>(viewer.x),
+                                               static_cast<float>(viewer.y),
+                                               static_cast<float>(viewer.z)};
+            options.settings.screenAlbedo = toFloats(scene::parseAlbedo(args->albedo, "--albedo"));
+            options.settings.ambientIrradiance =
+                toFloats(scene::parseAmbient(args->ambient, "--ambient"));
+            options.lowRank = args->encoding == "low-rank";
+            options.threads = resolveThreadCount(args->threads);
+
+            const bake::BakeReport report = bake::bakeScene(options, args->out);
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            std::fprintf(stderr,
+                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel), mesh %zu "
+                         "vertices / %zu triangles, %.1f MiB in %.2f s\n",
+                         args->out.c_str(), report.regions, report.regions == 1 ? "" : "s",
+                         report.textureWidth, report.textureHeight, report.harmonics,
+                         args->encoding.c_str(), report.bytesPerTexel, report.vertices,
+                         report.triangles, static_cast<double>(report.bytes) / (1024.0 * 1024.0),
+                         seconds);
+            if (args->json) {
+                nlohmann::json json;
+                json["out"] = args->out;
+                json["regions"] = report.regions;
+                json["texture_width"] = report.textureWidth;
+                json["texture_height"] = report.textureHeight;
+                json["harmonics"] = report.harmonics;
+                json["encoding"] = args->encoding;
+                json["bytes_per_texel"] = report.bytesPerTexel;
+                json["explained_variance"] = report.explainedVariance;
+                json["coefficient_rms"] = report.coefficientRms;
+                json["vertices"] = report.vertices;
+                json["triangles"] = report.triangles;
+                json["bytes"] = report.bytes;
+                json["checksum"] = report.checksum;
+                json["seconds"] = seconds;
+                printJson(json.dump());
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

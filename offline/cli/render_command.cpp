@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: MIT
+// vpe render scene.vpeb --light x,y,z --out pattern.png [--simulate visitor.png]
+//            [--direct direct.png] [--exr pattern.exr] [--weights PRESET] [--gain G|auto]
+// The CPU reference renderer: what the projector must show, and, for previews without a
+// projector, what a visitor would see and what the material itself would look like.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/proto/bundle.h"
+#include "vpe/proto/srgb.h"
+#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/loop_closure.h"
+#include "vpe/renderer/projector_frame.h"
+#include "vpe/renderer/visitor_view.h"
+
+#include "cli/commands.h"
+#include "common/input_error.h"
+#include "common/parallel_for.h"
+#include "image/image_file.h"
+#include "scene/scene_settings.h"
+
+namespace vpe::cli {
+
+namespace {
+
+using renderer::Vec3d;
+
+// A picture for people: radiance × exposure, sRGB-encoded.
+std::vector<std::uint8_t> srgbPicture(const renderer::RgbImage& radiance, double exposure) {
+    std::vector<std::uint8_t> out(radiance.values.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const double v = std::clamp(static_cast<double>(radiance.values[i]) * exposure, 0.0, 1.0);
+        out[i] = static_cast<std::uint8_t>(std::lround(255.0 * proto::linearToSrgb(v)));
+    }
+    return out;
+}
+
+// What the projector is sent: drive levels, already through the inverse response.
+std::vector<std::uint8_t> levelPicture(const renderer::RgbImage& level) {
+    std::vector<std::uint8_t> out(level.values.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = static_cast<std::uint8_t>(
+            std::lround(255.0 * std::clamp(static_cast<double>(level.values[i]), 0.0, 1.0)));
+    }
+    return out;
+}
+
+// An exposure that puts the 99th percentile of the seen radiance at 0.8.
+double autoExposure(const renderer::DirectView& direct) {
+    std::vector<float> values;
+    for (std::size_t p = 0; p < direct.coverage.values.size(); ++p) {
+        if (direct.coverage.values[p]) {
+            values.push_back(
+                std::max({direct.radiance.values[3 * p], direct.radiance.values[3 * p + 1],
+                          direct.radiance.values[3 * p + 2]}));
+        }
+    }
+    if (values.empty()) {
+        return 1.0;
+    }
+    const auto at =
+        values.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(values.size() - 1));
+    std::nth_element(values.begin(), at, values.end());
+    return *at > 0 ? 0.8 / static_cast<double>(*at) : 1.0;
+}
+
+// The middle of the mesh's bounding box: what the preview camera looks at.
+Vec3d meshCentre(const proto::MeshView& mesh) {
+    float low[3] = {1e30f, 1e30f, 1e30f}, high[3] = {-1e30f, -1e30f, -1e30f};
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        low[i % 3] = std::min(low[i % 3], mesh.positions[i]);
+        high[i % 3] = std::max(high[i % 3], mesh.positions[i]);
+    }
+    return {0.5 * static_cast<double>(low[0] + high[0]),
+            0.5 * static_cast<double>(low[1] + high[1]),
+            0.5 * static_cast<double>(low[2] + high[2])};
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, Action& action) {
+    struct Arguments {
+        std::string bundle, out, simulate, direct, exr, weights, gain = "1";
+        std::string light, viewer, viewSize = "480x360";
+        double intensity = 1.0, exposure = 0.0, fov = 30.0, clipTarget = 0.005;
+        int threads = 0;
+        bool json = false;
+    };
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "render",
+        "Render a bundle on the CPU: the projector frame, and previews of what a visitor sees");
+    command->add_option("BUNDLE", args->bundle, "Device bundle (.vpeb) from vpe bake")->required();
+    command->add_option("--light", args->light, "Virtual light position x,y,z (m, object frame)")
+        ->required();
+    command->add_option("--intensity", args->intensity, "Virtual light irradiance")
+        ->capture_default_str();
+    command->add_option("--viewer", args->viewer, "Viewer position x,y,z (default: the bundle's)");
+    command->add_option("--weights", args->weights, "Weight-map preset (default: the first)");
+    command
+        ->add_option("--gain", args->gain,
+                     "Gain on the rendered radiance, or 'auto': the largest ≤ 1 that clips at "
+                     "most --clip-target of the object's pixels")
+        ->capture_default_str();
+    command->add_option("--clip-target", args->clipTarget, "Clipped share --gain auto allows")
+        ->capture_default_str();
+    command->add_option("--out", args->out, "Projector frame: 8-bit drive levels (PNG)")
+        ->required();
+    command->add_option("--exr", args->exr, "Also the drive levels as floats (OpenEXR)");
+    command->add_option("--simulate", args->simulate,
+                        "Preview: the white object lit by the frame, seen from the viewer (sRGB)");
+    command->add_option("--direct", args->direct,
+                        "Preview: the material itself on the object, seen from the viewer (sRGB)");
+    command->add_option("--view-size", args->viewSize, "Preview size WxH")->capture_default_str();
+    command->add_option("--view-fov", args->fov, "Preview vertical field of view (degrees)")
+        ->capture_default_str();
+    command->add_option("--exposure", args->exposure,
+                        "Preview exposure (0: automatic, from the direct view)");
+    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    command->callback([args, &action] {
+        action = [args] {
+            const auto start = std::chrono::steady_clock::now();
+            const auto light = scene::parsePosition(args->light, "--light");
+            int viewWidth = 0, viewHeight = 0;
+            char x = 0, extra = 0;
+            if (std::sscanf(args->viewSize.c_str(), "%d%c%d%c", &viewWidth, &x, &viewHeight,
+                            &extra) != 3 ||
+                x != 'x' || viewWidth <= 0 || viewHeight <= 0 || viewWidth > 8192 ||
+                viewHeight > 8192) {
+                throw InputError("--view-size: '" + args->viewSize +
+                                 "' is not a size WxH (up to 8192)");
+            }
+            if (!(args->intensity > 0) || !std::isfinite(args->intensity)) {
+                throw InputError("--intensity must be a positive number");
+            }
+            proto::BundleFile file = [&] {
+                try {
+                    return proto::BundleFile::open(args->bundle);
+                } catch (const proto::BundleError& error) {
+                    throw InputError(error.what());
+                }
+            }();
+            const renderer::BundleScene bundleScene = [&] {
+                try {
+                    return renderer::BundleScene(file.view(), args->weights);
+                } catch (const std::invalid_argument& error) {
+                    throw InputError(std::string("--weights: ") + error.what());
+                }
+            }();
+            Vec3d viewer = bundleScene.bundleViewer();
+            if (!args->viewer.empty()) {
+                const auto v = scene::parsePosition(args->viewer, "--viewer");
+                viewer = {v.x, v.y, v.z};
+            }
+            renderer::VirtualLight virtualLight;
+            virtualLight.position = {light.x, light.y, light.z};
+            virtualLight.intensity = {args->intensity, args->intensity, args->intensity};
+            const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
+            renderer::RenderOptions options;
+            options.threads = static_cast<int>(resolveThreadCount(args->threads));
+            options.gain = static_cast<double>(file.view().settings().gain);
+            if (args->gain != "auto") {
+                char* end = nullptr;
+                options.gain = std::strtod(args->gain.c_str(), &end);
+                if (end == args->gain.c_str() || *end != '\0' || !(options.gain > 0) ||
+                    !std::isfinite(options.gain)) {
+                    throw InputError("--gain: '" + args->gain +
+                                     "' is not a positive number or 'auto'");
+                }
+            }
+            renderer::ProjectorFrame frame = renderer::renderProjectorFrame(scene, options);
+            if (args->gain == "auto") {
+                options.gain = renderer::gainForClippedFraction(frame, args->clipTarget);
+                frame = renderer::renderProjectorFrame(scene, options);
+            }
+            const int w = frame.level.width, h = frame.level.height;
+            writeImage8(args->out, w, h, 3, levelPicture(frame.level));
+            if (!args->exr.empty()) {
+                writeImage(args->exr, w, h, 3, frame.level.values, PixelFormat::kFloat);
+            }
+            nlohmann::json json;
+            json["bundle"] = args->bundle;
+            json["preset"] = bundleScene.presetName();
+            json["width"] = w;
+            json["height"] = h;
+            json["gain"] = frame.stats.gain;
+            json["covered_pixels"] = frame.stats.coveredPixels;
+            json["clipped_fraction"] = frame.stats.clippedFraction;
+            json["clipped_high_pixels"] = frame.stats.clippedHighPixels;
+            json["clipped_low_pixels"] = frame.stats.clippedLowPixels;
+            if (!args->simulate.empty() || !args->direct.empty()) {
+                const renderer::PinholeCamera camera = renderer::cameraLookingAt(
+                    viewWidth, viewHeight, args->fov, viewer, meshCentre(file.view().mesh()));
+                const renderer::DirectView direct =
+                    renderer::renderDirectView(scene, camera, options);
+                const renderer::SimulatedView simulated =
+                    renderer::simulateVisitorView(scene, frame.level, camera, options);
+                const double exposure = args->exposure > 0 ? args->exposure : autoExposure(direct);
+                if (!args->simulate.empty()) {
+                    writeImage8(args->simulate, viewWidth, viewHeight, 3,
+                                srgbPicture(simulated.radiance, exposure));
+                }
+                if (!args->direct.empty()) {
+                    writeImage8(args->direct, viewWidth, viewHeight, 3,
+                                srgbPicture(direct.radiance, exposure));
+                }
+                const renderer::LoopClosure loop =
+                    renderer::compareVisitorViews(frame, simulated, direct);
+                json["exposure"] = exposure;
+                json["loop"] = {{"seen_pixels", loop.seenPixels},
+                                {"compared_pixels", loop.comparedPixels},
+                                {"shadowed_pixels", loop.shadowedPixels},
+                                {"mean_relative_error", loop.meanRelativeError},
+                                {"p99_relative_error", loop.p99RelativeError},
+                                {"max_relative_error", loop.maxRelativeError},
+                                {"psnr", loop.psnr}};
+            }
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            json["seconds"] = seconds;
+            std::fprintf(
+                stderr, "%s: %dx%d frame, gain %.3g, %.2f%% of %zu object pixels clipped, %.2f s\n",
+                args->out.c_str(), w, h, frame.stats.gain, 100.0 * frame.stats.clippedFraction,
+                frame.stats.coveredPixels, seconds);
+            if (args->json) {
+                printJson(json.dump());
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

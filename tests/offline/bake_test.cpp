@@ -1,0 +1,239 @@
+// SPDX-License-Identifier: MIT
+// vpe bake end to end: a fitted synthetic model and a quilt folder baked onto the built-in
+// vase with the demo projector; what the device reads back (mesh UVs flipped to rows from the
+// top, low-rank textures decoding to the model within the stated error, presets summing to
+// one); and the bad-input contract. Also the half-float decoder against Eigen's encoder.
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "vpe/proto/bundle.h"
+#include "vpe/proto/half_float.h"
+
+#include "bake/bake_inputs.h"
+#include "scene/procedural_vase.h"
+#include "scene/projector_calibration.h"
+#include "support/cli_expectations.h"
+#include "support/command_runner.h"
+#include "support/test_data.h"
+
+namespace vpe {
+namespace {
+
+using testing::expectInputError;
+using testing::lastJsonLine;
+using testing::runCommand;
+constexpr auto& vpe = testing::vpeCommand;
+
+TEST(HalfFloat, DecodesEveryHalfAsEigenEncodesIt) {
+    for (float value : {0.0f, -0.0f, 1.0f, -2.5f, 65504.0f, 6.1e-5f, 5.96e-8f, 3.0e-6f, 0.3333f,
+                        INFINITY, -INFINITY}) {
+        const Eigen::half half(value);
+        const std::uint16_t bits = Eigen::numext::bit_cast<std::uint16_t>(half);
+        EXPECT_EQ(proto::halfToFloat(bits), static_cast<float>(half)) << value;
+    }
+    for (std::uint32_t bits = 0; bits < 0x7c00u; bits += 7) {  // every 7th finite positive half
+        const Eigen::half half =
+            Eigen::numext::bit_cast<Eigen::half>(static_cast<std::uint16_t>(bits));
+        EXPECT_EQ(proto::halfToFloat(static_cast<std::uint16_t>(bits)), static_cast<float>(half));
+    }
+}
+
+class Bake : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        folder_ = new testing::TemporaryFolder;
+        const std::string capture = path("capture");
+        ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "48"})).exitStatus, 0);
+        ASSERT_EQ(
+            runCommand(vpe({"fit", capture + "/train", "--out", path("model.exr"), "--no-preview"}))
+                .exitStatus,
+            0);
+    }
+    static void TearDownTestSuite() {
+        delete folder_;
+        folder_ = nullptr;
+    }
+    static std::string path(const std::string& name) { return (*folder_ / name).string(); }
+    static testing::TemporaryFolder* folder_;
+};
+
+testing::TemporaryFolder* Bake::folder_ = nullptr;
+
+TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
+    const testing::CommandResult result =
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--rank", "8", "--out",
+                        path("scene.vpeb"), "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json report = lastJsonLine(result.out);
+    EXPECT_EQ(report["regions"], 1);
+    EXPECT_EQ(report["bytes_per_texel"], 16);
+    EXPECT_GT(report["explained_variance"].get<double>(), 0.99);
+
+    const proto::BundleFile file = proto::BundleFile::open(path("scene.vpeb"));
+    const proto::BundleView& view = file.view();
+    EXPECT_EQ(view.textureWidth(), 48);
+    EXPECT_EQ(view.model().harmonics, 10);
+    ASSERT_EQ(view.regions().size(), 1u);
+    ASSERT_EQ(view.presets().size(), 1u);
+    EXPECT_GT(view.mesh().triangleCount(), 1000u);
+    // The vase's UVs are OBJ-style (v up); the bundle's rows run from the top.
+    const scene::ScreenMesh vase = scene::makeProceduralVase();
+    for (std::size_t i = 0; i < vase.uvs.size(); i += 97) {
+        EXPECT_FLOAT_EQ(view.mesh().uvs[2 * i + 1], 1.0f - vase.uvs[i].y);
+    }
+    // Low-rank decoding reproduces the model's coefficients.
+    const bake::CoefficientTexture texture = bake::readCoefficientTexture(path("model.exr"));
+    const proto::CoefficientMapView& map = view.regions()[0].coefficients;
+    ASSERT_EQ(map.encoding, proto::CoefficientEncoding::kLowRank);
+    ASSERT_EQ(map.rank, 8);
+    const int c = view.model().coefficientsPerTexel();
+    const std::size_t texels = 48 * 48;
+    double squared = 0, variance = 0;
+    for (std::size_t t = 0; t < texels; ++t) {
+        for (int k = 0; k < c; ++k) {
+            double value = map.mean[static_cast<std::size_t>(k)];
+            for (int r = 0; r < map.rank; ++r) {
+                const std::size_t layer = static_cast<std::size_t>(r / 4);
+                const std::uint16_t w =
+                    map.layers.halves[(layer * texels + t) * 4 + static_cast<std::size_t>(r % 4)];
+                value += static_cast<double>(proto::halfToFloat(w)) *
+                         map.basis[static_cast<std::size_t>(r * c + k)];
+            }
+            const double truth =
+                texture.values[t * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)];
+            squared += (value - truth) * (value - truth);
+            variance += (truth - map.mean[static_cast<std::size_t>(k)]) *
+                        (truth - map.mean[static_cast<std::size_t>(k)]);
+        }
+    }
+    const double reported = report["coefficient_rms"].get<double>();
+    const double decoded =
+        std::sqrt(squared / static_cast<double>(texels * static_cast<std::size_t>(c)));
+    EXPECT_LT(decoded, 1.05 * reported + 1e-4);  // half-float weights add at most rounding
+    EXPECT_LT(squared, 0.01 * variance);
+}
+
+TEST_F(Bake, QuiltRegionsWithPresets) {
+    // A quilt folder is region maps of one size: the model twice will do.
+    std::filesystem::create_directories(path("quilt"));
+    std::filesystem::copy_file(path("model.exr"), path("quilt/region0.exr"));
+    std::filesystem::copy_file(path("model.exr"), path("quilt/region1.exr"));
+    const testing::CommandResult result = runCommand(vpe(
+        {"bake", "--quilt", path("quilt"), "--preset",
+         "half=stripes:period=8,stripes:period=8:invert", "--preset",
+         "left=constant,constant:value=0", "--encoding", "full", "--out", path("regions.vpeb")}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const proto::BundleFile file = proto::BundleFile::open(path("regions.vpeb"));
+    const proto::BundleView& view = file.view();
+    ASSERT_EQ(view.regions().size(), 2u);
+    EXPECT_EQ(view.regions()[0].coefficients.encoding, proto::CoefficientEncoding::kFull);
+    ASSERT_EQ(view.presets().size(), 2u);
+    EXPECT_EQ(view.presets()[1].name, "left");
+    const std::size_t texels = 48 * 48;
+    for (std::size_t t = 0; t < texels; ++t) {
+        EXPECT_EQ(view.presets()[0].unorm8[t] + view.presets()[0].unorm8[texels + t], 255);
+        EXPECT_EQ(view.presets()[1].unorm8[t], 255);
+    }
+}
+
+TEST_F(Bake, BadInputExitsTwoNamingItAndWritesNothing) {
+    const std::string out = path("bad/scene.vpeb");
+    expectInputError(runCommand(vpe({"bake", "--out", out})), {"--texture", "--quilt"});
+    expectInputError(runCommand(vpe({"bake", "--quilt", path("quilt"), "--out", out})),
+                     {"--preset"});
+    expectInputError(runCommand(vpe({"bake", "--texture", path("missing.exr"), "--out", out})),
+                     {"missing.exr"});
+    expectInputError(runCommand(vpe({"bake", "--texture", path("model.exr"), "--mesh",
+                                     path("none.obj"), "--out", out})),
+                     {"none.obj"});
+    expectInputError(runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                                     path("none.yml"), "--out", out})),
+                     {"none.yml"});
+    expectInputError(
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--response", "0", "--out", out})),
+        {"response"});
+    expectInputError(
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--viewer", "1,2", "--out", out})),
+        {"--viewer"});
+    expectInputError(
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--rank", "0", "--out", out})),
+        {"rank"});
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// vpe render on a small projector (160 × 120) so the CPU reference stays quick under ASan.
+class Render : public Bake {
+protected:
+    static void SetUpTestSuite() {
+        Bake::SetUpTestSuite();
+        const scene::ProjectorCalibration projector =
+            scene::projectorLookingAt(160, 120, 30.0, {0.1, 0.1, 0.6}, {0, 0.075, 0});
+        scene::writeProjectorCalibration(projector, path("projector.yml"));
+        ASSERT_EQ(runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                                  path("projector.yml"), "--out", path("small.vpeb")}))
+                      .exitStatus,
+                  0);
+    }
+};
+
+TEST_F(Render, WritesTheFrameAndPreviewsThatCloseTheLoop) {
+    const testing::CommandResult result = runCommand(vpe(
+        {"render", path("small.vpeb"), "--light", "0.3,0.4,0.6", "--gain", "auto", "--out",
+         path("frame.png"), "--exr", path("frame.exr"), "--simulate", path("visitor.png"),
+         "--direct", path("material.png"), "--view-size", "120x90", "--view-fov", "14", "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json report = lastJsonLine(result.out);
+    EXPECT_EQ(report["width"], 160);
+    EXPECT_EQ(report["height"], 120);
+    EXPECT_GT(report["covered_pixels"].get<int>(), 1000);
+    // --gain auto: at most 0.5% of the object's pixels clip, and the gain is at most 1.
+    EXPECT_LE(report["clipped_fraction"].get<double>(), 0.005);
+    EXPECT_LE(report["gain"].get<double>(), 1.0);
+    // What a visitor sees is the material, away from clipping and silhouettes.
+    EXPECT_GT(report["loop"]["compared_pixels"].get<int>(), 1000);
+    EXPECT_GT(report["loop"]["psnr"].get<double>(), 40.0);
+    EXPECT_LT(report["loop"]["mean_relative_error"].get<double>(), 0.02);
+    for (const char* file : {"frame.png", "frame.exr", "visitor.png", "material.png"}) {
+        EXPECT_TRUE(std::filesystem::exists(path(file))) << file;
+    }
+}
+
+TEST_F(Render, BadInputExitsTwoNamingIt) {
+    const std::string out = path("bad/frame.png");
+    // A bundle with one byte flipped fails its checksum.
+    std::filesystem::copy_file(path("small.vpeb"), path("flipped.vpeb"),
+                               std::filesystem::copy_options::overwrite_existing);
+    {
+        std::FILE* file = std::fopen(path("flipped.vpeb").c_str(), "r+b");
+        ASSERT_NE(file, nullptr);
+        std::fseek(file, -10, SEEK_END);
+        const int byte = std::fgetc(file);
+        std::fseek(file, -10, SEEK_END);
+        std::fputc(byte ^ 0x40, file);
+        std::fclose(file);
+    }
+    expectInputError(
+        runCommand(vpe({"render", path("flipped.vpeb"), "--light", "0,0,1", "--out", out})),
+        {"flipped.vpeb", "checksum"});
+    expectInputError(
+        runCommand(vpe({"render", path("none.vpeb"), "--light", "0,0,1", "--out", out})),
+        {"none.vpeb"});
+    expectInputError(
+        runCommand(vpe({"render", path("small.vpeb"), "--light", "0,0", "--out", out})),
+        {"--light"});
+    expectInputError(runCommand(vpe({"render", path("small.vpeb"), "--light", "0,0,1", "--weights",
+                                     "nope", "--out", out})),
+                     {"nope"});
+    expectInputError(runCommand(vpe({"render", path("small.vpeb"), "--light", "0,0,1", "--gain",
+                                     "-1", "--out", out})),
+                     {"--gain"});
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+}  // namespace
+}  // namespace vpe
