@@ -20,6 +20,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "vpe/renderer/pinhole_camera.h"
+
 #include "common/atomic_output.h"
 #include "common/input_error.h"
 #include "text/line_reader.h"
@@ -448,26 +450,21 @@ ProjectorCalibration projectorLookingAt(int width, int height, double verticalFo
     if (!(proto::dot(toTarget, toTarget) > 0)) {
         throw InputError("projector: the eye and the target coincide");
     }
-    const Vec3d forward = proto::normalized(toTarget);
-    const Vec3d side{-forward.z, 0, forward.x};  // forward × (0, 1, 0)
-    if (!(proto::dot(side, side) > 1e-12)) {
-        throw InputError(
-            "projector: looking straight up or down leaves the image rows "
-            "undefined");
+    // The pose is the renderer's (one definition of "looking at": x right, y down, the
+    // world's y up in the image).
+    renderer::PinholeCamera camera;
+    try {
+        camera = renderer::cameraLookingAt(width, height, verticalFovDegrees, {eye.x, eye.y, eye.z},
+                                           {target.x, target.y, target.z});
+    } catch (const std::invalid_argument& error) {
+        throw InputError(std::string("projector: ") + error.what());
     }
-    const Vec3d right = proto::normalized(side);
-    const Vec3d down{forward.y * right.z - forward.z * right.y,
-                     forward.z * right.x - forward.x * right.z,
-                     forward.x * right.y - forward.y * right.x};  // forward × right
     ProjectorCalibration c;
     c.width = width;
     c.height = height;
-    const double focal = 0.5 * height / std::tan(0.5 * verticalFovDegrees * kPi / 180);
-    c.K = {focal, 0, 0.5 * (width - 1), 0, focal, 0.5 * (height - 1), 0, 0, 1};
-    c.R = {right.x, right.y, right.z, down.x, down.y, down.z, forward.x, forward.y, forward.z};
-    for (std::size_t i = 0; i < 3; ++i) {
-        c.T[i] = -(c.R[3 * i] * eye.x + c.R[3 * i + 1] * eye.y + c.R[3 * i + 2] * eye.z);
-    }
+    c.K = camera.K;
+    c.R = camera.R;
+    c.T = camera.T;
     validateProjectorCalibration(c, "projector");
     return c;
 }

@@ -136,6 +136,7 @@ ProjectorResponse ProjectorResponse::gamma(const std::array<double, 3>& exponent
     }
     ProjectorResponse response;
     response.exponents_ = exponents;
+    response.curve_ = renderer::ProjectorResponse::gamma(exponents);
     return response;
 }
 
@@ -144,57 +145,18 @@ ProjectorResponse ProjectorResponse::sampled(std::vector<double> levels,
                                              std::string_view source) {
     checkSamples(levels, outputs, source, nullptr);
     ProjectorResponse response;
-    for (auto& channel : outputs) {
-        const double full = channel.back();
-        for (double& value : channel) {
-            value /= full;
-        }
-        channel.back() = 1.0;
-    }
-    response.levels_ = std::move(levels);
-    response.outputs_ = std::move(outputs);
+    // The curve itself, and its inverse, are the renderer's: one implementation for the
+    // offline tools and the device.
+    response.curve_ = renderer::ProjectorResponse::sampled(std::move(levels), std::move(outputs));
     return response;
 }
 
 double ProjectorResponse::output(int channel, double level) const {
-    level = std::isnan(level) ? 0.0 : std::clamp(level, 0.0, 1.0);
-    const auto c = static_cast<std::size_t>(channel);
-    if (isGamma()) {
-        return std::pow(level, exponents_[c]);
-    }
-    const auto& outputs = outputs_[c];
-    const auto upper = std::upper_bound(levels_.begin(), levels_.end(), level);
-    if (upper == levels_.end()) {
-        return outputs.back();
-    }
-    const auto k = static_cast<std::size_t>(std::distance(levels_.begin(), upper));  // ≥ 1
-    const double f = (level - levels_[k - 1]) / (levels_[k] - levels_[k - 1]);
-    return outputs[k - 1] + f * (outputs[k] - outputs[k - 1]);
+    return curve_.output(channel, level);
 }
 
 double ProjectorResponse::level(int channel, double fraction) const {
-    if (std::isnan(fraction)) {
-        return 0.0;
-    }
-    const auto c = static_cast<std::size_t>(channel);
-    if (isGamma()) {
-        return std::clamp(std::pow(std::clamp(fraction, 0.0, 1.0), 1.0 / exponents_[c]), 0.0, 1.0);
-    }
-    const auto& outputs = outputs_[c];
-    if (fraction <= outputs.front()) {
-        return 0.0;
-    }
-    if (fraction >= outputs.back()) {
-        // The lowest level reaching full output (a curve may saturate before level 1).
-        return levels_[static_cast<std::size_t>(std::distance(
-            outputs.begin(), std::lower_bound(outputs.begin(), outputs.end(), outputs.back())))];
-    }
-    // First sample at or above the fraction; the one before is below it, so the segment
-    // between them rises and the division is safe.
-    const auto k = static_cast<std::size_t>(
-        std::distance(outputs.begin(), std::lower_bound(outputs.begin(), outputs.end(), fraction)));
-    const double f = (fraction - outputs[k - 1]) / (outputs[k] - outputs[k - 1]);
-    return std::clamp(levels_[k - 1] + f * (levels_[k] - levels_[k - 1]), 0.0, 1.0);
+    return curve_.level(channel, fraction);
 }
 
 std::array<double, 3> ProjectorResponse::output(const std::array<double, 3>& levels) const {

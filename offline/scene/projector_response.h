@@ -2,13 +2,16 @@
 // ProjectorResponse: how a projector's drive level (0..1, what the frame buffer holds) turns
 // into light, per channel, as a fraction of the channel's full output. Compensation needs
 // the inverse: the level that makes a wanted fraction. A gamma per channel, or a measured
-// curve read from CSV.
+// curve read from CSV. This class reads and checks them with offline-grade messages; the
+// curve and its inverse are renderer::ProjectorResponse's, the device's own.
 #pragma once
 
 #include <array>
 #include <filesystem>
 #include <string_view>
 #include <vector>
+
+#include "vpe/renderer/projector_response.h"
 
 namespace vpe::scene {
 
@@ -25,7 +28,7 @@ public:
                                      std::array<std::vector<double>, 3> outputs,
                                      std::string_view source = "response");
 
-    bool isGamma() const { return levels_.empty(); }
+    bool isGamma() const { return curve_.isGamma(); }
     const std::array<double, 3>& exponents() const { return exponents_; }
 
     // Fraction of full output at a drive level (clamped to [0, 1]) of channel 0, 1, 2 (r g b).
@@ -41,8 +44,7 @@ private:
     ProjectorResponse() = default;
 
     std::array<double, 3> exponents_{1, 1, 1};
-    std::vector<double> levels_;                  // empty for a gamma
-    std::array<std::vector<double>, 3> outputs_;  // normalized
+    renderer::ProjectorResponse curve_;  // the math, shared with the device
 };
 
 // A measured curve: one "level,r,g,b" row per sample, levels from 0 to 1 increasing, outputs
