@@ -20,6 +20,26 @@ namespace vpe::renderer {
 
 namespace {
 
+// Calls visit(x, y, point) for every pixel of `camera` whose ray hits the mesh, and marks it
+// in `coverage`; rows run on `threads`.
+template <typename Visit>
+void forEachSeenPoint(const RenderScene& scene, const PinholeCamera& camera,
+                      const RayCaster& caster, int threads, MaskImage& coverage,
+                      const Visit& visit) {
+    const Vec3d eye = camera.center();
+    forEachRow(camera.height, threads, [&](int y) {
+        for (int x = 0; x < camera.width; ++x) {
+            const Vec3d direction = pixelRayDirection(camera, {double(x), double(y)});
+            const auto hit = caster.closestHit(eye, direction);
+            if (!hit) {
+                continue;
+            }
+            coverage.at(x, y) = 1;
+            visit(x, y, surfacePoint(scene.mesh, eye, direction, *hit));
+        }
+    });
+}
+
 // Occluders closer to X than this fraction of the projector's distance do not shadow it: the
 // rounding of X itself (≈1e-15 relative) is far below, a real occluder (1 µm at 1 m) above.
 constexpr double kShadowTolerance = 1e-6;
@@ -79,7 +99,6 @@ SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& patt
     }
     const int width = viewerCamera.width, height = viewerCamera.height;
     const RayCaster caster(scene.mesh);
-    const Vec3d eye = viewerCamera.center();
     const Vec3d projectorCenter = projector.center();
     const std::array<double, 3> unlit = screenRadiance(scene.surface, 0.0, {0, 0, 0});
 
@@ -90,15 +109,9 @@ SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& patt
     view.projectorPixel.assign(2 * view.radiance.pixelCount(),
                                std::numeric_limits<float>::quiet_NaN());
 
-    forEachRow(height, options.threads, [&](int y) {
-        for (int x = 0; x < width; ++x) {
-            const Vec3d direction = pixelRayDirection(viewerCamera, {double(x), double(y)});
-            const auto hit = caster.closestHit(eye, direction);
-            if (!hit) {
-                continue;
-            }
-            view.coverage.at(x, y) = 1;
-            const SurfacePoint point = surfacePoint(scene.mesh, eye, direction, *hit);
+    forEachSeenPoint(
+        scene, viewerCamera, caster, options.threads, view.coverage,
+        [&](int x, int y, const SurfacePoint& point) {
             std::array<double, 3> radiance = unlit;
             const double scale =
                 projectorIrradianceScale(scene.projector, point.position, point.normal);
@@ -122,8 +135,7 @@ SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& patt
             for (std::size_t c = 0; c < 3; ++c) {
                 out[c] = static_cast<float>(radiance[c]);
             }
-        }
-    });
+        });
     return view;
 }
 
@@ -140,22 +152,15 @@ DirectView renderDirectView(const RenderScene& scene, const PinholeCamera& viewe
     DirectView view;
     view.radiance = RgbImage(width, height);
     view.coverage = MaskImage(width, height);
-    forEachRow(height, options.threads, [&](int y) {
-        for (int x = 0; x < width; ++x) {
-            const Vec3d direction = pixelRayDirection(viewerCamera, {double(x), double(y)});
-            const auto hit = caster.closestHit(eye, direction);
-            if (!hit) {
-                continue;
-            }
-            view.coverage.at(x, y) = 1;
-            const SurfacePoint point = surfacePoint(scene.mesh, eye, direction, *hit);
-            const std::array<double, 3> radiance = targetRadiance(scene, point, eye, options.gain);
-            float* out = view.radiance.pixel(x, y);
-            for (std::size_t c = 0; c < 3; ++c) {
-                out[c] = static_cast<float>(radiance[c]);
-            }
-        }
-    });
+    forEachSeenPoint(scene, viewerCamera, caster, options.threads, view.coverage,
+                     [&](int x, int y, const SurfacePoint& point) {
+                         const std::array<double, 3> radiance =
+                             targetRadiance(scene, point, eye, options.gain);
+                         float* out = view.radiance.pixel(x, y);
+                         for (std::size_t c = 0; c < 3; ++c) {
+                             out[c] = static_cast<float>(radiance[c]);
+                         }
+                     });
     return view;
 }
 
