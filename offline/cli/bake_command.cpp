@@ -9,6 +9,7 @@
 
 #include "bake/scene_baker.h"
 #include "cli/commands.h"
+#include "cli/size_argument.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "scene/scene_settings.h"
@@ -20,17 +21,6 @@ namespace {
 std::array<float, 3> toFloats(const std::array<double, 3>& values) {
     return {static_cast<float>(values[0]), static_cast<float>(values[1]),
             static_cast<float>(values[2])};
-}
-
-// "WxH" → width, height.
-std::pair<int, int> parseSize(const std::string& text, const std::string& option) {
-    int width = 0, height = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &width, &x, &height, &extra) != 3 || x != 'x' ||
-        width <= 0 || height <= 0) {
-        throw InputError(option + ": '" + text + "' is not a size WxH");
-    }
-    return {width, height};
 }
 
 }  // namespace
@@ -106,9 +96,10 @@ void addBakeCommand(CLI::App& app, Action& action) {
             options.mesh = args->mesh;
             options.projector = args->projector;
             if (!args->projectorSize.empty()) {
-                const auto [width, height] = parseSize(args->projectorSize, "--projector-size");
-                options.projectorWidth = width;
-                options.projectorHeight = height;
+                const SizeArgument size =
+                    parseSizeArgument(args->projectorSize, "--projector-size", 8192);
+                options.projectorWidth = size.width;
+                options.projectorHeight = size.height;
             }
             for (const std::string& preset : args->presets) {
                 const std::size_t equals = preset.find('=');

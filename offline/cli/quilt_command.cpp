@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // vpe quilt MODEL.exr --labels labels.png --size WxH --out DIR
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <memory>
 
+#include <nlohmann/json.hpp>
+
 #include "cli/commands.h"
+#include "cli/size_argument.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "quilt/texture_quilt.h"
@@ -33,15 +34,18 @@ void addQuiltCommand(CLI::App& app, Action& action) {
     command->add_option("--labels", args->labels, "Region labels (8-bit PNG, value = region)")
         ->required();
     command->add_option("--size", args->size, "Output size WxH")->required();
-    command->add_option("--out", args->out, "Folder for region<k>.exr and positions<k>.exr")->required();
+    command->add_option("--out", args->out, "Folder for region<k>.exr and positions<k>.exr")
+        ->required();
     command->add_option("--block", args->block, "Block size in pixels")->capture_default_str();
     command->add_option("--overlap", args->overlap, "Overlap in pixels")->capture_default_str();
-    command->add_option("--tolerance", args->tolerance,
-                        "ε: pick at random within (1 + ε) of the best overlap error")
+    command
+        ->add_option("--tolerance", args->tolerance,
+                     "ε: pick at random within (1 + ε) of the best overlap error")
         ->capture_default_str();
     command->add_option("--seed", args->seed, "Random seed")->capture_default_str();
-    command->add_option("--search", args->search,
-                        "fft (PCA + FFT overlap search) or exhaustive (all channels, slow)")
+    command
+        ->add_option("--search", args->search,
+                     "fft (PCA + FFT overlap search) or exhaustive (all channels, slow)")
         ->check(CLI::IsMember({"fft", "exhaustive"}))
         ->capture_default_str();
     command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
@@ -52,14 +56,9 @@ void addQuiltCommand(CLI::App& app, Action& action) {
             options.model = args->model;
             options.labels = args->labels;
             options.out = args->out;
-            int width = 0, height = 0;
-            char separator = 0;
-            if (std::sscanf(args->size.c_str(), "%d%c%d", &width, &separator, &height) != 3 ||
-                (separator != 'x' && separator != 'X')) {
-                throw InputError("--size '" + args->size + "': expected WxH, e.g. 1024x1024");
-            }
-            options.width = width;
-            options.height = height;
+            const SizeArgument size = parseSizeArgument(args->size, "--size");
+            options.width = size.width;
+            options.height = size.height;
             options.settings.block = args->block;
             options.settings.overlap = args->overlap;
             options.settings.tolerance = args->tolerance;
@@ -73,21 +72,24 @@ void addQuiltCommand(CLI::App& app, Action& action) {
             }
             const quilt::QuiltTextureReport report = quilt::quiltTexture(options);
             for (const quilt::RegionReport& region : report.regions) {
-                std::fprintf(stderr,
-                             "region %d: %zu source pixels, %zu candidate blocks of %d (overlap %d, "
-                             "%d PCA components of %d channels), %d blocks in %.2f s\n",
-                             region.region, region.sourcePixels, region.quilt.candidates,
-                             region.quilt.block, region.quilt.overlap, region.quilt.components,
-                             report.channels, region.quilt.blocks, region.seconds);
+                std::fprintf(
+                    stderr,
+                    "region %d: %zu source pixels, %zu candidate blocks of %d (overlap %d, "
+                    "%d PCA components of %d channels), %d blocks in %.2f s\n",
+                    region.region, region.sourcePixels, region.quilt.candidates, region.quilt.block,
+                    region.quilt.overlap, region.quilt.components, report.channels,
+                    region.quilt.blocks, region.seconds);
             }
-            std::fprintf(stderr, "quilted %zu regions to %dx%d in %.2f s (load %.2f, quilt %.2f, write %.2f): %s\n",
-                         report.regions.size(), width, height, report.seconds, report.loadSeconds,
-                         report.quiltSeconds, report.writeSeconds, args->out.c_str());
+            std::fprintf(
+                stderr,
+                "quilted %zu regions to %dx%d in %.2f s (load %.2f, quilt %.2f, write %.2f): %s\n",
+                report.regions.size(), size.width, size.height, report.seconds, report.loadSeconds,
+                report.quiltSeconds, report.writeSeconds, args->out.c_str());
             if (args->json) {
                 nlohmann::json json;
                 json["regions"] = report.regions.size();
-                json["width"] = width;
-                json["height"] = height;
+                json["width"] = size.width;
+                json["height"] = size.height;
                 json["channels"] = report.channels;
                 json["seconds"] = report.seconds;
                 json["quilt_seconds"] = report.quiltSeconds;

@@ -19,6 +19,7 @@
 #include "vpe/renderer/visitor_view.h"
 
 #include "cli/commands.h"
+#include "cli/size_argument.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "image/image_file.h"
@@ -127,15 +128,8 @@ void addRenderCommand(CLI::App& app, Action& action) {
         action = [args] {
             const auto start = std::chrono::steady_clock::now();
             const auto light = scene::parsePosition(args->light, "--light");
-            int viewWidth = 0, viewHeight = 0;
-            char x = 0, extra = 0;
-            if (std::sscanf(args->viewSize.c_str(), "%d%c%d%c", &viewWidth, &x, &viewHeight,
-                            &extra) != 3 ||
-                x != 'x' || viewWidth <= 0 || viewHeight <= 0 || viewWidth > 8192 ||
-                viewHeight > 8192) {
-                throw InputError("--view-size: '" + args->viewSize +
-                                 "' is not a size WxH (up to 8192)");
-            }
+            const SizeArgument viewSize = parseSizeArgument(args->viewSize, "--view-size", 8192);
+            const int viewWidth = viewSize.width, viewHeight = viewSize.height;
             if (!(args->intensity > 0) || !std::isfinite(args->intensity)) {
                 throw InputError("--intensity must be a positive number");
             }
