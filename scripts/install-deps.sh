@@ -13,6 +13,7 @@ packages=(
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     fonts-dejavu-core                         # labels on contact sheets
+    libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
 )
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)

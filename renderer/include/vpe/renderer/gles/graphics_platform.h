@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// GraphicsPlatform and RenderTarget: the OS and windowing glue behind one interface (Filament's
+// Platform split). The renderer draws into a RenderTarget and never knows which platform made
+// it: headless EGL (an FBO read back, headless_egl_platform.h) today, KMS (GBM scanout buffers
+// with page flips, kmscube's call order) next.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vpe::renderer::gles {
+
+// A platform, context or GL failure; what() is one line naming what failed.
+class GraphicsError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// Where a frame goes. The GL context of the platform that made it must be current.
+class RenderTarget {
+public:
+    virtual ~RenderTarget() = default;
+    virtual int width() const = 0;
+    virtual int height() const = 0;
+    // The framebuffer object to draw into (0: the platform's window surface).
+    virtual unsigned framebuffer() const = 0;
+    // True when GL's window row y = 0 (gl_FragCoord.y = 0.5) is the image's TOP row, as in an
+    // FBO read back with glReadPixels into a top-first image; false for a scanout surface,
+    // whose GL origin is the bottom-left corner of the screen.
+    virtual bool topRowAtGlOrigin() const = 0;
+    // Ends a frame: headless waits for the GPU (glFinish); KMS swaps and flips.
+    virtual void present() = 0;
+    // The frame as RGBA8, rows from the top, width·height·4 bytes. Throws GraphicsError where
+    // the target cannot be read (a scanout may not be).
+    virtual std::vector<std::uint8_t> readRgba8() const = 0;
+};
+
+class GraphicsPlatform {
+public:
+    virtual ~GraphicsPlatform() = default;
+    // "headless EGL (Mesa surfaceless): llvmpipe (LLVM 15.0.6, 256 bits), OpenGL ES 3.1 Mesa …"
+    virtual std::string description() const = 0;
+    // A target of that size (a KMS platform accepts only its mode's size). Throws GraphicsError
+    // for sizes outside 1 … GL_MAX_RENDERBUFFER_SIZE.
+    virtual std::unique_ptr<RenderTarget> createRenderTarget(int width, int height) = 0;
+    // Makes the platform's context current on the calling thread.
+    virtual void makeCurrent() = 0;
+};
+
+}  // namespace vpe::renderer::gles

@@ -1,0 +1,167 @@
+// SPDX-License-Identifier: MIT
+// GlesFrameRenderer's frame against the CPU reference (renderProjectorFrame, quantized to
+// 8 bits) for several lights, viewers, both presets and both response kinds: PSNR ≥ 50 dB.
+// On failure the actual, expected and difference images are written beside the test output
+// (the working directory) as binary PPM.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/gles/gles_frame_renderer.h"
+#include "vpe/renderer/projector_frame.h"
+
+#include "gles_test_bundle.h"
+#include "gles_test_platform.h"
+
+namespace vpe::renderer::testing {
+namespace {
+
+struct FrameCase {
+    std::string name;
+    std::array<float, 3> light;
+    std::array<float, 3> viewer;
+    std::string preset;
+    bool inverseSquare = false;
+    float gain = 1.0f;
+};
+
+void writePpm(const std::string& path, int width, int height,
+              const std::vector<std::uint8_t>& rgb) {
+    std::ofstream out(path, std::ios::binary);
+    out << "P6\n" << width << " " << height << "\n255\n";
+    out.write(reinterpret_cast<const char*>(rgb.data()), static_cast<std::streamsize>(rgb.size()));
+}
+
+class GlesFrameTest : public GlesTest {
+protected:
+    // Returns the PSNR (dB) of the GPU frame against the quantized CPU frame.
+    double comparePsnr(const GlesBundleSpec& spec, const FrameCase& frame) {
+        MappedTestBundle bundle(spec);
+        gles::GlesFrameRenderer renderer(bundle.view());
+        renderer.selectPreset(frame.preset);
+        std::unique_ptr<gles::RenderTarget> target =
+            platform()->createRenderTarget(renderer.width(), renderer.height());
+        gles::FrameInputs inputs;
+        inputs.lightPosition = frame.light;
+        inputs.viewerPosition = frame.viewer;
+        inputs.inverseSquare = frame.inverseSquare;
+        inputs.referenceDistance = 0.5f;
+        inputs.gain = frame.gain;
+        renderer.render(*target, inputs);
+        target->present();
+        const std::vector<std::uint8_t> rgba = target->readRgba8();
+
+        BundleScene scene(bundle.view(), frame.preset);
+        VirtualLight light;
+        light.position = {frame.light[0], frame.light[1], frame.light[2]};
+        light.inverseSquare = frame.inverseSquare;
+        light.referenceDistance = 0.5;
+        RenderOptions options;
+        options.gain = static_cast<double>(frame.gain);
+        const ProjectorFrame reference = renderProjectorFrame(
+            scene.scene(light, {frame.viewer[0], frame.viewer[1], frame.viewer[2]}), options);
+
+        const int w = renderer.width(), h = renderer.height();
+        const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+        std::vector<std::uint8_t> actual(pixels * 3), expected(pixels * 3), difference(pixels * 3);
+        double squared = 0;
+        std::size_t covered = 0, differing = 0;
+        int largest = 0;
+        for (std::size_t p = 0; p < pixels; ++p) {
+            covered += reference.coverage.values[p] != 0 ? 1 : 0;
+            bool differs = false;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double level = reference.level.values[3 * p + c];
+                const auto want =
+                    static_cast<int>(std::lround(std::clamp(level, 0.0, 1.0) * 255.0));
+                const int got = rgba[4 * p + c];
+                actual[3 * p + c] = static_cast<std::uint8_t>(got);
+                expected[3 * p + c] = static_cast<std::uint8_t>(want);
+                const int delta = std::abs(got - want);
+                difference[3 * p + c] = static_cast<std::uint8_t>(std::min(255, 16 * delta));
+                squared += static_cast<double>(delta) * delta;
+                largest = std::max(largest, delta);
+                differs = differs || delta != 0;
+            }
+            differing += differs ? 1 : 0;
+        }
+        const double mse = squared / static_cast<double>(pixels * 3);
+        const double psnr = mse == 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
+        std::cout << frame.name << ": PSNR " << psnr << " dB, " << covered << " covered pixels, "
+                  << differing << " differ, largest difference " << largest << " levels\n";
+        if (psnr < 50.0) {
+            const std::string stem = "gles_frame_" + frame.name;
+            writePpm(stem + ".actual.ppm", w, h, actual);
+            writePpm(stem + ".expected.ppm", w, h, expected);
+            writePpm(stem + ".difference.ppm", w, h, difference);
+            ADD_FAILURE() << frame.name << ": wrote " << stem
+                          << ".{actual,expected,difference}.ppm";
+        }
+        EXPECT_GT(covered, pixels / 10) << "the test scene should cover the projector's view";
+        return psnr;
+    }
+};
+
+const std::vector<FrameCase>& frameCases() {
+    static const std::vector<FrameCase> cases{
+        {"front_stripes", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"},
+        {"front_radial", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "radial"},
+        {"left_stripes", {-0.3f, 0.2f, 0.4f}, {-0.2f, 0.1f, 0.7f}, "stripes"},
+        {"above_radial_inverse_square", {0.0f, 0.5f, 0.3f}, {0.1f, 0.3f, 0.5f}, "radial", true},
+        {"grazing_radial_gain", {0.6f, 0.05f, -0.1f}, {0.0f, 0.1f, 0.8f}, "radial", false, 0.6f},
+    };
+    return cases;
+}
+
+TEST_F(GlesFrameTest, MatchesCpuReferenceWithGammaResponse) {
+    for (const FrameCase& frame : frameCases()) {
+        EXPECT_GE(comparePsnr({}, frame), 50.0) << frame.name;
+    }
+}
+
+TEST_F(GlesFrameTest, MatchesCpuReferenceWithCurveResponse) {
+    GlesBundleSpec spec;
+    spec.curveResponse = true;
+    for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
+        EXPECT_GE(comparePsnr(spec, {frame.name + "_curve", frame.light, frame.viewer, frame.preset,
+                                     frame.inverseSquare, frame.gain}),
+                  50.0);
+    }
+}
+
+TEST_F(GlesFrameTest, MatchesCpuReferenceWithoutDistortionAndMoreHarmonics) {
+    GlesBundleSpec spec;
+    spec.distortion = false;
+    spec.harmonics = 10;
+    spec.lowRank = 6;
+    spec.projectorWidth = 200;
+    spec.projectorHeight = 150;
+    EXPECT_GE(
+        comparePsnr(spec, {"m10_undistorted", {0.2f, 0.4f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"}),
+        50.0);
+}
+
+TEST_F(GlesFrameTest, UnknownPresetIsRefusedByName) {
+    MappedTestBundle bundle;
+    gles::GlesFrameRenderer renderer(bundle.view());
+    EXPECT_EQ(renderer.presetName(), "stripes");
+    try {
+        renderer.selectPreset("gold");
+        FAIL() << "expected std::invalid_argument";
+    } catch (const std::invalid_argument& error) {
+        EXPECT_NE(
+            std::string(error.what()).find("no weight preset 'gold' (it has: stripes, radial)"),
+            std::string::npos)
+            << error.what();
+    }
+}
+
+}  // namespace
+}  // namespace vpe::renderer::testing

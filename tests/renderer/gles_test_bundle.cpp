@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT
+// The GLES tests' bundle builder.
+#include "gles_test_bundle.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+#include "vpe/proto/bundle_format.h"
+#include "vpe/proto/bundle_generated.h"
+#include "vpe/renderer/pinhole_camera.h"
+
+#include "test_scenes.h"
+
+namespace vpe::renderer::testing {
+
+namespace fb = proto::fb;
+
+namespace {
+
+std::uint16_t floatToHalf(float value) {
+    const auto bits = std::bit_cast<std::uint32_t>(value);
+    const auto sign = static_cast<std::uint32_t>((bits >> 16) & 0x8000u);
+    const int exponent = static_cast<int>((bits >> 23) & 0xffu) - 127 + 15;
+    const std::uint32_t mantissa = bits & 0x7fffffu;
+    if (exponent <= 0) {
+        return static_cast<std::uint16_t>(sign);  // tiny values flush to zero (tests avoid them)
+    }
+    if (exponent >= 31) {
+        throw std::invalid_argument("test value does not fit a half float");
+    }
+    std::uint32_t half = sign | (static_cast<std::uint32_t>(exponent) << 10) | (mantissa >> 13);
+    const std::uint32_t rest = mantissa & 0x1fffu;
+    if (rest > 0x1000u || (rest == 0x1000u && (half & 1u) != 0)) {
+        ++half;
+    }
+    return static_cast<std::uint16_t>(half);
+}
+
+struct Planned {
+    fb::ElementType type;
+    std::vector<std::uint32_t> shape;
+    std::vector<std::byte> bytes;
+    std::uint64_t offset = 0;
+};
+
+template <typename T>
+Planned plan(fb::ElementType type, std::vector<std::uint32_t> shape, const std::vector<T>& values) {
+    Planned p{type, std::move(shape), std::vector<std::byte>(values.size() * sizeof(T)), 0};
+    std::memcpy(p.bytes.data(), values.data(), p.bytes.size());
+    return p;
+}
+
+std::uint64_t alignUp(std::uint64_t offset) {
+    return (offset + proto::kBundlePayloadAlignment - 1) / proto::kBundlePayloadAlignment *
+           proto::kBundlePayloadAlignment;
+}
+
+}  // namespace
+
+std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
+    const OwnedMesh vase = makeVaseMesh(48, 24);
+    std::vector<float> positions, normals, uvs;
+    for (std::size_t v = 0; v < vase.positions.size(); ++v) {
+        positions.insert(positions.end(),
+                         {vase.positions[v].x, vase.positions[v].y, vase.positions[v].z});
+        normals.insert(normals.end(), {vase.normals[v].x, vase.normals[v].y, vase.normals[v].z});
+        uvs.insert(uvs.end(), {vase.uvs[v].x, 1.0f - vase.uvs[v].y});  // the bundle's v is down
+    }
+    const auto vertices = static_cast<std::uint32_t>(vase.positions.size());
+    const auto triangles = static_cast<std::uint32_t>(vase.indices.size() / 3);
+
+    const int w = spec.textureWidth, h = spec.textureHeight;
+    const std::size_t texels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    const int c = 3 * (2 * spec.harmonics + 2);
+    const int groups = (c + 3) / 4;
+    // Region 0: a smooth, varied full map; coefficient k of channel ch at texel (x, y).
+    const auto base = [&](int x, int y, int k, int ch) {
+        const double u = (x + 0.5) / w, v = (y + 0.5) / h;
+        if (k == 0) {
+            return 0.45 + 0.25 * std::sin(6.0 * u + ch) * std::cos(4.0 * v);
+        }
+        if (k == 1) {
+            return 0.05 + 0.02 * ch;
+        }
+        return 0.12 / k * std::cos(3.0 * u * k + 2.0 * v + ch);
+    };
+    std::vector<std::uint16_t> full(static_cast<std::size_t>(groups) * texels * 4, 0);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            for (int i = 0; i < c; ++i) {
+                full[(static_cast<std::size_t>(i / 4) * texels + t) * 4 +
+                     static_cast<std::size_t>(i % 4)] =
+                    floatToHalf(static_cast<float>(base(x, y, i / 3, i % 3)));
+            }
+        }
+    }
+    // Region 1: low rank, μ + Σ w_r B_r.
+    const int rank = spec.lowRank;
+    std::vector<float> mean(static_cast<std::size_t>(c)), basis(static_cast<std::size_t>(rank * c));
+    for (int i = 0; i < c; ++i) {
+        const int k = i / 3, ch = i % 3;
+        mean[static_cast<std::size_t>(i)] = k == 0
+                                                ? 0.3f + 0.1f * static_cast<float>(ch)
+                                                : (k == 1 ? 0.03f : 0.2f / static_cast<float>(k));
+        for (int r = 0; r < rank; ++r) {
+            basis[static_cast<std::size_t>(r * c + i)] =
+                static_cast<float>(0.1 * std::sin(1.7 * i + 2.3 * r + 0.5));
+        }
+    }
+    const int rankLayers = (rank + 3) / 4;
+    std::vector<std::uint16_t> codes(static_cast<std::size_t>(rankLayers) * texels * 4, 0);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            for (int r = 0; r < rank; ++r) {
+                const double value = std::cos(0.3 * x * (r + 1) - 0.4 * y + r);
+                codes[(static_cast<std::size_t>(r / 4) * texels + t) * 4 +
+                      static_cast<std::size_t>(r % 4)] = floatToHalf(static_cast<float>(value));
+            }
+        }
+    }
+    std::vector<std::uint8_t> stripes(2 * texels);
+    std::vector<std::uint16_t> radial(2 * texels);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            const auto a =
+                static_cast<std::uint8_t>(std::lround(127.5 + 127.5 * std::sin(0.5 * x)));
+            stripes[t] = a;
+            stripes[texels + t] = static_cast<std::uint8_t>(255 - a);
+            const double d = std::hypot(x - 0.5 * w, y - 0.5 * h) / (0.5 * w);
+            const float alpha = static_cast<float>(std::clamp(1.0 - d, 0.0, 1.0));
+            radial[t] = floatToHalf(alpha);
+            radial[texels + t] = floatToHalf(1.0f - alpha);
+        }
+    }
+
+    std::vector<Planned> payloads;
+    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 3}, positions));
+    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 3}, normals));
+    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 2}, uvs));
+    payloads.push_back(plan(fb::ElementType::UInt32, {triangles, 3}, vase.indices));
+    const auto uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
+    payloads.push_back(
+        plan(fb::ElementType::Float16, {static_cast<std::uint32_t>(groups), uh, uw, 4}, full));
+    payloads.push_back(
+        plan(fb::ElementType::Float16, {static_cast<std::uint32_t>(rankLayers), uh, uw, 4}, codes));
+    payloads.push_back(plan(fb::ElementType::UInt8, {2, uh, uw}, stripes));
+    payloads.push_back(plan(fb::ElementType::Float16, {2, uh, uw}, radial));
+
+    PinholeCamera camera = cameraLookingAt(spec.projectorWidth, spec.projectorHeight, 38.0,
+                                           {0.08, 0.11, 0.42}, {0.0, 0.075, 0.0});
+    if (spec.distortion) {
+        camera.distortion = {0.09, -0.12, 0.0015, -0.001, 0.02};
+    }
+
+    std::vector<std::uint8_t> meta;
+    std::uint64_t end = 0;
+    for (std::size_t size = 0;; size = meta.size()) {
+        std::uint64_t offset = alignUp(proto::kBundleHeaderSize + size);
+        for (Planned& p : payloads) {
+            p.offset = offset;
+            end = offset + p.bytes.size();
+            offset = alignUp(end);
+        }
+        flatbuffers::FlatBufferBuilder b;
+        const auto ref = [&](std::size_t i) {
+            return fb::CreatePayloadDirect(b, payloads[i].offset, payloads[i].bytes.size(),
+                                           payloads[i].type, &payloads[i].shape);
+        };
+        const auto mesh = fb::CreateMesh(b, ref(0), ref(1), ref(2), ref(3));
+        const fb::Mat3d intrinsics(flatbuffers::make_span(camera.K));
+        const fb::Mat3d rotation(flatbuffers::make_span(camera.R));
+        const fb::Distortion distortion(camera.distortion[0], camera.distortion[1],
+                                        camera.distortion[2], camera.distortion[3],
+                                        camera.distortion[4]);
+        const fb::Vec3d translation(camera.T[0], camera.T[1], camera.T[2]);
+        const auto projector =
+            fb::CreateProjector(b, static_cast<std::uint32_t>(spec.projectorWidth),
+                                static_cast<std::uint32_t>(spec.projectorHeight), &intrinsics,
+                                &distortion, &rotation, &translation);
+        flatbuffers::Offset<void> response;
+        fb::ProjectorResponse kind = fb::ProjectorResponse::GammaResponse;
+        if (spec.curveResponse) {
+            kind = fb::ProjectorResponse::CurveResponse;
+            const std::vector<float> red{0.02f, 0.1f, 0.3f, 0.6f, 1.0f};
+            const std::vector<float> green{0.0f, 0.2f, 0.45f, 0.7f, 0.9f, 1.1f};
+            const std::vector<float> blue{0.01f, 0.5f, 1.0f};
+            response = fb::CreateCurveResponseDirect(b, &red, &green, &blue).Union();
+        } else {
+            const fb::Rgb gamma(2.2f, 2.3f, 2.4f);
+            response = fb::CreateGammaResponse(b, &gamma).Union();
+        }
+        const fb::Vec3f viewer(0.3f, 0.2f, 0.6f);
+        const fb::Rgb albedo(0.85f, 0.8f, 0.75f);
+        const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
+        const auto settings =
+            fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 0.8f, 1.0f);
+        const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
+                                                 3.14, "fourier_brdf:k_major_rgb");
+        const auto fullMap =
+            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
+                                     fb::CreateFullCoefficients(b, ref(4)).Union());
+        const auto lowRankMap =
+            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
+                                     fb::CreateLowRankCoefficientsDirect(
+                                         b, static_cast<std::uint16_t>(rank), &mean, &basis, ref(5))
+                                         .Union());
+        std::vector<flatbuffers::Offset<fb::Region>> regions{
+            fb::CreateRegionDirect(b, "base", fullMap),
+            fb::CreateRegionDirect(b, "glaze", lowRankMap)};
+        std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
+            fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
+            fb::CreateWeightPresetDirect(b, "radial", ref(7))};
+        const auto textures = fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets);
+        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
+        std::vector<std::uint8_t> built(b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize());
+        const bool settled = built.size() == size;
+        meta = std::move(built);
+        if (settled) {
+            break;
+        }
+    }
+    std::vector<std::byte> bytes(end);
+    std::memcpy(bytes.data() + proto::kBundleHeaderSize, meta.data(), meta.size());
+    for (const Planned& p : payloads) {
+        std::memcpy(bytes.data() + p.offset, p.bytes.data(), p.bytes.size());
+    }
+    proto::BundleHeader header;
+    header.metadataOffset = proto::kBundleHeaderSize;
+    header.metadataSize = meta.size();
+    header.fileSize = bytes.size();
+    const proto::BundleHeaderBytes encoded = proto::encodeBundleHeader(header);
+    std::memcpy(bytes.data(), encoded.data(), encoded.size());
+    const std::uint32_t crc =
+        proto::bundleChecksum(std::span<const std::byte>(bytes).subspan(proto::kBundleHeaderSize));
+    std::memcpy(bytes.data() + 12, &crc, sizeof crc);
+    return bytes;
+}
+
+std::filesystem::path MappedTestBundle::write(const GlesBundleSpec& spec) {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "vpe-gles-XXXXXX.vpeb").string();
+    const int fd = ::mkstemps(pattern.data(), 5);
+    if (fd < 0) {
+        throw std::runtime_error("cannot create a temporary bundle");
+    }
+    ::close(fd);
+    const std::vector<std::byte> bytes = buildGlesTestBundle(spec);
+    std::ofstream stream(pattern, std::ios::binary | std::ios::trunc);
+    stream.write(reinterpret_cast<const char*>(bytes.data()),
+                 static_cast<std::streamsize>(bytes.size()));
+    if (!stream) {
+        throw std::runtime_error("cannot write " + pattern);
+    }
+    return pattern;
+}
+
+MappedTestBundle::MappedTestBundle(const GlesBundleSpec& spec)
+    : path_(write(spec)), file_(proto::BundleFile::open(path_)) {}
+
+MappedTestBundle::~MappedTestBundle() {
+    std::error_code ignored;
+    std::filesystem::remove(path_, ignored);
+}
+
+}  // namespace vpe::renderer::testing

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+// A small but complete device bundle for the GLES renderer's tests, built straight from the
+// schema (no offline writer: the device-only build runs these tests too): a vase seen by a
+// 160 × 120 projector with lens distortion, M = 3, two regions ('base' full, 'glaze' low-rank),
+// presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "vpe/proto/bundle.h"
+
+namespace vpe::renderer::testing {
+
+struct GlesBundleSpec {
+    int projectorWidth = 160, projectorHeight = 120;
+    int textureWidth = 32, textureHeight = 24;
+    int harmonics = 3;
+    int lowRank = 3;
+    bool curveResponse = false;
+    bool distortion = true;
+};
+
+std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});
+
+// The bundle written to a fresh temporary file and mapped; the file is removed on destruction.
+class MappedTestBundle {
+public:
+    explicit MappedTestBundle(const GlesBundleSpec& spec = {});
+    ~MappedTestBundle();
+    MappedTestBundle(const MappedTestBundle&) = delete;
+    MappedTestBundle& operator=(const MappedTestBundle&) = delete;
+    const proto::BundleView& view() const { return file_.view(); }
+
+private:
+    static std::filesystem::path write(const GlesBundleSpec& spec);
+    std::filesystem::path path_;
+    proto::BundleFile file_;
+};
+
+}  // namespace vpe::renderer::testing
