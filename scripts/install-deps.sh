@@ -14,6 +14,8 @@ packages=(
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     fonts-dejavu-core                         # labels on contact sheets
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
+    libdrm-dev libgbm-dev                     # GLES renderer's KMS platform (DRM + GBM + EGL)
+    libtomlplusplus-dev                       # vpe-player's board files (boards/*.toml)
 )
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)

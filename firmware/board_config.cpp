@@ -1,0 +1,227 @@
+// SPDX-License-Identifier: MIT
+// BoardConfig: reading a board's TOML file (toml++), strictly: unknown keys and wrong types are
+// refused with one line naming file:key.
+#include "vpe/firmware/board_config.h"
+
+#include <charconv>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+namespace vpe::firmware {
+
+namespace {
+
+// Sections kept for issue 7 (GPIO knobs, tracking camera, OSC, light limits): accepted as
+// tables with any contents, not read yet.
+const std::set<std::string, std::less<>> kReservedSections{"gpio", "camera", "osc", "light"};
+
+[[noreturn]] void fail(const std::string& source, const std::string& key,
+                       const std::string& problem) {
+    throw BoardConfigError(source + ":" + key + ": " + problem);
+}
+
+const char* typeName(const toml::node& node) {
+    switch (node.type()) {
+        case toml::node_type::table:
+            return "a table";
+        case toml::node_type::array:
+            return "an array";
+        case toml::node_type::string:
+            return "a string";
+        case toml::node_type::integer:
+            return "an integer";
+        case toml::node_type::floating_point:
+            return "a number";
+        case toml::node_type::boolean:
+            return "a boolean";
+        default:
+            return "a date or time";
+    }
+}
+
+// The table `section` holds only `allowed` keys.
+void checkKeys(const toml::table& table, const std::string& source, const std::string& section,
+               const std::set<std::string, std::less<>>& allowed) {
+    for (const auto& [key, node] : table) {
+        const std::string name(key.str());
+        if (!allowed.contains(name)) {
+            std::string list;
+            for (const std::string& a : allowed) {
+                list += (list.empty() ? "" : ", ") + a;
+            }
+            fail(source, section.empty() ? name : section + "." + name,
+                 "unknown key (known: " + list + ")");
+        }
+        (void)node;
+    }
+}
+
+std::optional<std::string> optionalString(const toml::table& table, const std::string& source,
+                                          const std::string& section, const char* key) {
+    const toml::node* node = table.get(key);
+    if (node == nullptr) {
+        return std::nullopt;
+    }
+    const auto value = node->value<std::string>();
+    if (!node->is_string() || !value) {
+        fail(source, section + "." + key, std::string("expected a string, got ") + typeName(*node));
+    }
+    return *value;
+}
+
+const toml::table* optionalTable(const toml::table& root, const std::string& source,
+                                 const char* key) {
+    const toml::node* node = root.get(key);
+    if (node == nullptr) {
+        return nullptr;
+    }
+    if (!node->is_table()) {
+        fail(source, key, std::string("expected a table, got ") + typeName(*node));
+    }
+    return node->as_table();
+}
+
+bool parseInt(std::string_view text, int& value) {
+    if (text.empty()) {
+        return false;
+    }
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return error == std::errc{} && end == text.data() + text.size() && value > 0;
+}
+
+}  // namespace
+
+std::optional<DisplayMode> parseDisplayMode(std::string_view text) {
+    DisplayMode mode;
+    const std::size_t x = text.find('x');
+    if (x == std::string_view::npos) {
+        return std::nullopt;
+    }
+    std::string_view rest = text.substr(x + 1);
+    const std::size_t at = rest.find('@');
+    if (at != std::string_view::npos) {
+        if (!parseInt(rest.substr(at + 1), mode.refresh)) {
+            return std::nullopt;
+        }
+        rest = rest.substr(0, at);
+    }
+    if (!parseInt(text.substr(0, x), mode.width) || !parseInt(rest, mode.height)) {
+        return std::nullopt;
+    }
+    return mode;
+}
+
+BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
+    toml::table root;
+    try {
+        root = toml::parse(text, source);
+    } catch (const toml::parse_error& error) {
+        std::string description(error.description());
+        if (const std::size_t newline = description.find('\n'); newline != std::string::npos) {
+            description.resize(newline);
+        }
+        throw BoardConfigError(source + ":" + std::to_string(error.source().begin.line) + ": " +
+                               description);
+    }
+    std::set<std::string, std::less<>> sections{"board", "display", "render"};
+    sections.insert(kReservedSections.begin(), kReservedSections.end());
+    checkKeys(root, source, "", sections);
+    for (const std::string& reserved : kReservedSections) {
+        optionalTable(root, source, reserved.c_str());
+    }
+
+    BoardConfig config;
+    if (const toml::table* board = optionalTable(root, source, "board")) {
+        checkKeys(*board, source, "board", {"name"});
+        config.name = optionalString(*board, source, "board", "name").value_or("");
+    }
+
+    const toml::table* display = optionalTable(root, source, "display");
+    if (display == nullptr) {
+        fail(source, "display",
+             "missing (a [display] table with backend = \"headless\" or \"kms\")");
+    }
+    checkKeys(*display, source, "display", {"backend", "device", "connector", "mode", "modeset"});
+    const std::optional<std::string> backend =
+        optionalString(*display, source, "display", "backend");
+    if (!backend) {
+        fail(source, "display.backend", "missing (\"headless\" or \"kms\")");
+    }
+    if (*backend == "headless") {
+        config.display.backend = DisplayBackend::kHeadless;
+    } else if (*backend == "kms") {
+        config.display.backend = DisplayBackend::kKms;
+    } else {
+        fail(source, "display.backend",
+             "expected \"headless\" or \"kms\", got \"" + *backend + "\"");
+    }
+    if (auto device = optionalString(*display, source, "display", "device")) {
+        if (device->empty()) {
+            fail(source, "display.device",
+                 "is empty (a DRM node such as \"/dev/dri/card0\", or \"auto\")");
+        }
+        config.display.device = *device;
+    }
+    if (auto connector = optionalString(*display, source, "display", "connector")) {
+        if (connector->empty()) {
+            fail(source, "display.connector",
+                 "is empty (a name such as \"HDMI-A-1\", or \"auto\")");
+        }
+        config.display.connector = *connector;
+    }
+    if (auto mode = optionalString(*display, source, "display", "mode")) {
+        if (*mode != "preferred") {
+            config.display.mode = parseDisplayMode(*mode);
+            if (!config.display.mode) {
+                fail(source, "display.mode",
+                     "expected \"WxH@Hz\", \"WxH\" or \"preferred\", got \"" + *mode + "\"");
+            }
+        }
+    }
+
+    if (auto modeset = optionalString(*display, source, "display", "modeset")) {
+        if (*modeset != "auto" && *modeset != "legacy") {
+            fail(source, "display.modeset",
+                 "expected \"auto\" or \"legacy\", got \"" + *modeset + "\"");
+        }
+        config.display.atomic = *modeset == "auto";
+    }
+
+    if (const toml::table* render = optionalTable(root, source, "render")) {
+        checkKeys(*render, source, "render", {"size"});
+        if (auto size = optionalString(*render, source, "render", "size")) {
+            if (*size != "projector") {
+                const std::optional<DisplayMode> parsed = parseDisplayMode(*size);
+                if (!parsed || parsed->refresh != 0) {
+                    fail(source, "render.size",
+                         "expected \"WxH\" or \"projector\", got \"" + *size + "\"");
+                }
+                config.render.width = parsed->width;
+                config.render.height = parsed->height;
+            }
+        }
+    }
+    return config;
+}
+
+BoardConfig loadBoardConfig(const std::filesystem::path& path) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+        throw BoardConfigError(path.string() + ": cannot read board file (no such file)");
+    }
+    if (!std::filesystem::is_regular_file(path, error)) {
+        throw BoardConfigError(path.string() + ": cannot read board file (not a regular file)");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw BoardConfigError(path.string() + ": cannot read board file (permission denied)");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseBoardConfig(text.str(), path.string());
+}
+
+}  // namespace vpe::firmware

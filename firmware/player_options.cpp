@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+// PlayerOptions: vpe-player's argument parser.
+#include "vpe/firmware/player_options.h"
+
+#include <charconv>
+
+#include "vpe/firmware/board_config.h"
+
+namespace vpe::firmware {
+
+namespace {
+
+long positive(const std::string& option, const std::string& text) {
+    long value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc{} || end != text.data() + text.size() || value < 1) {
+        throw PlayerUsageError(option + ": expected a positive integer, got \"" + text + "\"");
+    }
+    return value;
+}
+
+}  // namespace
+
+const char* playerUsage() {
+    return "usage: vpe-player --board FILE --bundle FILE [--frames N] [--size WxH] [--out DIR]\n"
+           "                  [--every K] [--preset NAME] [--json]\n";
+}
+
+PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
+    PlayerOptions options;
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string& option = arguments[i];
+        if (option == "--json") {
+            options.json = true;
+            continue;
+        }
+        if (option == "--help" || option == "-h") {
+            options.help = true;
+            continue;
+        }
+        if (option != "--board" && option != "--bundle" && option != "--frames" &&
+            option != "--size" && option != "--out" && option != "--every" &&
+            option != "--preset") {
+            throw PlayerUsageError(option + ": unknown argument (see vpe-player --help)");
+        }
+        if (i + 1 >= arguments.size()) {
+            throw PlayerUsageError(option + ": missing value");
+        }
+        const std::string& value = arguments[++i];
+        if (option == "--board") {
+            options.board = value;
+        } else if (option == "--bundle") {
+            options.bundle = value;
+        } else if (option == "--frames") {
+            options.frames = positive(option, value);
+        } else if (option == "--every") {
+            options.every = positive(option, value);
+        } else if (option == "--size") {
+            const std::optional<DisplayMode> size = parseDisplayMode(value);
+            if (!size || size->refresh != 0) {
+                throw PlayerUsageError("--size: expected WxH, got \"" + value + "\"");
+            }
+            options.width = size->width;
+            options.height = size->height;
+        } else if (option == "--out") {
+            options.out = value;
+        } else {
+            options.preset = value;
+        }
+    }
+    if (!options.help) {
+        if (options.board.empty()) {
+            throw PlayerUsageError("--board: missing (a board file such as boards/headless.toml)");
+        }
+        if (options.bundle.empty()) {
+            throw PlayerUsageError("--bundle: missing (a device bundle made by vpe bake)");
+        }
+    }
+    return options;
+}
+
+}  // namespace vpe::firmware

@@ -1,0 +1,294 @@
+// SPDX-License-Identifier: MIT
+// GlesFrameRenderer at 1920 × 1080, M = 10, RGB, two regions blended by a live weight preset,
+// headless (llvmpipe here): ms/frame and fps with low-rank (compressed, rank 12: 24 B/texel per
+// region) and full-precision (17 RGBA16F layers: 136 B/texel per region) textures, and in the
+// same run a pass-through shader that samples exactly the same texture layers (GL_LINEAR,
+// every layer of both regions and the weights, once per pixel, full screen) and does nothing
+// else: the bandwidth floor. Frame time = render + present (glFinish), no readback; median of
+// the timed frames after warm-up. The scene: a 1.3 m × 0.72 m plane (64 × 64 quads, 8192
+// triangles) 1.5 m in front of a 1920 × 1080 projector (f = 2000 px), ~90% of the pixels.
+//   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <GLES3/gl31.h>
+#include <unistd.h>
+
+#include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/gles/gles_frame_renderer.h"
+#include "vpe/renderer/gles/headless_egl_platform.h"
+
+#include "bake/bundle_writer.h"
+
+namespace {
+
+namespace gles = vpe::renderer::gles;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kWidth = 1920, kHeight = 1080;
+
+vpe::bake::BundleMesh planeMesh(int cells) {
+    vpe::bake::BundleMesh mesh;
+    const int n = cells + 1;
+    for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+            const float u = static_cast<float>(x) / static_cast<float>(cells);
+            const float v = static_cast<float>(y) / static_cast<float>(cells);
+            mesh.positions.insert(mesh.positions.end(),
+                                  {1.3f * u - 0.65f, 0.72f * v - 0.36f, 0.0f});
+            mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, -1.0f});
+            mesh.uvs.insert(mesh.uvs.end(), {u, v});
+        }
+    }
+    for (int y = 0; y < cells; ++y) {
+        for (int x = 0; x < cells; ++x) {
+            const auto i = static_cast<std::uint32_t>(y * n + x);
+            const auto below = i + static_cast<std::uint32_t>(n);
+            mesh.indices.insert(mesh.indices.end(), {i, below, i + 1, i + 1, below, below + 1});
+        }
+    }
+    return mesh;
+}
+
+vpe::bake::BundleContents contents(int size, bool lowRank) {
+    vpe::bake::BundleContents c;
+    c.mesh = planeMesh(64);
+    c.projector.width = kWidth;
+    c.projector.height = kHeight;
+    c.projector.intrinsics = {2000, 0, 960, 0, 2000, 540, 0, 0, 1};
+    c.projector.rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    c.projector.translation = {0, 0, 1.5};
+    c.settings.viewerPosition = {0.0f, 0.2f, -1.5f};
+    c.settings.peakIrradiance = 2.0f;
+    c.model.harmonics = 10;
+    c.model.lambda = 3.14;
+    c.textureWidth = c.textureHeight = size;
+    const auto values = static_cast<std::size_t>(c.model.coefficientsPerTexel());
+    const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+    constexpr int kRank = 12;
+    for (int region = 0; region < 2; ++region) {
+        vpe::bake::BundleRegion entry;
+        entry.name = region == 0 ? "clay" : "glaze";
+        vpe::bake::CoefficientMapData& map = entry.coefficients;
+        if (lowRank) {
+            map.encoding = vpe::proto::CoefficientEncoding::kLowRank;
+            map.rank = kRank;
+            map.mean.resize(values);
+            for (std::size_t i = 0; i < values; ++i) {
+                map.mean[i] = i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3);
+            }
+            map.basis.resize(kRank * values);
+            for (std::size_t i = 0; i < map.basis.size(); ++i) {
+                map.basis[i] = 0.02f * std::sin(0.1f * static_cast<float>(i + 7 * region));
+            }
+            map.weights.resize(texels * kRank);
+            for (std::size_t i = 0; i < map.weights.size(); ++i) {
+                map.weights[i] =
+                    static_cast<float>((i * 2654435761u + region) % 1000) / 500.0f - 1.0f;
+            }
+        } else {
+            map.encoding = vpe::proto::CoefficientEncoding::kFull;
+            map.coefficients.resize(texels * values);
+            for (std::size_t t = 0; t < texels; ++t) {
+                for (std::size_t i = 0; i < values; ++i) {
+                    const float wobble =
+                        static_cast<float>(((t + 31 * i) * 2654435761u + region) % 1000) / 1e4f;
+                    map.coefficients[t * values + i] =
+                        (i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3)) + wobble;
+                }
+            }
+        }
+        c.regions.push_back(std::move(entry));
+    }
+    vpe::bake::WeightPreset preset;
+    preset.name = "stripes";
+    preset.alpha.resize(2 * texels);
+    for (std::size_t t = 0; t < texels; ++t) {
+        const float a =
+            0.5f + 0.5f * std::sin(static_cast<float>(t % static_cast<std::size_t>(size)) / 40.0f);
+        preset.alpha[t] = a;
+        preset.alpha[texels + t] = 1.0f - a;
+    }
+    c.presets.push_back(std::move(preset));
+    return c;
+}
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+template <typename Frame>
+double medianFrameMs(int warmup, int frames, Frame&& frame) {
+    for (int i = 0; i < warmup; ++i) {
+        frame(i);
+    }
+    std::vector<double> ms;
+    for (int i = 0; i < frames; ++i) {
+        const auto start = Clock::now();
+        frame(warmup + i);
+        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    }
+    return median(ms);
+}
+
+gles::GlObject arrayTexture(GLenum internalFormat, GLenum format, GLenum type, int width,
+                            int height, int layers, const void* data) {
+    gles::GlObject texture = gles::GlObject::texture();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internalFormat, width, height, layers);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
+// The bandwidth floor: the bundle's texture layers, uploaded as the renderer uploads them,
+// each sampled once per pixel by a full-screen triangle.
+class PassThrough {
+public:
+    explicit PassThrough(const vpe::proto::BundleView& bundle) {
+        const auto& presets = bundle.presets();
+        const vpe::proto::WeightPresetView& preset = presets.front();
+        const int w = bundle.textureWidth(), h = bundle.textureHeight();
+        if (preset.encoding == vpe::proto::AlphaEncoding::kUnorm8) {
+            weights_ = arrayTexture(GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h, preset.layers,
+                                    preset.unorm8.data());
+        } else {
+            weights_ = arrayTexture(GL_R16F, GL_RED, GL_HALF_FLOAT, w, h, preset.layers,
+                                    preset.halves.data());
+        }
+        std::string fragment =
+            "#version 310 es\nprecision highp float;\nprecision highp sampler2DArray;\n"
+            "uniform sampler2DArray weights;\nuniform vec2 size;\nout vec4 colour;\n";
+        std::string body =
+            "void main() {\n  vec2 uv = gl_FragCoord.xy / size;\n  vec4 sum = vec4(0.0);\n";
+        for (int l = 0; l < preset.layers; ++l) {
+            body += "  sum.x += texture(weights, vec3(uv, " + std::to_string(l) + ".0)).x;\n";
+        }
+        for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
+            const vpe::proto::HalfLayers& layers = bundle.regions()[r].coefficients.layers;
+            regions_.push_back(arrayTexture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, layers.width,
+                                            layers.height, layers.layers, layers.halves.data()));
+            layers_ += layers.layers;
+            fragment += "uniform sampler2DArray region" + std::to_string(r) + ";\n";
+            for (int l = 0; l < layers.layers; ++l) {
+                body += "  sum += texture(region" + std::to_string(r) + ", vec3(uv, " +
+                        std::to_string(l) + ".0));\n";
+            }
+        }
+        fragment += body + "  colour = vec4(sum.xyz * 0.01, 1.0);\n}\n";
+        const std::string vertex =
+            "#version 310 es\nvoid main() {\n"
+            "  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);\n"
+            "  gl_Position = vec4(p, 0.0, 1.0);\n}\n";
+        program_ = gles::GlObject::program(gles::linkProgram(
+            "pass_through", gles::compileShader(GL_VERTEX_SHADER, "pass.vert", vertex),
+            gles::compileShader(GL_FRAGMENT_SHADER, "pass.frag", fragment)));
+        vertexArray_ = gles::GlObject::vertexArray();
+    }
+    int layers() const { return layers_; }
+    void render(gles::RenderTarget& target) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
+        glViewport(0, 0, target.width(), target.height());
+        glUseProgram(program_.get());
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D_ARRAY, weights_.get());
+        glUniform1i(glGetUniformLocation(program_.get(), "weights"), 0);
+        for (std::size_t r = 0; r < regions_.size(); ++r) {
+            glActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(r));
+            glBindTexture(GL_TEXTURE_2D_ARRAY, regions_[r].get());
+            glUniform1i(
+                glGetUniformLocation(program_.get(), ("region" + std::to_string(r)).c_str()),
+                1 + static_cast<GLint>(r));
+        }
+        glUniform2f(glGetUniformLocation(program_.get(), "size"),
+                    static_cast<float>(target.width()), static_cast<float>(target.height()));
+        glBindVertexArray(vertexArray_.get());
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindVertexArray(0);
+        target.present();
+        gles::checkGlError("pass-through frame");
+    }
+
+private:
+    gles::GlObject weights_, program_, vertexArray_;
+    std::vector<gles::GlObject> regions_;
+    int layers_ = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int textureSize = 1024, frames = 10, warmup = 2;
+    for (int i = 1; i + 1 < argc; i += 2) {
+        const int value = std::atoi(argv[i + 1]);
+        if (std::strcmp(argv[i], "--texture") == 0) {
+            textureSize = value;
+        } else if (std::strcmp(argv[i], "--frames") == 0) {
+            frames = value;
+        } else if (std::strcmp(argv[i], "--warmup") == 0) {
+            warmup = value;
+        }
+    }
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() /
+                                         ("vpe-gles-benchmark-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(folder);
+    int status = 0;
+    try {
+        std::unique_ptr<gles::GraphicsPlatform> platform = gles::createHeadlessEglPlatform();
+        std::printf(
+            "%s\n%dx%d, M = 10, RGB, 2 regions + live weights (8-bit preset), %d² textures, "
+            "median of %d frames after %d warm-up (render + glFinish)\n",
+            platform->description().c_str(), kWidth, kHeight, textureSize, frames, warmup);
+        std::printf("%-12s %10s %8s %16s %10s %8s\n", "textures", "B/texel", "ms", "fps",
+                    "floor ms", "ratio");
+        for (const bool lowRank : {true, false}) {
+            const std::filesystem::path path = folder / (lowRank ? "low_rank.vpeb" : "full.vpeb");
+            vpe::bake::writeBundle(path, contents(textureSize, lowRank));
+            const vpe::proto::BundleFile bundle =
+                vpe::proto::BundleFile::open(path, {.verifyChecksum = false});
+            std::unique_ptr<gles::RenderTarget> target =
+                platform->createRenderTarget(kWidth, kHeight);
+            int bytesPerTexel = bundle->presets().front().bytesPerTexel();
+            for (const auto& region : bundle->regions()) {
+                bytesPerTexel += region.coefficients.bytesPerTexel();
+            }
+            double frameMs = 0;
+            {
+                gles::GlesFrameRenderer renderer(bundle.view());
+                gles::FrameInputs inputs;
+                inputs.viewerPosition = bundle->settings().viewerPosition;
+                frameMs = medianFrameMs(warmup, frames, [&](int i) {
+                    const float phi = 0.3f * static_cast<float>(i);
+                    inputs.lightPosition = {0.6f * std::cos(phi), 0.6f * std::sin(phi), -1.2f};
+                    renderer.render(*target, inputs);
+                    target->present();
+                });
+            }
+            PassThrough floor(bundle.view());
+            const double floorMs =
+                medianFrameMs(warmup, frames, [&](int) { floor.render(*target); });
+            std::printf("%-12s %10d %8.1f %16.2f %10.1f %8.2f\n", lowRank ? "low-rank 12" : "full",
+                        bytesPerTexel, frameMs, 1000.0 / frameMs, floorMs, frameMs / floorMs);
+            std::fflush(stdout);
+            std::filesystem::remove(path);
+        }
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "vpe_gles_frame_benchmark: %s\n", error.what());
+        status = 1;
+    }
+    std::filesystem::remove_all(folder);
+    return status;
+}

@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: MIT
+// vpe-player end to end: a small bundle (the GLES tests' vase, 160 × 120) played headless for 5
+// frames with --json and --out; bad arguments, board files, bundles and an absent KMS display
+// end with one line on stderr and exit status 2. The headless run SKIPs without EGL.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "vpe/renderer/gles/headless_egl_platform.h"
+
+#include "gles_test_bundle.h"
+
+namespace vpe::firmware {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct PlayerRun {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string readAll(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+std::string quoted(const std::string& text) {
+    std::string out = "'";
+    for (const char c : text) {
+        out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    }
+    return out + "'";
+}
+
+class PlayerTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        folder_ = fs::temp_directory_path() /
+                  ("vpe-player-test-" + std::to_string(::getpid()) + "-" +
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(folder_);
+        const std::vector<std::byte> bytes = renderer::testing::buildGlesTestBundle();
+        bundleBytes_.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+        bundle_ = writeFile("scene.vpeb", bundleBytes_);
+        headless_ = writeFile("headless.toml", "[display]\nbackend = \"headless\"\n");
+    }
+    void TearDown() override { fs::remove_all(folder_); }
+
+    fs::path writeFile(const std::string& name, const std::string& contents) {
+        const fs::path path = folder_ / name;
+        std::ofstream(path, std::ios::binary) << contents;
+        return path;
+    }
+
+    PlayerRun play(const std::vector<std::string>& arguments) {
+        std::string command = quoted(VPE_PLAYER_PATH);
+        for (const std::string& a : arguments) {
+            command += " " + quoted(a);
+        }
+        const fs::path out = folder_ / "stdout.txt", err = folder_ / "stderr.txt";
+        command += " >" + quoted(out.string()) + " 2>" + quoted(err.string());
+        PlayerRun run;
+        const int status = std::system(command.c_str());
+        run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        run.out = readAll(out);
+        run.err = readAll(err);
+        return run;
+    }
+
+    // Exit status 2 and exactly one line on stderr, containing `needle`.
+    void expectOneLineError(const PlayerRun& run, const std::string& needle) {
+        EXPECT_EQ(run.status, 2) << run.err;
+        ASSERT_FALSE(run.err.empty());
+        EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
+        EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
+    }
+
+    fs::path folder_, bundle_, headless_;
+    std::string bundleBytes_;
+};
+
+bool headlessAvailable(std::string& why) {
+    try {
+        renderer::gles::createHeadlessEglPlatform();
+        return true;
+    } catch (const renderer::gles::GraphicsError& error) {
+        why = error.what();
+        return false;
+    }
+}
+
+TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    const fs::path frames = folder_ / "frames";
+    const PlayerRun run =
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--frames", "5",
+              "--size", "160x120", "--json", "--out", frames.string(), "--every", "2"});
+    ASSERT_EQ(run.status, 0) << run.err;
+    EXPECT_TRUE(run.err.empty()) << run.err;
+    // stdout ends with the JSON object, on its own line.
+    const std::size_t open = run.out.rfind("\n{");
+    ASSERT_NE(open, std::string::npos) << run.out;
+    const std::string json = run.out.substr(open + 1);
+    EXPECT_EQ(json.back(), '\n');
+    EXPECT_EQ(json[json.size() - 2], '}');
+    for (const char* key : {"\"frames\": 5", "\"fps\": ", "\"frame_ms\": {", "\"p50\": ",
+                            "\"p99\": ", "\"width\": 160", "\"height\": 120", "\"written\": 3"}) {
+        EXPECT_NE(json.find(key), std::string::npos) << key << " in " << json;
+    }
+    // Frames 0, 2, 4 as PPM, and nothing half-written beside them.
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(frames)) {
+        names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());
+    ASSERT_EQ(names,
+              (std::vector<std::string>{"frame_00000.ppm", "frame_00002.ppm", "frame_00004.ppm"}));
+    const std::string ppm = readAll(frames / "frame_00002.ppm");
+    const std::string header = "P6\n160 120\n255\n";
+    ASSERT_EQ(ppm.size(), header.size() + 160 * 120 * 3);
+    EXPECT_EQ(ppm.substr(0, header.size()), header);
+    std::size_t lit = 0;
+    for (std::size_t i = header.size(); i < ppm.size(); ++i) {
+        lit += ppm[i] != 0 ? 1 : 0;
+    }
+    EXPECT_GT(lit, 160u * 120u / 10) << "the vase should be lit";
+    // The light moves: frames differ.
+    EXPECT_NE(readAll(frames / "frame_00000.ppm"), ppm);
+}
+
+TEST_F(PlayerTest, RefusesBadArguments) {
+    expectOneLineError(play({"--bundle", bundle_.string()}), "--board: missing");
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--frames", "0"}),
+        "--frames: expected a positive integer, got \"0\"");
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--size", "160"}),
+        "--size: expected WxH");
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--fast"}),
+        "--fast: unknown argument");
+}
+
+TEST_F(PlayerTest, RefusesBadBoardFiles) {
+    const fs::path bad = writeFile("bad.toml", "[display]\nbackend = \"kms\"\nmode = \"big\"\n");
+    expectOneLineError(play({"--board", bad.string(), "--bundle", bundle_.string()}),
+                       bad.string() + ":display.mode: expected");
+    const fs::path unknown =
+        writeFile("unknown.toml", "[display]\nbackend = \"headless\"\nfps = 60\n");
+    expectOneLineError(play({"--board", unknown.string(), "--bundle", bundle_.string()}),
+                       unknown.string() + ":display.fps: unknown key");
+    expectOneLineError(
+        play({"--board", (folder_ / "none.toml").string(), "--bundle", bundle_.string()}),
+        "none.toml: cannot read board file (no such file)");
+}
+
+TEST_F(PlayerTest, RefusesMissingAndCorruptBundles) {
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", (folder_ / "missing.vpeb").string()}),
+        "missing.vpeb");
+    std::string corrupt = bundleBytes_;
+    corrupt[corrupt.size() - 7] = static_cast<char>(corrupt[corrupt.size() - 7] ^ 0x5a);
+    const fs::path flipped = writeFile("flipped.vpeb", corrupt);
+    expectOneLineError(play({"--board", headless_.string(), "--bundle", flipped.string()}),
+                       "flipped.vpeb: ");
+    const fs::path truncated = writeFile("truncated.vpeb", bundleBytes_.substr(0, 100));
+    expectOneLineError(play({"--board", headless_.string(), "--bundle", truncated.string()}),
+                       "truncated.vpeb: ");
+    const fs::path text = writeFile("text.vpeb", "not a bundle at all\n");
+    expectOneLineError(play({"--board", headless_.string(), "--bundle", text.string()}),
+                       "text.vpeb: ");
+}
+
+TEST_F(PlayerTest, RefusesASizeOtherThanTheProjectors) {
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--size", "320x240"}),
+        "--size: 320x240 differs from the bundle's projector 160x120");
+}
+
+TEST_F(PlayerTest, ReportsAnAbsentKmsDisplay) {
+    if (fs::exists("/dev/dri/card0")) {
+        GTEST_SKIP() << "/dev/dri/card0 exists here";
+    }
+    const fs::path kms =
+        writeFile("kms.toml", "[display]\nbackend = \"kms\"\ndevice = \"/dev/dri/card0\"\n");
+    const PlayerRun run = play({"--board", kms.string(), "--bundle", bundle_.string()});
+    expectOneLineError(run, "/dev/dri/card0: no such device (KMS display unavailable)");
+    EXPECT_EQ(run.err, "vpe-player: /dev/dri/card0: no such device (KMS display unavailable)\n");
+    const fs::path out = folder_ / "frames";
+    expectOneLineError(
+        play({"--board", kms.string(), "--bundle", bundle_.string(), "--out", out.string()}),
+        "--out: frames are read back only on the headless display");
+}
+
+}  // namespace
+}  // namespace vpe::firmware
