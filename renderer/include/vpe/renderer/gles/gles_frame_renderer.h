@@ -82,7 +82,7 @@ private:
     std::vector<GlObject> presetTextures_;
     std::size_t preset_ = 0;
     std::vector<GlObject> regionTextures_;
-    GlObject lowRankTexture_, curveTexture_;
+    GlObject lowRankBuffer_, curveTexture_;
     GlObject positions_, normals_, uvs_, indices_, rays_;
     GlObject visibilityProgram_, shadingProgram_;
     GlObject vertexArray_;
