@@ -33,7 +33,6 @@ namespace {
 constexpr int kMaxResolution = 8192;
 constexpr double kRotationTolerance = 1e-3;
 constexpr double kMaxUnitlessDistance = 20.0;  // metres; beyond, T is probably in mm
-constexpr double kPi = 3.14159265358979323846;
 
 std::string formatNumber(double value) {
     std::array<char, 32> buffer{};
