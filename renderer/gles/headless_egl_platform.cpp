@@ -11,55 +11,11 @@
 
 #include "vpe/renderer/gles/gl_program.h"
 
+#include "egl_support.h"
+
 namespace vpe::renderer::gles {
 
 namespace {
-
-std::string eglErrorName(EGLint error) {
-    switch (error) {
-        case EGL_SUCCESS:
-            return "EGL_SUCCESS";
-        case EGL_NOT_INITIALIZED:
-            return "EGL_NOT_INITIALIZED";
-        case EGL_BAD_ACCESS:
-            return "EGL_BAD_ACCESS";
-        case EGL_BAD_ALLOC:
-            return "EGL_BAD_ALLOC";
-        case EGL_BAD_ATTRIBUTE:
-            return "EGL_BAD_ATTRIBUTE";
-        case EGL_BAD_CONFIG:
-            return "EGL_BAD_CONFIG";
-        case EGL_BAD_CONTEXT:
-            return "EGL_BAD_CONTEXT";
-        case EGL_BAD_DISPLAY:
-            return "EGL_BAD_DISPLAY";
-        case EGL_BAD_MATCH:
-            return "EGL_BAD_MATCH";
-        case EGL_BAD_PARAMETER:
-            return "EGL_BAD_PARAMETER";
-        case EGL_BAD_SURFACE:
-            return "EGL_BAD_SURFACE";
-        default: {
-            std::ostringstream out;
-            out << "EGL error 0x" << std::hex << error;
-            return out.str();
-        }
-    }
-}
-
-bool hasExtension(const char* list, const std::string& name) {
-    if (list == nullptr) {
-        return false;
-    }
-    std::istringstream words(list);
-    std::string word;
-    while (words >> word) {
-        if (word == name) {
-            return true;
-        }
-    }
-    return false;
-}
 
 // An FBO with an RGBA8 colour renderbuffer.
 class FramebufferTarget final : public RenderTarget {
@@ -113,7 +69,7 @@ public:
         clientNeeded.insert(clientNeeded.end(), options.extraClientExtensions.begin(),
                             options.extraClientExtensions.end());
         for (const std::string& name : clientNeeded) {
-            if (!hasExtension(client, name)) {
+            if (!hasEglExtension(client, name)) {
                 throw GraphicsError("EGL: client extension " + name + " is missing");
             }
         }
@@ -168,7 +124,7 @@ private:
         needed.insert(needed.end(), options.extraDisplayExtensions.begin(),
                       options.extraDisplayExtensions.end());
         for (const std::string& name : needed) {
-            if (!hasExtension(extensions, name)) {
+            if (!hasEglExtension(extensions, name)) {
                 throw GraphicsError("EGL: display extension " + name + " is missing");
             }
         }

@@ -13,31 +13,12 @@
 #include <gbm.h>
 #include <xf86drm.h>
 
+#include "egl_support.h"
 #include "kms_display.h"
 
 namespace vpe::renderer::gles {
 
 namespace {
-
-std::string eglError() {
-    std::ostringstream out;
-    out << "EGL error 0x" << std::hex << eglGetError();
-    return out.str();
-}
-
-bool hasExtension(const char* list, const std::string& name) {
-    if (list == nullptr) {
-        return false;
-    }
-    std::istringstream words(list);
-    std::string word;
-    while (words >> word) {
-        if (word == name) {
-            return true;
-        }
-    }
-    return false;
-}
 
 // The DRM framebuffer of a GBM buffer, made once and kept as the buffer's user data
 // (kmscube's drm_fb_get_from_bo).
@@ -105,7 +86,7 @@ public:
     std::string description() const override { return description_; }
     void makeCurrent() override {
         if (eglMakeCurrent(eglDisplay, eglSurface, eglSurface, context_) != EGL_TRUE) {
-            throw GraphicsError("EGL: eglMakeCurrent failed: " + eglError());
+            throw GraphicsError("EGL: eglMakeCurrent failed: " + eglErrorName(eglGetError()));
         }
     }
     std::unique_ptr<RenderTarget> createRenderTarget(int width, int height) override {
@@ -132,7 +113,7 @@ private:
     void createEgl(const KmsOptions& options) {
         const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
         for (const char* name : {"EGL_EXT_platform_base", "EGL_KHR_platform_gbm"}) {
-            if (!hasExtension(client, name)) {
+            if (!hasEglExtension(client, name)) {
                 throw GraphicsError(std::string("EGL: client extension ") + name + " is missing");
             }
         }
@@ -145,14 +126,16 @@ private:
         EGLint major = 0, minor = 0;
         if (eglDisplay == EGL_NO_DISPLAY || eglInitialize(eglDisplay, &major, &minor) != EGL_TRUE) {
             eglDisplay = EGL_NO_DISPLAY;
-            throw GraphicsError("EGL: no GBM display on " + display_.device() + " (" + eglError() +
-                                ")");
+            throw GraphicsError("EGL: no GBM display on " + display_.device() + " (" +
+                                eglErrorName(eglGetError()) + ")");
         }
-        if (!hasExtension(eglQueryString(eglDisplay, EGL_EXTENSIONS), "EGL_KHR_create_context")) {
+        if (!hasEglExtension(eglQueryString(eglDisplay, EGL_EXTENSIONS),
+                             "EGL_KHR_create_context")) {
             throw GraphicsError("EGL: display extension EGL_KHR_create_context is missing");
         }
         if (eglBindAPI(EGL_OPENGL_ES_API) != EGL_TRUE) {
-            throw GraphicsError("EGL: OpenGL ES is not supported (eglBindAPI: " + eglError() + ")");
+            throw GraphicsError("EGL: OpenGL ES is not supported (eglBindAPI: " +
+                                eglErrorName(eglGetError()) + ")");
         }
         // A config whose native visual is the GBM surface's format (kmscube's
         // match_config_to_visual).
@@ -195,13 +178,13 @@ private:
         context_ = eglCreateContext(eglDisplay, config, EGL_NO_CONTEXT, contextAttributes);
         if (context_ == EGL_NO_CONTEXT) {
             throw GraphicsError("EGL: cannot create an OpenGL ES " + version +
-                                " context: " + eglError());
+                                " context: " + eglErrorName(eglGetError()));
         }
         eglSurface = eglCreateWindowSurface(
             eglDisplay, config, reinterpret_cast<EGLNativeWindowType>(surface_), nullptr);
         if (eglSurface == EGL_NO_SURFACE) {
             throw GraphicsError("EGL: cannot create a window surface on the GBM surface: " +
-                                eglError());
+                                eglErrorName(eglGetError()));
         }
         makeCurrent();
         const auto text = [](GLenum name) {
@@ -258,7 +241,7 @@ int ScanoutTarget::height() const {
 
 void ScanoutTarget::present() {
     if (eglSwapBuffers(platform_.eglDisplay, platform_.eglSurface) != EGL_TRUE) {
-        throw GraphicsError("EGL: eglSwapBuffers failed: " + eglError());
+        throw GraphicsError("EGL: eglSwapBuffers failed: " + eglErrorName(eglGetError()));
     }
     gbm_bo* bo = gbm_surface_lock_front_buffer(platform_.surface_);
     if (bo == nullptr) {
