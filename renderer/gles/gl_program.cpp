@@ -142,4 +142,19 @@ GlObject GlObject::vertexArray() {
     return {Kind::kVertexArray, name};
 }
 
+GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
+                          unsigned format, unsigned type, const void* data) {
+    GlObject texture = GlObject::texture();
+    glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
+    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, static_cast<GLenum>(internalFormat), width, height,
+                   layers);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return texture;
+}
+
 }  // namespace vpe::renderer::gles

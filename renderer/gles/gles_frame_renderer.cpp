@@ -404,20 +404,6 @@ GlObject makeRowTexture(GLenum internalFormat, GLenum format, GLenum type,
                          padded.data());
 }
 
-GlObject makeArrayTexture(GLenum internalFormat, int width, int height, int layers, GLenum format,
-                          GLenum type, const void* data) {
-    GlObject texture = GlObject::texture();
-    glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internalFormat, width, height, layers);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return texture;
-}
-
 GLint location(unsigned program, const char* name) {
     return glGetUniformLocation(program, name);
 }

@@ -140,20 +140,6 @@ double medianFrameMs(int warmup, int frames, Frame&& frame) {
     return median(ms);
 }
 
-gles::GlObject arrayTexture(GLenum internalFormat, GLenum format, GLenum type, int width,
-                            int height, int layers, const void* data) {
-    gles::GlObject texture = gles::GlObject::texture();
-    glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
-    glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, internalFormat, width, height, layers);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    return texture;
-}
-
 // The bandwidth floor: the bundle's texture layers, uploaded as the renderer uploads them,
 // each sampled once per pixel by a full-screen triangle.
 class PassThrough {
@@ -163,11 +149,11 @@ public:
         const vpe::proto::WeightPresetView& preset = presets.front();
         const int w = bundle.textureWidth(), h = bundle.textureHeight();
         if (preset.encoding == vpe::proto::AlphaEncoding::kUnorm8) {
-            weights_ = arrayTexture(GL_R8, GL_RED, GL_UNSIGNED_BYTE, w, h, preset.layers,
-                                    preset.unorm8.data());
+            weights_ = gles::makeArrayTexture(GL_R8, w, h, preset.layers, GL_RED, GL_UNSIGNED_BYTE,
+                                              preset.unorm8.data());
         } else {
-            weights_ = arrayTexture(GL_R16F, GL_RED, GL_HALF_FLOAT, w, h, preset.layers,
-                                    preset.halves.data());
+            weights_ = gles::makeArrayTexture(GL_R16F, w, h, preset.layers, GL_RED, GL_HALF_FLOAT,
+                                              preset.halves.data());
         }
         std::string fragment =
             "#version 310 es\nprecision highp float;\nprecision highp sampler2DArray;\n"
@@ -179,8 +165,9 @@ public:
         }
         for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
             const vpe::proto::HalfLayers& layers = bundle.regions()[r].coefficients.layers;
-            regions_.push_back(arrayTexture(GL_RGBA16F, GL_RGBA, GL_HALF_FLOAT, layers.width,
-                                            layers.height, layers.layers, layers.halves.data()));
+            regions_.push_back(gles::makeArrayTexture(GL_RGBA16F, layers.width, layers.height,
+                                                      layers.layers, GL_RGBA, GL_HALF_FLOAT,
+                                                      layers.halves.data()));
             layers_ += layers.layers;
             fragment += "uniform sampler2DArray region" + std::to_string(r) + ";\n";
             for (int l = 0; l < layers.layers; ++l) {

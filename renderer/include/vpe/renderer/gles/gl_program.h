@@ -61,4 +61,9 @@ private:
     unsigned name_ = 0;
 };
 
+// An immutable 2D texture array (linear filtering, clamped), as the renderer uploads a
+// bundle's texture payloads: internal format, then the data's format and type (GL enums).
+GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
+                          unsigned format, unsigned type, const void* data);
+
 }  // namespace vpe::renderer::gles
