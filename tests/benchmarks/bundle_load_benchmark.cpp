@@ -18,42 +18,16 @@
 #include <unistd.h>
 
 #include "bake/bundle_writer.h"
+#include "benchmark_bundle.h"
 
 namespace {
 
 using vpe::bake::BundleContents;
 
-// A flat square of the texture's aspect, `cells` quads a side.
-vpe::bake::BundleMesh gridMesh(int cells) {
-    vpe::bake::BundleMesh mesh;
-    const int n = cells + 1;
-    for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-            const float u = static_cast<float>(x) / static_cast<float>(cells);
-            const float v = static_cast<float>(y) / static_cast<float>(cells);
-            mesh.positions.insert(mesh.positions.end(), {0.2f * u - 0.1f, 0.1f - 0.2f * v, 0.0f});
-            mesh.normals.insert(mesh.normals.end(), {0.0f, 0.0f, 1.0f});
-            mesh.uvs.insert(mesh.uvs.end(), {u, v});
-        }
-    }
-    for (int y = 0; y < cells; ++y) {
-        for (int x = 0; x < cells; ++x) {
-            const auto i = static_cast<std::uint32_t>(y * n + x);
-            const auto below = i + static_cast<std::uint32_t>(n);
-            mesh.indices.insert(mesh.indices.end(), {i, below, i + 1, i + 1, below, below + 1});
-        }
-    }
-    return mesh;
-}
-
 BundleContents benchmarkContents(int size, int rank) {
     BundleContents c;
-    c.mesh = gridMesh(64);
-    c.projector.width = 1920;
-    c.projector.height = 1080;
-    c.projector.intrinsics = {2000, 0, 960, 0, 2000, 540, 0, 0, 1};
-    c.projector.rotation = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    c.projector.translation = {0, 0, 1.5};
+    c.mesh = vpe::benchmarks::planeMesh(64, 0.2f, -0.2f, 1.0f);
+    c.projector = vpe::benchmarks::benchmarkProjector();
     c.settings.viewerPosition = {0.0f, 0.2f, 1.5f};
     c.model.harmonics = 10;
     c.model.lambda = 3.14;
@@ -78,16 +52,7 @@ BundleContents benchmarkContents(int size, int rank) {
         }
         c.regions.push_back(std::move(entry));
     }
-    vpe::bake::WeightPreset preset;
-    preset.name = "stripes";
-    preset.alpha.resize(2 * texels);
-    for (std::size_t t = 0; t < texels; ++t) {
-        const float a =
-            0.5f + 0.5f * std::sin(static_cast<float>(t % static_cast<std::size_t>(size)) / 40.0f);
-        preset.alpha[t] = a;
-        preset.alpha[texels + t] = 1.0f - a;
-    }
-    c.presets.push_back(std::move(preset));
+    c.presets.push_back(vpe::benchmarks::stripesPreset(size));
     return c;
 }
 
