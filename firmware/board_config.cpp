@@ -10,79 +10,17 @@
 
 #include <toml++/toml.h>
 
+#include "board/toml_fields.h"
+
 namespace vpe::firmware {
 
 namespace {
 
+using namespace toml_fields;
+
 // Sections kept for issue 7 (GPIO knobs, tracking camera, OSC, light limits): accepted as
 // tables with any contents, not read yet.
 const std::set<std::string, std::less<>> kReservedSections{"gpio", "camera", "osc", "light"};
-
-[[noreturn]] void fail(const std::string& source, const std::string& key,
-                       const std::string& problem) {
-    throw BoardConfigError(source + ":" + key + ": " + problem);
-}
-
-const char* typeName(const toml::node& node) {
-    switch (node.type()) {
-        case toml::node_type::table:
-            return "a table";
-        case toml::node_type::array:
-            return "an array";
-        case toml::node_type::string:
-            return "a string";
-        case toml::node_type::integer:
-            return "an integer";
-        case toml::node_type::floating_point:
-            return "a number";
-        case toml::node_type::boolean:
-            return "a boolean";
-        default:
-            return "a date or time";
-    }
-}
-
-// The table `section` holds only `allowed` keys.
-void checkKeys(const toml::table& table, const std::string& source, const std::string& section,
-               const std::set<std::string, std::less<>>& allowed) {
-    for (const auto& [key, node] : table) {
-        const std::string name(key.str());
-        if (!allowed.contains(name)) {
-            std::string list;
-            for (const std::string& a : allowed) {
-                list += (list.empty() ? "" : ", ") + a;
-            }
-            fail(source, section.empty() ? name : section + "." + name,
-                 "unknown key (known: " + list + ")");
-        }
-        (void)node;
-    }
-}
-
-std::optional<std::string> optionalString(const toml::table& table, const std::string& source,
-                                          const std::string& section, const char* key) {
-    const toml::node* node = table.get(key);
-    if (node == nullptr) {
-        return std::nullopt;
-    }
-    const auto value = node->value<std::string>();
-    if (!node->is_string() || !value) {
-        fail(source, section + "." + key, std::string("expected a string, got ") + typeName(*node));
-    }
-    return *value;
-}
-
-const toml::table* optionalTable(const toml::table& root, const std::string& source,
-                                 const char* key) {
-    const toml::node* node = root.get(key);
-    if (node == nullptr) {
-        return nullptr;
-    }
-    if (!node->is_table()) {
-        fail(source, key, std::string("expected a table, got ") + typeName(*node));
-    }
-    return node->as_table();
-}
 
 bool parseInt(std::string_view text, int& value) {
     if (text.empty()) {
@@ -130,16 +68,16 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
     sections.insert(kReservedSections.begin(), kReservedSections.end());
     checkKeys(root, source, "", sections);
     for (const std::string& reserved : kReservedSections) {
-        optionalTable(root, source, reserved.c_str());
+        optionalTable(root, source, "", reserved.c_str());
     }
 
     BoardConfig config;
-    if (const toml::table* board = optionalTable(root, source, "board")) {
+    if (const toml::table* board = optionalTable(root, source, "", "board")) {
         checkKeys(*board, source, "board", {"name"});
         config.name = optionalString(*board, source, "board", "name").value_or("");
     }
 
-    const toml::table* display = optionalTable(root, source, "display");
+    const toml::table* display = optionalTable(root, source, "", "display");
     if (display == nullptr) {
         fail(source, "display",
              "missing (a [display] table with backend = \"headless\" or \"kms\")");
@@ -190,7 +128,7 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
         config.display.atomic = *modeset == "auto";
     }
 
-    if (const toml::table* render = optionalTable(root, source, "render")) {
+    if (const toml::table* render = optionalTable(root, source, "", "render")) {
         checkKeys(*render, source, "render", {"size"});
         if (auto size = optionalString(*render, source, "render", "size")) {
             if (*size != "projector") {

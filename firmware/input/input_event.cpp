@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#include "vpe/firmware/input/input_device.h"
+#include "vpe/firmware/input/input_event.h"
+
+#include <ctime>
+
+namespace vpe::firmware {
+
+const char* inputSourceName(InputSource source) {
+    switch (source) {
+        case InputSource::kKnobs:
+            return "knobs";
+        case InputSource::kCamera:
+            return "camera";
+        case InputSource::kOsc:
+            return "osc";
+        case InputSource::kIdle:
+            return "idle";
+    }
+    return "unknown";
+}
+
+std::int64_t monotonicNowNs() {
+    timespec now{};
+    ::clock_gettime(CLOCK_MONOTONIC, &now);
+    return static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+}
+
+}  // namespace vpe::firmware
