@@ -16,6 +16,8 @@ packages=(
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
     libdrm-dev libgbm-dev                     # GLES renderer's KMS platform (DRM + GBM + EGL)
     libtomlplusplus-dev                       # vpe-player's board files (boards/*.toml)
+    libgpiod-dev liblo-dev libcamera-dev      # vpe-player's inputs: knobs (1.6 API), OSC, tracked lamp
+    libsystemd-dev                            # vpe-player's sd_notify watchdog (boards/vpe-player.service)
 )
 if [[ "${1:-}" == "--test" ]]; then
     packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)
