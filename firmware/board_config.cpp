@@ -18,9 +18,8 @@ namespace {
 
 using namespace toml_fields;
 
-// Sections kept for issue 7 (GPIO knobs, tracking camera, OSC, light limits): accepted as
-// tables with any contents, not read yet.
-const std::set<std::string, std::less<>> kReservedSections{"gpio", "camera", "osc", "light"};
+// Input sections: parsed by their rooms (knobs/, tracking/, osc/) through BoardConfig::section.
+const std::set<std::string, std::less<>> kInputSections{"gpio", "camera", "osc"};
 
 bool parseInt(std::string_view text, int& value) {
     if (text.empty()) {
@@ -64,14 +63,17 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
         throw BoardConfigError(source + ":" + std::to_string(error.source().begin.line) + ": " +
                                description);
     }
-    std::set<std::string, std::less<>> sections{"board", "display", "render"};
-    sections.insert(kReservedSections.begin(), kReservedSections.end());
+    std::set<std::string, std::less<>> sections{"board", "display", "render", "light", "idle"};
+    sections.insert(kInputSections.begin(), kInputSections.end());
     checkKeys(root, source, "", sections);
-    for (const std::string& reserved : kReservedSections) {
-        optionalTable(root, source, "", reserved.c_str());
+    for (const std::string& input : kInputSections) {
+        optionalTable(root, source, "", input.c_str());
     }
 
     BoardConfig config;
+    config.source = source;
+    config.light = parseLightConfig(optionalTable(root, source, "", "light"), source);
+    config.idle = parseIdleConfig(optionalTable(root, source, "", "idle"), source);
     if (const toml::table* board = optionalTable(root, source, "", "board")) {
         checkKeys(*board, source, "board", {"name"});
         config.name = optionalString(*board, source, "board", "name").value_or("");
@@ -129,7 +131,15 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
     }
 
     if (const toml::table* render = optionalTable(root, source, "", "render")) {
-        checkKeys(*render, source, "render", {"size"});
+        checkKeys(*render, source, "render", {"size", "rate"});
+        if (auto rate = optionalNumber(*render, source, "render", "rate")) {
+            if (*rate < 0 || *rate > 1000) {
+                fail(source, "render.rate",
+                     "expected frames per second in [0, 1000] (0: unpaced), got " +
+                         std::to_string(*rate));
+            }
+            config.render.rate = *rate;
+        }
         if (auto size = optionalString(*render, source, "render", "size")) {
             if (*size != "projector") {
                 const std::optional<DisplayMode> parsed = parseDisplayMode(*size);
@@ -142,7 +152,16 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
             }
         }
     }
+    config.document = std::make_shared<const toml::table>(std::move(root));
     return config;
+}
+
+const toml::table* BoardConfig::section(std::string_view key) const {
+    if (!document) {
+        return nullptr;
+    }
+    const toml::node* node = document->get(key);
+    return node == nullptr ? nullptr : node->as_table();
 }
 
 BoardConfig loadBoardConfig(const std::filesystem::path& path) {

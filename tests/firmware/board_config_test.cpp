@@ -4,6 +4,7 @@
 #include "vpe/firmware/board_config.h"
 
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 namespace vpe::firmware {
 namespace {
@@ -71,8 +72,28 @@ TEST(BoardConfigTest, RefusesBadFilesWithOneLine) {
               "test.toml:display.modeset: expected \"auto\" or \"legacy\", got \"fast\"");
     EXPECT_EQ(errorOf("display = 1\n"), "test.toml:display: expected a table, got an integer");
     EXPECT_EQ(errorOf("[displays]\n"),
-              "test.toml:displays: unknown key (known: board, camera, display, gpio, light, osc, "
-              "render)");
+              "test.toml:displays: unknown key (known: board, camera, display, gpio, idle, light, "
+              "osc, render)");
+    const std::string headless = "[display]\nbackend = \"headless\"\n";
+    EXPECT_EQ(errorOf(headless + "[render]\nrate = -1\n"),
+              "test.toml:render.rate: expected frames per second in [0, 1000] (0: unpaced), got "
+              "-1.000000");
+    EXPECT_EQ(errorOf(headless + "[light]\nazimuth = [-200, 10]\n"),
+              "test.toml:light.azimuth: must lie within [-180, 180]");
+    EXPECT_EQ(errorOf(headless + "[light]\nelevation = [40, 10]\n"),
+              "test.toml:light.elevation: low is above high");
+    EXPECT_EQ(errorOf(headless + "[light]\ndistance = [0, 1]\n"),
+              "test.toml:light.distance: must be positive (metres from the object's centre)");
+    EXPECT_EQ(errorOf(headless + "[light]\nsmoothing_s = \"fast\"\n"),
+              "test.toml:light.smoothing_s: expected a number, got a string");
+    EXPECT_EQ(errorOf(headless + "[light]\ncolour = 1\n").rfind(
+                  "test.toml:light.colour: unknown key (known: azimuth, distance,", 0),
+              0u);
+    EXPECT_EQ(errorOf(headless + "[idle]\nperiod_s = 0\n"),
+              "test.toml:idle.period_s: must be positive");
+    EXPECT_EQ(errorOf(headless + "[idle]\nenabled = 1\n"),
+              "test.toml:idle.enabled: expected a boolean, got an integer");
+
     EXPECT_EQ(errorOf("[display]\nbackend = \"kms\"\ndevice = \"\"\n")
                   .rfind("test.toml:display.device: is empty", 0),
               0u);
@@ -81,12 +102,46 @@ TEST(BoardConfigTest, RefusesBadFilesWithOneLine) {
     EXPECT_EQ(syntax.find('\n'), std::string::npos);
 }
 
-TEST(BoardConfigTest, AcceptsTheReservedSections) {
+TEST(BoardConfigTest, KeepsTheInputSectionsForTheirRooms) {
     const BoardConfig config = parseBoardConfig(
-        "[display]\nbackend = \"headless\"\n[gpio]\nchip = \"gpiochip0\"\n[camera]\n[osc]\n"
-        "[light]\n",
-        "t.toml");
+        "[display]\nbackend = \"headless\"\n[gpio]\nchip = \"gpiochip0\"\n[camera]\n", "t.toml");
     EXPECT_EQ(config.display.backend, DisplayBackend::kHeadless);
+    EXPECT_EQ(config.source, "t.toml");
+    ASSERT_NE(config.section("gpio"), nullptr);
+    EXPECT_EQ(config.section("gpio")->get("chip")->value<std::string>(), "gpiochip0");
+    EXPECT_NE(config.section("camera"), nullptr);
+    EXPECT_EQ(config.section("osc"), nullptr);
+}
+
+TEST(BoardConfigTest, ReadsLightAndIdle) {
+    const BoardConfig config = parseBoardConfig(
+        "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n"
+        "[light]\nazimuth = [-90, 90]\nelevation = [0, 80]\ndistance = [0.2, 1.5]\n"
+        "initial_azimuth = 10\ninitial_elevation = 20.5\ninitial_distance = 0.6\n"
+        "smoothing_s = 0\nintensity = 2\ninverse_square = true\n"
+        "[idle]\nenabled = false\nquiet_s = 5\nperiod_s = 10\nazimuth = [-30, 30]\n"
+        "elevation = [10, 40]\nhandover_s = 1\n",
+        "t.toml");
+    EXPECT_EQ(config.render.rate, 30.0);
+    EXPECT_EQ(config.light.limits.azimuthDeg, (std::pair{-90.0, 90.0}));
+    EXPECT_EQ(config.light.limits.elevationDeg, (std::pair{0.0, 80.0}));
+    EXPECT_EQ(config.light.limits.distanceM, (std::pair{0.2, 1.5}));
+    EXPECT_EQ(config.light.initialAzimuthDeg, 10.0);
+    EXPECT_EQ(config.light.initialElevationDeg, 20.5);
+    EXPECT_EQ(config.light.initialDistanceM, 0.6);
+    EXPECT_EQ(config.light.smoothingSeconds, 0.0);
+    EXPECT_EQ(config.light.intensity, 2.0);
+    EXPECT_TRUE(config.light.inverseSquare);
+    EXPECT_FALSE(config.idle.enabled);
+    EXPECT_EQ(config.idle.quietSeconds, 5.0);
+    EXPECT_EQ(config.idle.periodSeconds, 10.0);
+    EXPECT_EQ(config.idle.azimuthDeg, (std::pair{-30.0, 30.0}));
+    EXPECT_EQ(config.idle.elevationDeg, (std::pair{10.0, 40.0}));
+    EXPECT_EQ(config.idle.handoverSeconds, 1.0);
+    const BoardConfig defaults = parseBoardConfig("[display]\nbackend = \"headless\"\n", "d");
+    EXPECT_EQ(defaults.render.rate, 60.0);
+    EXPECT_FALSE(defaults.light.limits.distanceM.has_value());
+    EXPECT_TRUE(defaults.idle.enabled);
 }
 
 TEST(BoardConfigTest, NamesMissingFiles) {

@@ -6,10 +6,15 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include <toml++/impl/forward_declarations.h>  // toml::table, without the parser
+
+#include "vpe/firmware/light/light_config.h"
 
 namespace vpe::firmware {
 
@@ -38,12 +43,21 @@ struct DisplayConfig {
 struct RenderConfig {
     // headless: the render target's size; empty = the bundle projector's size.
     std::optional<int> width, height;
+    // headless: frames per second paced by a timer (KMS is paced by vsync); 0 = unpaced.
+    double rate = 60.0;
 };
 
 struct BoardConfig {
     std::string name;  // [board] name (informative)
+    std::string source;  // the file, for errors from the sections parsed later
     DisplayConfig display;
     RenderConfig render;
+    LightConfig light;
+    IdleConfig idle;
+    // The input sections ([gpio], [camera], [osc]) are parsed by their own rooms (knobs/,
+    // tracking/, osc/) from the document kept here; nullptr when the section is absent.
+    const toml::table* section(std::string_view key) const;
+    std::shared_ptr<const toml::table> document;
 };
 
 // Parses "1920x1080" (refresh 0) or "1920x1080@60"; nullopt when malformed or not positive.
