@@ -3,6 +3,7 @@
 #include "vpe/firmware/player_options.h"
 
 #include <charconv>
+#include <cstdlib>
 
 #include "vpe/firmware/board_config.h"
 
@@ -22,8 +23,14 @@ long positive(const std::string& option, const std::string& text) {
 }  // namespace
 
 const char* playerUsage() {
-    return "usage: vpe-player --board FILE --bundle FILE [--frames N] [--size WxH] [--out DIR]\n"
-           "                  [--every K] [--preset NAME] [--json]\n";
+    return "usage: vpe-player --board FILE --bundle FILE [--frames N] [--size WxH] [--rate HZ]\n"
+           "                  [--out DIR] [--every K] [--preset NAME] [--replay EVENTS.jsonl]\n"
+           "                  [--replay-loop] [--json]\n"
+           "       vpe-player --board FILE [--bundle FILE] --check\n"
+           "  --frames N   stop after N frames (default: run until SIGTERM or SIGINT)\n"
+           "  --rate HZ    headless frame rate (default: the board's render.rate; 0 = unpaced)\n"
+           "  --replay F   feed recorded input events (firmware/README.md) through the decoders\n"
+           "  SIGHUP, or the bundle file being replaced, reloads the bundle\n";
 }
 
 PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
@@ -34,13 +41,21 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
             options.json = true;
             continue;
         }
+        if (option == "--check") {
+            options.check = true;
+            continue;
+        }
+        if (option == "--replay-loop") {
+            options.replayLoop = true;
+            continue;
+        }
         if (option == "--help" || option == "-h") {
             options.help = true;
             continue;
         }
         if (option != "--board" && option != "--bundle" && option != "--frames" &&
             option != "--size" && option != "--out" && option != "--every" &&
-            option != "--preset") {
+            option != "--preset" && option != "--rate" && option != "--replay") {
             throw PlayerUsageError(option + ": unknown argument (see vpe-player --help)");
         }
         if (i + 1 >= arguments.size()) {
@@ -52,7 +67,17 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         } else if (option == "--bundle") {
             options.bundle = value;
         } else if (option == "--frames") {
-            options.frames = positive(option, value);
+            options.frames = value == "0" ? 0 : positive(option, value);
+        } else if (option == "--rate") {
+            char* end = nullptr;
+            const double rate = std::strtod(value.c_str(), &end);
+            if (value.empty() || *end != '\0' || !(rate >= 0 && rate <= 1000)) {
+                throw PlayerUsageError("--rate: expected frames per second in [0, 1000], got \"" +
+                                       value + "\"");
+            }
+            options.rate = rate;
+        } else if (option == "--replay") {
+            options.replay = value;
         } else if (option == "--every") {
             options.every = positive(option, value);
         } else if (option == "--size") {
@@ -72,7 +97,7 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         if (options.board.empty()) {
             throw PlayerUsageError("--board: missing (a board file such as boards/headless.toml)");
         }
-        if (options.bundle.empty()) {
+        if (options.bundle.empty() && !options.check) {
             throw PlayerUsageError("--bundle: missing (a device bundle made by vpe bake)");
         }
     }

@@ -4,9 +4,11 @@
 # (or $1). It renders the built-in synthetic Bizen capture, fits the paper's Fourier BRDF
 # and vpe's extended model, scores them on held-out lights, reproduces the paper's Fig. 6,
 # splits the texture into regions, quilts each to a new 512² texture and blends them with
-# weight maps, bakes a device bundle for a vase and a projector and renders frames for a
-# moving light (CPU reference), and lays the results out as contact sheets; then does the same on real captures when
-# ../shared/data (or $VPE_DATA) has them. Installs missing Debian packages itself.
+# weight maps, bakes a device bundle for a vase and a projector, renders frames for a moving
+# light with the CPU reference (projector, visitor and material views), plays the bundle on
+# the device program (vpe-player: OpenGL ES, headless) along its idle path, and lays the
+# results out as contact sheets; then does the same on real captures when ../shared/data (or
+# $VPE_DATA) has them. Installs missing Debian packages itself.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -128,6 +130,29 @@ printf '%-28s baked %s bytes (%s bytes/texel per region); 8 frames rendered, loo
     "$(json_field bytes < "$stage/bake.json")" "$(json_field bytes_per_texel < "$stage/bake.json")" \
     "$(json_field psnr < "$stage/frames/frame00.json")" | tee -a "$summary"
 
+step "play (vpe-player, OpenGL ES headless): the light drifting along the idle path"
+play="$synthetic/player"
+mkdir -p "$play/frames" "$play/tiles"
+# The headless board, unpaced (frames as fast as llvmpipe renders them) and with a drift slow
+# enough that 16 frames make one smooth loop.
+sed -e 's/^rate = .*/rate = 0/' -e 's/^period_s = .*/period_s = 24/' -e 's/^handover_s = .*/handover_s = 0/' \
+    -e '/^\[osc\]/,/^port/ s/^enabled = true/enabled = false/' \
+    boards/headless.toml > "$play/board.toml"
+"$player" --board "$play/board.toml" --bundle "$stage/scene.vpeb" --frames 32 --every 2 \
+    --out "$play/frames" --json > "$play/player.txt"
+tail -1 "$play/player.txt" > "$play/player.json"
+for ppm in "$play"/frames/frame_*.ppm; do
+    name=$(basename "$ppm" .ppm)
+    oiiotool "$ppm" -d uint8 -o "$play/frames/$name.png" && rm "$ppm"
+    tile "$play/frames/$name.png" "$play/tiles/$name.png" "vpe-player ${name#frame_}"
+done
+sheet 4 "$play/contact-sheet.png" "$play"/tiles/*.png
+rm -rf "$play/tiles"
+printf '%-28s vpe-player (GLES, %s): 32 frames 1920x1080, frame p50 %.0f ms; first frame %.0f ms after start\n' "" \
+    "$(sed -n 's/.*"platform": "\([^:(]*\).*/\1/p' "$play/player.json" | sed 's/ *$//')" \
+    "$(sed -n 's/.*"frame_ms": {"p50": \([0-9.]*\).*/\1/p' "$play/player.json")" \
+    "$(json_field first_frame_ms < "$play/player.json")" | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -165,6 +190,10 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
                                       what a visitor would see, and the material itself
   synthetic-bizen/projection/scene.vpeb
                                       the device bundle (vpe info: info.txt)
+  synthetic-bizen/player/contact-sheet.png
+                                      the device program (vpe-player, OpenGL ES headless)
+                                      playing the bundle along its idle path: 16 of 32 frames;
+                                      frames/*.png, the animation's frames in order
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above

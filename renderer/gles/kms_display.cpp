@@ -227,33 +227,40 @@ void KmsDisplay::show(std::uint32_t fb) {
         modeSet_ = true;
         return;
     }
-    bool waiting = true;
+    waitForFlip();  // one flip in flight at a time
+    flipPending_ = true;
     if (atomic_) {
-        const int error = atomic_->commit(fb, false, &waiting);
+        const int error = atomic_->commit(fb, false, &flipPending_);
         if (error != 0) {
+            flipPending_ = false;
             throw GraphicsError(device_ + ": atomic page flip failed: " + std::strerror(-error));
         }
-    } else if (drmModePageFlip(fd_, crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &waiting) != 0) {
+    } else if (drmModePageFlip(fd_, crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &flipPending_) != 0) {
+        flipPending_ = false;
         throw GraphicsError(device_ + ": drmModePageFlip failed: " + std::strerror(errno));
     }
-    waitForFlip(waiting);
 }
 
-void KmsDisplay::waitForFlip(bool& waiting) {
+void KmsDisplay::handleEvents() {
     drmEventContext events{};
     events.version = 2;
     events.page_flip_handler = pageFlipHandler;
-    while (waiting) {
+    drmHandleEvent(fd_, &events);
+}
+
+void KmsDisplay::waitForFlip() {
+    while (flipPending_) {
         pollfd descriptor{fd_, POLLIN, 0};
         const int ready = ::poll(&descriptor, 1, 1000);
         if (ready < 0 && errno == EINTR) {
             continue;
         }
         if (ready <= 0) {
+            flipPending_ = false;
             throw GraphicsError(device_ + ": no page flip event within 1 s" +
                                 (ready < 0 ? std::string(": ") + std::strerror(errno) : ""));
         }
-        drmHandleEvent(fd_, &events);
+        handleEvents();
     }
 }
 

@@ -36,14 +36,20 @@ public:
     const char* modesetting() const { return atomic_ ? "atomic" : "legacy"; }
 
     // Shows framebuffer `fb`: the first time a modeset (an atomic commit with ALLOW_MODESET,
-    // or drmModeSetCrtc), then page flips (an atomic NONBLOCK commit or drmModePageFlip) with
-    // DRM_MODE_PAGE_FLIP_EVENT, returning after the flip (vsync). Throws GraphicsError.
+    // or drmModeSetCrtc; synchronous, flipPending() stays false), then page flips (an atomic
+    // NONBLOCK commit or drmModePageFlip) with DRM_MODE_PAGE_FLIP_EVENT, returning at once with
+    // flipPending() true. A flip still pending is waited for first. Throws GraphicsError.
     void show(std::uint32_t fb);
+    bool flipPending() const { return flipPending_; }
+    // Reads the DRM events that are there (fd() is readable); clears flipPending() when the
+    // flip has happened.
+    void handleEvents();
+    // Blocks until the pending flip has happened (at most 1 s: then GraphicsError).
+    void waitForFlip();
 
 private:
     void open(const std::string& device);
     void choose(const KmsOptions& options);
-    void waitForFlip(bool& waiting);
 
     int fd_ = -1;
     std::string device_;
@@ -54,6 +60,7 @@ private:
     drmModeModeInfo mode_{};
     drmModeCrtc* savedCrtc_ = nullptr;  // owned: restored and freed on destruction
     bool modeSet_ = false;
+    bool flipPending_ = false;  // cleared by the page-flip event handler
 };
 
 }  // namespace vpe::renderer::gles

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // KmsPlatform: GBM + EGL on a KmsDisplay (kmscube's common.c order), and the scanout target
 // whose present() swaps, locks the front buffer, wraps it in a DRM framebuffer (cached on the
-// buffer object), shows it (modeset, then page flip + vsync wait) and releases the previous one.
+// buffer object) and shows it (modeset, then a queued page flip); the buffer it replaces goes
+// back to GBM once the flip event says it is off screen.
 #include "vpe/renderer/gles/kms_platform.h"
 
 #include <cstring>
@@ -46,13 +47,19 @@ public:
     unsigned framebuffer() const override { return 0; }
     bool topRowAtGlOrigin() const override { return false; }
     void present() override;
+    int vsyncDescriptor() const override;
+    bool onVsyncReadable() override;
+    bool vsyncPending() const override { return queued_ != nullptr; }
     std::vector<std::uint8_t> readRgba8() const override {
         throw GraphicsError("KMS: the scanout surface is not read back (use the headless display)");
     }
 
 private:
+    void flipDone();
+
     KmsPlatform& platform_;  // borrowed: the platform outlives its target
-    gbm_bo* previous_ = nullptr;
+    gbm_bo* previous_ = nullptr;  // on screen
+    gbm_bo* queued_ = nullptr;    // flip queued, not yet on screen
 };
 
 class KmsPlatform final : public GraphicsPlatform {
@@ -227,9 +234,39 @@ private:
 };
 
 ScanoutTarget::~ScanoutTarget() {
-    if (previous_ != nullptr && platform_.surface_ != nullptr) {
+    if (queued_ != nullptr) {
+        try {
+            platform_.display_.waitForFlip();
+        } catch (const GraphicsError&) {
+            // The device is going away; the buffers go with the surface.
+        }
+    }
+    for (gbm_bo* bo : {previous_, queued_}) {
+        if (bo != nullptr && platform_.surface_ != nullptr) {
+            gbm_surface_release_buffer(platform_.surface_, bo);
+        }
+    }
+}
+
+int ScanoutTarget::vsyncDescriptor() const {
+    return platform_.display_.fd();
+}
+
+bool ScanoutTarget::onVsyncReadable() {
+    platform_.display_.handleEvents();
+    if (!platform_.display_.flipPending() && queued_ != nullptr) {
+        flipDone();
+    }
+    return !platform_.display_.flipPending();
+}
+
+void ScanoutTarget::flipDone() {
+    // The queued buffer is on screen: the one it replaced goes back to GBM for rendering.
+    if (previous_ != nullptr) {
         gbm_surface_release_buffer(platform_.surface_, previous_);
     }
+    previous_ = queued_;
+    queued_ = nullptr;
 }
 
 int ScanoutTarget::width() const {
@@ -240,6 +277,10 @@ int ScanoutTarget::height() const {
 }
 
 void ScanoutTarget::present() {
+    if (queued_ != nullptr) {
+        platform_.display_.waitForFlip();  // a caller not pacing by vsyncDescriptor()
+        flipDone();
+    }
     if (eglSwapBuffers(platform_.eglDisplay, platform_.eglSurface) != EGL_TRUE) {
         throw GraphicsError("EGL: eglSwapBuffers failed: " + eglErrorName(eglGetError()));
     }
@@ -266,11 +307,10 @@ void ScanoutTarget::present() {
         gbm_surface_release_buffer(platform_.surface_, bo);
         throw;
     }
-    // The previous buffer is off screen now: give it back to GBM for rendering.
-    if (previous_ != nullptr) {
-        gbm_surface_release_buffer(platform_.surface_, previous_);
+    queued_ = bo;
+    if (!platform_.display_.flipPending()) {
+        flipDone();  // the first frame: a synchronous modeset
     }
-    previous_ = bo;
 }
 
 }  // namespace

@@ -2,14 +2,16 @@
 # Shared by the scripts (sourced from the repository root): build the vpe command and read
 # numbers from its --json reports.
 
-# Builds `vpe` in the release preset and sets $vpe to its absolute path.
+# Builds `vpe` and `vpe-player` in the release preset and sets $vpe and $player to their
+# absolute paths.
 build_vpe() {
     cmake --preset release >/dev/null
-    cmake --build --preset release --target vpe -j "$(nproc)"
+    cmake --build --preset release --target vpe vpe-player -j "$(nproc)"
     vpe=$(realpath build/release/offline/vpe)
+    player=$(realpath build/release/firmware/player/vpe-player)
 }
 
 # json_field NAME < REPORT: the last numeric value of "NAME": in a JSON report.
 json_field() {
-    sed -n "s/.*\"$1\":\([0-9.eE+-]*\).*/\1/p" | tail -1
+    sed -n "s/.*\"$1\": *\([0-9.eE+-]*\).*/\1/p" | tail -1
 }

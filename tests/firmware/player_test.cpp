@@ -2,105 +2,15 @@
 // vpe-player end to end: a small bundle (the GLES tests' vase, 160 × 120) played headless for 5
 // frames with --json and --out; bad arguments, board files, bundles and an absent KMS display
 // end with one line on stderr and exit status 2. The headless run SKIPs without EGL.
-#include <algorithm>
-#include <array>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include "vpe/renderer/gles/headless_egl_platform.h"
-
-#include "gles_test_bundle.h"
+#include "player_fixture.h"
 
 namespace vpe::firmware {
 namespace {
 
-namespace fs = std::filesystem;
-
-struct PlayerRun {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string readAll(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-std::string quoted(const std::string& text) {
-    std::string out = "'";
-    for (const char c : text) {
-        out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    }
-    return out + "'";
-}
-
-class PlayerTest : public ::testing::Test {
-protected:
-    void SetUp() override {
-        folder_ = fs::temp_directory_path() /
-                  ("vpe-player-test-" + std::to_string(::getpid()) + "-" +
-                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(folder_);
-        const std::vector<std::byte> bytes = renderer::testing::buildGlesTestBundle();
-        bundleBytes_.assign(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-        bundle_ = writeFile("scene.vpeb", bundleBytes_);
-        headless_ = writeFile("headless.toml", "[display]\nbackend = \"headless\"\n");
-    }
-    void TearDown() override { fs::remove_all(folder_); }
-
-    fs::path writeFile(const std::string& name, const std::string& contents) {
-        const fs::path path = folder_ / name;
-        std::ofstream(path, std::ios::binary) << contents;
-        return path;
-    }
-
-    PlayerRun play(const std::vector<std::string>& arguments) {
-        std::string command = quoted(VPE_PLAYER_PATH);
-        for (const std::string& a : arguments) {
-            command += " " + quoted(a);
-        }
-        const fs::path out = folder_ / "stdout.txt", err = folder_ / "stderr.txt";
-        command += " >" + quoted(out.string()) + " 2>" + quoted(err.string());
-        PlayerRun run;
-        const int status = std::system(command.c_str());
-        run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        run.out = readAll(out);
-        run.err = readAll(err);
-        return run;
-    }
-
-    // Exit status 2 and exactly one line on stderr, containing `needle`.
-    void expectOneLineError(const PlayerRun& run, const std::string& needle) {
-        EXPECT_EQ(run.status, 2) << run.err;
-        ASSERT_FALSE(run.err.empty());
-        EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
-        EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
-    }
-
-    fs::path folder_, bundle_, headless_;
-    std::string bundleBytes_;
-};
-
-bool headlessAvailable(std::string& why) {
-    try {
-        renderer::gles::createHeadlessEglPlatform();
-        return true;
-    } catch (const renderer::gles::GraphicsError& error) {
-        why = error.what();
-        return false;
-    }
-}
+using namespace vpe::firmware::testing;
 
 TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
     std::string why;
@@ -147,8 +57,8 @@ TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
 TEST_F(PlayerTest, RefusesBadArguments) {
     expectOneLineError(play({"--bundle", bundle_.string()}), "--board: missing");
     expectOneLineError(
-        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--frames", "0"}),
-        "--frames: expected a positive integer, got \"0\"");
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--frames", "-1"}),
+        "--frames: expected a positive integer, got \"-1\"");
     expectOneLineError(
         play({"--board", headless_.string(), "--bundle", bundle_.string(), "--size", "160"}),
         "--size: expected WxH");

@@ -31,8 +31,17 @@ public:
     // FBO read back with glReadPixels into a top-first image; false for a scanout surface,
     // whose GL origin is the bottom-left corner of the screen.
     virtual bool topRowAtGlOrigin() const = 0;
-    // Ends a frame: headless waits for the GPU (glFinish); KMS swaps and flips.
+    // Ends a frame: headless waits for the GPU (glFinish); KMS swaps and queues the page flip.
     virtual void present() = 0;
+    // Vsync pacing for an event loop. A scanout target's present() queues its page flip and
+    // returns; the flip's completion arrives on vsyncDescriptor() (the DRM fd), and
+    // onVsyncReadable() handles it, returning true once the frame is on screen (then the next
+    // may be presented). A present() while a flip is still queued waits for it first. Headless
+    // targets have no descriptor (−1): their present() is done when it returns.
+    virtual int vsyncDescriptor() const { return -1; }
+    virtual bool onVsyncReadable() { return true; }
+    // True while a presented frame waits for its flip (false after a synchronous modeset).
+    virtual bool vsyncPending() const { return false; }
     // The frame as RGBA8, rows from the top, width·height·4 bytes. Throws GraphicsError where
     // the target cannot be read (a scanout may not be).
     virtual std::vector<std::uint8_t> readRgba8() const = 0;

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+// FrameReport: what vpe-player measured, for its summary line and its --json object: frame
+// times, input-to-frame latency (event timestamp → frame submitted), resident memory at the
+// start and the end (a soak must stay flat), input counts and errors.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace vpe::firmware {
+
+// Nearest rank: the smallest value with at least q of the samples at or below it (0 if none).
+double nearestRankPercentile(std::vector<double> values, double q);
+
+// The process's resident set in KiB (/proc/self/statm), 0 when unreadable.
+long residentKilobytes();
+
+std::string jsonString(const std::string& text);
+
+// Keeps every sample up to a cap, then a uniform reservoir: a 100,000-frame soak must not
+// grow memory for its own statistics.
+class SampleSet {
+public:
+    explicit SampleSet(std::size_t capacity = 200'000) : capacity_(capacity) {}
+    void add(double value);
+    std::size_t count() const { return count_; }
+    double max() const { return max_; }
+    double mean() const { return count_ == 0 ? 0 : total_ / static_cast<double>(count_); }
+    double percentile(double q) const { return nearestRankPercentile(samples_, q); }
+
+private:
+    std::vector<double> samples_;
+    std::size_t capacity_;
+    std::size_t count_ = 0;
+    double total_ = 0;
+    double max_ = 0;
+    std::uint64_t random_ = 0x9E3779B97F4A7C15ull;
+};
+
+struct FrameReport {
+    long frames = 0;
+    int width = 0, height = 0;
+    std::string preset, platform;
+    SampleSet frameMs;
+    SampleSet latencyMs;  // one sample per applied input event
+    double firstFrameMs = 0;  // process start → first frame submitted
+    double seconds = 0;       // first frame → last frame
+    long rssStartKb = 0, rssEndKb = 0;  // after the first frame, and at the end
+    long written = 0;
+    long reloads = 0, reloadsRefused = 0;
+    long errors = 0;  // frames that failed (GL errors): the loop logs and goes on
+    std::map<std::string, long> events;  // per source: "knobs", "camera", "osc"
+    long eventsRefused = 0;
+    std::string stoppedBy = "frames";
+    // The light at the end: where the inputs (or the drift) left it.
+    double azimuthDeg = 0, elevationDeg = 0, distanceM = 0;
+    std::string activeInput;  // "frames", "SIGTERM", "SIGINT", "replay"
+
+    std::string summaryLine() const;
+    std::string json() const;
+};
+
+}  // namespace vpe::firmware

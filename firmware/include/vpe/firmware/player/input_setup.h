@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// The player's inputs from its board file: the [gpio] knobs, the [camera] lamp and the [osc]
+// server, or, with --replay, the replay file decoded with those same settings. Hardware that is
+// absent (no gpiochip, camera or free port, as on a CI machine) is logged once, one line, and
+// the player goes on with what it has.
+#pragma once
+
+#include <optional>
+
+#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/knobs/knobs_config.h"
+#include "vpe/firmware/osc/osc_config.h"
+#include "vpe/firmware/osc/osc_dispatcher.h"
+#include "vpe/firmware/player/player.h"
+#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/tracking/camera_config.h"
+
+namespace vpe::firmware {
+
+struct InputSettings {
+    std::optional<knobs::KnobsConfig> knobs;  // absent: no [gpio] section
+    std::optional<CameraConfig> camera;
+    std::optional<OscConfig> osc;
+};
+
+// Parses the input sections. Throws BoardConfigError.
+InputSettings readInputSettings(const BoardConfig& board);
+
+// OSC's ranges are the light rig's limits (with the distance range resolved from the bundle),
+// so OSC refuses exactly what the rig would have to clamp.
+OscLimits oscLimitsOf(const LightLimits& light);
+
+// Adds the enabled inputs to the player (or the replay, with --replay). Throws
+// PlayerInputError for a bad replay file.
+void addInputs(Player& player, const InputSettings& settings,
+               const PlayerOptions& options);
+
+}  // namespace vpe::firmware

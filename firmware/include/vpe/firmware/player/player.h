@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+// Player: vpe-player's running state. One EventLoop (loop/event_loop.h) waits on every input
+// device's descriptors, the frame clock (a timer headless, page flips on KMS), signals and the
+// bundle's file watch; between frames the inputs' events move the LightRig, and each frame
+// renders the rig's light with the GlesFrameRenderer. SIGHUP or a replaced bundle file reloads
+// the bundle; a bad new bundle is refused and the old one keeps playing.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/input/input_device.h"
+#include "vpe/firmware/light/light_rig.h"
+#include "vpe/firmware/loop/event_loop.h"
+#include "vpe/firmware/loop/file_watch.h"
+#include "vpe/firmware/loop/service_watchdog.h"
+#include "vpe/firmware/player/frame_report.h"
+#include "vpe/firmware/player/scene_slot.h"
+#include "vpe/firmware/player_options.h"
+#include "vpe/renderer/gles/graphics_platform.h"
+
+namespace vpe::firmware {
+
+// Bad input at start (board, bundle, display, sizes): vpe-player exits with status 2.
+class PlayerInputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+class Player {
+public:
+    // Opens the platform, the bundle and the render target. Throws PlayerInputError.
+    Player(const PlayerOptions& options, const BoardConfig& board, std::int64_t processStartNs);
+    ~Player();
+
+    // Adds an input; its descriptors join the loop. Call before run().
+    void addInput(std::unique_ptr<InputDevice> device);
+    // run() also stops once this returns true (checked after each frame): a replay's end.
+    void stopWhen(std::function<bool()> condition, std::string reason);
+
+    // Called after each successful reload (inputs that know the bundle's presets).
+    void onBundleReloaded(std::function<void()> callback) { reloaded_.push_back(std::move(callback)); }
+
+    // Plays until --frames, a stop condition, SIGTERM or SIGINT.
+    FrameReport run();
+
+    const proto::BundleView& bundle() const { return scene_->view(); }
+    const LightRig& rig() const { return rig_; }
+    const FrameReport& report() const { return report_; }
+
+private:
+    void renderFrame();
+    void applyEvents(std::vector<InputEvent>& events);
+    void reload(const char* why);
+    static LightSphere sphereOf(const proto::BundleView& view);
+
+    PlayerOptions options_;
+    BoardConfig board_;
+    std::int64_t processStartNs_;
+    bool headless_;
+    std::unique_ptr<renderer::gles::GraphicsPlatform> platform_;
+    std::unique_ptr<SceneSlot> scene_;
+    std::unique_ptr<renderer::gles::RenderTarget> target_;
+    LightRig rig_;
+    EventLoop loop_;
+    SignalWatch signals_;
+    MonotonicTimer frameClock_;
+    std::optional<FileWatch> bundleWatch_;
+    ServiceWatchdog watchdog_;
+    std::vector<std::unique_ptr<InputDevice>> devices_;
+    std::vector<InputEvent> pending_;
+    std::vector<std::int64_t> unshownEvents_;  // timestamps applied since the last frame
+    std::vector<std::function<void()>> reloaded_;
+    std::function<bool()> stopCondition_;
+    std::string stopReason_;
+    FrameReport report_;
+    bool running_ = true;
+    bool frameDue_ = true;
+    bool waitingForFlip_ = false;
+    int shownPreset_ = -1;
+    long consecutiveErrors_ = 0;
+    std::int64_t firstFrameNs_ = 0;
+};
+
+}  // namespace vpe::firmware

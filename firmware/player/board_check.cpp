@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#include "vpe/firmware/player/board_check.h"
+
+#include <filesystem>
+#include <sstream>
+
+#include "vpe/firmware/player/input_setup.h"
+#include "vpe/firmware/player/player.h"
+#include "vpe/firmware/tracking/lamp_calibration.h"
+#include "vpe/proto/bundle.h"
+
+namespace vpe::firmware {
+
+namespace {
+
+std::string presence(const std::filesystem::path& path) {
+    std::error_code error;
+    return std::filesystem::exists(path, error) ? "present" : "absent on this machine";
+}
+
+std::string range(const std::pair<double, double>& r) {
+    std::ostringstream text;
+    text << "[" << r.first << ", " << r.second << "]";
+    return text.str();
+}
+
+}  // namespace
+
+std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
+    InputSettings inputs;
+    try {
+        inputs = readInputSettings(board);
+        if (inputs.camera && !inputs.camera->calibration.empty()) {
+            LampCalibration::fit(inputs.camera->calibration);
+        }
+    } catch (const BoardConfigError& error) {
+        throw PlayerInputError(error.what());
+    } catch (const CalibrationError& error) {
+        throw PlayerInputError(board.source + ":camera.calibration: " + error.what());
+    }
+    std::ostringstream out;
+    out << board.source << ": valid board file";
+    if (!board.name.empty()) {
+        out << " (" << board.name << ")";
+    }
+    out << "\n";
+    if (board.display.backend == DisplayBackend::kHeadless) {
+        out << "  display: headless (EGL surfaceless), "
+            << (board.render.rate > 0 ? std::to_string(board.render.rate) + " Hz timer"
+                                      : std::string("unpaced"))
+            << "\n";
+    } else {
+        out << "  display: kms " << board.display.device << " ("
+            << (board.display.device == "auto" ? std::string("first connected card")
+                                               : presence(board.display.device))
+            << "), connector " << board.display.connector << ", mode "
+            << (board.display.mode ? std::to_string(board.display.mode->width) + "x" +
+                                         std::to_string(board.display.mode->height)
+                                   : std::string("preferred"))
+            << ", " << (board.display.atomic ? "atomic if available" : "legacy") << "\n";
+    }
+    if (inputs.knobs && inputs.knobs->enabled) {
+        const std::string& chip = inputs.knobs->chip;
+        const std::filesystem::path node =
+            chip.find('/') != std::string::npos ? std::filesystem::path(chip)
+                                                : std::filesystem::path("/dev") / chip;
+        out << "  knobs: " << inputs.knobs->encoders.size() << " encoders, "
+            << inputs.knobs->buttons.size() << " buttons on " << chip << " ("
+            << presence(node) << ")\n";
+    } else {
+        out << "  knobs: off\n";
+    }
+    if (inputs.camera && inputs.camera->enabled) {
+        out << "  camera: " << inputs.camera->id << ", " << inputs.camera->tracking.width << "x"
+            << inputs.camera->tracking.height << ", " << inputs.camera->calibration.size()
+            << " calibration points (fit ok; the camera itself is probed when the player starts)\n";
+    } else {
+        out << "  camera: off\n";
+    }
+    if (inputs.osc && inputs.osc->enabled) {
+        out << "  osc: udp " << inputs.osc->address << ":" << inputs.osc->port << "\n";
+    } else {
+        out << "  osc: off\n";
+    }
+    out << "  light: azimuth " << range(board.light.limits.azimuthDeg) << "°, elevation "
+        << range(board.light.limits.elevationDeg) << "°, distance "
+        << (board.light.limits.distanceM ? range(*board.light.limits.distanceM) + " m"
+                                         : std::string("[0.5, 4] × object radius"))
+        << ", smoothing " << board.light.smoothingSeconds << " s\n";
+    out << "  idle: "
+        << (board.idle.enabled ? "after " + std::to_string(board.idle.quietSeconds) +
+                                     " s quiet, figure of eight every " +
+                                     std::to_string(board.idle.periodSeconds) + " s"
+                               : std::string("off"))
+        << "\n";
+    if (!options.bundle.empty()) {
+        try {
+            const proto::BundleFile bundle = proto::BundleFile::open(options.bundle);
+            const auto& projector = bundle.view().projector();
+            out << "  bundle: " << options.bundle.string() << " ok (checksum verified), projector "
+                << projector.width << "x" << projector.height << ", "
+                << bundle.view().presets().size() << " presets\n";
+            const auto w = static_cast<int>(projector.width), h = static_cast<int>(projector.height);
+            const bool headless = board.display.backend == DisplayBackend::kHeadless;
+            const std::optional<int> boardWidth =
+                headless ? board.render.width
+                         : (board.display.mode ? std::optional<int>(board.display.mode->width)
+                                               : std::nullopt);
+            const std::optional<int> boardHeight =
+                headless ? board.render.height
+                         : (board.display.mode ? std::optional<int>(board.display.mode->height)
+                                               : std::nullopt);
+            if (boardWidth && (*boardWidth != w || *boardHeight != h)) {
+                throw PlayerInputError(board.source + ":" +
+                                       (headless ? "render.size" : "display.mode") + ": " +
+                                       std::to_string(*boardWidth) + "x" +
+                                       std::to_string(*boardHeight) +
+                                       " differs from the bundle's projector " +
+                                       std::to_string(w) + "x" + std::to_string(h));
+            }
+        } catch (const proto::BundleError& error) {
+            throw PlayerInputError(error.what());
+        }
+    }
+    return out.str();
+}
+
+}  // namespace vpe::firmware

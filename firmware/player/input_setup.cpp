@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: MIT
+#include "vpe/firmware/player/input_setup.h"
+
+#include <iostream>
+
+#include "vpe/firmware/knobs/gpio_knobs.h"
+#include "vpe/firmware/knobs/knobs_config_parser.h"
+#include "vpe/firmware/osc/osc_server.h"
+#include "vpe/firmware/player/replay_input.h"
+#include "vpe/firmware/tracking/lamp_calibration.h"
+#include "vpe/firmware/tracking/libcamera_lamp.h"
+
+namespace vpe::firmware {
+
+namespace {
+
+void log(const std::string& line) {
+    std::cerr << "vpe-player: " << line << "\n";
+}
+
+std::vector<std::string> presetNamesOf(const proto::BundleView& view) {
+    std::vector<std::string> names;
+    for (const auto& preset : view.presets()) {
+        names.emplace_back(preset.name);
+    }
+    return names;
+}
+
+}  // namespace
+
+InputSettings readInputSettings(const BoardConfig& board) {
+    InputSettings settings;
+    if (const toml::table* gpio = board.section("gpio")) {
+        settings.knobs = knobs::parseKnobsConfig(*gpio, board.source);
+    }
+    if (const toml::table* camera = board.section("camera")) {
+        settings.camera = parseCameraConfig(*camera, board.source);
+    }
+    if (const toml::table* osc = board.section("osc")) {
+        settings.osc = parseOscConfig(osc, board.source);
+    }
+    return settings;
+}
+
+OscLimits oscLimitsOf(const LightLimits& light) {
+    OscLimits limits;
+    limits.azimuthDeg = light.azimuthDeg;
+    limits.elevationDeg = light.elevationDeg;
+    if (light.distanceM) {
+        limits.distanceM = *light.distanceM;
+    }
+    return limits;
+}
+
+void addInputs(Player& player, const InputSettings& settings,
+               const PlayerOptions& options) {
+    if (options.replay) {
+        // A replay stands in for every input: a session reproduced exactly, whatever the
+        // machine has attached.
+        ReplayDecoders decoders;
+        decoders.knobs = settings.knobs;
+        decoders.camera = settings.camera;
+        decoders.oscLimits = oscLimitsOf(player.rig().limits());
+        decoders.presetNames = presetNamesOf(player.bundle());
+        try {
+            auto replay = std::make_unique<ReplayInput>(*options.replay,
+                                                        readReplayFile(*options.replay),
+                                                        decoders, options.replayLoop,
+                                                        monotonicNowNs());
+            const ReplayInput* raw = replay.get();
+            log(raw->description());
+            player.addInput(std::move(replay));
+            if (options.frames == 0) {
+                player.stopWhen([raw] { return raw->finished(); }, "replay");
+            }
+        } catch (const ReplayError& error) {
+            throw PlayerInputError(error.what());
+        }
+        return;
+    }
+    if (settings.knobs && settings.knobs->enabled) {
+        try {
+            auto knobs = std::make_unique<knobs::GpioKnobs>(*settings.knobs);
+            log(knobs->description());
+            player.addInput(std::move(knobs));
+        } catch (const knobs::KnobsUnavailable& error) {
+            log(std::string("knobs: ") + error.what() + "; playing without them");
+        }
+    }
+    if (settings.camera && settings.camera->enabled) {
+        try {
+            auto camera = std::make_unique<LibcameraLamp>(*settings.camera);
+            log(camera->description());
+            player.addInput(std::move(camera));
+        } catch (const CameraUnavailable& error) {
+            log(std::string("camera: ") + error.what() + "; playing without it");
+        } catch (const CalibrationError& error) {
+            log(std::string("camera: ") + error.what() + "; playing without it");
+        }
+    }
+    if (settings.osc && settings.osc->enabled) {
+        try {
+            auto server = std::make_unique<OscServer>(*settings.osc, oscLimitsOf(player.rig().limits()),
+                                                      [](const std::string& line) { log(line); });
+            server->dispatcher().setPresetNames(presetNamesOf(player.bundle()));
+            const Player* observed = &player;
+            server->setStatusProvider([observed] {
+                OscStatus status;
+                const FrameReport& report = observed->report();
+                status.framesRendered = report.frames;
+                status.fps = report.frameMs.mean() > 0 ? 1000.0 / report.frameMs.mean() : 0;
+                const SphericalPosition& light = observed->rig().current();
+                status.azimuthDeg = light.azimuthDeg;
+                status.elevationDeg = light.elevationDeg;
+                status.distanceM = light.distanceM;
+                const auto& presets = observed->bundle().presets();
+                const auto index = static_cast<std::size_t>(observed->rig().preset());
+                status.preset = index < presets.size() ? std::string(presets[index].name) : "";
+                status.activeInput = inputSourceName(observed->rig().activeSource());
+                return status;
+            });
+            OscDispatcher* dispatcher = &server->dispatcher();
+            player.onBundleReloaded([dispatcher, observed] {
+                dispatcher->setPresetNames(presetNamesOf(observed->bundle()));
+            });
+            log(server->description());
+            player.addInput(std::move(server));
+        } catch (const OscUnavailable& error) {
+            log(std::string("osc: ") + error.what() + "; playing without it");
+        }
+    }
+}
+
+}  // namespace vpe::firmware

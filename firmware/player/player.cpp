@@ -1,0 +1,315 @@
+// SPDX-License-Identifier: MIT
+#include "vpe/firmware/player/player.h"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include "vpe/firmware/ppm_writer.h"
+#include "vpe/renderer/gles/headless_egl_platform.h"
+#include "vpe/renderer/gles/kms_platform.h"
+
+namespace vpe::firmware {
+
+namespace gles = renderer::gles;
+
+namespace {
+
+constexpr std::int64_t kNsPerMs = 1'000'000;
+// A GPU that fails this many frames in a row is not coming back: exit (status 1) and let the
+// service manager restart the player.
+constexpr long kMaxConsecutiveErrors = 120;
+
+void log(const std::string& line) {
+    std::cerr << "vpe-player: " << line << "\n";
+}
+
+double msBetween(std::int64_t fromNs, std::int64_t toNs) {
+    return static_cast<double>(toNs - fromNs) / static_cast<double>(kNsPerMs);
+}
+
+std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board) {
+    try {
+        if (board.display.backend == DisplayBackend::kHeadless) {
+            return gles::createHeadlessEglPlatform();
+        }
+        gles::KmsOptions kms;
+        kms.device = board.display.device;
+        kms.connector = board.display.connector;
+        kms.atomic = board.display.atomic;
+        if (board.display.mode) {
+            kms.modeWidth = board.display.mode->width;
+            kms.modeHeight = board.display.mode->height;
+            kms.modeRefresh = board.display.mode->refresh;
+        }
+        return gles::createKmsPlatform(kms);
+    } catch (const gles::GraphicsError& error) {
+        throw PlayerInputError(error.what());
+    }
+}
+
+std::unique_ptr<SceneSlot> loadScene(const PlayerOptions& options) {
+    try {
+        return SceneSlot::load(options.bundle, options.preset);
+    } catch (const SceneLoadError& error) {
+        throw PlayerInputError(error.what());
+    }
+}
+
+}  // namespace
+
+LightSphere Player::sphereOf(const proto::BundleView& view) {
+    return LightSphere(view.mesh().positions, view.settings().viewerPosition);
+}
+
+Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int64_t processStartNs)
+    : options_(options),
+      board_(board),
+      processStartNs_(processStartNs),
+      headless_(board.display.backend == DisplayBackend::kHeadless),
+      platform_(createPlatform(board)),
+      scene_(loadScene(options)),
+      rig_(board.light, board.idle, sphereOf(scene_->view()),
+           static_cast<int>(scene_->view().presets().size()), monotonicNowNs()) {
+    if (options_.out && !headless_) {
+        throw PlayerInputError("--out: frames are read back only on the headless display (" +
+                               options_.board.string() + " uses kms)");
+    }
+    gles::GlesFrameRenderer& renderer = scene_->renderer();
+    // The renderer draws the projector's frame at its calibrated size: the target must match.
+    int width = renderer.width(), height = renderer.height();
+    if (options_.width) {
+        width = *options_.width;
+        height = *options_.height;
+    } else if (headless_ && board_.render.width) {
+        width = *board_.render.width;
+        height = *board_.render.height;
+    }
+    if (width != renderer.width() || height != renderer.height()) {
+        throw PlayerInputError(
+            (options_.width ? std::string("--size") : options_.board.string() + ":render.size") +
+            ": " + std::to_string(width) + "x" + std::to_string(height) +
+            " differs from the bundle's projector " + std::to_string(renderer.width()) + "x" +
+            std::to_string(renderer.height()));
+    }
+    try {
+        target_ = platform_->createRenderTarget(width, height);
+    } catch (const gles::GraphicsError& error) {
+        throw PlayerInputError(error.what());
+    }
+    if (options_.out) {
+        std::error_code error;
+        std::filesystem::create_directories(*options_.out, error);
+        if (error || !std::filesystem::is_directory(*options_.out)) {
+            throw PlayerInputError(options_.out->string() + ": cannot create the output folder (" +
+                                   (error ? error.message() : "not a folder") + ")");
+        }
+    }
+    shownPreset_ = scene_->presetIndex(renderer.presetName());
+    rig_.apply({InputSource::kIdle, 0, SelectPreset{shownPreset_, false}});
+    report_.width = width;
+    report_.height = height;
+    report_.platform = platform_->description();
+
+    loop_.watch(signals_.fd(), [this] {
+        while (const int signal = signals_.next()) {
+            if (signal == SIGHUP) {
+                reload("SIGHUP");
+            } else {
+                running_ = false;
+                report_.stoppedBy = signal == SIGTERM ? "SIGTERM" : "SIGINT";
+            }
+        }
+    });
+    try {
+        bundleWatch_.emplace(options_.bundle);
+        loop_.watch(bundleWatch_->fd(), [this] {
+            if (bundleWatch_->changed()) {
+                reload("file replaced");
+            }
+        });
+    } catch (const EventLoopError& error) {
+        log(std::string(error.what()) + "; reload with SIGHUP only");
+    }
+    const double rate = options_.rate.value_or(board_.render.rate);
+    if (!headless_) {
+        loop_.watch(target_->vsyncDescriptor(), [this] {
+            if (target_->onVsyncReadable()) {
+                waitingForFlip_ = false;
+                frameDue_ = true;
+            }
+        });
+    } else if (rate > 0) {
+        frameClock_.arm(monotonicNowNs(), static_cast<std::int64_t>(1e9 / rate));
+        frameDue_ = false;
+        loop_.watch(frameClock_.fd(), [this] {
+            if (frameClock_.expirations() > 0) {
+                frameDue_ = true;  // late frames are dropped, not queued
+            }
+        });
+    }
+}
+
+Player::~Player() = default;
+
+void Player::addInput(std::unique_ptr<InputDevice> device) {
+    InputDevice* raw = device.get();
+    for (const int fd : raw->pollDescriptors()) {
+        loop_.watch(fd, [this, raw, fd] { raw->onReadable(fd, monotonicNowNs(), pending_); });
+    }
+    devices_.push_back(std::move(device));
+}
+
+void Player::stopWhen(std::function<bool()> condition, std::string reason) {
+    stopCondition_ = std::move(condition);
+    stopReason_ = std::move(reason);
+}
+
+void Player::applyEvents(std::vector<InputEvent>& events) {
+    for (const InputEvent& event : events) {
+        if (rig_.apply(event)) {
+            unshownEvents_.push_back(event.timestampNs);
+            ++report_.events[inputSourceName(event.source)];
+        } else {
+            ++report_.eventsRefused;
+        }
+    }
+    events.clear();
+}
+
+void Player::reload(const char* why) {
+    watchdog_.reloading();
+    try {
+        const std::string preset = scene_->renderer().presetName();
+        std::unique_ptr<SceneSlot> next = SceneSlot::load(options_.bundle, "");
+        if (next->renderer().width() != target_->width() ||
+            next->renderer().height() != target_->height()) {
+            throw SceneLoadError(options_.bundle.string() + ": projector " +
+                                 std::to_string(next->renderer().width()) + "x" +
+                                 std::to_string(next->renderer().height()) + " differs from " +
+                                 std::to_string(target_->width()) + "x" +
+                                 std::to_string(target_->height()));
+        }
+        // Keep the preset by name when the new bundle has it.
+        if (next->presetIndex(preset) >= 0) {
+            next->renderer().selectPreset(preset);
+        }
+        scene_ = std::move(next);
+        shownPreset_ = scene_->presetIndex(scene_->renderer().presetName());
+        rig_.rebase(sphereOf(scene_->view()), static_cast<int>(scene_->view().presets().size()));
+        rig_.apply({InputSource::kIdle, 0, SelectPreset{shownPreset_, false}});
+        ++report_.reloads;
+        log(options_.bundle.string() + ": reloaded (" + why + ")");
+        for (const auto& callback : reloaded_) {
+            callback();
+        }
+    } catch (const SceneLoadError& error) {
+        ++report_.reloadsRefused;
+        log(std::string(error.what()) + "; reload (" + why +
+            ") refused, still playing the previous bundle");
+    }
+    watchdog_.reloaded("playing " + options_.bundle.string());
+}
+
+void Player::renderFrame() {
+    const std::int64_t beginNs = monotonicNowNs();
+    rig_.advance(beginNs);
+    if (rig_.preset() != shownPreset_) {
+        const auto& presets = scene_->view().presets();
+        scene_->renderer().selectPreset(std::string(presets[static_cast<std::size_t>(rig_.preset())].name));
+        shownPreset_ = rig_.preset();
+    }
+    gles::FrameInputs inputs;
+    const proto::RenderSettings& settings = scene_->view().settings();
+    inputs.lightPosition = rig_.position();
+    const auto intensity = static_cast<float>(board_.light.intensity);
+    inputs.lightIntensity = {intensity, intensity, intensity};
+    inputs.inverseSquare = board_.light.inverseSquare;
+    inputs.referenceDistance = static_cast<float>(rig_.limits().distanceM->first +
+                                                  rig_.limits().distanceM->second) * 0.5f;
+    inputs.viewerPosition = settings.viewerPosition;
+    inputs.gain = settings.gain;
+    std::vector<std::uint8_t> rgba;
+    try {
+        scene_->renderer().render(*target_, inputs);
+        target_->present();
+        if (headless_) {
+            rgba = target_->readRgba8();  // the frame leaves the GPU, as a scanout would
+        } else {
+            // Paced by the flip: the next frame when its event arrives (the first frame's
+            // modeset is synchronous, so no event comes for it).
+            waitingForFlip_ = target_->vsyncPending();
+            frameDue_ = !waitingForFlip_;
+        }
+        consecutiveErrors_ = 0;
+    } catch (const gles::GraphicsError& error) {
+        ++report_.errors;
+        if (consecutiveErrors_++ == 0) {
+            log(std::string("frame ") + std::to_string(report_.frames) + ": " + error.what());
+        }
+        if (consecutiveErrors_ >= kMaxConsecutiveErrors) {
+            throw;
+        }
+        return;
+    }
+    const std::int64_t submittedNs = monotonicNowNs();
+    for (const std::int64_t eventNs : unshownEvents_) {
+        report_.latencyMs.add(msBetween(eventNs, submittedNs));
+    }
+    unshownEvents_.clear();
+    report_.frameMs.add(msBetween(beginNs, submittedNs));
+    if (report_.frames == 0) {
+        firstFrameNs_ = submittedNs;
+        report_.firstFrameMs = msBetween(processStartNs_, submittedNs);
+        report_.rssStartKb = residentKilobytes();
+        watchdog_.ready("playing " + options_.bundle.string());
+    }
+    report_.seconds = static_cast<double>(submittedNs - firstFrameNs_) * 1e-9;
+    if (options_.out && report_.frames % options_.every == 0) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%05ld.ppm", report_.frames);
+        writePpmAtomically(*options_.out / name, target_->width(), target_->height(), rgba);
+        ++report_.written;
+    }
+    ++report_.frames;
+    watchdog_.frameDone(submittedNs);
+}
+
+FrameReport Player::run() {
+    const bool unpaced = headless_ && options_.rate.value_or(board_.render.rate) <= 0;
+    while (running_) {
+        // Unpaced: look at the inputs and go on; paced: sleep until a descriptor is ready.
+        loop_.runOnce(unpaced || frameDue_ ? 0 : -1);
+        const std::int64_t now = monotonicNowNs();
+        for (const auto& device : devices_) {
+            device->onTick(now, pending_);
+        }
+        applyEvents(pending_);
+        if (!running_) {
+            break;
+        }
+        if ((frameDue_ || unpaced) && !waitingForFlip_) {
+            frameDue_ = false;
+            renderFrame();  // KMS: may set frameDue_ again
+            if (options_.frames > 0 && report_.frames >= options_.frames) {
+                report_.stoppedBy = "frames";
+                break;
+            }
+            if (stopCondition_ && stopCondition_()) {
+                report_.stoppedBy = stopReason_;
+                break;
+            }
+        }
+    }
+    watchdog_.stopping();
+    report_.rssEndKb = residentKilobytes();
+    report_.preset = scene_->renderer().presetName();
+    report_.azimuthDeg = rig_.current().azimuthDeg;
+    report_.elevationDeg = rig_.current().elevationDeg;
+    report_.distanceM = rig_.current().distanceM;
+    report_.activeInput = inputSourceName(rig_.activeSource());
+    return report_;
+}
+
+}  // namespace vpe::firmware
