@@ -18,6 +18,12 @@ std::string presence(const std::filesystem::path& path) {
     return std::filesystem::exists(path, error) ? "present" : "absent on this machine";
 }
 
+std::string number(double value) {
+    std::ostringstream text;
+    text << value;
+    return text.str();
+}
+
 std::string range(const std::pair<double, double>& r) {
     std::ostringstream text;
     text << "[" << r.first << ", " << r.second << "]";
@@ -46,7 +52,7 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     out << "\n";
     if (board.display.backend == DisplayBackend::kHeadless) {
         out << "  display: headless (EGL surfaceless), "
-            << (board.render.rate > 0 ? std::to_string(board.render.rate) + " Hz timer"
+            << (board.render.rate > 0 ? number(board.render.rate) + " Hz timer"
                                       : std::string("unpaced"))
             << "\n";
     } else {
@@ -88,9 +94,9 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
                                          : std::string("[0.5, 4] × object radius"))
         << ", smoothing " << board.light.smoothingSeconds << " s\n";
     out << "  idle: "
-        << (board.idle.enabled ? "after " + std::to_string(board.idle.quietSeconds) +
+        << (board.idle.enabled ? "after " + number(board.idle.quietSeconds) +
                                      " s quiet, figure of eight every " +
-                                     std::to_string(board.idle.periodSeconds) + " s"
+                                     number(board.idle.periodSeconds) + " s"
                                : std::string("off"))
         << "\n";
     if (!options.bundle.empty()) {
