@@ -34,25 +34,6 @@ const char* const kBoard = R"([display]
 backend = "headless"
 [render]
 rate = RATE
-[gpio]
-enabled = false
-[[gpio.encoder]]
-a = 17
-b = 18
-axis = "azimuth"
-step = 2
-[[gpio.encoder]]
-a = 22
-b = 23
-axis = "elevation"
-step = 1
-[[gpio.button]]
-line = 27
-action = "next-preset"
-[camera]
-size = "320x240"
-hold_s = 0.3
-calibration = [[10, 230, -60, 0], [310, 230, 60, 0], [10, 10, -60, 60], [310, 10, 60, 60]]
 [light]
 azimuth = [-90, 90]
 elevation = [0, 80]
@@ -102,6 +83,7 @@ double field(const std::string& json, const std::string& path) {
 fs::path writeBoard(const fs::path& folder, const std::string& rate) {
     std::string text = kBoard;
     text.replace(text.find("RATE"), 4, rate);
+    text += vpe::testing::replayBoardInputs(false);
     const fs::path path = folder / ("board-" + rate + ".toml");
     std::ofstream(path) << text;
     return path;

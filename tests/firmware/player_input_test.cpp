@@ -18,30 +18,9 @@ namespace {
 using namespace vpe::firmware::testing;
 using vpe::testing::ReplayScript;
 
-// Knobs on lines 17/18 (azimuth, 2° a detent) and 22/23 (elevation, 1°), a preset button on 27;
-// a calibrated 320 × 240 camera; no smoothing and no drift, so the final light is exact.
-const char* const kInputs = R"(
-[gpio]
-enabled = true
-chip = "gpiochip9"
-[[gpio.encoder]]
-a = 17
-b = 18
-axis = "azimuth"
-step = 2
-[[gpio.encoder]]
-a = 22
-b = 23
-axis = "elevation"
-step = 1
-[[gpio.button]]
-line = 27
-action = "next-preset"
-[camera]
-enabled = true
-size = "320x240"
-hold_s = 0.3
-calibration = [[10, 230, -60, 0], [310, 230, 60, 0], [10, 10, -60, 60], [310, 10, 60, 60]]
+// replayBoardInputs' knobs and camera (switched on: absent here); no smoothing and no drift,
+// so the final light is exact.
+const std::string kInputs = vpe::testing::replayBoardInputs(true) + R"(
 [light]
 azimuth = [-90, 90]
 elevation = [0, 80]

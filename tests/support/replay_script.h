@@ -12,6 +12,22 @@
 
 namespace vpe::testing {
 
+// The board sections ReplayScript's files are written for: knobs on lines 17/18 (azimuth, 2° a
+// detent) and 22/23 (elevation, 1°), a next-preset button on 27, a calibrated 320 × 240 camera
+// (the image centre is azimuth 0, elevation 30). `enabled` switches the hardware on: a replay
+// decodes with these settings either way. Ends inside [camera]: add keys, or start a section.
+inline std::string replayBoardInputs(bool enabled, const std::string& chip = "gpiochip9") {
+    const std::string on = enabled ? "true" : "false";
+    return "[gpio]\nenabled = " + on + "\nchip = \"" + chip +
+           "\"\n"
+           "[[gpio.encoder]]\na = 17\nb = 18\naxis = \"azimuth\"\nstep = 2\n"
+           "[[gpio.encoder]]\na = 22\nb = 23\naxis = \"elevation\"\nstep = 1\n"
+           "[[gpio.button]]\nline = 27\naction = \"next-preset\"\n"
+           "[camera]\nenabled = " + on + "\nsize = \"320x240\"\nhold_s = 0.3\n"
+           "calibration = [[10, 230, -60, 0], [310, 230, 60, 0], [10, 10, -60, 60], "
+           "[310, 10, 60, 60]]\n";
+}
+
 class ReplayScript {
 public:
     // `detents` clicks (sign: + clockwise) on the encoder wired to lines a and b, from
