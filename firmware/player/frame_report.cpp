@@ -96,7 +96,8 @@ std::string FrameReport::json() const {
          << ", \"seconds\": " << seconds << ", \"latency_ms\": {\"events\": " << latencyMs.count()
          << ", \"p50\": " << latencyMs.percentile(0.5) << ", \"p99\": "
          << latencyMs.percentile(0.99) << ", \"max\": " << latencyMs.max()
-         << "}, \"rss_kb\": {\"start\": " << rssStartKb << ", \"end\": " << rssEndKb
+         << "}, \"rss_kb\": {\"start\": " << rssStartKb << ", \"warm\": " << rssWarmKb
+         << ", \"end\": " << rssEndKb
          << "}, \"events\": {";
     bool first = true;
     for (const auto& [source, count] : events) {

@@ -265,6 +265,9 @@ void Player::renderFrame() {
         report_.rssStartKb = residentKilobytes();
         watchdog_.ready("playing " + options_.bundle.string());
     }
+    if (report_.frames == 1000) {
+        report_.rssWarmKb = residentKilobytes();
+    }
     report_.seconds = static_cast<double>(submittedNs - firstFrameNs_) * 1e-9;
     if (options_.out && report_.frames % options_.every == 0) {
         char name[32];

@@ -143,11 +143,11 @@ void soak(const fs::path& folder, const fs::path& bundle, long frames) {
     const std::string json = lastLine(output);
     std::cout << json << "\n";
     std::printf("soak: %.0f frames in %.0f s (%.0f fps, frame p99 %.2f ms), RSS %.0f KiB after the "
-                "first frame → %.0f KiB at the end (%+.0f KiB), errors %.0f, events knobs %.0f "
-                "osc %.0f camera %.0f\n",
+                "first frame, %.0f KiB after 1,000 frames, %.0f KiB at the end (%+.0f KiB since "
+                "frame 1,000), errors %.0f, events knobs %.0f osc %.0f camera %.0f\n",
                 field(json, "frames"), field(json, "seconds"), field(json, "fps"),
-                field(json, "frame_ms.p99"), field(json, "rss_kb.start"),
-                field(json, "rss_kb.end"), field(json, "rss_kb.end") - field(json, "rss_kb.start"),
+                field(json, "frame_ms.p99"), field(json, "rss_kb.start"), field(json, "rss_kb.warm"),
+                field(json, "rss_kb.end"), field(json, "rss_kb.end") - field(json, "rss_kb.warm"),
                 field(json, "errors"), field(json, "events.knobs"), field(json, "events.osc"),
                 field(json, "events.camera"));
 }
