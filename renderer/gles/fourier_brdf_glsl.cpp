@@ -43,6 +43,31 @@ vec2 vpeReflectionAngles(vec3 normal, vec3 toLight, vec3 toViewer) {
 )GLSL";
 }
 
+std::string fourierBasisGlsl(int harmonics) {
+    const auto index = [](int k) { return "basis[" + std::to_string(k) + "]"; };
+    std::string s = R"GLSL(
+// proto::fourierBasis: the basis values, f = Σ_k coefficients[k]·basis[k] per channel:
+// max(cos θd, 0), 1/√2, then cos mθs and sin mθs by HarmonicRecurrence's steps, unrolled.
+void vpeFourierBasis(float cosThetaD, float cosThetaS, out float basis[VPE_COEFFICIENTS]) {
+    basis[0] = max(cosThetaD, 0.0);
+    basis[1] = VPE_CONSTANT_BASIS;
+)GLSL";
+    if (harmonics > 0) {
+        s += "    float c = min(max(cosThetaS, -1.0), 1.0);\n"
+             "    float twoC = c + c;\n"
+             "    basis[2] = c;\n"
+             "    basis[3] = sqrt(max(1.0 - c * c, 0.0));\n";
+    }
+    for (int m = 2; m <= harmonics; ++m) {
+        const int cosine = proto::cosineIndex(m), sine = proto::sineIndex(m);
+        s += "    " + index(cosine) + " = twoC * " + index(cosine - 2) + " - " +
+             (m == 2 ? std::string("1.0") : index(cosine - 4)) + ";\n";
+        s += "    " + index(sine) + " = twoC * " + index(sine - 2) +
+             (m == 2 ? std::string("") : " - " + index(sine - 4)) + ";\n";
+    }
+    return s + "}\n";
+}
+
 static_assert(proto::kLambertIndex == 0 && proto::kConstantIndex == 1 &&
                   proto::cosineIndex(1) == 2 && proto::sineIndex(1) == 3,
               "fourierBrdfGlsl hard-codes fourier_brdf.h's coefficient layout");

@@ -3,12 +3,19 @@
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 #include <GLES3/gl31.h>
 
+#include "vpe/proto/bundle_format.h"
+#include "vpe/proto/fourier_brdf.h"
 #include "vpe/renderer/gles/fourier_brdf_glsl.h"
 #include "vpe/renderer/pinhole_camera.h"
 
@@ -16,16 +23,19 @@ namespace vpe::renderer::gles {
 
 namespace {
 
-// Mesh arrays live in 2D textures of this width, read with texelFetch.
-constexpr int kRowTexels = 1024;
+// The mesh as a table of triangles, kTriangleTexels RGBA32F texels each (see kCommonGlsl),
+// kTrianglesPerRow a row: rows of 2046 texels fit ES 3.1's smallest GL_MAX_TEXTURE_SIZE.
+constexpr int kTriangleTexels = 6;
+constexpr int kTrianglesPerRow = 341;
+static_assert(kTriangleTexels == 6 && kTrianglesPerRow == 341,
+              "vpeTriangleTexel (kCommonGlsl) hard-codes the triangle table's layout");
 // Texture units.
-constexpr int kUnitIds = 0, kUnitPositions = 1, kUnitNormals = 2, kUnitUvs = 3, kUnitIndices = 4,
-              kUnitRays = 5, kUnitWeights = 6, kUnitCurve = 8, kUnitRegions = 9;
-// The uniform-buffer binding of the low-rank codes.
-constexpr GLuint kLowRankBlockBinding = 0;
-// Pixels added around each triangle's box: covers the pixel's own extent, the bend of the
-// distorted edges between the sampled points, and float rounding.
-constexpr float kBoxMarginPixels = 2.0f;
+constexpr int kUnitIds = 0, kUnitTriangles = 1, kUnitRays = 2, kUnitWeights = 3, kUnitCurve = 4,
+              kUnitRegions = 5;
+// Pixels added around each triangle's cover (box or grown triangle, see kVisibilityVertex):
+// pixel centres on an edge (the rasterizer's tie rule would drop some), float rounding, and any
+// bend the sampled edge points miss. The frame tests pass with 0.02 and fail with 0.
+constexpr float kCoverMarginPixels = 1.0f;
 
 const char* const kCommonGlsl = R"GLSL(
 precision highp float;
@@ -34,17 +44,19 @@ precision highp sampler2D;
 precision highp usampler2D;
 precision highp sampler2DArray;
 
-uniform highp usampler2D uIndices;  // RGBA32UI: i0, i1, i2 of a triangle
-uniform highp sampler2D uPositions; // RGBA32F: xyz
+uniform highp sampler2D uTriangles; // RGBA32F: the triangle table (vpeTriangleTexel)
 uniform vec2 uSize;                 // projector width, height
 uniform bool uTopRowAtOrigin;       // GL row 0 is the projector's top row
 uniform mat3 uRt;                   // Rᵀ (R uploaded row-major without transposing)
 uniform vec3 uT;                    // T
 uniform vec3 uCenter;               // −Rᵀ·T
 
-ivec2 vpeRowTexel(int i) { return ivec2(i % 1024, i / 1024); }
-uvec3 vpeTriangle(int t) { return texelFetch(uIndices, vpeRowTexel(t), 0).xyz; }
-vec3 vpePosition(uint v) { return texelFetch(uPositions, vpeRowTexel(int(v)), 0).xyz; }
+// Texel k of triangle t, 341 triangles a row. Texels 0–2: the vertices' positions p0, p1, p2;
+// 3–5: their normals n0, n1, n2; the w components hold the uvs, u0 v0 u1 v1 u2 v2. One fetch per
+// texel and no index indirection: fetches are what costs most on llvmpipe and on the Pi's TMU.
+vec4 vpeTriangleTexel(int t, int k) {
+    return texelFetch(uTriangles, ivec2(6 * (t % 341) + k, t / 341), 0);
+}
 
 
 // Möller–Trumbore as the CPU ray caster: (t, b1, b2) of the ray origin + t·direction.
@@ -94,39 +106,97 @@ vec2 vpeProjectPixel(vec3 x) {
     return vec2(uIntrinsics.x * ad + uSkew * bd + uIntrinsics.z, uIntrinsics.y * bd + uIntrinsics.w);
 }
 
+// The ray test's per-triangle constants (see vpeIntersect): with s = C − p0 the same for every
+// pixel's ray, Möller–Trumbore's scalar triple products become dot products of the ray
+// direction d with vectors of the triangle: det = e1·(d × e2) = d·(e2 × e1),
+// b1·det = s·(d × e2) = d·(e2 × s), b2·det = d·(s × e1), t·det = e2·(s × e1).
+flat out vec3 vDet;
+flat out vec3 vB1;
+flat out vec3 vB2;
+flat out float vT;
+
+// The offset line {X : dot(X, normal) = offset} of each edge; the corner where two meet.
+vec2 vpeMeet(vec3 a, vec3 b) {
+    float det = a.x * b.y - a.y * b.x;
+    return vec2(a.z * b.y - b.z * a.y, a.x * b.z - b.x * a.z) / det;
+}
+
 void main() {
     int triangle = gl_VertexID / 6;
     int corner = gl_VertexID % 6;
-    uvec3 index = vpeTriangle(triangle);
-    vec3 p[3] = vec3[3](vpePosition(index.x), vpePosition(index.y), vpePosition(index.z));
+    vec3 p[3] = vec3[3](vpeTriangleTexel(triangle, 0).xyz, vpeTriangleTexel(triangle, 1).xyz,
+                        vpeTriangleTexel(triangle, 2).xyz);
+    vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], s = uCenter - p[0];
+    vec3 q = cross(s, e1);
+    vDet = cross(e2, e1);
+    vB1 = cross(e2, s);
+    vB2 = q;
+    vT = dot(e2, q);
+    vTriangle = uint(triangle);
+
+    // The vertices and three points along each edge (edge e from vertex e to e + 1), projected
+    // with distortion: a straight edge bends.
+    vec2 points[12];
     vec2 lo = vec2(1e30), hi = vec2(-1e30);
     bool behind = false;
-    // The vertices and three points along each edge: a straight edge bends under distortion.
     for (int e = 0; e < 3; ++e) {
         for (int k = 0; k < 4; ++k) {
-            vec3 point = mix(p[e], p[(e + 1) % 3], float(k) * 0.25);
-            vec3 x = point * uRt + uT;  // R·X + T
-            if (x.z <= 1e-6) {
-                behind = true;
-            } else {
-                vec2 pixel = vpeProjectPixel(x);
-                lo = min(lo, pixel);
-                hi = max(hi, pixel);
-            }
+            vec3 x = mix(p[e], p[(e + 1) % 3], float(k) * 0.25) * uRt + uT;  // R·X + T
+            behind = behind || x.z <= 1e-6;
+            points[4 * e + k] = x.z > 1e-6 ? vpeProjectPixel(x) : vec2(0.0);
+            lo = min(lo, points[4 * e + k]);
+            hi = max(hi, points[4 * e + k]);
         }
     }
+    vec2 pixel;
     if (behind) {  // crosses the projector's plane: let every pixel test its ray
-        lo = vec2(-1.0);
-        hi = uSize;
+        pixel = vec2((corner == 1 || corner == 4 || corner == 5) ? uSize.x + 1.0 : -2.0,
+                     (corner == 2 || corner == 3 || corner == 5) ? uSize.y + 1.0 : -2.0);
+    } else {
+        // The smaller of two covers of the distorted triangle: the triangle of its edges'
+        // chords each pushed out by the edge's outward bend (measured at the three points, with
+        // a quarter more for the bend between them), or the box of the twelve points grown by a
+        // quarter of the largest bend (a curve strays from the chord between two neighbouring
+        // points by ~1/16 of its bend). Both grown by the margin (ties, float rounding).
+        vec2 v0 = points[0], v1 = points[4], v2 = points[8];
+        float orientation = sign((v1.x - v0.x) * (v2.y - v0.y) - (v1.y - v0.y) * (v2.x - v0.x));
+        vec3 lines[3];
+        float largestBend = 0.0;
+        bool valid = orientation != 0.0;
+        for (int e = 0; e < 3; ++e) {
+            vec2 from = points[4 * e], to = points[(4 * e + 4) % 12];
+            vec2 along = to - from;
+            float length_ = length(along);
+            valid = valid && length_ > 0.0;
+            // Outward: to the right of the edge for a counter-clockwise (y up) orientation.
+            vec2 normal = orientation * vec2(along.y, -along.x) / max(length_, 1e-30);
+            float bend = 0.0;
+            for (int k = 1; k < 4; ++k) {
+                float deviation = dot(points[4 * e + k] - from, normal);
+                bend = max(bend, deviation);
+                largestBend = max(largestBend, abs(deviation));
+            }
+            lines[e] = vec3(normal, dot(from, normal) + 1.25 * bend + uMargin);
+        }
+        vec2 boxLo = lo - uMargin - 0.25 * largestBend, boxHi = hi + uMargin + 0.25 * largestBend;
+        float boxArea = (boxHi.x - boxLo.x) * (boxHi.y - boxLo.y);
+        vec2 d0 = vpeMeet(lines[2], lines[0]);
+        vec2 d1 = vpeMeet(lines[0], lines[1]);
+        vec2 d2 = vpeMeet(lines[1], lines[2]);
+        float area = 0.5 * abs((d1.x - d0.x) * (d2.y - d0.y) - (d1.y - d0.y) * (d2.x - d0.x));
+        valid = valid && !isinf(area) && !isnan(area) && area < boxArea;
+        if (valid) {
+            pixel = corner == 0 ? d0 : corner == 1 ? d1 : corner == 2 ? d2 : d0;  // 3–5: empty
+        } else {
+            boxLo = max(boxLo, vec2(-2.0));
+            boxHi = min(boxHi, uSize + 1.0);
+            pixel = vec2((corner == 1 || corner == 4 || corner == 5) ? boxHi.x : boxLo.x,
+                         (corner == 2 || corner == 3 || corner == 5) ? boxHi.y : boxLo.y);
+        }
     }
-    lo = max(lo - uMargin, vec2(-2.0));
-    hi = min(hi + uMargin, uSize + 1.0);
-    vec2 pixel = vec2((corner == 1 || corner == 4 || corner == 5) ? hi.x : lo.x,
-                      (corner == 2 || corner == 3 || corner == 5) ? hi.y : lo.y);
     // Pixel centres at integers; GL window coordinates put them at + 0.5.
     vec2 window = vec2(pixel.x + 0.5, uTopRowAtOrigin ? pixel.y + 0.5 : uSize.y - 0.5 - pixel.y);
     gl_Position = vec4(window / uSize * 2.0 - 1.0, 0.0, 1.0);
-    vTriangle = uint(triangle);
 }
 )GLSL";
 
@@ -134,20 +204,27 @@ const char* const kVisibilityFragment = R"GLSL(
 uniform highp sampler2D uRays;  // RG32F: undistorted (a, b) of each pixel centre, row 0 top
 uniform float uDepthScale;
 flat in highp uint vTriangle;
+flat in vec3 vDet;
+flat in vec3 vB1;
+flat in vec3 vB2;
+flat in float vT;
 layout(location = 0) out highp uint outTriangle;
 
 void main() {
-    ivec2 pixel = vpePixel();
-    vec2 ab = texelFetch(uRays, pixel, 0).xy;
+    vec2 ab = texelFetch(uRays, vpePixel(), 0).xy;
     vec3 direction = uRt * vec3(ab, 1.0);
-    uvec3 index = vpeTriangle(int(vTriangle));
-    bool hit;
-    vec3 tb = vpeIntersect(uCenter, direction, vpePosition(index.x), vpePosition(index.y),
-                           vpePosition(index.z), hit);
-    if (!hit) {
+    // vpeIntersect with the triangle's constants (the vertex shader's vDet …).
+    float det = dot(direction, vDet);
+    float invDet = 1.0 / (det == 0.0 ? 1e-30 : det);
+    float b1 = dot(direction, vB1) * invDet;
+    float b2 = dot(direction, vB2) * invDet;
+    float t = vT * invDet;
+    const float slack = 1e-5;
+    if (!(det != 0.0 && b1 >= -slack && b1 <= 1.0 + slack && b2 >= -slack &&
+          b1 + b2 <= 1.0 + slack && t > 0.0)) {
         discard;
     }
-    gl_FragDepth = clamp(tb.x * uDepthScale, 0.0, 1.0);
+    gl_FragDepth = clamp(t * uDepthScale, 0.0, 1.0);
     outTriangle = vTriangle + 1u;
 }
 )GLSL";
@@ -159,39 +236,155 @@ void main() {
 }
 )GLSL";
 
-// Rows of the low-rank code block: per low-rank region, μ and its R basis vectors.
-int lowRankRows(const proto::BundleView& bundle) {
-    int rows = 0;
-    for (const proto::RegionView& region : bundle.regions()) {
-        if (region.coefficients.encoding == proto::CoefficientEncoding::kLowRank) {
-            rows += 1 + region.coefficients.rank;
-        }
+// A float as a GLSL literal that reads back as the same float (9 significant digits).
+std::string glslFloat(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(value));
+    std::string literal = text;
+    if (literal.find_first_of(".e") == std::string::npos) {
+        literal += ".0";
     }
-    return rows;
+    return literal;
 }
 
-std::string shadingFragment(const proto::BundleView& bundle, bool hasWeights, bool curve) {
-    const int c = bundle.model().coefficientsPerTexel();
-    const int groups = (c + 3) / 4;
+// Value i of a texel (3·k + channel) in the vec4 layers c0, c1, …: "c<i/4>.<xyzw[i%4]>".
+std::string layerComponent(const std::string& prefix, int i) {
+    return prefix + std::to_string(i / 4) + "." + "xyzw"[i % 4];
+}
+
+// GLSL adding region r's contribution α_r·f_r to `f`: straight-line code for this bundle, so
+// that no array is ever indexed dynamically (llvmpipe spilled those to memory) and no constant
+// is loaded from a buffer. Full coefficients: f_r = Σ_k c_k·basis[k], c_k the bilinear texel.
+// Low rank, the BRDF evaluated in the low-rank space, the mean and basis baked in as constants:
+// f_r = μ·basis + Σ_j w_j (B_j·basis), w the bilinear code — the same value as expanding
+// μ + Σ_j w_j B_j first (the BRDF is linear in the coefficients), ~3% faster on llvmpipe.
+std::string regionBrdfGlsl(const proto::BundleView& bundle, std::size_t r, bool hasWeights) {
+    const proto::CoefficientMapView& map = bundle.regions()[r].coefficients;
+    const int coefficients = proto::coefficientCount(bundle.model().harmonics);
+    const int values = bundle.model().coefficientsPerTexel();
+    const std::string n = std::to_string(r);
+    std::string s = "        {\n";
+    s += hasWeights ? "            float alpha = texture(uWeights, vec3(uv, " + n + ".0)).r;\n"
+                    : "            float alpha = 1.0;\n";
+    const bool lowRank = map.encoding == proto::CoefficientEncoding::kLowRank;
+    const std::string prefix = lowRank ? "w" : "c";  // the code w or the coefficients c
+    for (int l = 0; l < map.layers.layers; ++l) {
+        s += "            vec4 " + prefix + std::to_string(l) + " = texture(uRegion" + n +
+             ", vec3(uv, " + std::to_string(l) + ".0));\n";
+    }
+    // Σ_k value(k)·basis[k], value(k) the RGB of coefficient k (bundleCoefficientIndex(k, c)).
+    const auto brdf = [&](const std::function<std::string(int)>& value) {
+        std::string sum;
+        for (int k = 0; k < coefficients; ++k) {
+            std::array<int, 3> rgb{};
+            for (int c = 0; c < 3; ++c) {
+                rgb[static_cast<std::size_t>(c)] = proto::bundleCoefficientIndex(k, c);
+            }
+            sum += std::string(k == 0 ? "" : "\n                + ") + "vec3(" + value(rgb[0]) +
+                   ", " + value(rgb[1]) + ", " + value(rgb[2]) + ") * basis[" + std::to_string(k) +
+                   "]";
+        }
+        return sum;
+    };
+    if (!lowRank) {
+        s += "            vec3 region = " + brdf([](int i) { return layerComponent("c", i); }) +
+             ";\n";
+    } else {
+        const auto constants = [&](std::span<const float> vector) {
+            return brdf([vector](int i) { return glslFloat(vector[static_cast<std::size_t>(i)]); });
+        };
+        s += "            vec3 region = " + constants(map.mean) + ";\n";
+        for (int j = 0; j < map.rank; ++j) {
+            s += "            region += " + layerComponent("w", j) + " * (" +
+                 constants(map.basis.subspan(static_cast<std::size_t>(j * values),
+                                             static_cast<std::size_t>(values))) +
+                 ");\n";
+        }
+    }
+    s += "            f += alpha * region;\n        }\n";
+    return s;
+}
+
+// A curve's samples divided by the last (r(1) = 1), as the renderer uploads them.
+std::vector<float> normalizedCurve(const std::vector<float>& samples) {
+    std::vector<float> curve;
+    for (float sample : samples) {
+        curve.push_back(sample / samples.back());
+    }
+    return curve;
+}
+
+// GLSL turning `relative` (r wanted per channel) into `level`: compensatePixel's clipping and
+// ProjectorResponse::level, for this bundle's response only (a shader that handled both kinds
+// behind a uniform paid for both on llvmpipe: ~17% of the low-rank frame).
+std::string compensationGlsl(const proto::RenderSettings& settings) {
+    if (settings.response.kind != proto::ResponseKind::kCurve) {
+        // r(v) = v^γ: black level 0, level = r^(1/γ) on [0, 1]; 1/γ as the CPU takes it.
+        std::string inverse;
+        for (std::size_t c = 0; c < 3; ++c) {
+            inverse +=
+                (c == 0 ? "" : ", ") + glslFloat(static_cast<float>(
+                                           1.0 / static_cast<double>(settings.response.gamma[c])));
+        }
+        return "    vec3 level = pow(clamp(relative, 0.0, 1.0), vec3(" + inverse +
+               "));\n"
+               "    level = mix(level, vec3(1.0), greaterThan(relative, vec3(1.0)));\n"
+               "    level = mix(level, vec3(0.0), lessThan(relative, vec3(0.0)));\n";
+    }
+    // A sampled curve (row c of uCurve, normalized): below its first sample (the black level)
+    // 0, above 1 full, else the first sample at or above r and the one before, interpolated.
+    std::string s = "    vec3 level;\n";
+    for (std::size_t c = 0; c < 3; ++c) {
+        const std::vector<float> curve = normalizedCurve(settings.response.curve[c]);
+        std::string channel = R"GLSL(    {
+        float fraction = relative[@C@];
+        float previous = @FIRST@;
+        level[@C@] = fraction > 1.0 ? 1.0 : 0.0;
+        if (fraction > previous && fraction <= 1.0) {
+            level[@C@] = 1.0;
+            for (int k = 1; k < @SAMPLES@; ++k) {
+                float output_ = texelFetch(uCurve, ivec2(k, @C@), 0).x;
+                if (output_ >= fraction) {
+                    float f = (fraction - previous) / (output_ - previous);
+                    level[@C@] = clamp((float(k - 1) + f) / @STEPS@.0, 0.0, 1.0);
+                    break;
+                }
+                previous = output_;
+            }
+        }
+    }
+)GLSL";
+        const std::pair<std::string, std::string> values[] = {
+            {"@C@", std::to_string(c)},
+            {"@FIRST@", glslFloat(curve.front())},
+            {"@SAMPLES@", std::to_string(curve.size())},
+            {"@STEPS@", std::to_string(curve.size() - 1)}};
+        for (const auto& [name, value] : values) {
+            for (std::size_t at = channel.find(name); at != std::string::npos;
+                 at = channel.find(name, at + value.size())) {
+                channel.replace(at, name.size(), value);
+            }
+        }
+        s += channel;
+    }
+    return s;
+}
+
+}  // namespace
+
+std::string shadingShaderSource(const proto::BundleView& bundle) {
+    const bool hasWeights = !bundle.presets().empty();
     std::string s = "#version 310 es\n";
     s += kCommonGlsl;
     s += kPixelGlsl;
     s += fourierBrdfGlsl(bundle.model().harmonics);
-    s += "#define VPE_GROUPS " + std::to_string(groups) + "\n";
-    s += "#define VPE_LOW_RANK_VECTORS " +
-         std::to_string(std::max(1, lowRankRows(bundle) * groups)) + "\n";
+    s += fourierBasisGlsl(bundle.model().harmonics);
     s += R"GLSL(
 uniform highp usampler2D uIds;
 uniform highp sampler2D uRays;
-uniform highp sampler2D uNormals;
-uniform highp sampler2D uUvs;
 uniform highp sampler2DArray uWeights;
-// Per low-rank region, row 0 μ, rows 1… B_r, VPE_GROUPS vectors a row: constants, so a uniform
-// block (on llvmpipe this measured no faster than an RGBA32F texture: 2057 vs 2148 ms/frame
-// at 1080p; the low-rank path's cost lies elsewhere, see README).
-layout(std140) uniform VpeLowRankCodes { highp vec4 uLowRank[VPE_LOW_RANK_VECTORS]; };
 uniform highp sampler2D uCurve;     // R32F: row c the normalized response curve of channel c
-uniform int uCurveCount[3];
+                                    // (curve responses only)
 uniform vec3 uLightPosition;
 uniform vec3 uLightIntensity;
 uniform bool uInverseSquare;
@@ -200,8 +393,6 @@ uniform vec3 uViewer;
 uniform float uGain;
 uniform vec3 uAlbedo;
 uniform vec3 uAmbient;
-uniform vec3 uGamma;
-uniform bool uCurveResponse;
 uniform float uPeakIrradiance;
 layout(location = 0) out vec4 outLevel;
 )GLSL";
@@ -209,36 +400,6 @@ layout(location = 0) out vec4 outLevel;
         s += "uniform highp sampler2DArray uRegion" + std::to_string(r) + ";\n";
     }
     s += R"GLSL(
-vec3 vpeNormal(uint v) { return texelFetch(uNormals, vpeRowTexel(int(v)), 0).xyz; }
-vec2 vpeUv(uint v) { return texelFetch(uUvs, vpeRowTexel(int(v)), 0).xy; }
-
-// renderer::ProjectorResponse::level for a fraction in [black level, 1].
-float vpeLevel(int channel, float fraction) {
-    if (!uCurveResponse) {
-        return pow(clamp(fraction, 0.0, 1.0), 1.0 / uGamma[channel]);
-    }
-    int n = uCurveCount[channel];
-    float first = texelFetch(uCurve, ivec2(0, channel), 0).x;
-    if (fraction <= first) {
-        return 0.0;
-    }
-    float target = min(fraction, 1.0);
-    float previous = first;
-    for (int k = 1; k < n; ++k) {
-        float output_ = texelFetch(uCurve, ivec2(k, channel), 0).x;
-        if (output_ >= target) {
-            float f = (target - previous) / (output_ - previous);
-            float step_ = 1.0 / float(n - 1);
-            return clamp(float(k - 1) * step_ + f * step_, 0.0, 1.0);
-        }
-        previous = output_;
-    }
-    return 1.0;
-}
-
-float vpeBlackLevel(int channel) {
-    return uCurveResponse ? texelFetch(uCurve, ivec2(0, channel), 0).x : 0.0;
-}
 
 void main() {
     ivec2 pixel = vpePixel();
@@ -247,8 +408,11 @@ void main() {
         outLevel = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    uvec3 index = vpeTriangle(int(id - 1u));
-    vec3 p0 = vpePosition(index.x), p1 = vpePosition(index.y), p2 = vpePosition(index.z);
+    int triangle = int(id - 1u);
+    vec4 t0 = vpeTriangleTexel(triangle, 0), t1 = vpeTriangleTexel(triangle, 1);
+    vec4 t2 = vpeTriangleTexel(triangle, 2), t3 = vpeTriangleTexel(triangle, 3);
+    vec4 t4 = vpeTriangleTexel(triangle, 4), t5 = vpeTriangleTexel(triangle, 5);
+    vec3 p0 = t0.xyz, p1 = t1.xyz, p2 = t2.xyz;
     vec2 ab = texelFetch(uRays, pixel, 0).xy;
     vec3 direction = uRt * vec3(ab, 1.0);
     bool hit;
@@ -262,7 +426,7 @@ void main() {
     vec3 geometric = cross(p1 - p0, p2 - p0);
     float geometricLength = length(geometric);
     geometric = geometricLength > 0.0 ? geometric / geometricLength : vec3(0.0, 0.0, 1.0);
-    vec3 interpolated = b0 * vpeNormal(index.x) + b1 * vpeNormal(index.y) + b2 * vpeNormal(index.z);
+    vec3 interpolated = b0 * t3.xyz + b1 * t4.xyz + b2 * t5.xyz;
     float interpolatedLength = length(interpolated);
     vec3 normal = interpolatedLength > 0.0 ? interpolated / interpolatedLength : geometric;
     if (dot(geometric, normal) < 0.0) {
@@ -273,69 +437,22 @@ void main() {
         normal = -normal;
     }
     // The bundle's uvs have rows from the top, as the textures were uploaded: no flip.
-    vec2 uv = b0 * vpeUv(index.x) + b1 * vpeUv(index.y) + b2 * vpeUv(index.z);
+    vec2 uv = b0 * vec2(t0.w, t1.w) + b1 * vec2(t2.w, t3.w) + b2 * vec2(t4.w, t5.w);
 
     vec3 toLight = uLightPosition - position;
     vec3 toViewer = uViewer - position;
     float lightDistance = length(toLight), viewerDistance = length(toViewer);
     vec3 radiance = vec3(0.0);
     if (lightDistance > 0.0 && viewerDistance > 0.0) {
-        vec4 blended[VPE_GROUPS];
-        for (int g = 0; g < VPE_GROUPS; ++g) {
-            blended[g] = vec4(0.0);
-        }
+        vec2 angles = vpeReflectionAngles(normal, toLight / lightDistance, toViewer / viewerDistance);
+        float basis[VPE_COEFFICIENTS];
+        vpeFourierBasis(angles.x, angles.y, basis);
+        vec3 f = vec3(0.0);
 )GLSL";
-    int lowRankRow = 0;
     for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
-        const proto::CoefficientMapView& map = bundle.regions()[r].coefficients;
-        const std::string n = std::to_string(r);
-        s += "        {\n";
-        s += hasWeights ? "            float w = texture(uWeights, vec3(uv, " + n + ".0)).r;\n"
-                        : "            float w = 1.0;\n";
-        if (map.encoding == proto::CoefficientEncoding::kFull) {
-            s += "            for (int g = 0; g < VPE_GROUPS; ++g) {\n"
-                 "                blended[g] += w * texture(uRegion" +
-                 n +
-                 ", vec3(uv, float(g)));\n"
-                 "            }\n";
-        } else {
-            const int rank = map.rank;
-            const int layers = (rank + 3) / 4;
-            s += "            float code[" + std::to_string(layers * 4) + "];\n";
-            s += "            for (int l = 0; l < " + std::to_string(layers) +
-                 "; ++l) {\n"
-                 "                vec4 t = texture(uRegion" +
-                 n +
-                 ", vec3(uv, float(l)));\n"
-                 "                code[4 * l] = t.x; code[4 * l + 1] = t.y;\n"
-                 "                code[4 * l + 2] = t.z; code[4 * l + 3] = t.w;\n"
-                 "            }\n";
-            s += "            for (int g = 0; g < VPE_GROUPS; ++g) {\n"
-                 "                vec4 value = uLowRank[" +
-                 std::to_string(lowRankRow) +
-                 " * VPE_GROUPS + g];\n"
-                 "                for (int k = 0; k < " +
-                 std::to_string(rank) +
-                 "; ++k) {\n"
-                 "                    value += code[k] * uLowRank[(" +
-                 std::to_string(lowRankRow + 1) +
-                 " + k) * VPE_GROUPS + g];\n"
-                 "                }\n"
-                 "                blended[g] += w * value;\n"
-                 "            }\n";
-            lowRankRow += 1 + rank;
-        }
-        s += "        }\n";
+        s += regionBrdfGlsl(bundle, r, hasWeights);
     }
     s += R"GLSL(
-        vec3 coefficients[VPE_COEFFICIENTS];
-        for (int k = 0; k < VPE_COEFFICIENTS; ++k) {
-            int i = 3 * k;
-            coefficients[k] = vec3(blended[i / 4][i % 4], blended[(i + 1) / 4][(i + 1) % 4],
-                                   blended[(i + 2) / 4][(i + 2) % 4]);
-        }
-        vec2 angles = vpeReflectionAngles(normal, toLight / lightDistance, toViewer / viewerDistance);
-        vec3 f = vpeFourierBrdf(coefficients, angles.x, angles.y);
         vec3 irradiance = uLightIntensity;
         if (uInverseSquare) {
             irradiance *= uReferenceDistance * uReferenceDistance / dot(toLight, toLight);
@@ -348,29 +465,19 @@ void main() {
     float distanceSquared = dot(toProjector, toProjector);
     float cosine = dot(normal, toProjector) / sqrt(distanceSquared);
     float scale = cosine > 0.0 ? uPeakIrradiance * cosine / distanceSquared : 0.0;
-    vec3 level;
-    for (int c = 0; c < 3; ++c) {
-        float wanted = 3.14159265358979323846 * radiance[c] / uAlbedo[c] - uAmbient[c];
-        float relative = 0.0;
-        if (scale > 0.0) {
-            relative = wanted / scale;
-        } else if (wanted != 0.0) {
-            relative = wanted > 0.0 ? 2.0 : -1.0;  // ±∞: clips either way
-        }
-        if (relative > 1.0) {
-            level[c] = 1.0;
-        } else if (relative < vpeBlackLevel(c)) {
-            level[c] = 0.0;
-        } else {
-            level[c] = vpeLevel(c, relative);
-        }
-    }
+    vec3 wanted = 3.14159265358979323846 * radiance / uAlbedo - uAmbient;
+    // S = 0: ±∞, clipped either way (2 > 1, −2 < every black level), or 0.
+    vec3 relative = scale > 0.0 ? wanted / scale : 2.0 * sign(wanted);
+)GLSL";
+    s += compensationGlsl(bundle.settings());
+    s += R"GLSL(
     outLevel = vec4(level, 1.0);
 }
 )GLSL";
-    (void)curve;
     return s;
 }
+
+namespace {
 
 GlObject makeTexture2D(GLenum internalFormat, int width, int height, GLenum format, GLenum type,
                        const void* data) {
@@ -388,20 +495,31 @@ GlObject makeTexture2D(GLenum internalFormat, int width, int height, GLenum form
     return texture;
 }
 
-// Per-item data of `components` values each, padded to 4 components, in rows of kRowTexels.
-template <typename T>
-GlObject makeRowTexture(GLenum internalFormat, GLenum format, GLenum type,
-                        std::span<const T> values, int components, std::size_t items) {
-    const std::size_t rows = std::max<std::size_t>(1, (items + kRowTexels - 1) / kRowTexels);
-    std::vector<T> padded(rows * kRowTexels * 4, T{});
-    for (std::size_t i = 0; i < items; ++i) {
-        for (int k = 0; k < components; ++k) {
-            padded[4 * i + static_cast<std::size_t>(k)] =
-                values[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(k)];
+// The triangle table: per triangle kTriangleTexels RGBA32F texels, positions and normals of its
+// vertices in xyz and their uvs in w (the layout vpeTriangleTexel reads).
+GlObject makeTriangleTable(const proto::MeshView& mesh) {
+    const std::size_t triangles = mesh.triangleCount();
+    const std::size_t rows =
+        std::max<std::size_t>(1, (triangles + kTrianglesPerRow - 1) / kTrianglesPerRow);
+    const std::size_t width = kTrianglesPerRow * kTriangleTexels;
+    std::vector<float> table(rows * width * 4, 0.0f);
+    for (std::size_t t = 0; t < triangles; ++t) {
+        float* record =
+            table.data() +
+            ((t / kTrianglesPerRow) * width + (t % kTrianglesPerRow) * kTriangleTexels) * 4;
+        for (std::size_t corner = 0; corner < 3; ++corner) {
+            const std::size_t v = mesh.indices[3 * t + corner];
+            for (std::size_t i = 0; i < 3; ++i) {
+                record[4 * corner + i] = mesh.positions[3 * v + i];
+                record[4 * (3 + corner) + i] = mesh.normals[3 * v + i];
+            }
+            // w: u0 v0 u1 v1 u2 v2 over the six texels.
+            record[4 * (2 * corner) + 3] = mesh.uvs[2 * v];
+            record[4 * (2 * corner + 1) + 3] = mesh.uvs[2 * v + 1];
         }
     }
-    return makeTexture2D(internalFormat, kRowTexels, static_cast<int>(rows), format, type,
-                         padded.data());
+    return makeTexture2D(GL_RGBA32F, static_cast<int>(width), static_cast<int>(rows), GL_RGBA,
+                         GL_FLOAT, table.data());
 }
 
 GLint location(unsigned program, const char* name) {
@@ -412,7 +530,7 @@ GLint location(unsigned program, const char* name) {
 
 GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                                      const GlesRendererOptions& options)
-    : bundleName_(bundle.name()) {
+    : bundleName_(bundle.name()), reuseVisibility_(options.reuseVisibility) {
     const proto::ProjectorCalibration& projector = bundle.projector();
     width_ = static_cast<int>(projector.width);
     height_ = static_cast<int>(projector.height);
@@ -441,19 +559,13 @@ void GlesFrameRenderer::uploadMesh(const proto::BundleView& bundle) {
     triangles_ = mesh.triangleCount();
     GLint maxTexture = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
-    const std::size_t rows =
-        (std::max(mesh.vertexCount(), mesh.triangleCount()) + kRowTexels - 1) / kRowTexels;
+    const std::size_t rows = (triangles_ + kTrianglesPerRow - 1) / kTrianglesPerRow;
     if (rows > static_cast<std::size_t>(maxTexture)) {
         throw GraphicsError(bundleName_ + ": the mesh is too large for the renderer (" +
                             std::to_string(mesh.vertexCount()) + " vertices, " +
                             std::to_string(mesh.triangleCount()) + " triangles)");
     }
-    positions_ =
-        makeRowTexture(GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh.positions, 3, mesh.vertexCount());
-    normals_ = makeRowTexture(GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh.normals, 3, mesh.vertexCount());
-    uvs_ = makeRowTexture(GL_RGBA32F, GL_RGBA, GL_FLOAT, mesh.uvs, 2, mesh.vertexCount());
-    indices_ = makeRowTexture(GL_RGBA32UI, GL_RGBA_INTEGER, GL_UNSIGNED_INT, mesh.indices, 3,
-                              mesh.triangleCount());
+    triangleTable_ = makeTriangleTable(mesh);
 
     // The projector: the rays of its pixel centres, undistorted exactly as the CPU does.
     const proto::ProjectorCalibration& calibration = bundle.projector();
@@ -510,14 +622,9 @@ void GlesFrameRenderer::uploadMesh(const proto::BundleView& bundle) {
     ambient_ = settings.ambientIrradiance;
     peakIrradiance_ = settings.peakIrradiance;
     curveResponse_ = settings.response.kind == proto::ResponseKind::kCurve;
-    gamma_ = settings.response.gamma;
     if (curveResponse_) {
         for (std::size_t c = 0; c < 3; ++c) {
-            const std::vector<float>& samples = settings.response.curve[c];
-            const float top = samples.back();
-            for (float sample : samples) {
-                curve_[c].push_back(sample / top);
-            }
+            curve_[c] = normalizedCurve(settings.response.curve[c]);
         }
     }
 }
@@ -539,9 +646,7 @@ void GlesFrameRenderer::uploadTextures(const proto::BundleView& bundle, int maxS
     }
     GLint maxLayers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
-    const int c = bundle.model().coefficientsPerTexel();
-    const int groups = (c + 3) / 4;
-    std::vector<float> lowRank;  // RGBA32F rows of `groups` texels
+    // The low-rank means and bases are constants of the shading shader (regionBrdfGlsl).
     for (const proto::RegionView& region : bundle.regions()) {
         const proto::HalfLayers& layers = region.coefficients.layers;
         if (layers.layers > maxLayers) {
@@ -551,35 +656,7 @@ void GlesFrameRenderer::uploadTextures(const proto::BundleView& bundle, int maxS
         }
         regionTextures_.push_back(makeArrayTexture(GL_RGBA16F, w, h, layers.layers, GL_RGBA,
                                                    GL_HALF_FLOAT, layers.halves.data()));
-        if (region.coefficients.encoding == proto::CoefficientEncoding::kLowRank) {
-            const auto cc = static_cast<std::size_t>(c);
-            const auto appendRow = [&](std::span<const float> values) {
-                for (int i = 0; i < groups * 4; ++i) {
-                    lowRank.push_back(i < c ? values[static_cast<std::size_t>(i)] : 0.0f);
-                }
-            };
-            appendRow(region.coefficients.mean);
-            for (int r = 0; r < region.coefficients.rank; ++r) {
-                appendRow(region.coefficients.basis.subspan(static_cast<std::size_t>(r) * cc, cc));
-            }
-        }
     }
-    if (lowRank.empty()) {
-        lowRank.assign(4, 0.0f);
-    }
-    GLint maxBlock = 0;
-    glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &maxBlock);
-    const std::size_t blockBytes = lowRank.size() * sizeof(float);
-    if (blockBytes > static_cast<std::size_t>(maxBlock)) {
-        throw GraphicsError(
-            bundleName_ + ": the low-rank bases need " + std::to_string(blockBytes) +
-            " bytes of uniforms, more than GL_MAX_UNIFORM_BLOCK_SIZE " + std::to_string(maxBlock));
-    }
-    lowRankBuffer_ = GlObject::buffer();
-    glBindBuffer(GL_UNIFORM_BUFFER, lowRankBuffer_.get());
-    glBufferData(GL_UNIFORM_BUFFER, static_cast<GLsizeiptr>(blockBytes), lowRank.data(),
-                 GL_STATIC_DRAW);
-    glBindBuffer(GL_UNIFORM_BUFFER, 0);
     for (const proto::WeightPresetView& preset : bundle.presets()) {
         presetNames_.emplace_back(preset.name);
         if (preset.encoding == proto::AlphaEncoding::kUnorm8) {
@@ -637,8 +714,7 @@ void GlesFrameRenderer::buildPrograms(const proto::BundleView& bundle) {
         unsigned fragment = 0;
         try {
             fragment =
-                compileShader(GL_FRAGMENT_SHADER, "shading.frag",
-                              shadingFragment(bundle, !presetTextures_.empty(), curveResponse_));
+                compileShader(GL_FRAGMENT_SHADER, "shading.frag", shadingShaderSource(bundle));
         } catch (...) {
             glDeleteShader(vertex);
             throw;
@@ -692,7 +768,8 @@ void GlesFrameRenderer::ensureVisibilityBuffer() {
     }
 }
 
-void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) {
+void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
+                               FramePassTimes* passTimes) {
     if (target.width() != width_ || target.height() != height_) {
         throw GraphicsError("render target " + std::to_string(target.width()) + "x" +
                             std::to_string(target.height()) + " is not the projector's " +
@@ -702,11 +779,25 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) 
         throw std::invalid_argument("gain must be positive");
     }
     ensureVisibilityBuffer();
+    // Profiling: finish the GPU's work and time it since the previous lap.
+    auto lapStart = std::chrono::steady_clock::now();
+    const auto lap = [&](double* ms) {
+        if (ms == nullptr) {
+            return;
+        }
+        glFinish();
+        const auto now = std::chrono::steady_clock::now();
+        *ms = std::chrono::duration<double, std::milli>(now - lapStart).count();
+        lapStart = now;
+    };
+    if (passTimes != nullptr) {
+        glFinish();
+        lapStart = std::chrono::steady_clock::now();
+    }
     const bool topRow = target.topRowAtGlOrigin();
     const auto common = [&](unsigned program) {
         glUseProgram(program);
-        glUniform1i(location(program, "uIndices"), kUnitIndices);
-        glUniform1i(location(program, "uPositions"), kUnitPositions);
+        glUniform1i(location(program, "uTriangles"), kUnitTriangles);
         glUniform2f(location(program, "uSize"), static_cast<float>(width_),
                     static_cast<float>(height_));
         glUniform1i(location(program, "uTopRowAtOrigin"), topRow ? 1 : 0);
@@ -719,12 +810,8 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) 
         glActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
         glBindTexture(kind, texture.get());
     };
-    bind(kUnitPositions, GL_TEXTURE_2D, positions_);
-    bind(kUnitNormals, GL_TEXTURE_2D, normals_);
-    bind(kUnitUvs, GL_TEXTURE_2D, uvs_);
-    bind(kUnitIndices, GL_TEXTURE_2D, indices_);
+    bind(kUnitTriangles, GL_TEXTURE_2D, triangleTable_);
     bind(kUnitRays, GL_TEXTURE_2D, rays_);
-    glBindBufferBase(GL_UNIFORM_BUFFER, kLowRankBlockBinding, lowRankBuffer_.get());
     bind(kUnitCurve, GL_TEXTURE_2D, curveTexture_);
     if (!presetTextures_.empty()) {
         bind(kUnitWeights, GL_TEXTURE_2D_ARRAY, presetTextures_[preset_]);
@@ -737,24 +824,38 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) 
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
 
-    // Pass 1: the nearest triangle each pixel's exact ray hits.
-    glBindFramebuffer(GL_FRAMEBUFFER, idFramebuffer_.get());
-    const GLuint zero[4] = {0, 0, 0, 0};
-    glClearBufferuiv(GL_COLOR, 0, zero);
-    glClearDepthf(1.0f);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    const unsigned visibility = visibilityProgram_.get();
-    common(visibility);
-    glUniform4fv(location(visibility, "uIntrinsics"), 1, intrinsics_.data());
-    glUniform1f(location(visibility, "uSkew"), skew_);
-    glUniform1fv(location(visibility, "uDistortion"), 5, distortion_.data());
-    glUniform1f(location(visibility, "uMargin"), kBoxMarginPixels);
-    glUniform1f(location(visibility, "uDepthScale"), depthScale_);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(6 * triangles_));
-    glDisable(GL_DEPTH_TEST);
+    // Pass 1: the nearest triangle each pixel's exact ray hits. It depends on the mesh and the
+    // projector only, both fixed for the renderer's life: drawn once per orientation.
+    const int orientation = topRow ? 1 : 0;
+    const bool drawVisibility = !reuseVisibility_ || visibilityOrientation_ != orientation;
+    if (passTimes != nullptr) {
+        passTimes->visibilityDrawn = drawVisibility;
+        passTimes->visibilityMs = 0;
+    }
+    if (drawVisibility) {
+        glBindFramebuffer(GL_FRAMEBUFFER, idFramebuffer_.get());
+        const GLuint zero[4] = {0, 0, 0, 0};
+        glClearBufferuiv(GL_COLOR, 0, zero);
+        glClearDepthf(1.0f);
+        glClear(GL_DEPTH_BUFFER_BIT);
+        glEnable(GL_DEPTH_TEST);
+        glDepthFunc(GL_LESS);
+        glDepthMask(GL_TRUE);
+        const unsigned visibility = visibilityProgram_.get();
+        common(visibility);
+        glUniform4fv(location(visibility, "uIntrinsics"), 1, intrinsics_.data());
+        glUniform1f(location(visibility, "uSkew"), skew_);
+        glUniform1fv(location(visibility, "uDistortion"), 5, distortion_.data());
+        glUniform1f(location(visibility, "uMargin"), kCoverMarginPixels);
+        glUniform1f(location(visibility, "uDepthScale"), depthScale_);
+        glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(6 * triangles_));
+        glDisable(GL_DEPTH_TEST);
+        // Only the ids are read back: a tile-based GPU (the Pi's V3D) need not store the depths.
+        const GLenum depthAttachment = GL_DEPTH_ATTACHMENT;
+        glInvalidateFramebuffer(GL_FRAMEBUFFER, 1, &depthAttachment);
+        visibilityOrientation_ = orientation;
+        lap(passTimes != nullptr ? &passTimes->visibilityMs : nullptr);
+    }
 
     // Pass 2: shading and compensation, once per pixel.
     bind(kUnitIds, GL_TEXTURE_2D, idTexture_);
@@ -762,23 +863,12 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) 
     const unsigned shading = shadingProgram_.get();
     common(shading);
     glUniform1i(location(shading, "uIds"), kUnitIds);
-    glUniform1i(location(shading, "uNormals"), kUnitNormals);
-    glUniform1i(location(shading, "uUvs"), kUnitUvs);
     glUniform1i(location(shading, "uWeights"), kUnitWeights);
-    // Absent when no region is low-rank (the compiler drops an unused block).
-    if (const GLuint block = glGetUniformBlockIndex(shading, "VpeLowRankCodes");
-        block != GL_INVALID_INDEX) {
-        glUniformBlockBinding(shading, block, kLowRankBlockBinding);
-    }
     glUniform1i(location(shading, "uCurve"), kUnitCurve);
     for (std::size_t r = 0; r < regionTextures_.size(); ++r) {
         glUniform1i(location(shading, ("uRegion" + std::to_string(r)).c_str()),
                     kUnitRegions + static_cast<int>(r));
     }
-    const GLint counts[3] = {static_cast<GLint>(curve_[0].size()),
-                             static_cast<GLint>(curve_[1].size()),
-                             static_cast<GLint>(curve_[2].size())};
-    glUniform1iv(location(shading, "uCurveCount"), 3, counts);
     glUniform3fv(location(shading, "uLightPosition"), 1, inputs.lightPosition.data());
     glUniform3fv(location(shading, "uLightIntensity"), 1, inputs.lightIntensity.data());
     glUniform1i(location(shading, "uInverseSquare"), inputs.inverseSquare ? 1 : 0);
@@ -787,10 +877,9 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs) 
     glUniform1f(location(shading, "uGain"), inputs.gain);
     glUniform3fv(location(shading, "uAlbedo"), 1, albedo_.data());
     glUniform3fv(location(shading, "uAmbient"), 1, ambient_.data());
-    glUniform3fv(location(shading, "uGamma"), 1, gamma_.data());
-    glUniform1i(location(shading, "uCurveResponse"), curveResponse_ ? 1 : 0);
     glUniform1f(location(shading, "uPeakIrradiance"), peakIrradiance_);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    lap(passTimes != nullptr ? &passTimes->shadingMs : nullptr);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     checkGlError(bundleName_ + ": rendering a frame");
 }

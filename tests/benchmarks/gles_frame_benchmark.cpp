@@ -4,10 +4,17 @@
 // region) and full-precision (17 RGBA16F layers: 136 B/texel per region) textures, and in the
 // same run a pass-through shader that samples exactly the same texture layers (GL_LINEAR,
 // every layer of both regions and the weights, once per pixel, full screen) and does nothing
-// else: the bandwidth floor. Frame time = render + present (glFinish), no readback; median of
-// the timed frames after warm-up. The scene: a 1.3 m × 0.72 m plane (64 × 64 quads, 8192
-// triangles) 1.5 m in front of a 1920 × 1080 projector (f = 2000 px), ~90% of the pixels.
-//   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2]
+// else: the bandwidth floor. Frames of the renderer (render + present, i.e. glFinish; no
+// readback) and of the floor alternate; medians of the timed frames after warm-up, the ratio
+// the median of each pair's ratio. Besides wall time, the process's CPU time (llvmpipe's
+// threads included), which hardly depends on the load other programs put on the machine. Then
+// the visibility and shading passes timed apart (FramePassTimes: the GPU finishes after each),
+// by a renderer that draws the visibility pass every frame: the frames above draw it once.
+// The scene: a 1.3 m × 0.72 m plane (64 × 64 quads, 8192 triangles) 1.5 m in front of a
+// 1920 × 1080 projector (f = 2000 px), ~90% of the pixels.
+//   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2] [--shaders DIR]
+// --shaders writes the generated shading shaders to DIR/{low_rank,full}.frag (for reading and
+// for counting operations, docs/pi-headroom.md).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,10 +22,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <GLES3/gl31.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "vpe/renderer/gles/gl_program.h"
@@ -91,18 +100,26 @@ double median(std::vector<double> values) {
     return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// Wall time, and CPU time of the whole process: llvmpipe's rasterizer threads included, so the
+// CPU time hardly depends on what else the machine runs.
+struct FrameTime {
+    double wallMs = 0;
+    double cpuMs = 0;
+};
+
+double processCpuMs() {
+    timespec now{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
+}
+
 template <typename Frame>
-double medianFrameMs(int warmup, int frames, Frame&& frame) {
-    for (int i = 0; i < warmup; ++i) {
-        frame(i);
-    }
-    std::vector<double> ms;
-    for (int i = 0; i < frames; ++i) {
-        const auto start = Clock::now();
-        frame(warmup + i);
-        ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
-    }
-    return median(ms);
+FrameTime timeFrame(Frame&& frame) {
+    const auto start = Clock::now();
+    const double cpuStart = processCpuMs();
+    frame();
+    return {std::chrono::duration<double, std::milli>(Clock::now() - start).count(),
+            processCpuMs() - cpuStart};
 }
 
 // The bandwidth floor: the bundle's texture layers, uploaded as the renderer uploads them,
@@ -184,9 +201,12 @@ private:
 
 int main(int argc, char** argv) {
     int textureSize = 1024, frames = 10, warmup = 2;
+    std::string shaderFolder;
     for (int i = 1; i + 1 < argc; i += 2) {
         const int value = std::atoi(argv[i + 1]);
-        if (std::strcmp(argv[i], "--texture") == 0) {
+        if (std::strcmp(argv[i], "--shaders") == 0) {
+            shaderFolder = argv[i + 1];
+        } else if (std::strcmp(argv[i], "--texture") == 0) {
             textureSize = value;
         } else if (std::strcmp(argv[i], "--frames") == 0) {
             frames = value;
@@ -204,36 +224,77 @@ int main(int argc, char** argv) {
             "%s\n%dx%d, M = 10, RGB, 2 regions + live weights (8-bit preset), %d² textures, "
             "median of %d frames after %d warm-up (render + glFinish)\n",
             platform->description().c_str(), kWidth, kHeight, textureSize, frames, warmup);
-        std::printf("%-12s %10s %8s %16s %10s %8s\n", "textures", "B/texel", "ms", "fps",
-                    "floor ms", "ratio");
+        std::printf("%-12s %8s %8s %7s %9s %6s %8s %9s %6s %11s %8s\n", "", "", "frame", "",
+                    "floor", "", "CPU", "CPU", "CPU", "visibility", "shading");
+        std::printf("%-12s %8s %8s %7s %9s %6s %8s %9s %6s %11s %8s\n", "textures", "B/texel", "ms",
+                    "fps", "ms", "ratio", "ms", "floor ms", "ratio", "pass ms", "pass ms");
         for (const bool lowRank : {true, false}) {
             const std::filesystem::path path = folder / (lowRank ? "low_rank.vpeb" : "full.vpeb");
             vpe::bake::writeBundle(path, contents(textureSize, lowRank));
             const vpe::proto::BundleFile bundle =
                 vpe::proto::BundleFile::open(path, {.verifyChecksum = false});
+            if (!shaderFolder.empty()) {
+                std::ofstream(std::filesystem::path(shaderFolder) /
+                              (lowRank ? "low_rank.frag" : "full.frag"))
+                    << gles::shadingShaderSource(bundle.view());
+            }
             std::unique_ptr<gles::RenderTarget> target =
                 platform->createRenderTarget(kWidth, kHeight);
             int bytesPerTexel = bundle->presets().front().bytesPerTexel();
             for (const auto& region : bundle->regions()) {
                 bytesPerTexel += region.coefficients.bytesPerTexel();
             }
-            double frameMs = 0;
+            // Frames of the renderer and of the floor alternate, so that both see the same load
+            // on a shared machine; the ratios are medians of each pair's ratio.
+            std::vector<double> frameMs, frameCpuMs, floorMs, floorCpuMs, ratio, cpuRatio;
+            std::vector<double> visibilityMs, shadingMs;
             {
                 gles::GlesFrameRenderer renderer(bundle.view());
+                PassThrough floor(bundle.view());
                 gles::FrameInputs inputs;
                 inputs.viewerPosition = bundle->settings().viewerPosition;
-                frameMs = medianFrameMs(warmup, frames, [&](int i) {
+                const auto renderFrame = [&](int i) {
                     const float phi = 0.3f * static_cast<float>(i);
                     inputs.lightPosition = {0.6f * std::cos(phi), 0.6f * std::sin(phi), -1.2f};
                     renderer.render(*target, inputs);
                     target->present();
-                });
+                };
+                for (int i = 0; i < warmup; ++i) {
+                    renderFrame(i);
+                    floor.render(*target);
+                }
+                for (int i = 0; i < frames; ++i) {
+                    const FrameTime frame = timeFrame([&] { renderFrame(warmup + i); });
+                    const FrameTime pass = timeFrame([&] { floor.render(*target); });
+                    frameMs.push_back(frame.wallMs);
+                    frameCpuMs.push_back(frame.cpuMs);
+                    floorMs.push_back(pass.wallMs);
+                    floorCpuMs.push_back(pass.cpuMs);
+                    ratio.push_back(frame.wallMs / pass.wallMs);
+                    cpuRatio.push_back(frame.cpuMs / pass.cpuMs);
+                }
             }
-            PassThrough floor(bundle.view());
-            const double floorMs =
-                medianFrameMs(warmup, frames, [&](int) { floor.render(*target); });
-            std::printf("%-12s %10d %8.1f %16.2f %10.1f %8.2f\n", lowRank ? "low-rank 12" : "full",
-                        bytesPerTexel, frameMs, 1000.0 / frameMs, floorMs, frameMs / floorMs);
+            {
+                // The passes apart, the visibility pass drawn every frame (the renderer above
+                // draws it once and reuses the ids); the GPU finishes after each pass.
+                gles::GlesFrameRenderer renderer(bundle.view(), {.reuseVisibility = false});
+                gles::FrameInputs inputs;
+                inputs.viewerPosition = bundle->settings().viewerPosition;
+                for (int i = 0; i < warmup + frames; ++i) {
+                    gles::FramePassTimes times;
+                    renderer.render(*target, inputs, &times);
+                    target->present();
+                    if (i >= warmup) {
+                        visibilityMs.push_back(times.visibilityMs);
+                        shadingMs.push_back(times.shadingMs);
+                    }
+                }
+            }
+            const double ms = median(frameMs);
+            std::printf("%-12s %8d %8.1f %7.2f %9.1f %6.2f %8.1f %9.1f %6.2f %11.1f %8.1f\n",
+                        lowRank ? "low-rank 12" : "full", bytesPerTexel, ms, 1000.0 / ms,
+                        median(floorMs), median(ratio), median(frameCpuMs), median(floorCpuMs),
+                        median(cpuRatio), median(visibilityMs), median(shadingMs));
             std::fflush(stdout);
             std::filesystem::remove(path);
         }

@@ -26,26 +26,30 @@ using gles::GlObject;
 
 class GlesBrdfTest : public GlesTest {};
 
-// Evaluates vpeFourierBrdf for samples of 3·(2M + 2) coefficients (bundle order, 3k + c) and
-// (cos θd, cos θs); also vpeReflectionAngles for (n, l, v) triples.
+enum class Evaluate { kBrdf, kBasis, kAngles };
+
+// Evaluates vpeFourierBrdf — or Σ_k coefficients[k]·basis[k] with vpeFourierBasis — for samples
+// of 3·(2M + 2) coefficients (bundle order, 3k + c) and (cos θd, cos θs); or
+// vpeReflectionAngles for (n, l, v) triples.
 std::vector<float> evaluateOnGpu(int harmonics, const std::vector<float>& inputs, int samples,
-                                 int floatsPerSample, bool angles) {
+                                 int floatsPerSample, Evaluate what) {
     std::string source = "#version 310 es\nprecision highp float;\nprecision highp int;\n";
     source += gles::fourierBrdfGlsl(harmonics);
+    source += gles::fourierBasisGlsl(harmonics);
     source += "#define FLOATS " + std::to_string(floatsPerSample) + "\n";
     source += R"GLSL(
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Inputs { float inputs[]; };
 layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
 uniform int uSamples;
-uniform bool uAngles;
+uniform int uWhat;  // 0 BRDF, 1 basis, 2 angles
 void main() {
     int s = int(gl_GlobalInvocationID.x);
     if (s >= uSamples) {
         return;
     }
     int base = s * FLOATS;
-    if (uAngles) {
+    if (uWhat == 2) {
         vec3 n = vec3(inputs[base], inputs[base + 1], inputs[base + 2]);
         vec3 l = vec3(inputs[base + 3], inputs[base + 4], inputs[base + 5]);
         vec3 v = vec3(inputs[base + 6], inputs[base + 7], inputs[base + 8]);
@@ -58,7 +62,17 @@ void main() {
                                inputs[base + 3 * k + 2]);
     }
     int a = base + 3 * VPE_COEFFICIENTS;
-    outputs[s] = vec4(vpeFourierBrdf(coefficients, inputs[a], inputs[a + 1]), 0.0);
+    if (uWhat == 0) {
+        outputs[s] = vec4(vpeFourierBrdf(coefficients, inputs[a], inputs[a + 1]), 0.0);
+        return;
+    }
+    float basis[VPE_COEFFICIENTS];
+    vpeFourierBasis(inputs[a], inputs[a + 1], basis);
+    vec3 f = vec3(0.0);
+    for (int k = 0; k < VPE_COEFFICIENTS; ++k) {
+        f += coefficients[k] * basis[k];
+    }
+    outputs[s] = vec4(f, 0.0);
 }
 )GLSL";
     const unsigned shader = gles::compileShader(GL_COMPUTE_SHADER, "brdf_test.comp", source);
@@ -74,7 +88,7 @@ void main() {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.get());
     glUseProgram(program.get());
     glUniform1i(glGetUniformLocation(program.get(), "uSamples"), samples);
-    glUniform1i(glGetUniformLocation(program.get(), "uAngles"), angles ? 1 : 0);
+    glUniform1i(glGetUniformLocation(program.get(), "uWhat"), static_cast<int>(what));
     glDispatchCompute(static_cast<GLuint>((samples + 63) / 64), 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<float> result(static_cast<std::size_t>(samples) * 4);
@@ -91,7 +105,7 @@ void main() {
     return result;
 }
 
-TEST_F(GlesBrdfTest, GlslFourierBrdfMatchesProto) {
+void expectMatchesProto(Evaluate what) {
     std::mt19937 random(6);
     std::uniform_real_distribution<float> coefficient(-1.0f, 1.0f), cosine(-1.2f, 1.2f);
     for (int harmonics : {0, 1, 3, 10, 15, 24}) {
@@ -110,7 +124,7 @@ TEST_F(GlesBrdfTest, GlslFourierBrdfMatchesProto) {
                             [static_cast<std::size_t>(s)]
                       : cosine(random);
         }
-        const std::vector<float> gpu = evaluateOnGpu(harmonics, inputs, samples, floats, false);
+        const std::vector<float> gpu = evaluateOnGpu(harmonics, inputs, samples, floats, what);
         double worst = 0;
         for (int s = 0; s < samples; ++s) {
             const float* sample = inputs.data() + s * floats;
@@ -134,9 +148,19 @@ TEST_F(GlesBrdfTest, GlslFourierBrdfMatchesProto) {
                     << gpu[static_cast<std::size_t>(4 * s + c)] << ", proto " << expected;
             }
         }
-        std::cout << "M = " << harmonics << ": largest |GLSL − proto| / Σ|coefficients| = " << worst
-                  << "\n";
+        std::cout << (what == Evaluate::kBrdf ? "vpeFourierBrdf" : "vpeFourierBasis")
+                  << ", M = " << harmonics
+                  << ": largest |GLSL − proto| / Σ|coefficients| = " << worst << "\n";
     }
+}
+
+TEST_F(GlesBrdfTest, GlslFourierBrdfMatchesProto) {
+    expectMatchesProto(Evaluate::kBrdf);
+}
+
+// The shading pass evaluates f as Σ_k c_k·basis_k (in the low-rank space too).
+TEST_F(GlesBrdfTest, GlslFourierBasisMatchesProto) {
+    expectMatchesProto(Evaluate::kBasis);
 }
 
 TEST_F(GlesBrdfTest, GlslReflectionAnglesMatchProto) {
@@ -153,7 +177,7 @@ TEST_F(GlesBrdfTest, GlslReflectionAnglesMatchProto) {
             inputs[static_cast<std::size_t>(s * floats + 3 * v + 2)] = unit.z;
         }
     }
-    const std::vector<float> gpu = evaluateOnGpu(1, inputs, samples, floats, true);
+    const std::vector<float> gpu = evaluateOnGpu(1, inputs, samples, floats, Evaluate::kAngles);
     for (int s = 0; s < samples; ++s) {
         const float* x = inputs.data() + s * floats;
         const auto angles = proto::reflectionAngles(proto::Vec3<float>{x[0], x[1], x[2]},

@@ -66,7 +66,7 @@ std::uint64_t alignUp(std::uint64_t offset) {
 }  // namespace
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
-    const OwnedMesh vase = makeVaseMesh(48, 24);
+    const OwnedMesh vase = makeVaseMesh(spec.vaseSegments, spec.vaseRings);
     std::vector<float> positions, normals, uvs;
     for (std::size_t v = 0; v < vase.positions.size(); ++v) {
         positions.insert(positions.end(),
@@ -163,7 +163,7 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
     PinholeCamera camera = cameraLookingAt(spec.projectorWidth, spec.projectorHeight, 38.0,
                                            {0.08, 0.11, 0.42}, {0.0, 0.075, 0.0});
     if (spec.distortion) {
-        camera.distortion = {0.09, -0.12, 0.0015, -0.001, 0.02};
+        camera.distortion = spec.distortionCoefficients;
     }
 
     std::vector<std::uint8_t> meta;

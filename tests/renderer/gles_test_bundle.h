@@ -5,6 +5,7 @@
 // presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -21,6 +22,10 @@ struct GlesBundleSpec {
     int lowRank = 3;
     bool curveResponse = false;
     bool distortion = true;
+    // k1, k2, p1, p2, k3 when `distortion`.
+    std::array<double, 5> distortionCoefficients{0.09, -0.12, 0.0015, -0.001, 0.02};
+    // The vase's quads around and along its axis: fewer means longer, more bent edges.
+    int vaseSegments = 48, vaseRings = 24;
 };
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});

@@ -17,4 +17,11 @@ namespace vpe::renderer::gles {
 // To be pasted after the #version and precision lines.
 std::string fourierBrdfGlsl(int harmonics);
 
+// GLSL source, to follow fourierBrdfGlsl(harmonics), defining
+//   void vpeFourierBasis(float cosThetaD, float cosThetaS, out float basis[VPE_COEFFICIENTS])
+//     — the basis values of that evaluation (max(cos θd, 0), 1/√2, cos θs, sin θs, cos 2θs, …,
+//     the same recurrence, unrolled for M), so that f = Σ_k coefficients[k]·basis[k]: a
+//     shader can then evaluate f in any linear image of the coefficients (a low-rank code).
+std::string fourierBasisGlsl(int harmonics);
+
 }  // namespace vpe::renderer::gles
