@@ -2,11 +2,13 @@
 // GlesFrameRenderer's frame against the CPU reference (renderProjectorFrame, quantized to
 // 8 bits) for several lights, viewers, both presets and both response kinds: PSNR ≥ 50 dB.
 // On failure the actual, expected and difference images are written beside the test output
-// (the working directory) as binary PPM.
+// (the working directory): PNG, or PPM in the device-only build (failure_image.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 #include "vpe/renderer/projector_frame.h"
 
+#include "failure_image.h"
 #include "gles_test_bundle.h"
 #include "gles_test_platform.h"
 
@@ -31,13 +34,6 @@ struct FrameCase {
     bool inverseSquare = false;
     float gain = 1.0f;
 };
-
-void writePpm(const std::string& path, int width, int height,
-              const std::vector<std::uint8_t>& rgb) {
-    std::ofstream out(path, std::ios::binary);
-    out << "P6\n" << width << " " << height << "\n255\n";
-    out.write(reinterpret_cast<const char*>(rgb.data()), static_cast<std::streamsize>(rgb.size()));
-}
 
 class GlesFrameTest : public GlesTest {
 protected:
@@ -104,11 +100,10 @@ protected:
                   << "largest difference " << largest << " levels\n";
         if (psnr < 50.0) {
             const std::string stem = "gles_frame_" + frame.name;
-            writePpm(stem + ".actual.ppm", w, h, actual);
-            writePpm(stem + ".expected.ppm", w, h, expected);
-            writePpm(stem + ".difference.ppm", w, h, difference);
-            ADD_FAILURE() << frame.name << ": wrote " << stem
-                          << ".{actual,expected,difference}.ppm";
+            ADD_FAILURE() << frame.name << ": wrote "
+                          << writeFailureImage(stem + ".actual", w, h, actual) << ", "
+                          << writeFailureImage(stem + ".expected", w, h, expected) << ", "
+                          << writeFailureImage(stem + ".difference", w, h, difference);
         }
         EXPECT_GT(covered, pixels / 10) << "the test scene should cover the projector's view";
         return psnr;
@@ -223,6 +218,30 @@ TEST_F(GlesFrameTest, UnknownPresetIsRefusedByName) {
             std::string::npos)
             << error.what();
     }
+}
+
+// The failure evidence itself: a picture a person can open, with the frame's pixels.
+TEST(FailureImageTest, WritesAPictureOfTheFrame) {
+    std::vector<std::uint8_t> rgb(4 * 3 * 3);
+    for (std::size_t i = 0; i < rgb.size(); ++i) {
+        rgb[i] = static_cast<std::uint8_t>(i * 7);
+    }
+    const std::string path = writeFailureImage("failure_image_test", 4, 3, rgb);
+    std::ifstream in(path, std::ios::binary);
+    ASSERT_TRUE(in) << path;
+    std::ostringstream contents;
+    contents << in.rdbuf();
+    const std::string bytes = contents.str();
+#if VPE_TEST_PNG
+    EXPECT_EQ(path, "failure_image_test.png");
+    ASSERT_GT(bytes.size(), 8u);
+    EXPECT_EQ(bytes.substr(1, 3), "PNG");
+#else
+    EXPECT_EQ(path, "failure_image_test.ppm");
+    EXPECT_EQ(bytes.substr(0, 11), "P6\n4 3\n255\n");
+    EXPECT_EQ(bytes.substr(11), std::string(rgb.begin(), rgb.end()));
+#endif
+    std::remove(path.c_str());
 }
 
 }  // namespace
