@@ -50,8 +50,8 @@ void SampleSet::add(double value) {
     ++count_;
     total_ += value;
     max_ = count_ == 1 ? value : std::max(max_, value);
-    if (samples_.size() < capacity_) {
-        samples_.push_back(value);
+    if (stored_ < capacity_) {
+        samples_[stored_++] = value;
         return;
     }
     // Algorithm R with a xorshift generator: each sample kept with probability capacity/count.

@@ -21,21 +21,26 @@ std::string jsonString(const std::string& text);
 
 // Keeps every sample up to a cap, then a uniform reservoir (percentiles of a 16,384-sample
 // reservoir are within a fraction of a percent of the exact ones): a player running for
-// months must not grow memory for its own statistics. The storage is reserved up front.
+// months must not grow memory for its own statistics. The storage is allocated and written
+// up front, so its pages are resident from the start.
 class SampleSet {
 public:
-    explicit SampleSet(std::size_t capacity = 16'384) : capacity_(capacity) {
-        samples_.reserve(capacity_);
-    }
+    explicit SampleSet(std::size_t capacity = 16'384) : samples_(capacity, 0.0), capacity_(capacity) {}
     void add(double value);
     std::size_t count() const { return count_; }
     double max() const { return max_; }
     double mean() const { return count_ == 0 ? 0 : total_ / static_cast<double>(count_); }
-    double percentile(double q) const { return nearestRankPercentile(samples_, q); }
+    double percentile(double q) const {
+        return nearestRankPercentile(
+            std::vector<double>(samples_.begin(),
+                                samples_.begin() + static_cast<std::ptrdiff_t>(stored_)),
+            q);
+    }
 
 private:
     std::vector<double> samples_;
     std::size_t capacity_;
+    std::size_t stored_ = 0;
     std::size_t count_ = 0;
     double total_ = 0;
     double max_ = 0;
