@@ -133,9 +133,9 @@ printf '%-28s baked %s bytes (%s bytes/texel per region); 8 frames rendered, loo
 step "play (vpe-player, OpenGL ES headless): the light drifting along the idle path"
 play="$synthetic/player"
 mkdir -p "$play/frames" "$play/tiles"
-# The headless board, unpaced (frames as fast as llvmpipe renders them) and with a drift slow
-# enough that 16 frames make one smooth loop.
-sed -e 's/^rate = .*/rate = 0/' -e 's/^period_s = .*/period_s = 24/' -e 's/^handover_s = .*/handover_s = 0/' \
+# The headless board at 4 frames a second (llvmpipe renders a 1080p frame in about 0.13 s), its
+# drift set to one loop in 8 s: the 32 frames are one loop of the figure of eight.
+sed -e 's/^rate = .*/rate = 4/' -e 's/^period_s = .*/period_s = 8/' -e 's/^handover_s = .*/handover_s = 0/' \
     -e '/^\[osc\]/,/^port/ s/^enabled = true/enabled = false/' \
     boards/headless.toml > "$play/board.toml"
 "$player" --board "$play/board.toml" --bundle "$stage/scene.vpeb" --frames 32 --every 2 \
@@ -144,7 +144,12 @@ tail -1 "$play/player.txt" > "$play/player.json"
 for ppm in "$play"/frames/frame_*.ppm; do
     name=$(basename "$ppm" .ppm)
     oiiotool "$ppm" -d uint8 -o "$play/frames/$name.png" && rm "$ppm"
-    tile "$play/frames/$name.png" "$play/tiles/$name.png" "vpe-player ${name#frame_}"
+    # The tiles show the vase: the middle of the projector's frame.
+    oiiotool "$play/frames/$name.png" --cut 640x600+640+230 -o "$play/tiles/$name-vase.png"
+    index=$((10#${name#frame_}))
+    tile "$play/tiles/$name-vase.png" "$play/tiles/$name.png" \
+        "frame $index, t = $(awk -v i="$index" 'BEGIN { printf "%.2f", i / 4 }') s"
+    rm "$play/tiles/$name-vase.png"
 done
 sheet 4 "$play/contact-sheet.png" "$play"/tiles/*.png
 rm -rf "$play/tiles"
