@@ -41,8 +41,7 @@ std::optional<bool> optionalBool(const toml::table& table, const std::string& so
 // [low, high] with low ≤ high, both finite.
 std::optional<std::pair<double, double>> optionalRange(const toml::table& table,
                                                        const std::string& source,
-                                                       const std::string& section,
-                                                       const char* key);
+                                                       const std::string& section, const char* key);
 // A sub-table (nullptr when absent) or an array of tables (empty when absent).
 const toml::table* optionalTable(const toml::table& table, const std::string& source,
                                  const std::string& section, const char* key);

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/firmware/input/input_device.h"
 #include "vpe/firmware/input/input_event.h"
 
 #include <ctime>
+
+#include "vpe/firmware/input/input_device.h"
 
 namespace vpe::firmware {
 

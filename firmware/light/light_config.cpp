@@ -52,8 +52,8 @@ LightConfig parseLightConfig(const toml::table* light, const std::string& source
     }
     config.initialAzimuthDeg =
         optionalNumber(*light, source, s, "initial_azimuth").value_or(config.initialAzimuthDeg);
-    config.initialElevationDeg = optionalNumber(*light, source, s, "initial_elevation")
-                                     .value_or(config.initialElevationDeg);
+    config.initialElevationDeg =
+        optionalNumber(*light, source, s, "initial_elevation").value_or(config.initialElevationDeg);
     config.initialDistanceM = optionalNumber(*light, source, s, "initial_distance");
     if (config.initialDistanceM) {
         requirePositive(*config.initialDistanceM, source, "light.initial_distance", false);

@@ -47,7 +47,8 @@ SphericalPosition LightRig::clamped(SphericalPosition p) const {
     if (wraps(limits_)) {
         p.azimuthDeg = std::remainder(p.azimuthDeg, 360.0);
     } else {
-        p.azimuthDeg = std::clamp(p.azimuthDeg, limits_.azimuthDeg.first, limits_.azimuthDeg.second);
+        p.azimuthDeg =
+            std::clamp(p.azimuthDeg, limits_.azimuthDeg.first, limits_.azimuthDeg.second);
     }
     p.elevationDeg =
         std::clamp(p.elevationDeg, limits_.elevationDeg.first, limits_.elevationDeg.second);
@@ -89,8 +90,8 @@ bool LightRig::apply(const InputEvent& event) {
                 // Choosing a material is not steering: the light keeps what it was doing.
                 steers = false;
                 if (action.relative) {
-                    preset_ = ((preset_ + action.value) % presetCount_ + presetCount_) %
-                              presetCount_;
+                    preset_ =
+                        ((preset_ + action.value) % presetCount_ + presetCount_) % presetCount_;
                 } else if (action.value >= 0 && action.value < presetCount_) {
                     preset_ = action.value;
                 } else {
@@ -120,8 +121,8 @@ bool LightRig::apply(const InputEvent& event) {
 }
 
 void LightRig::advance(std::int64_t nowNs) {
-    const double dt = static_cast<double>(std::max<std::int64_t>(nowNs - lastAdvanceNs_, 0)) /
-                      kNsPerSecond;
+    const double dt =
+        static_cast<double>(std::max<std::int64_t>(nowNs - lastAdvanceNs_, 0)) / kNsPerSecond;
     lastAdvanceNs_ = std::max(lastAdvanceNs_, nowNs);
     if (!idleSince_ && idleConfig_.enabled &&
         static_cast<double>(nowNs - lastInputNs_) >= idleConfig_.quietSeconds * kNsPerSecond) {

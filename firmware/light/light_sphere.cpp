@@ -53,8 +53,7 @@ std::array<double, 3> LightSphere::toPosition(const SphericalPosition& s) const 
     const double az = s.azimuthDeg * kDegree, el = s.elevationDeg * kDegree;
     const double horizontal = std::cos(el) * s.distanceM;
     const double a = horizontal * std::cos(az), b = horizontal * std::sin(az);
-    return {centre_[0] + a * forward_[0] + b * side_[0],
-            centre_[1] + s.distanceM * std::sin(el),
+    return {centre_[0] + a * forward_[0] + b * side_[0], centre_[1] + s.distanceM * std::sin(el),
             centre_[2] + a * forward_[2] + b * side_[2]};
 }
 

@@ -14,8 +14,8 @@ namespace vpe::firmware {
 FileWatch::FileWatch(const std::filesystem::path& file)
     : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)), name_(file.filename().string()) {
     if (fd_ < 0) {
-        throw EventLoopError(file.string() + ": cannot watch (inotify_init1: " +
-                             std::strerror(errno) + ")");
+        throw EventLoopError(file.string() +
+                             ": cannot watch (inotify_init1: " + std::strerror(errno) + ")");
     }
     std::filesystem::path folder = file.parent_path();
     if (folder.empty()) {
@@ -24,8 +24,8 @@ FileWatch::FileWatch(const std::filesystem::path& file)
     if (::inotify_add_watch(fd_, folder.c_str(), IN_CLOSE_WRITE | IN_MOVED_TO) < 0) {
         const int error = errno;
         ::close(fd_);
-        throw EventLoopError(folder.string() + ": cannot watch folder (" +
-                             std::strerror(error) + ")");
+        throw EventLoopError(folder.string() + ": cannot watch folder (" + std::strerror(error) +
+                             ")");
     }
 }
 

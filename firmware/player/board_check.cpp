@@ -67,12 +67,12 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     }
     if (inputs.knobs && inputs.knobs->enabled) {
         const std::string& chip = inputs.knobs->chip;
-        const std::filesystem::path node =
-            chip.find('/') != std::string::npos ? std::filesystem::path(chip)
-                                                : std::filesystem::path("/dev") / chip;
+        const std::filesystem::path node = chip.find('/') != std::string::npos
+                                               ? std::filesystem::path(chip)
+                                               : std::filesystem::path("/dev") / chip;
         out << "  knobs: " << inputs.knobs->encoders.size() << " encoders, "
-            << inputs.knobs->buttons.size() << " buttons on " << chip << " ("
-            << presence(node) << ")\n";
+            << inputs.knobs->buttons.size() << " buttons on " << chip << " (" << presence(node)
+            << ")\n";
     } else {
         out << "  knobs: off\n";
     }
@@ -94,10 +94,10 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
                                          : std::string("[0.5, 4] × object radius"))
         << ", smoothing " << board.light.smoothingSeconds << " s\n";
     out << "  idle: "
-        << (board.idle.enabled ? "after " + number(board.idle.quietSeconds) +
-                                     " s quiet, figure of eight every " +
-                                     number(board.idle.periodSeconds) + " s"
-                               : std::string("off"))
+        << (board.idle.enabled
+                ? "after " + number(board.idle.quietSeconds) + " s quiet, figure of eight every " +
+                      number(board.idle.periodSeconds) + " s"
+                : std::string("off"))
         << "\n";
     if (!options.bundle.empty()) {
         try {
@@ -106,7 +106,8 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
             out << "  bundle: " << options.bundle.string() << " ok (checksum verified), projector "
                 << projector.width << "x" << projector.height << ", "
                 << bundle.view().presets().size() << " presets\n";
-            const auto w = static_cast<int>(projector.width), h = static_cast<int>(projector.height);
+            const auto w = static_cast<int>(projector.width),
+                       h = static_cast<int>(projector.height);
             const bool headless = board.display.backend == DisplayBackend::kHeadless;
             const std::optional<int> boardWidth =
                 headless ? board.render.width
@@ -117,12 +118,11 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
                          : (board.display.mode ? std::optional<int>(board.display.mode->height)
                                                : std::nullopt);
             if (boardWidth && (*boardWidth != w || *boardHeight != h)) {
-                throw PlayerInputError(board.source + ":" +
-                                       (headless ? "render.size" : "display.mode") + ": " +
-                                       std::to_string(*boardWidth) + "x" +
-                                       std::to_string(*boardHeight) +
-                                       " differs from the bundle's projector " +
-                                       std::to_string(w) + "x" + std::to_string(h));
+                throw PlayerInputError(
+                    board.source + ":" + (headless ? "render.size" : "display.mode") + ": " +
+                    std::to_string(*boardWidth) + "x" + std::to_string(*boardHeight) +
+                    " differs from the bundle's projector " + std::to_string(w) + "x" +
+                    std::to_string(h));
             }
         } catch (const proto::BundleError& error) {
             throw PlayerInputError(error.what());

@@ -67,10 +67,10 @@ void SampleSet::add(double value) {
 std::string FrameReport::summaryLine() const {
     std::ostringstream line;
     line << "vpe-player: " << frames << " frames " << width << "x" << height << ", preset '"
-         << preset << "', on " << platform << ": " << (frameMs.mean() > 0 ? 1000.0 / frameMs.mean() : 0)
-         << " fps, frame p50 " << frameMs.percentile(0.5) << " ms, p99 "
-         << frameMs.percentile(0.99) << " ms; first frame " << firstFrameMs
-         << " ms after start";
+         << preset << "', on " << platform << ": "
+         << (frameMs.mean() > 0 ? 1000.0 / frameMs.mean() : 0) << " fps, frame p50 "
+         << frameMs.percentile(0.5) << " ms, p99 " << frameMs.percentile(0.99)
+         << " ms; first frame " << firstFrameMs << " ms after start";
     if (latencyMs.count() > 0) {
         line << "; input latency p50 " << latencyMs.percentile(0.5) << " ms, p99 "
              << latencyMs.percentile(0.99) << " ms over " << latencyMs.count() << " events";
@@ -94,11 +94,10 @@ std::string FrameReport::json() const {
          << ", \"p99\": " << frameMs.percentile(0.99) << ", \"mean\": " << frameMs.mean()
          << ", \"max\": " << frameMs.max() << "}, \"first_frame_ms\": " << firstFrameMs
          << ", \"seconds\": " << seconds << ", \"latency_ms\": {\"events\": " << latencyMs.count()
-         << ", \"p50\": " << latencyMs.percentile(0.5) << ", \"p99\": "
-         << latencyMs.percentile(0.99) << ", \"max\": " << latencyMs.max()
+         << ", \"p50\": " << latencyMs.percentile(0.5)
+         << ", \"p99\": " << latencyMs.percentile(0.99) << ", \"max\": " << latencyMs.max()
          << "}, \"rss_kb\": {\"start\": " << rssStartKb << ", \"warm\": " << rssWarmKb
-         << ", \"end\": " << rssEndKb
-         << "}, \"events\": {";
+         << ", \"end\": " << rssEndKb << "}, \"events\": {";
     bool first = true;
     for (const auto& [source, count] : events) {
         json << (first ? "" : ", ") << jsonString(source) << ": " << count;

@@ -52,8 +52,7 @@ OscLimits oscLimitsOf(const LightLimits& light) {
     return limits;
 }
 
-void addInputs(Player& player, const InputSettings& settings,
-               const PlayerOptions& options) {
+void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options) {
     if (options.replay) {
         // A replay stands in for every input: a session reproduced exactly, whatever the
         // machine has attached.
@@ -63,10 +62,9 @@ void addInputs(Player& player, const InputSettings& settings,
         decoders.oscLimits = oscLimitsOf(player.rig().limits());
         decoders.presetNames = presetNamesOf(player.bundle());
         try {
-            auto replay = std::make_unique<ReplayInput>(*options.replay,
-                                                        readReplayFile(*options.replay),
-                                                        decoders, options.replayLoop,
-                                                        monotonicNowNs());
+            auto replay =
+                std::make_unique<ReplayInput>(*options.replay, readReplayFile(*options.replay),
+                                              decoders, options.replayLoop, monotonicNowNs());
             const ReplayInput* raw = replay.get();
             log(raw->description());
             player.addInput(std::move(replay));
@@ -100,8 +98,9 @@ void addInputs(Player& player, const InputSettings& settings,
     }
     if (settings.osc && settings.osc->enabled) {
         try {
-            auto server = std::make_unique<OscServer>(*settings.osc, oscLimitsOf(player.rig().limits()),
-                                                      [](const std::string& line) { log(line); });
+            auto server =
+                std::make_unique<OscServer>(*settings.osc, oscLimitsOf(player.rig().limits()),
+                                            [](const std::string& line) { log(line); });
             server->dispatcher().setPresetNames(presetNamesOf(player.bundle()));
             const Player* observed = &player;
             server->setStatusProvider([observed] {

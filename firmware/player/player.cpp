@@ -217,7 +217,8 @@ void Player::renderFrame() {
     rig_.advance(beginNs);
     if (rig_.preset() != shownPreset_) {
         const auto& presets = scene_->view().presets();
-        scene_->renderer().selectPreset(std::string(presets[static_cast<std::size_t>(rig_.preset())].name));
+        scene_->renderer().selectPreset(
+            std::string(presets[static_cast<std::size_t>(rig_.preset())].name));
         shownPreset_ = rig_.preset();
     }
     gles::FrameInputs inputs;
@@ -226,8 +227,8 @@ void Player::renderFrame() {
     const auto intensity = static_cast<float>(board_.light.intensity);
     inputs.lightIntensity = {intensity, intensity, intensity};
     inputs.inverseSquare = board_.light.inverseSquare;
-    inputs.referenceDistance = static_cast<float>(rig_.limits().distanceM->first +
-                                                  rig_.limits().distanceM->second) * 0.5f;
+    inputs.referenceDistance =
+        static_cast<float>(rig_.limits().distanceM->first + rig_.limits().distanceM->second) * 0.5f;
     inputs.viewerPosition = settings.viewerPosition;
     inputs.gain = settings.gain;
     std::vector<std::uint8_t> rgba;

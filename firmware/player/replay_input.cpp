@@ -102,7 +102,8 @@ ReplayEvent parseEvent(const json& object, const std::filesystem::path& path, in
                         event.message.arguments.emplace_back(value);
                     }
                 } else if (argument.is_number()) {
-                    event.message.arguments.emplace_back(static_cast<float>(argument.get<double>()));
+                    event.message.arguments.emplace_back(
+                        static_cast<float>(argument.get<double>()));
                 } else if (argument.is_string()) {
                     event.message.arguments.emplace_back(argument.get<std::string>());
                 } else {
@@ -111,7 +112,8 @@ ReplayEvent parseEvent(const json& object, const std::filesystem::path& path, in
             }
         }
     } else {
-        fail(path, line, "\"type\": expected \"gpio\", \"camera\" or \"osc\", got \"" + kind + "\"");
+        fail(path, line,
+             "\"type\": expected \"gpio\", \"camera\" or \"osc\", got \"" + kind + "\"");
     }
     return event;
 }
@@ -122,10 +124,9 @@ std::vector<ReplayEvent> readReplayFile(const std::filesystem::path& path) {
     std::ifstream in(path);
     if (!in) {
         std::error_code error;
-        throw ReplayError(path.string() + ": cannot read replay file (" +
-                          (std::filesystem::exists(path, error) ? "permission denied"
-                                                                 : "no such file") +
-                          ")");
+        throw ReplayError(
+            path.string() + ": cannot read replay file (" +
+            (std::filesystem::exists(path, error) ? "permission denied" : "no such file") + ")");
     }
     std::vector<ReplayEvent> events;
     std::string text;
@@ -155,14 +156,17 @@ std::vector<ReplayEvent> readReplayFile(const std::filesystem::path& path) {
 
 ReplayInput::ReplayInput(const std::filesystem::path& path, std::vector<ReplayEvent> events,
                          const ReplayDecoders& decoders, bool loop, std::int64_t startNs)
-    : path_(path), events_(std::move(events)), loop_(loop), startNs_(startNs),
+    : path_(path),
+      events_(std::move(events)),
+      loop_(loop),
+      startNs_(startNs),
       osc_(decoders.oscLimits,
            [](const std::string& line) { std::cerr << "vpe-player: " << line << "\n"; }) {
     osc_.setPresetNames(decoders.presetNames);
     for (const ReplayEvent& event : events_) {
         if (event.kind == ReplayEvent::Kind::kGpio && !knobs_) {
-            if (!decoders.knobs || (decoders.knobs->encoders.empty() &&
-                                    decoders.knobs->buttons.empty())) {
+            if (!decoders.knobs ||
+                (decoders.knobs->encoders.empty() && decoders.knobs->buttons.empty())) {
                 fail(path_, event.line, "a gpio event, but the board's [gpio] has no knobs");
             }
             knobs_.emplace(*decoders.knobs, knobs::LineLevels{}, startNs_);
@@ -227,7 +231,8 @@ void ReplayInput::play(const ReplayEvent& event, std::int64_t atNs,
             break;
         }
         case ReplayEvent::Kind::kOsc: {
-            const OscOutcome outcome = osc_.dispatch(event.message.path, event.message.arguments, atNs);
+            const OscOutcome outcome =
+                osc_.dispatch(event.message.path, event.message.arguments, atNs);
             if (outcome.event) {
                 events.push_back(*outcome.event);
             }

@@ -57,7 +57,7 @@ public:
 private:
     void flipDone();
 
-    KmsPlatform& platform_;  // borrowed: the platform outlives its target
+    KmsPlatform& platform_;       // borrowed: the platform outlives its target
     gbm_bo* previous_ = nullptr;  // on screen
     gbm_bo* queued_ = nullptr;    // flip queued, not yet on screen
 };

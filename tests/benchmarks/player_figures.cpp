@@ -104,17 +104,18 @@ void latency(const fs::path& folder, const fs::path& bundle) {
     }
     const fs::path replay = folder / "latency.jsonl";
     script.write(replay);
-    const std::string output = run(std::string(VPE_PLAYER_PATH) + " --board " +
-                                   writeBoard(folder, "60").string() + " --bundle " +
-                                   bundle.string() + " --replay " + replay.string() + " --json");
+    const std::string output =
+        run(std::string(VPE_PLAYER_PATH) + " --board " + writeBoard(folder, "60").string() +
+            " --bundle " + bundle.string() + " --replay " + replay.string() + " --json");
     const std::string json = lastLine(output);
     std::cout << json << "\n";
     const double p50 = field(json, "latency_ms.p50"), p99 = field(json, "latency_ms.p99");
     const double period = 1000.0 / 60.0;
-    std::printf("latency: %d knob detents at 60 Hz: p50 %.2f ms (%.2f of a frame), p99 %.2f ms "
-                "(%.2f of a frame), max %.2f ms; frame p50 %.2f ms\n",
-                detents, p50, p50 / period, p99, p99 / period, field(json, "latency_ms.max"),
-                field(json, "frame_ms.p50"));
+    std::printf(
+        "latency: %d knob detents at 60 Hz: p50 %.2f ms (%.2f of a frame), p99 %.2f ms "
+        "(%.2f of a frame), max %.2f ms; frame p50 %.2f ms\n",
+        detents, p50, p50 / period, p99, p99 / period, field(json, "latency_ms.max"),
+        field(json, "frame_ms.p50"));
 }
 
 void soak(const fs::path& folder, const fs::path& bundle, long frames) {
@@ -142,26 +143,29 @@ void soak(const fs::path& folder, const fs::path& bundle, long frames) {
             " --replay-loop --frames " + std::to_string(frames) + " --json");
     const std::string json = lastLine(output);
     std::cout << json << "\n";
-    std::printf("soak: %.0f frames in %.0f s (%.0f fps, frame p99 %.2f ms), RSS %.0f KiB after the "
-                "first frame, %.0f KiB after 1,000 frames, %.0f KiB at the end (%+.0f KiB since "
-                "frame 1,000), errors %.0f, events knobs %.0f osc %.0f camera %.0f\n",
-                field(json, "frames"), field(json, "seconds"), field(json, "fps"),
-                field(json, "frame_ms.p99"), field(json, "rss_kb.start"), field(json, "rss_kb.warm"),
-                field(json, "rss_kb.end"), field(json, "rss_kb.end") - field(json, "rss_kb.warm"),
-                field(json, "errors"), field(json, "events.knobs"), field(json, "events.osc"),
-                field(json, "events.camera"));
+    std::printf(
+        "soak: %.0f frames in %.0f s (%.0f fps, frame p99 %.2f ms), RSS %.0f KiB after the "
+        "first frame, %.0f KiB after 1,000 frames, %.0f KiB at the end (%+.0f KiB since "
+        "frame 1,000), errors %.0f, events knobs %.0f osc %.0f camera %.0f\n",
+        field(json, "frames"), field(json, "seconds"), field(json, "fps"),
+        field(json, "frame_ms.p99"), field(json, "rss_kb.start"), field(json, "rss_kb.warm"),
+        field(json, "rss_kb.end"), field(json, "rss_kb.end") - field(json, "rss_kb.warm"),
+        field(json, "errors"), field(json, "events.knobs"), field(json, "events.osc"),
+        field(json, "events.camera"));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
     const std::vector<std::string> arguments(argv + 1, argv + argc);
-    const fs::path folder = fs::temp_directory_path() / ("vpe-player-figures-" + std::to_string(::getpid()));
+    const fs::path folder =
+        fs::temp_directory_path() / ("vpe-player-figures-" + std::to_string(::getpid()));
     fs::create_directories(folder);
     const std::vector<std::byte> bytes = vpe::renderer::testing::buildGlesTestBundle();
     const fs::path bundle = folder / "scene.vpeb";
     std::ofstream(bundle, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
     const bool all = arguments.empty();
     for (std::size_t i = 0; i < arguments.size() || all; ++i) {
         if (all || arguments[i] == "latency") {
@@ -169,7 +173,8 @@ int main(int argc, char** argv) {
         }
         if (all || arguments[i] == "soak") {
             long frames = 100'000;
-            if (!all && i + 1 < arguments.size() && std::isdigit(static_cast<unsigned char>(arguments[i + 1][0]))) {
+            if (!all && i + 1 < arguments.size() &&
+                std::isdigit(static_cast<unsigned char>(arguments[i + 1][0]))) {
                 frames = std::stol(arguments[++i]);
             }
             soak(folder, bundle, frames);

@@ -86,8 +86,8 @@ TEST(BoardConfigTest, RefusesBadFilesWithOneLine) {
               "test.toml:light.distance: must be positive (metres from the object's centre)");
     EXPECT_EQ(errorOf(headless + "[light]\nsmoothing_s = \"fast\"\n"),
               "test.toml:light.smoothing_s: expected a number, got a string");
-    EXPECT_EQ(errorOf(headless + "[light]\ncolour = 1\n").rfind(
-                  "test.toml:light.colour: unknown key (known: azimuth, distance,", 0),
+    EXPECT_EQ(errorOf(headless + "[light]\ncolour = 1\n")
+                  .rfind("test.toml:light.colour: unknown key (known: azimuth, distance,", 0),
               0u);
     EXPECT_EQ(errorOf(headless + "[idle]\nperiod_s = 0\n"),
               "test.toml:idle.period_s: must be positive");

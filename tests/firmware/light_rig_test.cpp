@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The light's sphere, its rig (limits, smoothing, last active input wins, idle takeover) and
 // the idle drift.
+#include "vpe/firmware/light/light_rig.h"
+
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "vpe/firmware/light/idle_drift.h"
-#include "vpe/firmware/light/light_rig.h"
 #include "vpe/firmware/light/light_sphere.h"
 
 namespace vpe::firmware {
@@ -34,8 +35,9 @@ TEST(LightSphereTest, FollowsTheDocumentedFrame) {
     EXPECT_NEAR(left[0], 1.0, 1e-12);  // +90°: counter-clockwise from above, +x
     const auto top = sphere.toPosition({0, 90, 2});
     EXPECT_NEAR(top[1], 2.1, 1e-7);
-    for (const SphericalPosition p : {SphericalPosition{-135, 20, 0.5},
-                                      SphericalPosition{37, -10, 2}, SphericalPosition{179, 80, 1}}) {
+    for (const SphericalPosition p :
+         {SphericalPosition{-135, 20, 0.5}, SphericalPosition{37, -10, 2},
+          SphericalPosition{179, 80, 1}}) {
         const SphericalPosition back = sphere.fromPosition(sphere.toPosition(p));
         EXPECT_NEAR(back.azimuthDeg, p.azimuthDeg, 1e-9);
         EXPECT_NEAR(back.elevationDeg, p.elevationDeg, 1e-9);

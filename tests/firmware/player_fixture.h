@@ -7,13 +7,13 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -100,7 +100,8 @@ protected:
         posix_spawn_file_actions_addopen(&actions, 2, (folder_ / "spawn-err.txt").c_str(),
                                          O_WRONLY | O_CREAT | O_TRUNC, 0644);
         pid_t pid = -1;
-        const int error = posix_spawn(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
+        const int error =
+            posix_spawn(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
         return error == 0 ? pid : -1;
     }
@@ -140,6 +141,5 @@ inline bool headlessAvailable(std::string& why) {
         return false;
     }
 }
-
 
 }  // namespace vpe::firmware::testing

@@ -47,8 +47,8 @@ class PlayerInputTest : public PlayerTest {
 protected:
     void SetUp() override {
         PlayerTest::SetUp();
-        board_ = writeFile("inputs.toml", std::string("[display]\nbackend = \"headless\"\n") +
-                                              kInputs);
+        board_ =
+            writeFile("inputs.toml", std::string("[display]\nbackend = \"headless\"\n") + kInputs);
     }
     fs::path board_;
 };
@@ -68,8 +68,7 @@ TEST_F(PlayerInputTest, ChecksABoardFile) {
     EXPECT_NE(withBundle.out.find("ok (checksum verified), projector 160x120, 2 presets"),
               std::string::npos)
         << withBundle.out;
-    for (const auto& [name, text, needle] :
-         std::vector<std::array<std::string, 3>>{
+    for (const auto& [name, text, needle] : std::vector<std::array<std::string, 3>>{
              {"collinear.toml",
               "[display]\nbackend = \"headless\"\n[camera]\ncalibration = [[0, 0, 0, 0], [1, 1, "
               "1, 1], [2, 2, 2, 2]]\n",
@@ -127,8 +126,9 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     EXPECT_EQ(number(json, "azimuth"), 30.0) << json;
     EXPECT_EQ(number(json, "elevation"), 20.5) << json;
     EXPECT_EQ(number(json, "osc"), 2.0) << json;
-    EXPECT_NE(run.err.find("vpe-player: osc: /vpe/light/azimuth i: azimuth 300 is outside [-90, 90]"),
-              std::string::npos)
+    EXPECT_NE(
+        run.err.find("vpe-player: osc: /vpe/light/azimuth i: azimuth 300 is outside [-90, 90]"),
+        std::string::npos)
         << run.err;
 
     // The lamp at the image centre: azimuth 0, elevation 30 by the calibration; then lost.
@@ -162,21 +162,22 @@ TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
     }
     refuse("{\"t\": 0, \"type\": \"gpio\", \"line\": 17, \"edge\": \"up\"}\n",
            "bad.jsonl:1: \"edge\": expected \"rising\" or \"falling\"");
-    refuse("{\"t\": 1, \"type\": \"osc\", \"path\": \"/vpe/ping\"}\n{\"t\": 0.5, \"type\": "
-           "\"osc\", \"path\": \"/vpe/ping\"}\n",
-           "bad.jsonl:2: \"t\" goes back in time");
+    refuse(
+        "{\"t\": 1, \"type\": \"osc\", \"path\": \"/vpe/ping\"}\n{\"t\": 0.5, \"type\": "
+        "\"osc\", \"path\": \"/vpe/ping\"}\n",
+        "bad.jsonl:2: \"t\" goes back in time");
     refuse("{\"t\": 0, \"type\": \"midi\"}\n", "bad.jsonl:1: \"type\": expected");
     refuse("not json\n", "bad.jsonl:1: not valid JSON");
     refuse("", "bad.jsonl: no events");
-    expectOneLineError(play({"--board", board_.string(), "--bundle", bundle_.string(),
-                             "--replay", (folder_ / "none.jsonl").string()}),
+    expectOneLineError(play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
+                             (folder_ / "none.jsonl").string()}),
                        "none.jsonl: cannot read replay file (no such file)");
     const fs::path plain = writeFile("plain.toml", "[display]\nbackend = \"headless\"\n");
-    const fs::path gpio = writeFile("gpio.jsonl",
-                                    "{\"t\": 0, \"type\": \"gpio\", \"line\": 17, \"edge\": \"rising\"}\n");
-    expectOneLineError(play({"--board", plain.string(), "--bundle", bundle_.string(), "--replay",
-                             gpio.string()}),
-                       "gpio.jsonl:1: a gpio event, but the board's [gpio] has no knobs");
+    const fs::path gpio = writeFile(
+        "gpio.jsonl", "{\"t\": 0, \"type\": \"gpio\", \"line\": 17, \"edge\": \"rising\"}\n");
+    expectOneLineError(
+        play({"--board", plain.string(), "--bundle", bundle_.string(), "--replay", gpio.string()}),
+        "gpio.jsonl:1: a gpio event, but the board's [gpio] has no knobs");
 }
 
 TEST_F(PlayerInputTest, LogsAbsentHardwareOnceAndPlays) {
@@ -209,8 +210,8 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     if (!headlessAvailable(why)) {
         GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
     }
-    const fs::path board = writeFile("paced.toml",
-                                     "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n");
+    const fs::path board =
+        writeFile("paced.toml", "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n");
     const pid_t pid = spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json"});
     ASSERT_GT(pid, 0);
     const auto waitFor = [&](const std::string& needle) {

@@ -23,7 +23,9 @@ inline std::string replayBoardInputs(bool enabled, const std::string& chip = "gp
            "[[gpio.encoder]]\na = 17\nb = 18\naxis = \"azimuth\"\nstep = 2\n"
            "[[gpio.encoder]]\na = 22\nb = 23\naxis = \"elevation\"\nstep = 1\n"
            "[[gpio.button]]\nline = 27\naction = \"next-preset\"\n"
-           "[camera]\nenabled = " + on + "\nsize = \"320x240\"\nhold_s = 0.3\n"
+           "[camera]\nenabled = " +
+           on +
+           "\nsize = \"320x240\"\nhold_s = 0.3\n"
            "calibration = [[10, 230, -60, 0], [310, 230, 60, 0], [10, 10, -60, 60], "
            "[310, 10, 60, 60]]\n";
 }
@@ -72,9 +74,7 @@ public:
         line("{\"t\": " + seconds(at) + ", \"type\": \"camera\", \"x\": " + seconds(x) +
              ", \"y\": " + seconds(y) + ", \"radius\": " + seconds(radius) + "}");
     }
-    void cameraEmpty(double at) {
-        line("{\"t\": " + seconds(at) + ", \"type\": \"camera\"}");
-    }
+    void cameraEmpty(double at) { line("{\"t\": " + seconds(at) + ", \"type\": \"camera\"}"); }
 
     const std::string& text() const { return text_; }
     void write(const std::filesystem::path& path) const {
@@ -83,9 +83,9 @@ public:
 
 private:
     void edge(double at, unsigned lineOffset, bool isRising) {
-        line("{\"t\": " + seconds(at) + ", \"type\": \"gpio\", \"line\": " +
-             std::to_string(lineOffset) + ", \"edge\": \"" + (isRising ? "rising" : "falling") +
-             "\"}");
+        line("{\"t\": " + seconds(at) +
+             ", \"type\": \"gpio\", \"line\": " + std::to_string(lineOffset) + ", \"edge\": \"" +
+             (isRising ? "rising" : "falling") + "\"}");
     }
     static std::string seconds(double value) {
         char text[32];

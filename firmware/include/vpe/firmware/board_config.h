@@ -48,7 +48,7 @@ struct RenderConfig {
 };
 
 struct BoardConfig {
-    std::string name;  // [board] name (informative)
+    std::string name;    // [board] name (informative)
     std::string source;  // the file, for errors from the sections parsed later
     DisplayConfig display;
     RenderConfig render;

@@ -22,19 +22,20 @@ struct PlayerOptions {
     long frames = 0;  // 0: until SIGTERM/SIGINT (the gallery); N: stop after N frames
     std::optional<int> width, height;  // --size WxH (headless render target)
     std::optional<std::filesystem::path> out;
-    long every = 1;      // with --out: write frames 0, k, 2k, …
-    std::string preset;  // empty: the bundle's first
+    long every = 1;              // with --out: write frames 0, k, 2k, …
+    std::string preset;          // empty: the bundle's first
     std::optional<double> rate;  // --rate HZ: overrides the board's render.rate (headless)
     std::optional<std::filesystem::path> replay;  // --replay events.jsonl
-    bool replayLoop = false;  // --replay-loop: start the file over when it ends
-    bool check = false;       // --check: validate the board file (and bundle, if given), exit
+    bool replayLoop = false;                      // --replay-loop: start the file over when it ends
+    bool check = false;  // --check: validate the board file (and bundle, if given), exit
     bool json = false;
     bool help = false;
 };
 
 const char* playerUsage();
 
-// arguments: argv[1 …]. --bundle is optional with --check. Throws PlayerUsageError ("--frames: expected a positive integer, got x").
+// arguments: argv[1 …]. --bundle is optional with --check. Throws PlayerUsageError ("--frames:
+// expected a positive integer, got x").
 PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments);
 
 }  // namespace vpe::firmware

@@ -32,7 +32,7 @@ struct LightConfig {
 
 struct IdleConfig {
     bool enabled = true;
-    double quietSeconds = 30.0;  // no input for this long → the drift starts
+    double quietSeconds = 30.0;   // no input for this long → the drift starts
     double periodSeconds = 40.0;  // one loop of the drift's figure of eight
     std::pair<double, double> azimuthDeg{-60.0, 60.0};
     std::pair<double, double> elevationDeg{15.0, 55.0};

@@ -25,7 +25,8 @@ std::string jsonString(const std::string& text);
 // up front, so its pages are resident from the start.
 class SampleSet {
 public:
-    explicit SampleSet(std::size_t capacity = 16'384) : samples_(capacity, 0.0), capacity_(capacity) {}
+    explicit SampleSet(std::size_t capacity = 16'384)
+        : samples_(capacity, 0.0), capacity_(capacity) {}
     void add(double value);
     std::size_t count() const { return count_; }
     double max() const { return max_; }
@@ -52,7 +53,7 @@ struct FrameReport {
     int width = 0, height = 0;
     std::string preset, platform;
     SampleSet frameMs;
-    SampleSet latencyMs;  // one sample per applied input event
+    SampleSet latencyMs;      // one sample per applied input event
     double firstFrameMs = 0;  // process start → first frame submitted
     double seconds = 0;       // first frame → last frame
     // After the first frame, after 1,000 frames (caches, allocator pools and the statistics'

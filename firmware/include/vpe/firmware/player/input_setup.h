@@ -32,7 +32,6 @@ OscLimits oscLimitsOf(const LightLimits& light);
 
 // Adds the enabled inputs to the player (or the replay, with --replay). Throws
 // PlayerInputError for a bad replay file.
-void addInputs(Player& player, const InputSettings& settings,
-               const PlayerOptions& options);
+void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options);
 
 }  // namespace vpe::firmware

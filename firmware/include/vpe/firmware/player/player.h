@@ -45,7 +45,9 @@ public:
     void stopWhen(std::function<bool()> condition, std::string reason);
 
     // Called after each successful reload (inputs that know the bundle's presets).
-    void onBundleReloaded(std::function<void()> callback) { reloaded_.push_back(std::move(callback)); }
+    void onBundleReloaded(std::function<void()> callback) {
+        reloaded_.push_back(std::move(callback));
+    }
 
     // Plays until --frames, a stop condition, SIGTERM or SIGINT.
     FrameReport run();

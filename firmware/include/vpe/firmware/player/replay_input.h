@@ -37,11 +37,11 @@ public:
 struct ReplayEvent {
     enum class Kind : std::uint8_t { kGpio, kCamera, kOsc };
     Kind kind = Kind::kGpio;
-    std::int64_t offsetNs = 0;  // "t", seconds from the replay's start
-    knobs::LineEdge edge;        // kGpio (timestamp filled in when played)
+    std::int64_t offsetNs = 0;          // "t", seconds from the replay's start
+    knobs::LineEdge edge;               // kGpio (timestamp filled in when played)
     std::optional<SyntheticSpot> lamp;  // kCamera: the lamp in the frame, or none
     OscMessage message;                 // kOsc
-    int line = 0;  // in the file, for errors
+    int line = 0;                       // in the file, for errors
 };
 
 // Parses a replay file. Throws ReplayError.
@@ -50,7 +50,7 @@ std::vector<ReplayEvent> readReplayFile(const std::filesystem::path& path);
 // What the replayed events are decoded with: the board's own input settings.
 struct ReplayDecoders {
     std::optional<knobs::KnobsConfig> knobs;  // needed by gpio events
-    std::optional<CameraConfig> camera;        // needed by camera events
+    std::optional<CameraConfig> camera;       // needed by camera events
     OscLimits oscLimits;
     std::vector<std::string> presetNames;
 };
