@@ -11,6 +11,7 @@
 #include "vpe/firmware/player/board_check.h"
 #include "vpe/firmware/player/input_setup.h"
 #include "vpe/firmware/player/player.h"
+#include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player_options.h"
 
 namespace {
@@ -27,10 +28,6 @@ int run(const fw::PlayerOptions& options, std::int64_t startNs) {
     if (options.check) {
         std::cout << fw::checkBoard(board, options);  // throws PlayerInputError when bad
         return 0;
-    }
-    if (options.out && board.display.backend != fw::DisplayBackend::kHeadless) {
-        throw fw::PlayerInputError("--out: frames are read back only on the headless display (" +
-                                   options.board.string() + " uses kms)");
     }
     // Parse every input section before opening anything: a bad board file fails at once.
     const fw::InputSettings inputs = fw::readInputSettings(board);
@@ -57,16 +54,16 @@ int main(int argc, char** argv) {
         }
         return run(options, startNs);
     } catch (const fw::PlayerUsageError& error) {
-        std::cerr << "vpe-player: " << error.what() << "\n";
+        fw::playerLog(error.what());
         return 2;
     } catch (const fw::PlayerInputError& error) {
-        std::cerr << "vpe-player: " << error.what() << "\n";
+        fw::playerLog(error.what());
         return 2;
     } catch (const fw::BoardConfigError& error) {
-        std::cerr << "vpe-player: " << error.what() << "\n";
+        fw::playerLog(error.what());
         return 2;
     } catch (const std::exception& error) {
-        std::cerr << "vpe-player: " << error.what() << "\n";
+        fw::playerLog(error.what());
         return 1;
     }
 }

@@ -108,19 +108,19 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
                 << bundle.view().presets().size() << " presets\n";
             const auto w = static_cast<int>(projector.width),
                        h = static_cast<int>(projector.height);
+            // The size the board fixes, if any: the headless render size or the KMS mode.
             const bool headless = board.display.backend == DisplayBackend::kHeadless;
-            const std::optional<int> boardWidth =
-                headless ? board.render.width
-                         : (board.display.mode ? std::optional<int>(board.display.mode->width)
-                                               : std::nullopt);
-            const std::optional<int> boardHeight =
-                headless ? board.render.height
-                         : (board.display.mode ? std::optional<int>(board.display.mode->height)
-                                               : std::nullopt);
-            if (boardWidth && (*boardWidth != w || *boardHeight != h)) {
+            std::optional<DisplayMode> fixed = board.display.mode;
+            if (headless) {
+                fixed.reset();
+                if (board.render.width) {
+                    fixed = DisplayMode{*board.render.width, *board.render.height, 0};
+                }
+            }
+            if (fixed && (fixed->width != w || fixed->height != h)) {
                 throw PlayerInputError(
                     board.source + ":" + (headless ? "render.size" : "display.mode") + ": " +
-                    std::to_string(*boardWidth) + "x" + std::to_string(*boardHeight) +
+                    std::to_string(fixed->width) + "x" + std::to_string(fixed->height) +
                     " differs from the bundle's projector " + std::to_string(w) + "x" +
                     std::to_string(h));
             }

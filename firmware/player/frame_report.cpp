@@ -67,8 +67,7 @@ void SampleSet::add(double value) {
 std::string FrameReport::summaryLine() const {
     std::ostringstream line;
     line << "vpe-player: " << frames << " frames " << width << "x" << height << ", preset '"
-         << preset << "', on " << platform << ": "
-         << (frameMs.mean() > 0 ? 1000.0 / frameMs.mean() : 0) << " fps, frame p50 "
+         << preset << "', on " << platform << ": " << fps() << " fps, frame p50 "
          << frameMs.percentile(0.5) << " ms, p99 " << frameMs.percentile(0.99)
          << " ms; first frame " << firstFrameMs << " ms after start";
     if (latencyMs.count() > 0) {
@@ -87,10 +86,9 @@ std::string FrameReport::summaryLine() const {
 
 std::string FrameReport::json() const {
     std::ostringstream json;
-    const double fps = frameMs.mean() > 0 ? 1000.0 / frameMs.mean() : 0;
     json << "{\"frames\": " << frames << ", \"width\": " << width << ", \"height\": " << height
          << ", \"preset\": " << jsonString(preset) << ", \"platform\": " << jsonString(platform)
-         << ", \"fps\": " << fps << ", \"frame_ms\": {\"p50\": " << frameMs.percentile(0.5)
+         << ", \"fps\": " << fps() << ", \"frame_ms\": {\"p50\": " << frameMs.percentile(0.5)
          << ", \"p99\": " << frameMs.percentile(0.99) << ", \"mean\": " << frameMs.mean()
          << ", \"max\": " << frameMs.max() << "}, \"first_frame_ms\": " << firstFrameMs
          << ", \"seconds\": " << seconds << ", \"latency_ms\": {\"events\": " << latencyMs.count()

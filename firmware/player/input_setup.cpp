@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "vpe/firmware/player/input_setup.h"
 
-#include <iostream>
-
 #include "vpe/firmware/knobs/gpio_knobs.h"
 #include "vpe/firmware/knobs/knobs_config_parser.h"
 #include "vpe/firmware/osc/osc_server.h"
+#include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player/replay_input.h"
 #include "vpe/firmware/tracking/lamp_calibration.h"
 #include "vpe/firmware/tracking/libcamera_lamp.h"
@@ -13,10 +12,6 @@
 namespace vpe::firmware {
 
 namespace {
-
-void log(const std::string& line) {
-    std::cerr << "vpe-player: " << line << "\n";
-}
 
 std::vector<std::string> presetNamesOf(const proto::BundleView& view) {
     std::vector<std::string> names;
@@ -66,7 +61,7 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
                 std::make_unique<ReplayInput>(*options.replay, readReplayFile(*options.replay),
                                               decoders, options.replayLoop, monotonicNowNs());
             const ReplayInput* raw = replay.get();
-            log(raw->description());
+            playerLog(raw->description());
             player.addInput(std::move(replay));
             if (options.frames == 0) {
                 player.stopWhen([raw] { return raw->finished(); }, "replay");
@@ -79,35 +74,34 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
     if (settings.knobs && settings.knobs->enabled) {
         try {
             auto knobs = std::make_unique<knobs::GpioKnobs>(*settings.knobs);
-            log(knobs->description());
+            playerLog(knobs->description());
             player.addInput(std::move(knobs));
         } catch (const knobs::KnobsUnavailable& error) {
-            log(std::string("knobs: ") + error.what() + "; playing without them");
+            playerLog(std::string("knobs: ") + error.what() + "; playing without them");
         }
     }
     if (settings.camera && settings.camera->enabled) {
         try {
             auto camera = std::make_unique<LibcameraLamp>(*settings.camera);
-            log(camera->description());
+            playerLog(camera->description());
             player.addInput(std::move(camera));
         } catch (const CameraUnavailable& error) {
-            log(std::string("camera: ") + error.what() + "; playing without it");
+            playerLog(std::string("camera: ") + error.what() + "; playing without it");
         } catch (const CalibrationError& error) {
-            log(std::string("camera: ") + error.what() + "; playing without it");
+            playerLog(std::string("camera: ") + error.what() + "; playing without it");
         }
     }
     if (settings.osc && settings.osc->enabled) {
         try {
-            auto server =
-                std::make_unique<OscServer>(*settings.osc, oscLimitsOf(player.rig().limits()),
-                                            [](const std::string& line) { log(line); });
+            auto server = std::make_unique<OscServer>(
+                *settings.osc, oscLimitsOf(player.rig().limits()), playerLog);
             server->dispatcher().setPresetNames(presetNamesOf(player.bundle()));
             const Player* observed = &player;
             server->setStatusProvider([observed] {
                 OscStatus status;
                 const FrameReport& report = observed->report();
                 status.framesRendered = report.frames;
-                status.fps = report.frameMs.mean() > 0 ? 1000.0 / report.frameMs.mean() : 0;
+                status.fps = report.fps();
                 const SphericalPosition& light = observed->rig().current();
                 status.azimuthDeg = light.azimuthDeg;
                 status.elevationDeg = light.elevationDeg;
@@ -122,10 +116,10 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
             player.onBundleReloaded([dispatcher, observed] {
                 dispatcher->setPresetNames(presetNamesOf(observed->bundle()));
             });
-            log(server->description());
+            playerLog(server->description());
             player.addInput(std::move(server));
         } catch (const OscUnavailable& error) {
-            log(std::string("osc: ") + error.what() + "; playing without it");
+            playerLog(std::string("osc: ") + error.what() + "; playing without it");
         }
     }
 }

@@ -4,8 +4,8 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
-#include <iostream>
 
+#include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/ppm_writer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 #include "vpe/renderer/gles/kms_platform.h"
@@ -21,15 +21,18 @@ constexpr std::int64_t kNsPerMs = 1'000'000;
 // service manager restart the player.
 constexpr long kMaxConsecutiveErrors = 120;
 
-void log(const std::string& line) {
-    std::cerr << "vpe-player: " << line << "\n";
-}
-
 double msBetween(std::int64_t fromNs, std::int64_t toNs) {
     return static_cast<double>(toNs - fromNs) / static_cast<double>(kNsPerMs);
 }
 
-std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board) {
+// Checked before the platform opens a device, so that a misuse is named rather than a missing
+// display.
+std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board,
+                                                       const PlayerOptions& options) {
+    if (options.out && board.display.backend != DisplayBackend::kHeadless) {
+        throw PlayerInputError("--out: frames are read back only on the headless display (" +
+                               options.board.string() + " uses kms)");
+    }
     try {
         if (board.display.backend == DisplayBackend::kHeadless) {
             return gles::createHeadlessEglPlatform();
@@ -68,14 +71,10 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
       board_(board),
       processStartNs_(processStartNs),
       headless_(board.display.backend == DisplayBackend::kHeadless),
-      platform_(createPlatform(board)),
+      platform_(createPlatform(board, options)),
       scene_(loadScene(options)),
       rig_(board.light, board.idle, sphereOf(scene_->view()),
            static_cast<int>(scene_->view().presets().size()), monotonicNowNs()) {
-    if (options_.out && !headless_) {
-        throw PlayerInputError("--out: frames are read back only on the headless display (" +
-                               options_.board.string() + " uses kms)");
-    }
     gles::GlesFrameRenderer& renderer = scene_->renderer();
     // The renderer draws the projector's frame at its calibrated size: the target must match.
     int width = renderer.width(), height = renderer.height();
@@ -106,8 +105,7 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
                                    (error ? error.message() : "not a folder") + ")");
         }
     }
-    shownPreset_ = scene_->presetIndex(renderer.presetName());
-    rig_.apply({InputSource::kIdle, 0, SelectPreset{shownPreset_, false}});
+    adoptRenderersPreset();
     report_.width = width;
     report_.height = height;
     report_.platform = platform_->description();
@@ -130,7 +128,7 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
             }
         });
     } catch (const EventLoopError& error) {
-        log(std::string(error.what()) + "; reload with SIGHUP only");
+        playerLog(std::string(error.what()) + "; reload with SIGHUP only");
     }
     const double rate = options_.rate.value_or(board_.render.rate);
     if (!headless_) {
@@ -196,20 +194,24 @@ void Player::reload(const char* why) {
             next->renderer().selectPreset(preset);
         }
         scene_ = std::move(next);
-        shownPreset_ = scene_->presetIndex(scene_->renderer().presetName());
         rig_.rebase(sphereOf(scene_->view()), static_cast<int>(scene_->view().presets().size()));
-        rig_.apply({InputSource::kIdle, 0, SelectPreset{shownPreset_, false}});
+        adoptRenderersPreset();
         ++report_.reloads;
-        log(options_.bundle.string() + ": reloaded (" + why + ")");
+        playerLog(options_.bundle.string() + ": reloaded (" + why + ")");
         for (const auto& callback : reloaded_) {
             callback();
         }
     } catch (const SceneLoadError& error) {
         ++report_.reloadsRefused;
-        log(std::string(error.what()) + "; reload (" + why +
-            ") refused, still playing the previous bundle");
+        playerLog(std::string(error.what()) + "; reload (" + why +
+                  ") refused, still playing the previous bundle");
     }
     watchdog_.reloaded("playing " + options_.bundle.string());
+}
+
+void Player::adoptRenderersPreset() {
+    shownPreset_ = scene_->presetIndex(scene_->renderer().presetName());
+    rig_.apply({InputSource::kIdle, 0, SelectPreset{shownPreset_, false}});
 }
 
 void Player::renderFrame() {
@@ -247,7 +249,7 @@ void Player::renderFrame() {
     } catch (const gles::GraphicsError& error) {
         ++report_.errors;
         if (consecutiveErrors_++ == 0) {
-            log(std::string("frame ") + std::to_string(report_.frames) + ": " + error.what());
+            playerLog(std::string("frame ") + std::to_string(report_.frames) + ": " + error.what());
         }
         if (consecutiveErrors_ >= kMaxConsecutiveErrors) {
             throw;

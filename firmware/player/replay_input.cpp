@@ -5,10 +5,10 @@
 
 #include <cmath>
 #include <fstream>
-#include <iostream>
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/tracking/synthetic_lamp_frame.h"
 
 namespace vpe::firmware {
@@ -160,8 +160,7 @@ ReplayInput::ReplayInput(const std::filesystem::path& path, std::vector<ReplayEv
       events_(std::move(events)),
       loop_(loop),
       startNs_(startNs),
-      osc_(decoders.oscLimits,
-           [](const std::string& line) { std::cerr << "vpe-player: " << line << "\n"; }) {
+      osc_(decoders.oscLimits, playerLog) {
     osc_.setPresetNames(decoders.presetNames);
     for (const ReplayEvent& event : events_) {
         if (event.kind == ReplayEvent::Kind::kGpio && !knobs_) {

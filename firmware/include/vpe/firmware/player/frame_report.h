@@ -69,6 +69,9 @@ struct FrameReport {
     double azimuthDeg = 0, elevationDeg = 0, distanceM = 0;
     std::string activeInput;  // "frames", "SIGTERM", "SIGINT", "replay"
 
+    // 1000 / mean frame time: what the renderer sustains (0 before any frame).
+    double fps() const { return frameMs.mean() > 0 ? 1000.0 / frameMs.mean() : 0; }
+
     std::string summaryLine() const;
     std::string json() const;
 };

@@ -60,6 +60,8 @@ private:
     void renderFrame();
     void applyEvents(std::vector<InputEvent>& events);
     void reload(const char* why);
+    // The rig's preset becomes the one the renderer shows (at start and after a reload).
+    void adoptRenderersPreset();
     static LightSphere sphereOf(const proto::BundleView& view);
 
     PlayerOptions options_;
