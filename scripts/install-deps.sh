@@ -4,12 +4,18 @@
 # otherwise it prints the exact apt line and stops, so nothing is installed behind your back.
 #   scripts/install-deps.sh          build + run the offline tools and the demo
 #   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer
+#   scripts/install-deps.sh --list [--test]
+#                                    print the packages named here, one per line
+#                                    (scripts/audit-deps.sh reads them)
+#
+# Every file the build finds on the system must come from a package named here or from one of
+# their dependencies (the audit in scripts/test.sh checks it).
 set -euo pipefail
 
 packages=(
     cmake ninja-build g++ pkg-config          # build
     zlib1g-dev libflatbuffers-dev flatbuffers-compiler  # device bundle (proto/BUNDLE.md)
-    libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF, OpenEXR), oiiotool
+    libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     fonts-dejavu-core                         # labels on contact sheets
@@ -19,8 +25,27 @@ packages=(
     libgpiod-dev liblo-dev libcamera-dev      # vpe-player's inputs: knobs (1.6 API), OSC, tracked lamp
     libsystemd-dev                            # vpe-player's sd_notify watchdog (boards/vpe-player.service)
 )
-if [[ "${1:-}" == "--test" ]]; then
-    packages+=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev)
+test_packages=(
+    libgtest-dev libgmock-dev libbenchmark-dev
+    clang libclang-rt-14-dev                  # libFuzzer, sanitizers
+    jq                                        # the dependency audit reads CMake's file API
+)
+
+test=0
+list=0
+for argument in "$@"; do
+    case "$argument" in
+        --test) test=1 ;;
+        --list) list=1 ;;
+        *) echo "install-deps: unknown option $argument" >&2; exit 2 ;;
+    esac
+done
+if [[ $test -eq 1 ]]; then
+    packages+=("${test_packages[@]}")
+fi
+if [[ $list -eq 1 ]]; then
+    printf '%s\n' "${packages[@]}"
+    exit 0
 fi
 
 missing=()
