@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Proves that the README's two commands work on a truly fresh Debian 12: builds a minimal root
+# with mmdebstrap from this machine's own apt configuration, clones the current commit into it
+# (with ../shared beside it, read-only, when present) and runs exactly the README's commands
+# there. CI runs on a machine where packages may have been installed by hand; this cannot.
+#
+#   scripts/check-fresh-debian.sh [--keep] [--only demo|test] [WORKDIR]
+#
+# Needs root (mmdebstrap, chroot, bind mounts); installs mmdebstrap if it is missing.
+# Uncommitted changes are not part of the check: it clones HEAD.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+top=$(pwd)
+
+keep=0
+only=""
+work=""
+while [[ $# -gt 0 ]]; do
+    case "$1" in
+        --keep) keep=1 ;;
+        --only) only=$2; shift ;;
+        -h|--help) sed -n '3,11p' "$0"; exit 0 ;;
+        -*) echo "check-fresh-debian: unknown option $1" >&2; exit 2 ;;
+        *) work=$1 ;;
+    esac
+    shift
+done
+[[ -z "$only" || "$only" == demo || "$only" == test ]] ||
+    { echo "check-fresh-debian: --only takes demo or test, not '$only'" >&2; exit 2; }
+[[ $(id -u) -eq 0 ]] || { echo "check-fresh-debian: must run as root (mmdebstrap, chroot)" >&2; exit 2; }
+command -v mmdebstrap >/dev/null ||
+    { DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends mmdebstrap >/dev/null; }
+
+# The README's commands: the lines of its first ```sh block, comments dropped.
+mapfile -t commands < <(awk '/^```sh/{inside=1; next} inside && /^```/{exit} inside' README.md |
+    sed 's/[[:space:]]*#.*$//' | sed '/^[[:space:]]*$/d')
+[[ ${#commands[@]} -eq 2 ]] ||
+    { echo "check-fresh-debian: README.md: expected two commands in its first sh block, found ${#commands[@]}" >&2; exit 2; }
+names=(demo test)
+
+work=${work:-$(mktemp -d /tmp/vpe-fresh.XXXXXX)}
+mkdir -p "$work"
+root="$work/root"
+commit=$(git rev-parse HEAD)
+
+# This machine's apt sources and its Acquire:: settings (e.g. a snapshot mirror's validity),
+# read at run time so that no host name lives in the repository.
+sources="$work/sources.list"
+: >"$sources"
+[[ -s /etc/apt/sources.list ]] && grep -v '^[[:space:]]*#' /etc/apt/sources.list >>"$sources" || true
+for f in /etc/apt/sources.list.d/*.list /etc/apt/sources.list.d/*.sources; do
+    [[ -f "$f" ]] || continue
+    if [[ "$f" == *.sources ]]; then
+        # deb822 stanzas: keep them whole and separated by a blank line
+        cat "$f" >>"$sources"; echo >>"$sources"
+    else
+        grep -v '^[[:space:]]*#' "$f" >>"$sources" || true
+    fi
+done
+[[ -s "$sources" ]] || { echo "check-fresh-debian: this machine has no apt sources" >&2; exit 2; }
+# mmdebstrap takes one style at a time: deb822 if any .sources file was read, one-line otherwise.
+if grep -q '^Types:' "$sources"; then
+    mirror="$work/sources.sources"
+    awk 'BEGIN{RS=""; ORS="\n\n"} /Types:/' "$sources" >"$mirror"
+else
+    mirror="$sources"
+fi
+aptopt="$work/apt.conf"
+apt-config dump | grep -E '^Acquire::(Check-Valid-Until|Check-Date|http::Proxy|https::Proxy)' >"$aptopt" || true
+
+mounted=()
+cleanup() {
+    local m
+    for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do umount -l "${mounted[i]}" 2>/dev/null || true; done
+    if [[ $keep -eq 0 ]]; then rm -rf "$root"; fi
+}
+trap cleanup EXIT
+
+echo "check-fresh-debian: building a Debian 12 root in $root" >&2
+start=$(date +%s)
+mmdebstrap --variant=apt --include=git,ca-certificates --aptopt="$aptopt" \
+    --format=directory bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1 ||
+    { echo "check-fresh-debian: mmdebstrap failed (see $work/mmdebstrap.log)" >&2; exit 1; }
+echo "check-fresh-debian: root ready in $(($(date +%s) - start)) s" >&2
+
+mkdir -p "$root/work"
+git clone -q --no-local "$top" "$root/work/main"
+git -C "$root/work/main" checkout -q "$commit"
+if [[ -d "$top/../shared" ]]; then
+    mkdir -p "$root/work/shared"
+    mount --bind "$top/../shared" "$root/work/shared" && mounted+=("$root/work/shared")
+    mount -o remount,bind,ro "$root/work/shared"
+fi
+for fs in proc sys dev dev/pts; do
+    mkdir -p "$root/$fs"
+    mount --bind "/$fs" "$root/$fs" && mounted+=("$root/$fs")
+done
+cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+
+status=0
+for i in 0 1; do
+    [[ -n "$only" && "$only" != "${names[i]}" ]] && continue
+    log="$work/${names[i]}.log"
+    echo "check-fresh-debian: running '${commands[i]}' (log: $log)" >&2
+    begin=$(date +%s)
+    set +e
+    chroot "$root" /usr/bin/env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
+        LANG=C.UTF-8 bash -c "cd /work/main && ${commands[i]}" >"$log" 2>&1
+    rc=$?
+    set -e
+    seconds=$(($(date +%s) - begin))
+    last=$(grep -v '^[[:space:]]*$' "$log" | tail -n 1)
+    printf '%s: %s → exit %d in %d s; last line: %s\n' "${names[i]}" "${commands[i]}" "$rc" "$seconds" "$last"
+    [[ $rc -eq 0 ]] || status=1
+done
+echo "commit $commit, Debian $(cat "$root/etc/debian_version")"
+exit $status
