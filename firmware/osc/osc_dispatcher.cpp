@@ -183,6 +183,17 @@ std::uint64_t OscCounters::rejectedTotal() const {
     return std::accumulate(rejected.begin(), rejected.end(), std::uint64_t{0});
 }
 
+std::map<std::string, std::uint64_t> OscCounters::rejectionsByName() const {
+    std::map<std::string, std::uint64_t> named;
+    for (std::size_t reason = 0; reason < kOscRejectionCount; ++reason) {
+        if (rejected[reason] > 0) {
+            named[std::string("osc.") + oscRejectionName(static_cast<OscRejection>(reason))] =
+                rejected[reason];
+        }
+    }
+    return named;
+}
+
 OscDispatcher::OscDispatcher(const OscLimits& limits, RateLimitedLog::Sink log)
     : log_(std::move(log)) {
     setLimits(limits);

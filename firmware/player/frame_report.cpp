@@ -101,9 +101,15 @@ std::string FrameReport::json() const {
         json << (first ? "" : ", ") << jsonString(source) << ": " << count;
         first = false;
     }
-    json << "}, \"events_refused\": " << eventsRefused << ", \"reloads\": " << reloads
-         << ", \"reloads_refused\": " << reloadsRefused << ", \"errors\": " << errors
-         << ", \"written\": " << written << ", \"stopped_by\": " << jsonString(stoppedBy)
+    json << "}, \"events_refused\": " << eventsRefused << ", \"refused\": {";
+    first = true;
+    for (const auto& [reason, count] : refusedByReason) {
+        json << (first ? "" : ", ") << jsonString(reason) << ": " << count;
+        first = false;
+    }
+    json << "}, \"reloads\": " << reloads << ", \"reloads_refused\": " << reloadsRefused
+         << ", \"errors\": " << errors << ", \"written\": " << written
+         << ", \"stopped_by\": " << jsonString(stoppedBy)
          << ", \"light\": {\"azimuth\": " << azimuthDeg << ", \"elevation\": " << elevationDeg
          << ", \"distance\": " << distanceM << ", \"active\": " << jsonString(activeInput) << "}}";
     return json.str();

@@ -170,10 +170,26 @@ void Player::applyEvents(std::vector<InputEvent>& events) {
             unshownEvents_.push_back(event.timestampNs);
             ++report_.events[inputSourceName(event.source)];
         } else {
-            ++report_.eventsRefused;
+            ++rigRefusals_;
         }
     }
     events.clear();
+}
+
+void Player::collectRefusals() {
+    report_.refusedByReason.clear();
+    if (rigRefusals_ > 0) {
+        report_.refusedByReason["light.preset_out_of_range"] = rigRefusals_;
+    }
+    for (const auto& device : devices_) {
+        for (const auto& [reason, count] : device->refusals()) {
+            report_.refusedByReason[reason] += count;
+        }
+    }
+    report_.eventsRefused = 0;
+    for (const auto& [reason, count] : report_.refusedByReason) {
+        report_.eventsRefused += static_cast<long>(count);
+    }
 }
 
 void Player::reload(const char* why) {
@@ -310,6 +326,7 @@ FrameReport Player::run() {
     }
     watchdog_.stopping();
     report_.rssEndKb = residentKilobytes();
+    collectRefusals();
     report_.preset = scene_->renderer().presetName();
     report_.azimuthDeg = rig_.current().azimuthDeg;
     report_.elevationDeg = rig_.current().elevationDeg;

@@ -117,6 +117,8 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     mixed.osc(0.05, "/vpe/light/azimuth", "30");
     mixed.osc(0.06, "/vpe/light/azimuth", "300");  // beyond ±180: refused by the dispatcher
     mixed.osc(0.07, "/vpe/light/elevation", "20.5");
+    mixed.osc(0.08, "/vpe/light/elevation", "-95");  // below -90: refused
+    mixed.osc(0.09, "/vpe/light/colour", "1");       // not an address of proto/OSC.md
     const fs::path oscOnly = folder_ / "osc.jsonl";
     mixed.write(oscOnly);
     run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
@@ -126,6 +128,10 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     EXPECT_EQ(number(json, "azimuth"), 30.0) << json;
     EXPECT_EQ(number(json, "elevation"), 20.5) << json;
     EXPECT_EQ(number(json, "osc"), 2.0) << json;
+    // Every refusal reaches the report, per reason.
+    EXPECT_EQ(number(json, "events_refused"), 3.0) << json;
+    EXPECT_EQ(number(json, "osc.out_of_range"), 2.0) << json;
+    EXPECT_EQ(number(json, "osc.unknown_address"), 1.0) << json;
     EXPECT_NE(
         run.err.find("vpe-player: osc: /vpe/light/azimuth i: azimuth 300 is outside [-90, 90]"),
         std::string::npos)

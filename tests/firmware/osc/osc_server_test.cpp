@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <optional>
 
 #include <arpa/inet.h>
@@ -262,6 +263,9 @@ TEST(OscServerTest, CountsDatagramsThatAreNotOsc) {
     EXPECT_EQ(server.dispatcher().counters().rejectedFor(OscRejection::kMalformedPacket), 2u);
     ASSERT_EQ(lines.size(), 2u);
     EXPECT_EQ(lines[1], "osc: empty datagram (malformed_packet)");
+    // What the player's report carries per reason (InputDevice::refusals).
+    const std::map<std::string, std::uint64_t> refusals = server.refusals();
+    EXPECT_EQ(refusals, (std::map<std::string, std::uint64_t>{{"osc.malformed_packet", 2}}));
 }
 
 TEST(OscServerTest, ATakenPortIsOneLine) {

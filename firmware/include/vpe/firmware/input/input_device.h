@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ public:
     virtual void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) = 0;
     // Called at least once per frame with CLOCK_MONOTONIC now.
     virtual void onTick(std::int64_t /*nowNs*/, std::vector<InputEvent>& /*events*/) {}
+    // What the device refused before it became an event, counted per reason over its life
+    // ("osc.out_of_range": 3); the player's report carries them. Reasons with no refusal may
+    // be left out.
+    virtual std::map<std::string, std::uint64_t> refusals() const { return {}; }
 };
 
 // CLOCK_MONOTONIC in nanoseconds: the clock of GPIO event timestamps (libgpiod 1.6 reports

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -76,6 +77,8 @@ struct OscCounters {
         return rejected[static_cast<std::size_t>(reason)];
     }
     std::uint64_t rejectedTotal() const;
+    // The non-zero rejection counters as "osc.<reason>" → count (InputDevice::refusals).
+    std::map<std::string, std::uint64_t> rejectionsByName() const;
 };
 
 class OscDispatcher {

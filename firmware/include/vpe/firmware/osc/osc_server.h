@@ -56,6 +56,9 @@ public:
     std::string description() const override;
     std::vector<int> pollDescriptors() const override { return {fd_}; }
     void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) override;
+    std::map<std::string, std::uint64_t> refusals() const override {
+        return dispatcher_.counters().rejectionsByName();
+    }
 
     // The bound port (the ephemeral one when the config asked for 0).
     int port() const { return port_; }

@@ -63,6 +63,10 @@ struct FrameReport {
     long reloads = 0, reloadsRefused = 0;
     long errors = 0;  // frames that failed (GL errors): the loop logs and goes on
     std::map<std::string, long> events;  // per source: "knobs", "camera", "osc"
+    // Everything refused on the way from an input to the light, per reason: what the inputs
+    // refused before an event existed ("osc.out_of_range", "osc.malformed_packet", ...) and
+    // events the light rig refused ("light.preset_out_of_range"). eventsRefused is their sum.
+    std::map<std::string, std::uint64_t> refusedByReason;
     long eventsRefused = 0;
     std::string stoppedBy = "frames";
     // The light at the end: where the inputs (or the drift) left it.

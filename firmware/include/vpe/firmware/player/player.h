@@ -59,6 +59,8 @@ public:
 private:
     void renderFrame();
     void applyEvents(std::vector<InputEvent>& events);
+    // The inputs' and the rig's refusals into report_ (refusedByReason, eventsRefused).
+    void collectRefusals();
     void reload(const char* why);
     // The rig's preset becomes the one the renderer shows (at start and after a reload).
     void adoptRenderersPreset();
@@ -84,6 +86,7 @@ private:
     std::function<bool()> stopCondition_;
     std::string stopReason_;
     FrameReport report_;
+    std::uint64_t rigRefusals_ = 0;  // events the light rig refused (a preset out of range)
     bool running_ = true;
     bool frameDue_ = true;
     bool waitingForFlip_ = false;

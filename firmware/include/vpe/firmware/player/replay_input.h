@@ -65,6 +65,10 @@ public:
     std::vector<int> pollDescriptors() const override { return {timer_.fd()}; }
     void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) override;
     void onTick(std::int64_t nowNs, std::vector<InputEvent>& events) override;
+    // The replayed OSC messages' rejections, as the live server counts them.
+    std::map<std::string, std::uint64_t> refusals() const override {
+        return osc_.counters().rejectionsByName();
+    }
 
     // Every event played (never, when looping).
     bool finished() const { return !loop_ && next_ >= events_.size(); }
