@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // GraphicsPlatform and RenderTarget: the OS and windowing glue behind one interface (Filament's
 // Platform split). The renderer draws into a RenderTarget and never knows which platform made
-// it: headless EGL (an FBO read back, headless_egl_platform.h) today, KMS (GBM scanout buffers
-// with page flips, kmscube's call order) next.
+// it: headless EGL (an FBO read back, headless_egl_platform.h) or KMS (GBM scanout buffers with
+// page flips, kmscube's call order, kms_platform.h).
 #pragma once
 
 #include <cstdint>
