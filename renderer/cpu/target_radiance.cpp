@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "vpe/proto/surface_horizon.h"
+
 #include "vector_math.h"
 
 namespace vpe::renderer {
@@ -16,15 +18,22 @@ std::array<double, 3> targetRadiance(const RenderScene& scene, const SurfacePoin
     if (!(lightDistance > 0) || !(viewerDistance > 0)) {
         return {0, 0, 0};
     }
+    const Vec3d l = (1.0 / lightDistance) * toLight, v = (1.0 / viewerDistance) * toViewer;
+    // Below the horizon of either normal, toward the light or the viewer: no light at all.
+    const double horizon =
+        proto::horizonFactor(proto::dot(point.normal, l), proto::dot(point.geometricNormal, l),
+                             proto::dot(point.normal, v), proto::dot(point.geometricNormal, v));
+    if (horizon == 0) {
+        return {0, 0, 0};
+    }
     double coefficients[kMaxCoefficientsPerTexel];
     sampleMaterial(scene.material, point.uv, coefficients);
     const std::array<double, 3> f =
-        evaluateMaterial(coefficients, scene.material.harmonics, point.normal,
-                         (1.0 / lightDistance) * toLight, (1.0 / viewerDistance) * toViewer);
+        evaluateMaterial(coefficients, scene.material.harmonics, point.normal, l, v);
     const std::array<double, 3> irradiance = scene.light.irradianceAt(point.position);
     std::array<double, 3> radiance{};
     for (std::size_t c = 0; c < 3; ++c) {
-        radiance[c] = std::max(gain * irradiance[c] * f[c], 0.0);
+        radiance[c] = std::max(gain * horizon * irradiance[c] * f[c], 0.0);
     }
     return radiance;
 }

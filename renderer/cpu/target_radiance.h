@@ -10,8 +10,9 @@
 
 namespace vpe::renderer {
 
-// L = gain · E_light(X) · f(θd, θs), each channel clamped to ≥ 0 (0 when the light or the
-// viewer sits on X).
+// L = gain · H · E_light(X) · f(θd, θs), each channel clamped to ≥ 0, with H the horizon
+// factor of proto/surface_horizon.h (0 when the light or the viewer is below the horizon of
+// the shading or the geometric normal, or sits on X).
 std::array<double, 3> targetRadiance(const RenderScene& scene, const SurfacePoint& point,
                                      const Vec3d& viewer, double gain);
 

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "vpe/proto/surface_horizon.h"
 #include "vpe/renderer/lambertian_screen.h"
 #include "vpe/renderer/projector_frame.h"
 #include "vpe/renderer/ray_caster.h"
@@ -149,8 +150,6 @@ LoopError closeTheLoop(const LoopScene& loop, int threads = 2) {
                 ++error.clipped;
                 continue;
             }
-            ++unclippedPixels;
-            interiorPixels += awayFromSilhouette ? 1 : 0;
             // The resampling bound: the compensating light varies across the footprint; the
             // blend can be off by about that much (ρ/π·S(X)·spread of r(level)), no more.
             const Vec3d eye = loop.viewer.center();
@@ -159,6 +158,21 @@ LoopError closeTheLoop(const LoopScene& loop, int threads = 2) {
                 surfacePoint(loop.scene.mesh, eye, ray, *caster.closestHit(eye, ray));
             const double scale =
                 projectorIrradianceScale(loop.scene.projector, point.position, point.normal);
+            // Inside the terminator's ramp (proto/surface_horizon.h) the target falls to 0 within
+            // a few pixels: resampling errs there as next to the silhouette, relative to a
+            // radiance near 0.
+            const auto toward = [&](const Vec3d& to) {
+                return proto::normalized(Vec3d{to.x - point.position.x, to.y - point.position.y,
+                                               to.z - point.position.z});
+            };
+            const Vec3d toLight = toward(loop.scene.light.position), toEye = toward(eye);
+            awayFromSilhouette &=
+                proto::horizonFactor(proto::dot(point.normal, toLight),
+                                     proto::dot(point.geometricNormal, toLight),
+                                     proto::dot(point.normal, toEye),
+                                     proto::dot(point.geometricNormal, toEye)) == 1.0;
+            ++unclippedPixels;
+            interiorPixels += awayFromSilhouette ? 1 : 0;
             for (int c = 0; c < 3; ++c) {
                 double low = 1, high = 0;
                 for (const int sx : {x0, x0 + 1}) {
