@@ -1,19 +1,20 @@
 // SPDX-License-Identifier: MIT
-// renderProjectorFrame: ray cast every projector pixel, aim for the material's radiance,
-// invert the Lambertian screen and the projector's response.
+// renderProjectorFrame: for every projector pixel's traced surface (ProjectorPixels), aim for
+// the material's radiance, invert the Lambertian screen and the projector's response.
 #include "vpe/renderer/projector_frame.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "vpe/renderer/lambertian_screen.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/parallel_rows.h"
+#include "vpe/renderer/projector_pixels.h"
 
-#include "parallel_rows.h"
 #include "target_radiance.h"
 
 namespace vpe::renderer {
@@ -22,13 +23,24 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOption
     if (auto problem = checkRenderScene(scene); !problem.empty()) {
         throw std::invalid_argument("renderProjectorFrame: " + problem);
     }
+    return renderProjectorFrame(scene, ProjectorPixels(scene.mesh, scene.projector), options);
+}
+
+ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPixels& pixels,
+                                    const RenderOptions& options) {
+    if (auto problem = checkRenderScene(scene); !problem.empty()) {
+        throw std::invalid_argument("renderProjectorFrame: " + problem);
+    }
     if (!(options.gain > 0) || !std::isfinite(options.gain)) {
         throw std::invalid_argument("renderProjectorFrame: gain must be positive");
     }
-    const PinholeCamera& camera = scene.projector.camera;
-    const int width = camera.width, height = camera.height;
-    const RayCaster caster(scene.mesh);
-    const Vec3d origin = camera.center();
+    const int width = scene.projector.camera.width, height = scene.projector.camera.height;
+    if (pixels.width() != width || pixels.height() != height) {
+        throw std::invalid_argument("renderProjectorFrame: the traced pixels are " +
+                                    std::to_string(pixels.width()) + "x" +
+                                    std::to_string(pixels.height()) + ", the projector " +
+                                    std::to_string(width) + "x" + std::to_string(height));
+    }
 
     ProjectorFrame frame;
     frame.level = RgbImage(width, height);
@@ -39,18 +51,15 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOption
 
     forEachRow(height, options.threads, [&](int y) {
         for (int x = 0; x < width; ++x) {
-            const Vec3d direction = pixelRayDirection(camera, {double(x), double(y)});
-            const auto hit = caster.closestHit(origin, direction);
-            if (!hit) {
+            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
+            if (!traced) {
                 continue;
             }
-            const SurfacePoint point = surfacePoint(scene.mesh, origin, direction, *hit);
             const std::array<double, 3> target =
-                targetRadiance(scene, point, scene.viewer, options.gain);
-            const double scale =
-                projectorIrradianceScale(scene.projector, point.position, point.normal);
-            const CompensatedPixel pixel = compensatePixel(scene.surface, scene.projector.response,
-                                                           scale, target, options.gain);
+                targetRadiance(scene, traced->point, scene.viewer, options.gain);
+            const CompensatedPixel pixel =
+                compensatePixel(scene.surface, scene.projector.response, traced->irradianceScale,
+                                target, options.gain);
             float* level = frame.level.pixel(x, y);
             float* radiance = frame.targetRadiance.pixel(x, y);
             for (std::size_t c = 0; c < 3; ++c) {

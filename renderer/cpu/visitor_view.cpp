@@ -12,7 +12,7 @@
 #include "vpe/renderer/ray_caster.h"
 #include "vpe/renderer/surface_point.h"
 
-#include "parallel_rows.h"
+#include "vpe/renderer/parallel_rows.h"
 #include "target_radiance.h"
 #include "vector_math.h"
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/projector_pixels.h"
 #include "vpe/renderer/render_scene.h"
 
 namespace vpe::renderer {
@@ -45,6 +46,11 @@ struct ProjectorFrame {
 // Throws std::invalid_argument naming the problem when checkRenderScene fails or the gain is
 // not positive.
 ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOptions& options = {});
+
+// The same frame from pixels already traced for the scene's mesh and projector (what a frame
+// does not recompute: frames for many lights trace once).
+ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPixels& pixels,
+                                    const RenderOptions& options = {});
 
 // The largest gain g ≤ 1 at which at most maxClippedFraction of the covered pixels clip at the
 // top (need more than full output): the ⌊q·N⌋-th smallest gainLimit of the N covered pixels
