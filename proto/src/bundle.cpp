@@ -163,6 +163,11 @@ private:
         }
         view.model_.harmonics = model->harmonics();
         view.model_.lambda = model->lambda();
+        // 1.1's θs basis; a 1.0 bundle has none (rendered exactly). Copied: at most
+        // (2M + 1)² floats, and checked whole (checkModel) before anything renders with it.
+        if (const flatbuffers::Vector<float>* basis = model->theta_basis(); basis != nullptr) {
+            view.model_.thetaBasis.assign(basis->begin(), basis->end());
+        }
         if (const std::string problem = checkModel(view.model_); !problem.empty()) {
             fail(problem);
         }

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/theta_basis.h"
 
 namespace vpe::proto {
 
@@ -152,6 +153,11 @@ std::string checkModel(const BundleModel& m) {
     }
     if (!(std::isfinite(m.lambda) && m.lambda >= 0)) {
         return "model lambda " + number(m.lambda) + " is not a finite value ≥ 0";
+    }
+    if (!m.thetaBasis.empty()) {
+        if (std::string problem = checkThetaBasis(m.harmonics, m.thetaBasis); !problem.empty()) {
+            return "model.theta_basis: " + problem;
+        }
     }
     return "";
 }

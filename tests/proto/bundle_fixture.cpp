@@ -86,8 +86,9 @@ std::vector<std::uint8_t> metadata(const RawBundleSpec& spec,
     const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
     const auto settings =
         fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 3.5f, 0.8f);
-    const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics), 3.14,
-                                             spec.layout.c_str());
+    const auto model =
+        fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics), 3.14,
+                              spec.layout.c_str(), spec.thetaBasis ? &*spec.thetaBasis : nullptr);
 
     const auto full = [&](const PlannedPayload& p) {
         return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
@@ -197,6 +198,7 @@ std::vector<std::byte> buildRawBundle(const RawBundleSpec& spec) {
         std::memcpy(bytes.data() + offsets[i], payloads[i].bytes.data(), payloads[i].bytes.size());
     }
     BundleHeader header;
+    header.minorVersion = spec.minorVersion;
     header.metadataOffset = kBundleHeaderSize;
     header.metadataSize = meta.size();
     header.fileSize = bytes.size();

@@ -10,9 +10,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
 
 namespace vpe::proto::testing {
@@ -26,12 +28,16 @@ struct PayloadRecord {
 
 // Defaults describe a valid bundle: 4 vertices and 2 triangles; M = 1 (C = 12); textures
 // 4 x 2 with region 0 'base' full, region 1 'glaze' low-rank (rank 2), a full composed map and
-// presets 'even' (8-bit) and 'glazed' (half floats); a gamma response.
+// presets 'even' (8-bit) and 'glazed' (half floats); a gamma response; no θs basis.
 struct RawBundleSpec {
     std::uint32_t textureWidth = 4;
     std::uint32_t textureHeight = 2;
     int harmonics = 1;
     std::string layout = "fourier_brdf:k_major_rgb";
+    // The header's minor version (0: a bundle from before Model.theta_basis).
+    std::uint16_t minorVersion = kBundleMinorVersion;
+    // Model.theta_basis as written; nullopt leaves the field out, as 1.0 writers did.
+    std::optional<std::vector<float>> thetaBasis;
     bool curveResponse = false;
     std::array<std::vector<float>, 3> curve{
         {{0.0f, 0.25f, 1.0f}, {0.0f, 0.5f, 1.0f}, {0.0f, 0.75f, 1.0f}}};

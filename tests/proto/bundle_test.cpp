@@ -3,9 +3,13 @@
 // every kind of bad file.
 #include "vpe/proto/bundle.h"
 
+#include <cmath>
 #include <cstring>
+#include <filesystem>
+#include <limits>
 #include <memory>
 #include <new>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -377,6 +381,78 @@ TEST_F(BundleReader, RefusesAnUnknownCoefficientLayout) {
               prefix() +
                   "model: coefficient layout 'channel_major', this reader knows "
                   "'fourier_brdf:k_major_rgb'");
+}
+
+// √(2/π)·cos θs and √(2/π)/√2: orthonormal over [0, π] at M = 1 (n = 3).
+const float kUnit = static_cast<float>(std::sqrt(2.0 / 3.14159265358979323846));
+const std::vector<float> kThetaBasis{0.0f, kUnit, 0.0f, kUnit, 0.0f, 0.0f};
+
+TEST_F(BundleReader, ReadsAThetaBasis) {
+    RawBundleSpec spec;
+    spec.thetaBasis = kThetaBasis;
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_EQ(file->header().minorVersion, 1);
+    EXPECT_EQ(file->model().thetaBasis, kThetaBasis);
+    EXPECT_EQ(file->model().thetaBasisSize(), 2);
+}
+
+TEST_F(BundleReader, ReadsNoThetaBasisAsNone) {
+    // Absent (as every 1.0 bundle) or empty: none, rendered exactly.
+    RawBundleSpec spec;
+    EXPECT_TRUE(
+        BundleFile::open(writeBytes(path(), buildRawBundle(spec)))->model().thetaBasis.empty());
+    spec.thetaBasis = std::vector<float>{};
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_TRUE(file->model().thetaBasis.empty());
+    EXPECT_EQ(file->model().thetaBasisSize(), 0);
+}
+
+TEST_F(BundleReader, ReadsAFormat10Bundle) {
+    RawBundleSpec spec;
+    spec.minorVersion = 0;
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_EQ(file->header().minorVersion, 0);
+    EXPECT_TRUE(file->model().thetaBasis.empty());
+    EXPECT_EQ(file->regions().size(), 2u);
+}
+
+TEST(BundleSeeds, TheFuzzerSeedsWrittenIn10StillRead) {
+    // tests/fuzz/corpus/bundle_fuzzer: bundles written by the 1.0 writer, checked in.
+    int seeds = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(VPE_BUNDLE_FUZZER_SEEDS)) {
+        if (entry.path().extension() != ".vpeb") {
+            continue;
+        }
+        ++seeds;
+        const BundleFile file = BundleFile::open(entry.path());
+        EXPECT_EQ(file->header().minorVersion, 0) << entry.path();
+        EXPECT_TRUE(file->model().thetaBasis.empty()) << entry.path();
+    }
+    EXPECT_GE(seeds, 3);
+}
+
+TEST_F(BundleReader, RefusesABadThetaBasis) {
+    RawBundleSpec spec;
+    spec.thetaBasis = kThetaBasis;
+    (*spec.thetaBasis)[1] = 1.0f;  // cos θs unscaled: norm² π/2
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() +
+                  "model.theta_basis: functions 0 and 0 are not orthonormal over [0, π] (inner "
+                  "product 1.570796)");
+    spec.thetaBasis = kThetaBasis;
+    (*spec.thetaBasis)[2] = 0.5f;  // a sin θs part, which cos θs and 1/√2 are not orthogonal to
+    EXPECT_TRUE(refuse(buildRawBundle(spec))
+                    .starts_with(prefix() + "model.theta_basis: functions 0 and 0 are not "
+                                            "orthonormal over [0, π]"));
+    spec.thetaBasis = std::vector<float>(kThetaBasis.begin(), kThetaBasis.begin() + 4);
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "model.theta_basis: 4 values, not a positive multiple of 2M + 1 = 3");
+    spec.thetaBasis = std::vector<float>(12, 0.0f);
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "model.theta_basis: 4 functions, more than 2M + 1 = 3");
+    spec.thetaBasis = kThetaBasis;
+    (*spec.thetaBasis)[4] = std::numeric_limits<float>::infinity();
+    EXPECT_EQ(refuse(buildRawBundle(spec)), prefix() + "model.theta_basis: a value is not finite");
 }
 
 TEST_F(BundleReader, KeepsMessagesOnOneLineWhateverTheFileSays) {

@@ -2,7 +2,7 @@
 // Reading a device bundle (proto/BUNDLE.md): BundleView validates a bundle's bytes and points
 // into them; BundleFile maps a file read-only and holds its BundleView. Meshes, textures and
 // the low-rank bases are spans into the mapping, ready for GL upload; only the few numbers of
-// calibration and settings are decoded into plain structs.
+// calibration, settings and model (its θs basis included) are decoded into plain structs.
 #pragma once
 
 #include <cstddef>

@@ -47,6 +47,12 @@ struct RenderSettings {
 struct BundleModel {
     int harmonics = 0;  // M
     double lambda = 0;  // λ of the fit (informative)
+    // The θs basis the bake chose (format 1.1, proto/theta_basis.h): K × (2M + 1) values,
+    // function j at [j·n, (j + 1)·n), orthonormal over θs ∈ [0, π]; the device renders each
+    // texel's θs part projected onto it. Empty: none, rendered exactly (ThetaBasis::full).
+    std::vector<float> thetaBasis;
+    // K, the number of θs functions (0 when there is no basis).
+    int thetaBasisSize() const { return static_cast<int>(thetaBasis.size()) / (2 * harmonics + 1); }
     // Values per texel: 2M + 2 per colour channel, three channels.
     int coefficientsPerTexel() const { return 3 * (2 * harmonics + 2); }
 };

@@ -20,7 +20,8 @@ static_assert(std::endian::native == std::endian::little, "bundles are little-en
 inline constexpr std::array<char, 4> kBundleMagic{'V', 'P', 'E', 'B'};
 // Readers accept any minor version of their major one (minor versions only append fields).
 inline constexpr std::uint16_t kBundleMajorVersion = 1;
-inline constexpr std::uint16_t kBundleMinorVersion = 0;
+// 1.1 appended Model.theta_basis.
+inline constexpr std::uint16_t kBundleMinorVersion = 1;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
 // Payloads start on 64-byte boundaries: a cache line, and more than any GL upload needs.
@@ -56,7 +57,7 @@ private:
 struct BundleHeader {
     std::uint16_t majorVersion = kBundleMajorVersion;
     std::uint16_t minorVersion = kBundleMinorVersion;
-    std::uint32_t flags = 0;     // none defined in 1.0; readers ignore unknown bits
+    std::uint32_t flags = 0;     // none defined in 1.x; readers ignore unknown bits
     std::uint32_t checksum = 0;  // zlib's CRC-32 of bytes [64, file size)
     std::uint64_t metadataOffset = 0;
     std::uint64_t metadataSize = 0;
