@@ -455,8 +455,12 @@ public:
         const auto projector = fb::CreateProjector(b, p.width, p.height, &intrinsics, &distortion,
                                                    &rotation, &translation);
         const auto settings = buildSettings(b);
-        const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(c_.model.harmonics),
-                                                 c_.model.lambda, proto::kBundleCoefficientLayout);
+        // No basis: the field stays absent, as in a 1.0 bundle (the device renders exactly).
+        const std::vector<float>* thetaBasis =
+            c_.model.thetaBasis.empty() ? nullptr : &c_.model.thetaBasis;
+        const auto model =
+            fb::CreateModelDirect(b, static_cast<std::uint16_t>(c_.model.harmonics),
+                                  c_.model.lambda, proto::kBundleCoefficientLayout, thetaBasis);
         std::vector<flatbuffers::Offset<fb::Region>> regions;
         for (std::size_t r = 0; r < c_.regions.size(); ++r) {
             const auto map = buildMap(b, c_.regions[r].coefficients, index_.regions[r]);
@@ -500,7 +504,8 @@ private:
         }
         const fb::Vec3f viewer(s.viewerPosition[0], s.viewerPosition[1], s.viewerPosition[2]);
         const fb::Rgb albedo(s.screenAlbedo[0], s.screenAlbedo[1], s.screenAlbedo[2]);
-        const fb::Rgb ambient(s.ambientIrradiance[0], s.ambientIrradiance[1], s.ambientIrradiance[2]);
+        const fb::Rgb ambient(s.ambientIrradiance[0], s.ambientIrradiance[1],
+                              s.ambientIrradiance[2]);
         return fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response,
                                         s.peakIrradiance, s.gain);
     }

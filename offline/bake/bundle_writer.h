@@ -50,8 +50,8 @@ struct BundleContents {
     BundleMesh mesh;
     proto::ProjectorCalibration projector;
     proto::RenderSettings settings;
-    proto::BundleModel model;
-    int textureWidth = 0;  // 1..4096
+    proto::BundleModel model;  // M, λ and the θs basis (empty: none, rendered exactly)
+    int textureWidth = 0;      // 1..4096
     int textureHeight = 0;
     std::vector<BundleRegion> regions;
     std::optional<CoefficientMapData> composed;

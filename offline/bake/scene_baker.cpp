@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+// vpe bake: reads and checks the inputs, encodes the textures, fits the θs basis to what the
+// device will render, and writes the bundle.
 #include "bake/scene_baker.h"
 
 #include <algorithm>
@@ -6,10 +8,12 @@
 
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/theta_basis.h"
 
 #include "bake/bake_inputs.h"
 #include "bake/bundle_writer.h"
 #include "bake/low_rank_encoder.h"
+#include "bake/theta_basis_fit.h"
 #include "common/input_error.h"
 #include "scene/procedural_vase.h"
 #include "texture/quilt_folder.h"
@@ -20,12 +24,46 @@ namespace vpe::bake {
 
 namespace {
 
+// K when --theta-basis is not given: the demo's measured knee (proto/MODEL.md's K curve).
+constexpr int kDefaultThetaBasis = 4;
+
+// The θs basis's size for textures of M harmonics (BakeOptions::thetaBasis).
+int thetaBasisSize(const std::optional<int>& requested, int harmonics) {
+    const int independent = independentThetaFunctions(harmonics);
+    if (!requested) {
+        return std::min(kDefaultThetaBasis, independent);
+    }
+    const int size = *requested;
+    const std::string option = "--theta-basis " + std::to_string(size);
+    const int functions = proto::thetaFunctionCount(harmonics);
+    if (size < 0) {
+        throw InputError(option + ": not a number of functions (give 1.." +
+                         std::to_string(independent) + ", or full)");
+    }
+    if (size > functions) {
+        throw InputError(option + ": more than the 2M + 1 = " + std::to_string(functions) +
+                         " θs functions of the textures (M = " + std::to_string(harmonics) + ")");
+    }
+    if (size > independent) {
+        throw InputError(option + ": only " + std::to_string(independent) + " of the " +
+                         std::to_string(functions) + " θs functions of M = " +
+                         std::to_string(harmonics) + " are independent over [0, π] (give at most " +
+                         std::to_string(independent) + ", or full)");
+    }
+    return size;
+}
+
+// Encodes a texture and adds what the device will render of it — the decoded low-rank code,
+// or the full coefficients — to the θs moment (when a basis is wanted).
 CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOptions& options,
-                             BakeReport& report) {
+                             ThetaMoment* moment, BakeReport& report) {
     CoefficientMapData map;
     if (!options.lowRank) {
         map.encoding = proto::CoefficientEncoding::kFull;
         map.coefficients = texture.values;
+        if (moment != nullptr) {
+            moment->add(map.coefficients, texture.valid);
+        }
         return map;
     }
     const int channels = 3 * proto::coefficientCount(texture.harmonics);
@@ -39,6 +77,9 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
     }
     report.explainedVariance = std::min(report.explainedVariance, kept);
     const std::vector<float> decoded = decodeLowRank(code);
+    if (moment != nullptr) {
+        moment->add(decoded, texture.valid);
+    }
     double sum = 0;
     std::size_t count = 0;
     for (std::size_t t = 0; t < texture.valid.size(); ++t) {
@@ -48,7 +89,8 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
         for (int k = 0; k < channels; ++k) {
             const std::size_t i =
                 t * static_cast<std::size_t>(channels) + static_cast<std::size_t>(k);
-            const double d = static_cast<double>(decoded[i]) - static_cast<double>(texture.values[i]);
+            const double d =
+                static_cast<double>(decoded[i]) - static_cast<double>(texture.values[i]);
             sum += d * d;
         }
         count += static_cast<std::size_t>(channels);
@@ -122,8 +164,22 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
     contents.textureHeight = first.height;
     contents.model.harmonics = first.harmonics;
     contents.model.lambda = first.lambda;
+    const int thetaSize = thetaBasisSize(options.thetaBasis, first.harmonics);
+    ThetaMoment moment(first.harmonics);
     for (std::size_t r = 0; r < textures.size(); ++r) {
-        contents.regions.push_back({names[r], encodeMap(textures[r], options, report)});
+        contents.regions.push_back(
+            {names[r], encodeMap(textures[r], options, thetaSize > 0 ? &moment : nullptr, report)});
+    }
+    if (thetaSize > 0) {
+        ThetaBasisFit fit;
+        try {
+            fit = fitThetaBasis(moment, thetaSize);
+        } catch (const InputError& error) {
+            throw InputError("--theta-basis " + std::to_string(thetaSize) + ": " + error.what());
+        }
+        contents.model.thetaBasis = std::move(fit.functions);
+        report.thetaBasis = thetaSize;
+        report.thetaEnergyKept = fit.energyKept;
     }
     if (options.presets.empty()) {
         contents.presets.push_back(

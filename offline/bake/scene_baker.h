@@ -36,6 +36,11 @@ struct BakeOptions {
     proto::RenderSettings settings;
     bool lowRank = true;
     int rank = 12;
+    // The θs basis the device renders in (proto/MODEL.md, "Rendering in a θs basis"): K
+    // functions fitted to the textures as they will be rendered (vpe bake --theta-basis);
+    // 0 stores none, and the device renders the 2M + 1 harmonics exactly. Unset: 4, or as many
+    // as M has independent θs functions when that is fewer.
+    std::optional<int> thetaBasis;
     unsigned threads = 1;
 };
 
@@ -47,6 +52,10 @@ struct BakeReport {
     // worst over the regions.
     double explainedVariance = 1.0;
     double coefficientRms = 0.0;
+    // The θs basis: K functions (0: none), and the share of the textures' θs second moment
+    // (∫₀^π g², every texel and channel) they keep.
+    int thetaBasis = 0;
+    double thetaEnergyKept = 1.0;
     std::uint64_t bytes = 0;
     std::uint32_t checksum = 0;
 };

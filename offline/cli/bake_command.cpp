@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 // vpe bake (--texture MODEL.exr | --quilt DIR --preset NAME=WEIGHTS...) [--mesh FILE]
-//          [--projector FILE] ... --out scene.vpeb
+//          [--projector FILE] [--theta-basis K|full] ... --out scene.vpeb
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <system_error>
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +26,29 @@ std::array<float, 3> toFloats(const std::array<double, 3>& values) {
             static_cast<float>(values[2])};
 }
 
+// --theta-basis: a number of functions, or full (0 too): none stored, rendered exactly.
+int parseThetaBasis(const std::string& text) {
+    if (text == "full") {
+        return 0;
+    }
+    int size = -1;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), size);
+    if (error != std::errc() || end != text.data() + text.size() || size < 0) {
+        throw InputError("--theta-basis '" + text + "': expected a number of functions or full");
+    }
+    return size;
+}
+
+std::string thetaBasisText(const bake::BakeReport& report) {
+    if (report.thetaBasis == 0) {
+        return "no θs basis";
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "θs basis %d, %.4f%% kept", report.thetaBasis,
+                  100.0 * report.thetaEnergyKept);
+    return text;
+}
+
 }  // namespace
 
 void addBakeCommand(CLI::App& app, Action& action) {
@@ -32,6 +58,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
         std::vector<std::string> presets;
         std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
         std::string encoding = "low-rank";
+        std::string thetaBasis;
         int threads = 0;
         bool json = false;
     };
@@ -84,6 +111,9 @@ void addBakeCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_option("--rank", args->options.rank, "Low-rank: basis vectors per region")
         ->capture_default_str();
+    command->add_option("--theta-basis", args->thetaBasis,
+                        "θs functions the device renders in, fitted to the textures "
+                        "(proto/MODEL.md); full or 0: none, rendered exactly [default: 4]");
     command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
     command->add_option("--out", args->out, "Bundle to write (.vpeb)")->required();
     command->add_flag("--json", args->json, "End stdout with a JSON report");
@@ -116,19 +146,22 @@ void addBakeCommand(CLI::App& app, Action& action) {
             options.settings.ambientIrradiance =
                 toFloats(scene::parseAmbient(args->ambient, "--ambient"));
             options.lowRank = args->encoding == "low-rank";
+            if (!args->thetaBasis.empty()) {
+                options.thetaBasis = parseThetaBasis(args->thetaBasis);
+            }
             options.threads = resolveThreadCount(args->threads);
 
             const bake::BakeReport report = bake::bakeScene(options, args->out);
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::fprintf(stderr,
-                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel), mesh %zu "
+                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel, %s), mesh %zu "
                          "vertices / %zu triangles, %.1f MiB in %.2f s\n",
                          args->out.c_str(), report.regions, report.regions == 1 ? "" : "s",
                          report.textureWidth, report.textureHeight, report.harmonics,
-                         args->encoding.c_str(), report.bytesPerTexel, report.vertices,
-                         report.triangles, static_cast<double>(report.bytes) / (1024.0 * 1024.0),
-                         seconds);
+                         args->encoding.c_str(), report.bytesPerTexel,
+                         thetaBasisText(report).c_str(), report.vertices, report.triangles,
+                         static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
             if (args->json) {
                 nlohmann::json json;
                 json["out"] = args->out;
@@ -140,6 +173,9 @@ void addBakeCommand(CLI::App& app, Action& action) {
                 json["bytes_per_texel"] = report.bytesPerTexel;
                 json["explained_variance"] = report.explainedVariance;
                 json["coefficient_rms"] = report.coefficientRms;
+                json["theta_basis"] = report.thetaBasis > 0 ? nlohmann::json(report.thetaBasis)
+                                                            : nlohmann::json("full");
+                json["theta_energy_kept"] = report.thetaEnergyKept;
                 json["vertices"] = report.vertices;
                 json["triangles"] = report.triangles;
                 json["bytes"] = report.bytes;

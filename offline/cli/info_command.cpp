@@ -71,6 +71,21 @@ nlohmann::json responseJson(const proto::ProjectorResponse& response) {
              {response.curve[0].size(), response.curve[1].size(), response.curve[2].size()}}};
 }
 
+// K, or "full" for a bundle without a θs basis (as vpe bake --json reports it).
+nlohmann::json thetaBasisJson(const proto::BundleModel& model) {
+    return model.thetaBasis.empty() ? nlohmann::json("full")
+                                    : nlohmann::json(model.thetaBasisSize());
+}
+
+std::string thetaBasisText(const proto::BundleModel& model) {
+    if (model.thetaBasis.empty()) {
+        return "theta basis: none: rendered exactly";
+    }
+    const int size = model.thetaBasisSize();
+    return "theta basis: " + std::to_string(size) + (size == 1 ? " function" : " functions") +
+           " (orthonormal over [0, π])";
+}
+
 nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle) {
     const proto::BundleHeader& header = bundle.header();
     const proto::ProjectorCalibration& projector = bundle.projector();
@@ -98,7 +113,8 @@ nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle
     json["model"] = {{"harmonics", bundle.model().harmonics},
                      {"lambda", bundle.model().lambda},
                      {"layout", proto::kBundleCoefficientLayout},
-                     {"coefficients_per_texel", bundle.model().coefficientsPerTexel()}};
+                     {"coefficients_per_texel", bundle.model().coefficientsPerTexel()},
+                     {"theta_basis", thetaBasisJson(bundle.model())}};
     nlohmann::json regions = nlohmann::json::array();
     for (const proto::RegionView& region : bundle.regions()) {
         nlohmann::json entry = mapJson(region.coefficients);
@@ -170,6 +186,7 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
     std::printf("model      M = %d, lambda = %.6g, %d values per texel (%s)\n",
                 bundle.model().harmonics, bundle.model().lambda,
                 bundle.model().coefficientsPerTexel(), proto::kBundleCoefficientLayout);
+    std::printf("           %s\n", thetaBasisText(bundle.model()).c_str());
     std::printf("textures   %d x %d, %zu region%s\n", bundle.textureWidth(), bundle.textureHeight(),
                 bundle.regions().size(), bundle.regions().size() == 1 ? "" : "s");
     for (std::size_t r = 0; r < bundle.regions().size(); ++r) {

@@ -2,7 +2,8 @@
 // vpe bake end to end: a fitted synthetic model and a quilt folder baked onto the built-in
 // vase with the demo projector; what the device reads back (mesh UVs flipped to rows from the
 // top, low-rank textures decoding to the model within the stated error, presets summing to
-// one); and the bad-input contract. Also the half-float decoder against Eigen's encoder.
+// one, the θs basis the device renders in); and the bad-input contract. Also the half-float
+// decoder against Eigen's encoder.
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/half_float.h"
+#include "vpe/proto/theta_basis.h"
 
 #include "bake/bake_inputs.h"
 #include "scene/procedural_vase.h"
@@ -73,6 +75,11 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_EQ(report["regions"], 1);
     EXPECT_EQ(report["bytes_per_texel"], 16);
     EXPECT_GT(report["explained_variance"].get<double>(), 0.99);
+    // The θs basis: 4 functions by default, fitted to the decoded low-rank code; they keep
+    // 0.9966 of the θs parts' ∫₀^π g² here (measured; 0.942 with 1 function, 0.998 with 6).
+    EXPECT_EQ(report["theta_basis"], 4);
+    EXPECT_GT(report["theta_energy_kept"].get<double>(), 0.99);
+    EXPECT_LE(report["theta_energy_kept"].get<double>(), 1.0);
 
     const proto::BundleFile file = proto::BundleFile::open(path("scene.vpeb"));
     const proto::BundleView& view = file.view();
@@ -81,6 +88,8 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     ASSERT_EQ(view.regions().size(), 1u);
     ASSERT_EQ(view.presets().size(), 1u);
     EXPECT_GT(view.mesh().triangleCount(), 1000u);
+    EXPECT_EQ(view.model().thetaBasisSize(), 4);
+    EXPECT_EQ(proto::checkThetaBasis(10, view.model().thetaBasis), "");
     // The vase's UVs are OBJ-style (v up); the bundle's rows run from the top.
     const scene::ScreenMesh vase = scene::makeProceduralVase();
     for (std::size_t i = 0; i < vase.uvs.size(); i += 97) {
@@ -116,6 +125,37 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
         std::sqrt(squared / static_cast<double>(texels * static_cast<std::size_t>(c)));
     EXPECT_LT(decoded, 1.05 * reported + 1e-4);  // half-float weights add at most rounding
     EXPECT_LT(squared, 0.01 * variance);
+}
+
+TEST_F(Bake, ThetaBasisSizeOrNone) {
+    const auto bake = [&](const std::string& size, const std::string& name) {
+        const testing::CommandResult result =
+            runCommand(vpe({"bake", "--texture", path("model.exr"), "--encoding", "full",
+                            "--theta-basis", size, "--out", path(name), "--json"}));
+        EXPECT_EQ(result.exitStatus, 0) << result.err;
+        return lastJsonLine(result.out);
+    };
+    const nlohmann::json full = bake("full", "exact.vpeb");
+    EXPECT_EQ(full["theta_basis"], "full");
+    EXPECT_EQ(full["theta_energy_kept"], 1.0);
+    EXPECT_TRUE(proto::BundleFile::open(path("exact.vpeb"))->model().thetaBasis.empty());
+    EXPECT_EQ(bake("0", "zero.vpeb")["theta_basis"], "full");
+    EXPECT_TRUE(proto::BundleFile::open(path("zero.vpeb"))->model().thetaBasis.empty());
+
+    // More functions keep more; the full encoding is fitted as stored.
+    double previous = 0;
+    for (int size : {1, 2, 6, 18}) {
+        const std::string name = "k" + std::to_string(size) + ".vpeb";
+        const nlohmann::json report = bake(std::to_string(size), name);
+        EXPECT_EQ(report["theta_basis"], size);
+        const double kept = report["theta_energy_kept"].get<double>();
+        EXPECT_GT(kept, previous) << size;
+        previous = kept;
+        const proto::BundleFile file = proto::BundleFile::open(path(name));
+        EXPECT_EQ(file->model().thetaBasisSize(), size);
+        EXPECT_EQ(proto::checkThetaBasis(10, file->model().thetaBasis), "") << size;
+    }
+    EXPECT_GT(previous, 1.0 - 1e-9);  // 18 functions: all that M = 10 has over [0, π]
 }
 
 TEST_F(Bake, QuiltRegionsWithPresets) {
@@ -163,6 +203,12 @@ TEST_F(Bake, BadInputExitsTwoNamingItAndWritesNothing) {
     expectInputError(
         runCommand(vpe({"bake", "--texture", path("model.exr"), "--rank", "0", "--out", out})),
         {"rank"});
+    // θs bases: more than 2M + 1 = 21 functions, more than the 18 independent ones, not a size.
+    for (const char* size : {"99", "19", "-1", "four"}) {
+        expectInputError(runCommand(vpe({"bake", "--texture", path("model.exr"), "--theta-basis",
+                                         size, "--out", out})),
+                         {"--theta-basis", size});
+    }
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 

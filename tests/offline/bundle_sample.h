@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // A small bundle's contents with every field set to something recognizable, for the writer's
 // round-trip tests and `vpe info`'s: odd texture sizes, a rank that leaves layer padding, a
-// composed map, and presets in both α encodings.
+// composed map, presets in both α encodings, and a θs basis.
 #pragma once
 
 #include <cmath>
@@ -36,6 +36,9 @@ inline bake::BundleContents sampleBundleContents() {
 
     c.model.harmonics = 2;  // C = 18 values per texel: 5 layers, the last half padding
     c.model.lambda = 0.5;
+    // A θs basis of two functions, √(2/π)·cos θs and √(2/π)·cos 2θs: orthonormal over [0, π].
+    const auto unit = static_cast<float>(std::sqrt(2.0 / 3.14159265358979323846));
+    c.model.thetaBasis = {0, unit, 0, 0, 0, 0, 0, 0, unit, 0};
     c.textureWidth = 5;
     c.textureHeight = 3;
     const std::size_t texels = 15;

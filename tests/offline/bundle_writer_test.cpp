@@ -91,6 +91,8 @@ TEST_F(BundleWriter, RoundTripsEveryField) {
     EXPECT_EQ(s.gain, contents_.settings.gain);
     EXPECT_EQ(view.model().harmonics, 2);
     EXPECT_EQ(view.model().lambda, 0.5);
+    EXPECT_EQ(view.model().thetaBasis, contents_.model.thetaBasis);
+    EXPECT_EQ(view.model().thetaBasisSize(), 2);
 
     EXPECT_EQ(view.textureWidth(), 5);
     EXPECT_EQ(view.textureHeight(), 3);
@@ -172,6 +174,30 @@ TEST_F(BundleWriter, WritesAGammaResponseAndNoComposedMapOrPresets) {
     EXPECT_EQ(file->settings().response.gamma, contents_.settings.response.gamma);
     EXPECT_FALSE(file->composed().has_value());
     EXPECT_TRUE(file->presets().empty());
+}
+
+TEST_F(BundleWriter, WritesNoThetaBasisWhenThereIsNone) {
+    contents_.model.thetaBasis.clear();
+    bake::writeBundle(path(), contents_);
+    const BundleFile file = BundleFile::open(path());
+    EXPECT_TRUE(file->model().thetaBasis.empty());
+    EXPECT_EQ(file->header().minorVersion, 1);  // the writer's version, whatever it holds
+}
+
+TEST_F(BundleWriter, RefusesABadThetaBasis) {
+    contents_.model.thetaBasis[1] = 1.0f;  // cos θs unscaled: norm² π/2
+    EXPECT_EQ(refusal(contents_), path().string() +
+                                      ": model.theta_basis: functions 0 and 0 are not "
+                                      "orthonormal over [0, π] (inner product 1.570796)");
+    contents_ = testing::sampleBundleContents();
+    contents_.model.thetaBasis.pop_back();
+    EXPECT_EQ(refusal(contents_), path().string() +
+                                      ": model.theta_basis: 9 values, not a positive multiple of "
+                                      "2M + 1 = 5");
+    contents_ = testing::sampleBundleContents();
+    contents_.model.thetaBasis[0] = std::nanf("");
+    EXPECT_EQ(refusal(contents_), path().string() + ": model.theta_basis: a value is not finite");
+    expectNothingWritten(folder_.path());
 }
 
 TEST_F(BundleWriter, AlignsEveryPayload) {

@@ -52,10 +52,11 @@ TEST_F(InfoCommand, DescribesTheBundle) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const std::string& out = result.out;
     for (const std::string& expected : std::vector<std::string>{
-             path_.string() + ": vpe bundle 1.0, ", "checksum 0x", " OK\n",
+             path_.string() + ": vpe bundle 1.1, ", "checksum 0x", " OK\n",
              "mesh       4 vertices, 2 triangles\n", "projector  1280 x 800, fx 1500.5 fy 1498 ",
              "viewer     (0, 0.25, 1.75) m\n", "response   curve, 4/4/4 samples",
              "model      M = 2, lambda = 0.5, 18 values per texel (fourier_brdf:k_major_rgb)\n",
+             "           theta basis: 2 functions (orthonormal over [0, π])\n",
              "textures   5 x 3, 2 regions\n",
              "  region 0 'base': full, 5 RGBA16F layers, 40 bytes per texel\n",
              "  region 1 'glaze': low_rank, rank 5, 2 RGBA16F layers, 16 bytes per texel\n",
@@ -71,7 +72,7 @@ TEST_F(InfoCommand, ReportsJson) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json json = nlohmann::json::parse(result.out);
     EXPECT_EQ(json["file"], path_.string());
-    EXPECT_EQ(json["format_version"], "1.0");
+    EXPECT_EQ(json["format_version"], "1.1");
     EXPECT_EQ(json["file_bytes"], std::filesystem::file_size(path_));
     EXPECT_EQ(json["checksum_ok"], true);
     EXPECT_EQ(json["mesh"]["vertices"], 4);
@@ -83,6 +84,7 @@ TEST_F(InfoCommand, ReportsJson) {
     EXPECT_EQ(json["settings"]["peak_irradiance"], 2.5);
     EXPECT_EQ(json["model"]["harmonics"], 2);
     EXPECT_EQ(json["model"]["coefficients_per_texel"], 18);
+    EXPECT_EQ(json["model"]["theta_basis"], 2);
     EXPECT_EQ(json["textures"]["width"], 5);
     ASSERT_EQ(json["textures"]["regions"].size(), 2u);
     EXPECT_EQ(json["textures"]["regions"][1]["name"], "glaze");
@@ -92,6 +94,19 @@ TEST_F(InfoCommand, ReportsJson) {
     EXPECT_EQ(json["textures"]["composed"]["encoding"], "full");
     ASSERT_EQ(json["presets"].size(), 2u);
     EXPECT_EQ(json["presets"][1]["encoding"], "float16");
+}
+
+TEST_F(InfoCommand, SaysABundleWithoutThetaBasisRendersExactly) {
+    bake::BundleContents contents = testing::sampleBundleContents();
+    contents.model.thetaBasis.clear();
+    bake::writeBundle(path_, contents);
+    const CommandResult text = vpeInfo({path_.string()});
+    ASSERT_EQ(text.exitStatus, 0) << text.err;
+    EXPECT_NE(text.out.find("           theta basis: none: rendered exactly\n"), std::string::npos)
+        << text.out;
+    const CommandResult json = vpeInfo({path_.string(), "--json"});
+    ASSERT_EQ(json.exitStatus, 0) << json.err;
+    EXPECT_EQ(nlohmann::json::parse(json.out)["model"]["theta_basis"], "full");
 }
 
 TEST_F(InfoCommand, RefusesACorruptBundleWithStatus2) {
