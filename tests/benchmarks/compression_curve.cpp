@@ -6,19 +6,18 @@
 //   vpe_compression_curve (--quilt DIR --preset WEIGHTS | --texture MODEL.exr) [--json]
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/visitor_view.h"
 
 #include "bake/scene_baker.h"
-#include "common/input_error.h"
+#include "curve_texture.h"
 
 namespace {
 
@@ -64,29 +63,14 @@ double psnr(const vpe::renderer::DirectView& reference, const vpe::renderer::Dir
 }  // namespace
 
 int main(int argc, char** argv) {
-    vpe::bake::BakeOptions options;
-    options.settings.viewerPosition = {0.0f, 0.075f, 1.0f};  // vpe bake's default viewer
-    bool json = false;
-    for (int i = 1; i < argc; ++i) {
-        const std::string argument = argv[i];
-        if (argument == "--quilt" && i + 1 < argc) {
-            options.quilt = argv[++i];
-        } else if (argument == "--preset" && i + 1 < argc) {
-            options.presets.push_back({"curve", argv[++i]});
-        } else if (argument == "--texture" && i + 1 < argc) {
-            options.texture = argv[++i];
-        } else if (argument == "--json") {
-            json = true;
-        } else {
-            std::fprintf(
-                stderr, "usage: %s (--quilt DIR --preset WEIGHTS | --texture MODEL.exr) [--json]\n",
-                argv[0]);
-            return 2;
-        }
+    const std::optional<vpe::benchmarks::CurveArguments> arguments =
+        vpe::benchmarks::parseCurveArguments(argc, argv);
+    if (!arguments) {
+        return 2;
     }
-    const std::filesystem::path work =
-        std::filesystem::temp_directory_path() / ("vpe-compression-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(work);
+    vpe::bake::BakeOptions options = arguments->options;
+    options.thetaBasis = 0;  // θs rendered exactly: this curve measures the texture codes alone
+    const vpe::benchmarks::CurveWorkFolder work("vpe-compression-");
     try {
         options.lowRank = false;
         const vpe::bake::BakeReport full = vpe::bake::bakeScene(options, work / "full.vpeb");
@@ -117,7 +101,7 @@ int main(int argc, char** argv) {
                             {"psnr_mean", mean},
                             {"psnr_min", lowest}});
         }
-        if (json) {
+        if (arguments->json) {
             std::printf("%s\n", nlohmann::json{{"full_bytes_per_texel", full.bytesPerTexel},
                                                {"curve", rows}}
                                     .dump()
@@ -125,9 +109,7 @@ int main(int argc, char** argv) {
         }
     } catch (const std::exception& error) {
         std::fprintf(stderr, "%s\n", error.what());
-        std::filesystem::remove_all(work);
         return 2;
     }
-    std::filesystem::remove_all(work);
     return 0;
 }

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// What the accuracy-curve benchmarks (vpe_compression_curve, vpe_theta_basis_curve) share: the
+// texture they bake — a vpe quilt folder with one preset, or a model file — and the scratch
+// folder their bundles go to.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "bake/scene_baker.h"
+
+namespace vpe::benchmarks {
+
+struct CurveArguments {
+    bake::BakeOptions options;  // the texture, the preset and vpe bake's default viewer
+    bool json = false;
+};
+
+// (--quilt DIR --preset WEIGHTS | --texture MODEL.exr) [--json]; prints the usage line and
+// returns nothing when the arguments are not that.
+std::optional<CurveArguments> parseCurveArguments(int argc, char** argv);
+
+// A fresh folder in the temporary directory, removed with everything in it on destruction.
+class CurveWorkFolder {
+public:
+    explicit CurveWorkFolder(const std::string& prefix);
+    ~CurveWorkFolder();
+    CurveWorkFolder(const CurveWorkFolder&) = delete;
+    CurveWorkFolder& operator=(const CurveWorkFolder&) = delete;
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
+
+}  // namespace vpe::benchmarks
