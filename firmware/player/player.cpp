@@ -247,8 +247,8 @@ void Player::renderFrame() {
     inputs.inverseSquare = board_.light.inverseSquare;
     inputs.referenceDistance =
         static_cast<float>(rig_.limits().distanceM->first + rig_.limits().distanceM->second) * 0.5f;
-    inputs.viewerPosition = settings.viewerPosition;
     inputs.gain = settings.gain;
+    inputs.timeSeconds = static_cast<double>(beginNs) * 1e-9;
     std::vector<std::uint8_t> rgba;
     try {
         scene_->renderer().render(*target_, inputs);

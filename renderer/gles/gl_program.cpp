@@ -142,18 +142,42 @@ GlObject GlObject::vertexArray() {
     return {Kind::kVertexArray, name};
 }
 
+namespace {
+
+void setSampling(GLenum target, TextureFilter filter) {
+    const GLint mode = filter == TextureFilter::kLinear ? GL_LINEAR : GL_NEAREST;
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, mode);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, mode);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+}  // namespace
+
+GlObject makeTexture2D(unsigned internalFormat, int width, int height, unsigned format,
+                       unsigned type, const void* data, TextureFilter filter) {
+    GlObject texture = GlObject::texture();
+    glBindTexture(GL_TEXTURE_2D, texture.get());
+    glTexStorage2D(GL_TEXTURE_2D, 1, static_cast<GLenum>(internalFormat), width, height);
+    if (data != nullptr) {
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, format, type, data);
+    }
+    setSampling(GL_TEXTURE_2D, filter);
+    return texture;
+}
+
 GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
-                          unsigned format, unsigned type, const void* data) {
+                          unsigned format, unsigned type, const void* data, TextureFilter filter) {
     GlObject texture = GlObject::texture();
     glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
     glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, static_cast<GLenum>(internalFormat), width, height,
                    layers);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    if (data != nullptr) {
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+        glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
+    }
+    setSampling(GL_TEXTURE_2D_ARRAY, filter);
     return texture;
 }
 

@@ -1,20 +1,17 @@
 // SPDX-License-Identifier: MIT
-// GlesFrameRenderer at 1920 × 1080, M = 10, RGB, two regions blended by a live weight preset,
-// headless (llvmpipe here): ms/frame and fps with low-rank (compressed, rank 12: 24 B/texel per
-// region) and full-precision (17 RGBA16F layers: 136 B/texel per region) textures, and in the
-// same run a pass-through shader that samples exactly the same texture layers (GL_LINEAR,
-// every layer of both regions and the weights, once per pixel, full screen) and does nothing
-// else: the bandwidth floor. Frames of the renderer (render + present, i.e. glFinish; no
-// readback) and of the floor alternate; medians of the timed frames after warm-up, the ratio
-// the median of each pair's ratio. Besides wall time, the process's CPU time (llvmpipe's
-// threads included), which hardly depends on the load other programs put on the machine. Then
-// the visibility and shading passes timed apart (FramePassTimes: the GPU finishes after each),
-// by a renderer that draws the visibility pass every frame: the frames above draw it once.
-// The scene: a 1.3 m × 0.72 m plane (64 × 64 quads, 8192 triangles) 1.5 m in front of a
-// 1920 × 1080 projector (f = 2000 px), ~90% of the pixels.
-//   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2] [--shaders DIR]
-// --shaders writes the generated shading shaders to DIR/{low_rank,full}.frag (for reading and
-// for counting operations, docs/pi-headroom.md).
+// GlesFrameRenderer at 1920 × 1080, M = 10, RGB, two regions (low-rank rank 12, as `vpe bake`
+// writes them) with the bake's θs basis (K = 4), a plane over ~90% of the pixels, headless
+// (llvmpipe here). Per scene — a static preset, a preset cross-fading, two live regions blended
+// per frame — the median ms per frame (render + glFinish, no readback) with the light moving
+// every frame, and in the same run the pass-through floor: a shader reading exactly the same
+// textures per pixel and doing nothing else (GlesFrameRenderer::renderPassThrough); frames of
+// the two alternate so that both see the same load. Next to them, the scene's frame shader
+// counted by vpe_shader_cost's analysis (FLOP-equivalents and texture fetches per shaded pixel,
+// Pi 4 / Pi 5 roofline frame rates at 50% ALU efficiency).
+//   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2] [--shaders DIR] [--json]
+// --shaders writes each scene's frame shader, as compiled, to DIR/<scene>.frag. With --json,
+// stdout ends with {"scenes": [{"name", "ms_per_frame", "floor_ms", "ratio", "cpu_ms",
+// "flop_eq_per_pixel", "texture_fetches_per_pixel", "pi4_fps", "pi5_fps", ...}]}.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,16 +23,19 @@
 #include <string>
 #include <vector>
 
-#include <GLES3/gl31.h>
+#include <nlohmann/json.hpp>
 #include <time.h>
 #include <unistd.h>
 
-#include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 
 #include "bake/bundle_writer.h"
+#include "bake/theta_basis_fit.h"
 #include "benchmark_bundle.h"
+#include "roofline.h"
+#include "shader_analysis.h"
 
 namespace {
 
@@ -43,8 +43,10 @@ namespace gles = vpe::renderer::gles;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kWidth = 1920, kHeight = 1080;
+constexpr int kRank = 12;
+constexpr int kThetaFunctions = 4;
 
-vpe::bake::BundleContents contents(int size, bool lowRank) {
+vpe::bake::BundleContents contents(int size) {
     vpe::bake::BundleContents c;
     c.mesh = vpe::benchmarks::planeMesh(64, 1.3f, 0.72f, -1.0f);
     c.projector = vpe::benchmarks::benchmarkProjector();
@@ -55,43 +57,45 @@ vpe::bake::BundleContents contents(int size, bool lowRank) {
     c.textureWidth = c.textureHeight = size;
     const auto values = static_cast<std::size_t>(c.model.coefficientsPerTexel());
     const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
-    constexpr int kRank = 12;
     for (int region = 0; region < 2; ++region) {
         vpe::bake::BundleRegion entry;
         entry.name = region == 0 ? "clay" : "glaze";
         vpe::bake::CoefficientMapData& map = entry.coefficients;
-        if (lowRank) {
-            map.encoding = vpe::proto::CoefficientEncoding::kLowRank;
-            map.rank = kRank;
-            map.mean.resize(values);
-            for (std::size_t i = 0; i < values; ++i) {
-                map.mean[i] = i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3);
-            }
-            map.basis.resize(kRank * values);
-            for (std::size_t i = 0; i < map.basis.size(); ++i) {
-                map.basis[i] = 0.02f * std::sin(0.1f * static_cast<float>(i + 7 * region));
-            }
-            map.weights.resize(texels * kRank);
-            for (std::size_t i = 0; i < map.weights.size(); ++i) {
-                map.weights[i] =
-                    static_cast<float>((i * 2654435761u + region) % 1000) / 500.0f - 1.0f;
-            }
-        } else {
-            map.encoding = vpe::proto::CoefficientEncoding::kFull;
-            map.coefficients.resize(texels * values);
-            for (std::size_t t = 0; t < texels; ++t) {
-                for (std::size_t i = 0; i < values; ++i) {
-                    const float wobble =
-                        static_cast<float>(((t + 31 * i) * 2654435761u + region) % 1000) / 1e4f;
-                    map.coefficients[t * values + i] =
-                        (i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3)) + wobble;
-                }
-            }
+        map.encoding = vpe::proto::CoefficientEncoding::kLowRank;
+        map.rank = kRank;
+        map.mean.resize(values);
+        for (std::size_t i = 0; i < values; ++i) {
+            map.mean[i] = i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3);
+        }
+        map.basis.resize(kRank * values);
+        for (std::size_t i = 0; i < map.basis.size(); ++i) {
+            map.basis[i] = 0.02f * std::sin(0.1f * static_cast<float>(i + 7 * region));
+        }
+        map.weights.resize(texels * kRank);
+        for (std::size_t i = 0; i < map.weights.size(); ++i) {
+            map.weights[i] = static_cast<float>((i * 2654435761u + region) % 1000) / 500.0f - 1.0f;
         }
         c.regions.push_back(std::move(entry));
     }
     c.presets.push_back(vpe::benchmarks::stripesPreset(size));
+    vpe::bake::WeightPreset swapped = vpe::benchmarks::stripesPreset(size);
+    swapped.name = "stripes-swapped";
+    const std::size_t layer = swapped.alpha.size() / 2;
+    std::swap_ranges(swapped.alpha.begin(), swapped.alpha.begin() + static_cast<long>(layer),
+                     swapped.alpha.begin() + static_cast<long>(layer));
+    c.presets.push_back(std::move(swapped));
     return c;
+}
+
+// The bake's θs basis for these textures: fitted on the decoded maps, as `vpe bake` does.
+std::vector<float> thetaBasis(const std::filesystem::path& bundle) {
+    const vpe::proto::BundleFile file = vpe::proto::BundleFile::open(bundle);
+    vpe::bake::ThetaMoment moment(file->model().harmonics);
+    for (const vpe::proto::RegionView& region : file->regions()) {
+        moment.add(vpe::renderer::decodeCoefficientMap(region.coefficients,
+                                                       file->model().coefficientsPerTexel()));
+    }
+    return vpe::bake::fitThetaBasis(moment, kThetaFunctions).functions;
 }
 
 double median(std::vector<double> values) {
@@ -100,18 +104,18 @@ double median(std::vector<double> values) {
     return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-// Wall time, and CPU time of the whole process: llvmpipe's rasterizer threads included, so the
-// CPU time hardly depends on what else the machine runs.
-struct FrameTime {
-    double wallMs = 0;
-    double cpuMs = 0;
-};
-
 double processCpuMs() {
     timespec now{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
     return static_cast<double>(now.tv_sec) * 1e3 + static_cast<double>(now.tv_nsec) * 1e-6;
 }
+
+// Wall time, and CPU time of the whole process (llvmpipe's threads included: it hardly depends
+// on what else the machine runs).
+struct FrameTime {
+    double wallMs = 0;
+    double cpuMs = 0;
+};
 
 template <typename Frame>
 FrameTime timeFrame(Frame&& frame) {
@@ -122,79 +126,10 @@ FrameTime timeFrame(Frame&& frame) {
             processCpuMs() - cpuStart};
 }
 
-// The bandwidth floor: the bundle's texture layers, uploaded as the renderer uploads them,
-// each sampled once per pixel by a full-screen triangle.
-class PassThrough {
-public:
-    explicit PassThrough(const vpe::proto::BundleView& bundle) {
-        const auto& presets = bundle.presets();
-        const vpe::proto::WeightPresetView& preset = presets.front();
-        const int w = bundle.textureWidth(), h = bundle.textureHeight();
-        if (preset.encoding == vpe::proto::AlphaEncoding::kUnorm8) {
-            weights_ = gles::makeArrayTexture(GL_R8, w, h, preset.layers, GL_RED, GL_UNSIGNED_BYTE,
-                                              preset.unorm8.data());
-        } else {
-            weights_ = gles::makeArrayTexture(GL_R16F, w, h, preset.layers, GL_RED, GL_HALF_FLOAT,
-                                              preset.halves.data());
-        }
-        std::string fragment =
-            "#version 310 es\nprecision highp float;\nprecision highp sampler2DArray;\n"
-            "uniform sampler2DArray weights;\nuniform vec2 size;\nout vec4 colour;\n";
-        std::string body =
-            "void main() {\n  vec2 uv = gl_FragCoord.xy / size;\n  vec4 sum = vec4(0.0);\n";
-        for (int l = 0; l < preset.layers; ++l) {
-            body += "  sum.x += texture(weights, vec3(uv, " + std::to_string(l) + ".0)).x;\n";
-        }
-        for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
-            const vpe::proto::HalfLayers& layers = bundle.regions()[r].coefficients.layers;
-            regions_.push_back(gles::makeArrayTexture(GL_RGBA16F, layers.width, layers.height,
-                                                      layers.layers, GL_RGBA, GL_HALF_FLOAT,
-                                                      layers.halves.data()));
-            layers_ += layers.layers;
-            fragment += "uniform sampler2DArray region" + std::to_string(r) + ";\n";
-            for (int l = 0; l < layers.layers; ++l) {
-                body += "  sum += texture(region" + std::to_string(r) + ", vec3(uv, " +
-                        std::to_string(l) + ".0));\n";
-            }
-        }
-        fragment += body + "  colour = vec4(sum.xyz * 0.01, 1.0);\n}\n";
-        const std::string vertex =
-            "#version 310 es\nvoid main() {\n"
-            "  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);\n"
-            "  gl_Position = vec4(p, 0.0, 1.0);\n}\n";
-        program_ = gles::GlObject::program(gles::linkProgram(
-            "pass_through", gles::compileShader(GL_VERTEX_SHADER, "pass.vert", vertex),
-            gles::compileShader(GL_FRAGMENT_SHADER, "pass.frag", fragment)));
-        vertexArray_ = gles::GlObject::vertexArray();
-    }
-    int layers() const { return layers_; }
-    void render(gles::RenderTarget& target) {
-        glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
-        glViewport(0, 0, target.width(), target.height());
-        glUseProgram(program_.get());
-        glActiveTexture(GL_TEXTURE0);
-        glBindTexture(GL_TEXTURE_2D_ARRAY, weights_.get());
-        glUniform1i(glGetUniformLocation(program_.get(), "weights"), 0);
-        for (std::size_t r = 0; r < regions_.size(); ++r) {
-            glActiveTexture(GL_TEXTURE1 + static_cast<GLenum>(r));
-            glBindTexture(GL_TEXTURE_2D_ARRAY, regions_[r].get());
-            glUniform1i(
-                glGetUniformLocation(program_.get(), ("region" + std::to_string(r)).c_str()),
-                1 + static_cast<GLint>(r));
-        }
-        glUniform2f(glGetUniformLocation(program_.get(), "size"),
-                    static_cast<float>(target.width()), static_cast<float>(target.height()));
-        glBindVertexArray(vertexArray_.get());
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glBindVertexArray(0);
-        target.present();
-        gles::checkGlError("pass-through frame");
-    }
-
-private:
-    gles::GlObject weights_, program_, vertexArray_;
-    std::vector<gles::GlObject> regions_;
-    int layers_ = 0;
+struct Scene {
+    const char* name;
+    bool liveWeights;
+    bool fading;
 };
 
 }  // namespace
@@ -202,106 +137,147 @@ private:
 int main(int argc, char** argv) {
     int textureSize = 1024, frames = 10, warmup = 2;
     std::string shaderFolder;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        const int value = std::atoi(argv[i + 1]);
-        if (std::strcmp(argv[i], "--shaders") == 0) {
-            shaderFolder = argv[i + 1];
-        } else if (std::strcmp(argv[i], "--texture") == 0) {
-            textureSize = value;
-        } else if (std::strcmp(argv[i], "--frames") == 0) {
-            frames = value;
-        } else if (std::strcmp(argv[i], "--warmup") == 0) {
-            warmup = value;
+    bool json = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string option = argv[i];
+        if (option == "--json") {
+            json = true;
+            continue;
         }
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "vpe_gles_frame_benchmark: %s: missing value\n", argv[i]);
+            return 2;
+        }
+        const char* value = argv[++i];
+        if (option == "--shaders") {
+            shaderFolder = value;
+        } else if (option == "--texture") {
+            textureSize = std::atoi(value);
+        } else if (option == "--frames") {
+            frames = std::atoi(value);
+        } else if (option == "--warmup") {
+            warmup = std::atoi(value);
+        } else {
+            std::fprintf(stderr, "vpe_gles_frame_benchmark: unknown option %s\n", option.c_str());
+            return 2;
+        }
+    }
+    if (textureSize < 16 || frames < 1 || warmup < 0) {
+        std::fprintf(stderr,
+                     "vpe_gles_frame_benchmark: --texture ≥ 16, --frames ≥ 1, --warmup ≥ 0\n");
+        return 2;
     }
     const std::filesystem::path folder = std::filesystem::temp_directory_path() /
                                          ("vpe-gles-benchmark-" + std::to_string(::getpid()));
     std::filesystem::create_directories(folder);
     int status = 0;
+    nlohmann::json report;
+    report["scenes"] = nlohmann::json::array();
     try {
+        const std::filesystem::path path = folder / "scene.vpeb";
+        vpe::bake::BundleContents bundleContents = contents(textureSize);
+        vpe::bake::writeBundle(path, bundleContents);
+        bundleContents.model.thetaBasis = thetaBasis(path);
+        vpe::bake::writeBundle(path, bundleContents);
+        const vpe::proto::BundleFile bundle =
+            vpe::proto::BundleFile::open(path, {.verifyChecksum = false});
+
         std::unique_ptr<gles::GraphicsPlatform> platform = gles::createHeadlessEglPlatform();
+        std::unique_ptr<gles::RenderTarget> target = platform->createRenderTarget(kWidth, kHeight);
+        const vpe::shader_cost::ShaderCompiler compiler;
         std::printf(
-            "%s\n%dx%d, M = 10, RGB, 2 regions + live weights (8-bit preset), %d² textures, "
-            "median of %d frames after %d warm-up (render + glFinish)\n",
-            platform->description().c_str(), kWidth, kHeight, textureSize, frames, warmup);
-        std::printf("%-12s %8s %8s %7s %9s %6s %8s %9s %6s %11s %8s\n", "", "", "frame", "",
-                    "floor", "", "CPU", "CPU", "CPU", "visibility", "shading");
-        std::printf("%-12s %8s %8s %7s %9s %6s %8s %9s %6s %11s %8s\n", "textures", "B/texel", "ms",
-                    "fps", "ms", "ratio", "ms", "floor ms", "ratio", "pass ms", "pass ms");
-        for (const bool lowRank : {true, false}) {
-            const std::filesystem::path path = folder / (lowRank ? "low_rank.vpeb" : "full.vpeb");
-            vpe::bake::writeBundle(path, contents(textureSize, lowRank));
-            const vpe::proto::BundleFile bundle =
-                vpe::proto::BundleFile::open(path, {.verifyChecksum = false});
+            "%s\n%dx%d, M = 10, RGB, 2 regions (low rank %d), θs basis K = %d, %d² "
+            "textures; median of %d frames after %d warm-up (render + glFinish), the "
+            "light moving every frame\n",
+            platform->description().c_str(), kWidth, kHeight, kRank, kThetaFunctions, textureSize,
+            frames, warmup);
+        std::printf("%-15s %8s %7s %9s %6s %8s %9s %9s %8s %8s %8s\n", "scene", "frame ms", "fps",
+                    "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "pi4 fps", "pi5 fps",
+                    "load ms");
+        for (const Scene scene : {Scene{"static-preset", false, false}, Scene{"fade", false, true},
+                                  Scene{"live-2-regions", true, false}}) {
+            gles::GlesRendererOptions options;
+            options.liveWeights = scene.liveWeights;
+            options.presetFadeSeconds = 1e9;  // "fade": every timed frame is a fading one
+            const auto loadStart = Clock::now();
+            gles::GlesFrameRenderer renderer(bundle.view(), options);
+            const double loadMs =
+                std::chrono::duration<double, std::milli>(Clock::now() - loadStart).count();
+            gles::FrameInputs inputs;
+            const auto renderFrame = [&](int i) {
+                const float phi = 0.3f * static_cast<float>(i);
+                inputs.lightPosition = {0.6f * std::cos(phi), 0.6f * std::sin(phi), -1.2f};
+                inputs.timeSeconds = 0.001 * i;
+                renderer.render(*target, inputs);
+                target->present();
+            };
+            renderFrame(0);
+            if (scene.fading) {
+                renderer.selectPreset("stripes-swapped");
+            }
+            const std::string source = renderer.frameShader(renderer.nextVariant());
             if (!shaderFolder.empty()) {
                 std::ofstream(std::filesystem::path(shaderFolder) /
-                              (lowRank ? "low_rank.frag" : "full.frag"))
-                    << gles::shadingShaderSource(bundle.view());
+                              (std::string(scene.name) + ".frag"))
+                    << source;
             }
-            std::unique_ptr<gles::RenderTarget> target =
-                platform->createRenderTarget(kWidth, kHeight);
-            int bytesPerTexel = bundle->presets().front().bytesPerTexel();
-            for (const auto& region : bundle->regions()) {
-                bytesPerTexel += region.coefficients.bytesPerTexel();
+            const vpe::shader_cost::ShaderReport cost =
+                vpe::shader_cost::analyzeShader(compiler, source, scene.name);
+            vpe::shader_cost::FrameWorkload workload;
+            workload.shadedPixels = static_cast<double>(renderer.coveredPixels());
+            const double pi4 = vpe::shader_cost::estimateFrame(
+                                   cost.perPixel, vpe::shader_cost::raspberryPi4(), workload)
+                                   .framesPerSecond;
+            const double pi5 = vpe::shader_cost::estimateFrame(
+                                   cost.perPixel, vpe::shader_cost::raspberryPi5(), workload)
+                                   .framesPerSecond;
+            std::vector<double> frameMs, cpuMs, floorMs, ratio;
+            for (int i = 0; i < warmup; ++i) {
+                renderFrame(1 + i);
+                renderer.renderPassThrough(*target);
+                target->present();
             }
-            // Frames of the renderer and of the floor alternate, so that both see the same load
-            // on a shared machine; the ratios are medians of each pair's ratio.
-            std::vector<double> frameMs, frameCpuMs, floorMs, floorCpuMs, ratio, cpuRatio;
-            std::vector<double> visibilityMs, shadingMs;
-            {
-                gles::GlesFrameRenderer renderer(bundle.view());
-                PassThrough floor(bundle.view());
-                gles::FrameInputs inputs;
-                inputs.viewerPosition = bundle->settings().viewerPosition;
-                const auto renderFrame = [&](int i) {
-                    const float phi = 0.3f * static_cast<float>(i);
-                    inputs.lightPosition = {0.6f * std::cos(phi), 0.6f * std::sin(phi), -1.2f};
-                    renderer.render(*target, inputs);
+            for (int i = 0; i < frames; ++i) {
+                const FrameTime frame = timeFrame([&] { renderFrame(1 + warmup + i); });
+                const FrameTime pass = timeFrame([&] {
+                    renderer.renderPassThrough(*target);
                     target->present();
-                };
-                for (int i = 0; i < warmup; ++i) {
-                    renderFrame(i);
-                    floor.render(*target);
-                }
-                for (int i = 0; i < frames; ++i) {
-                    const FrameTime frame = timeFrame([&] { renderFrame(warmup + i); });
-                    const FrameTime pass = timeFrame([&] { floor.render(*target); });
-                    frameMs.push_back(frame.wallMs);
-                    frameCpuMs.push_back(frame.cpuMs);
-                    floorMs.push_back(pass.wallMs);
-                    floorCpuMs.push_back(pass.cpuMs);
-                    ratio.push_back(frame.wallMs / pass.wallMs);
-                    cpuRatio.push_back(frame.cpuMs / pass.cpuMs);
-                }
-            }
-            {
-                // The passes apart, the visibility pass drawn every frame (the renderer above
-                // draws it once and reuses the ids); the GPU finishes after each pass.
-                gles::GlesFrameRenderer renderer(bundle.view(), {.reuseVisibility = false});
-                gles::FrameInputs inputs;
-                inputs.viewerPosition = bundle->settings().viewerPosition;
-                for (int i = 0; i < warmup + frames; ++i) {
-                    gles::FramePassTimes times;
-                    renderer.render(*target, inputs, &times);
-                    target->present();
-                    if (i >= warmup) {
-                        visibilityMs.push_back(times.visibilityMs);
-                        shadingMs.push_back(times.shadingMs);
-                    }
-                }
+                });
+                frameMs.push_back(frame.wallMs);
+                cpuMs.push_back(frame.cpuMs);
+                floorMs.push_back(pass.wallMs);
+                ratio.push_back(frame.wallMs / pass.wallMs);
             }
             const double ms = median(frameMs);
-            std::printf("%-12s %8d %8.1f %7.2f %9.1f %6.2f %8.1f %9.1f %6.2f %11.1f %8.1f\n",
-                        lowRank ? "low-rank 12" : "full", bytesPerTexel, ms, 1000.0 / ms,
-                        median(floorMs), median(ratio), median(frameCpuMs), median(floorCpuMs),
-                        median(cpuRatio), median(visibilityMs), median(shadingMs));
+            std::printf("%-15s %8.2f %7.1f %9.2f %6.2f %8.2f %9lld %9lld %8.1f %8.1f %8.0f\n",
+                        scene.name, ms, 1000.0 / ms, median(floorMs), median(ratio), median(cpuMs),
+                        static_cast<long long>(cost.perPixel.flopEquivalent()),
+                        static_cast<long long>(cost.perPixel.textureFetches), pi4, pi5, loadMs);
             std::fflush(stdout);
-            std::filesystem::remove(path);
+            report["scenes"].push_back({{"name", scene.name},
+                                        {"ms_per_frame", ms},
+                                        {"floor_ms", median(floorMs)},
+                                        {"ratio", median(ratio)},
+                                        {"cpu_ms", median(cpuMs)},
+                                        {"flop_eq_per_pixel", cost.perPixel.flopEquivalent()},
+                                        {"flops_per_pixel", cost.perPixel.flops()},
+                                        {"sfu_per_pixel", cost.perPixel.sfu},
+                                        {"texture_fetches_per_pixel", cost.perPixel.textureFetches},
+                                        {"shaded_pixels", renderer.coveredPixels()},
+                                        {"pi4_fps", pi4},
+                                        {"pi5_fps", pi5},
+                                        {"load_ms", loadMs},
+                                        {"geometry_ms", renderer.loadTimes().geometryMs},
+                                        {"material_ms", renderer.loadTimes().materialMs},
+                                        {"shaders_ms", renderer.loadTimes().shadersMs}});
         }
     } catch (const std::exception& error) {
         std::fprintf(stderr, "vpe_gles_frame_benchmark: %s\n", error.what());
         status = 1;
     }
     std::filesystem::remove_all(folder);
+    if (json && status == 0) {
+        std::printf("%s\n", report.dump().c_str());
+    }
     return status;
 }

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // GlesFrameRenderer's frame against the CPU reference (renderProjectorFrame, quantized to
-// 8 bits) for several lights, viewers, both presets and both response kinds: PSNR ≥ 50 dB.
+// 8 bits) for several lights, viewers, both presets and both response kinds. The test bundles
+// carry no θs basis, so the GPU evaluates every harmonic through the θs table (2M + 1
+// functions): what differs is the half-float material and table, the table's interpolation
+// and float arithmetic. Thresholds sit ~1 dB under the measured values.
 // On failure the actual, expected and difference images are written beside the test output
 // (the working directory): PNG, or PPM in the device-only build (failure_image.h).
 #include <algorithm>
@@ -33,6 +36,7 @@ struct FrameCase {
     std::string preset;
     bool inverseSquare = false;
     float gain = 1.0f;
+    bool liveWeights = false;
 };
 
 class GlesFrameTest : public GlesTest {
@@ -40,13 +44,15 @@ protected:
     // Returns the PSNR (dB) of the GPU frame against the quantized CPU frame.
     double comparePsnr(const GlesBundleSpec& spec, const FrameCase& frame) {
         MappedTestBundle bundle(spec);
-        gles::GlesFrameRenderer renderer(bundle.view());
+        gles::GlesRendererOptions options;
+        options.viewer = frame.viewer;
+        options.liveWeights = frame.liveWeights;
+        gles::GlesFrameRenderer renderer(bundle.view(), options);
         renderer.selectPreset(frame.preset);
         std::unique_ptr<gles::RenderTarget> target =
             platform()->createRenderTarget(renderer.width(), renderer.height());
         gles::FrameInputs inputs;
         inputs.lightPosition = frame.light;
-        inputs.viewerPosition = frame.viewer;
         inputs.inverseSquare = frame.inverseSquare;
         inputs.referenceDistance = 0.5f;
         inputs.gain = frame.gain;
@@ -59,10 +65,11 @@ protected:
         light.position = {frame.light[0], frame.light[1], frame.light[2]};
         light.inverseSquare = frame.inverseSquare;
         light.referenceDistance = 0.5;
-        RenderOptions options;
-        options.gain = static_cast<double>(frame.gain);
+        RenderOptions reference_options;
+        reference_options.gain = static_cast<double>(frame.gain);
         const ProjectorFrame reference = renderProjectorFrame(
-            scene.scene(light, {frame.viewer[0], frame.viewer[1], frame.viewer[2]}), options);
+            scene.scene(light, {frame.viewer[0], frame.viewer[1], frame.viewer[2]}),
+            reference_options);
 
         const int w = renderer.width(), h = renderer.height();
         const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
@@ -98,7 +105,7 @@ protected:
         std::cout << frame.name << ": PSNR " << psnr << " dB, " << covered << " covered pixels, "
                   << differing << " differ (" << largeDifferences_ << " by more than 16 levels), "
                   << "largest difference " << largest << " levels\n";
-        if (psnr < 50.0) {
+        if (psnr < minimumPsnr_) {
             const std::string stem = "gles_frame_" + frame.name;
             ADD_FAILURE() << frame.name << ": wrote "
                           << writeFailureImage(stem + ".actual", w, h, actual) << ", "
@@ -110,6 +117,8 @@ protected:
     }
     // Of the last comparePsnr: pixels with a channel more than 16 levels off.
     std::size_t largeDifferences_ = 0;
+    // Below it, comparePsnr writes the failure images.
+    double minimumPsnr_ = 50.0;
 };
 
 const std::vector<FrameCase>& frameCases() {
@@ -125,7 +134,8 @@ const std::vector<FrameCase>& frameCases() {
 
 TEST_F(GlesFrameTest, MatchesCpuReferenceWithGammaResponse) {
     for (const FrameCase& frame : frameCases()) {
-        EXPECT_GE(comparePsnr({}, frame), 50.0) << frame.name;
+        // Measured 70.8–77.7 dB.
+        EXPECT_GE(comparePsnr({}, frame), 69.5) << frame.name;
     }
 }
 
@@ -135,7 +145,7 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithCurveResponse) {
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
         EXPECT_GE(comparePsnr(spec, {frame.name + "_curve", frame.light, frame.viewer, frame.preset,
                                      frame.inverseSquare, frame.gain}),
-                  50.0);
+                  69.5);  // measured 70.4, 75.4 dB
     }
 }
 
@@ -148,14 +158,12 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithoutDistortionAndMoreHarmonics) {
     spec.projectorHeight = 150;
     EXPECT_GE(
         comparePsnr(spec, {"m10_undistorted", {0.2f, 0.4f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"}),
-        50.0);
+        69.5);  // measured 70.7 dB
 }
 
-// Long triangles under strong distortion: edges bend by pixels between their vertices, so the
-// visibility pass's covers must follow the bend (the exact ray test still decides). Covers that
-// ignored the bend measured 55 dB with 12 pixels lost along edges; now one silhouette pixel is
-// off, covered by the GPU's float ray test and missed by the CPU's double one (barycentric slack
-// 1e-5 against 1e-9: narrower slack fixed it here but would risk holes along shared edges).
+// Long triangles under strong distortion: edges bend by pixels between their vertices. The GPU
+// reads the CPU's own traced pixels (geometry buffer), so coverage and silhouettes agree by
+// construction: no pixel is more than a few levels off.
 TEST_F(GlesFrameTest, MatchesCpuReferenceWithLongBentEdges) {
     GlesBundleSpec spec;
     spec.projectorWidth = 640;
@@ -165,43 +173,64 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithLongBentEdges) {
     spec.vaseRings = 3;
     EXPECT_GE(
         comparePsnr(spec, {"long_bent_edges", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "radial"}),
-        60.0);
-    EXPECT_LE(largeDifferences_, 2u);
+        73.5);  // measured 74.8 dB, largest difference 3 levels
+    EXPECT_EQ(largeDifferences_, 0u);
 }
 
-// The ids of the first frame are reused by the next ones (the mesh and the projector do not
-// change): the frames must be byte for byte those of a renderer that draws the visibility pass
-// every frame, whatever the light and preset; and FramePassTimes says which frames drew it.
-TEST_F(GlesFrameTest, ReusedVisibilityChangesNothing) {
-    MappedTestBundle bundle;
-    gles::GlesFrameRenderer reusing(bundle.view());
-    gles::GlesFrameRenderer drawing(bundle.view(), {.reuseVisibility = false});
-    std::unique_ptr<gles::RenderTarget> target =
-        platform()->createRenderTarget(reusing.width(), reusing.height());
-    const auto frame = [&](gles::GlesFrameRenderer& renderer, const gles::FrameInputs& inputs,
-                           gles::FramePassTimes& times) {
-        renderer.render(*target, inputs, &times);
-        target->present();
-        return target->readRgba8();
-    };
-    for (int i = 0; i < 3; ++i) {
+// The same frames with the regions kept apart and blended per frame by the preset's weights.
+TEST_F(GlesFrameTest, LiveWeightsMatchCpuReference) {
+    for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
+        FrameCase live = frame;
+        live.name += "_live";
+        live.liveWeights = true;
+        EXPECT_GE(comparePsnr({}, live), 69.5);  // measured 70.9, 77.2 dB
+    }
+}
+
+// A preset change cross-fades: the first frame after it still shows the old preset, the last
+// the new one, and in between every level lies between the two (f is linear in the material,
+// the levels monotone in f). animating() tells the player to keep drawing meanwhile.
+TEST_F(GlesFrameTest, PresetChangesCrossFade) {
+    for (const bool live : {false, true}) {
+        MappedTestBundle bundle;
+        gles::GlesRendererOptions options;
+        options.liveWeights = live;
+        options.presetFadeSeconds = 0.5;
+        gles::GlesFrameRenderer renderer(bundle.view(), options);
+        std::unique_ptr<gles::RenderTarget> target =
+            platform()->createRenderTarget(renderer.width(), renderer.height());
         gles::FrameInputs inputs;
-        inputs.lightPosition = {0.4f - 0.3f * static_cast<float>(i), 0.3f, 0.5f};
-        inputs.viewerPosition = {0.3f, 0.2f, 0.6f};
-        const std::string preset = i == 2 ? "radial" : "stripes";
-        reusing.selectPreset(preset);
-        drawing.selectPreset(preset);
-        gles::FramePassTimes reusingTimes, drawingTimes;
-        const std::vector<std::uint8_t> reused = frame(reusing, inputs, reusingTimes);
-        const std::vector<std::uint8_t> drawn = frame(drawing, inputs, drawingTimes);
-        EXPECT_EQ(reusingTimes.visibilityDrawn, i == 0) << "frame " << i;
-        EXPECT_TRUE(drawingTimes.visibilityDrawn) << "frame " << i;
-        EXPECT_GT(drawingTimes.shadingMs, 0.0);
-        ASSERT_EQ(reused.size(), drawn.size());
-        EXPECT_TRUE(reused == drawn) << "frame " << i << " differs with reused ids";
-        const auto lit = std::count_if(drawn.begin(), drawn.end(),
-                                       [](std::uint8_t v) { return v != 0 && v != 255; });
-        EXPECT_GT(lit, 1000) << "frame " << i << " should show the vase";
+        inputs.lightPosition = {0.4f, 0.3f, 0.5f};
+        const auto frame = [&](double time) {
+            inputs.timeSeconds = time;
+            renderer.render(*target, inputs);
+            target->present();
+            return target->readRgba8();
+        };
+        renderer.selectPreset("stripes", false);
+        const std::vector<std::uint8_t> stripes = frame(10.0);
+        renderer.selectPreset("radial", false);
+        const std::vector<std::uint8_t> radial = frame(10.0);
+        renderer.selectPreset("stripes", false);
+        EXPECT_EQ(frame(10.0), stripes);
+        EXPECT_FALSE(renderer.animating());
+
+        renderer.selectPreset("radial");
+        EXPECT_TRUE(renderer.animating());
+        EXPECT_EQ(frame(20.0), stripes) << "the fade starts from the old preset";
+        const std::vector<std::uint8_t> middle = frame(20.25);
+        EXPECT_TRUE(renderer.animating());
+        std::size_t between = 0, outside = 0, changed = 0;
+        for (std::size_t i = 0; i < middle.size(); ++i) {
+            const int low = std::min(stripes[i], radial[i]), high = std::max(stripes[i], radial[i]);
+            outside += (middle[i] + 1 < low || middle[i] > high + 1) ? 1 : 0;
+            between += (high - low > 4 && middle[i] > low + 1 && middle[i] + 1 < high) ? 1 : 0;
+            changed += high - low > 4 ? 1 : 0;
+        }
+        EXPECT_EQ(outside, 0u) << (live ? "live" : "static");
+        EXPECT_GT(between, changed / 2) << (live ? "live" : "static");
+        EXPECT_EQ(frame(20.5), radial) << (live ? "live" : "static");
+        EXPECT_FALSE(renderer.animating());
     }
 }
 

@@ -61,9 +61,17 @@ private:
     unsigned name_ = 0;
 };
 
-// An immutable 2D texture array (linear filtering, clamped), as the renderer uploads a
-// bundle's texture payloads: internal format, then the data's format and type (GL enums).
+enum class TextureFilter { kNearest, kLinear };
+
+// An immutable 2D texture (one level, clamped to edge): internal format, then the data's
+// format and type (GL enums); `data` may be null (storage only, filled later).
+GlObject makeTexture2D(unsigned internalFormat, int width, int height, unsigned format,
+                       unsigned type, const void* data,
+                       TextureFilter filter = TextureFilter::kNearest);
+
+// An immutable 2D texture array, likewise (a bundle's texture payloads: linear filtering).
 GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
-                          unsigned format, unsigned type, const void* data);
+                          unsigned format, unsigned type, const void* data,
+                          TextureFilter filter = TextureFilter::kLinear);
 
 }  // namespace vpe::renderer::gles

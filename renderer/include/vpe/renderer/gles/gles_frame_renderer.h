@@ -1,45 +1,54 @@
 // SPDX-License-Identifier: MIT
-// GlesFrameRenderer: the projector frame of renderer/README.md on OpenGL ES 3.1 — the same
-// conventions and math as the CPU reference (renderProjectorFrame), from a device bundle's
-// mesh and textures uploaded as they are stored.
+// GlesFrameRenderer: the projector frame of renderer/README.md on OpenGL ES 3.1, equal to the
+// CPU reference (renderProjectorFrame) to within the θs basis the bundle carries.
 //
-// Two passes. (1) Visibility, drawn once (it depends on the mesh and the projector only) and
-// reused: every triangle is rasterized as a conservative cover of its distorted image (its
-// box, or its triangle with each edge pushed out by the edge's bend, grown by a margin), and
-// each fragment intersects the EXACT ray of its projector pixel — the pixel centre undistorted
-// on the CPU with undistortNormalized, kept in an RG32F map — with the triangle
-// (Möller–Trumbore, the CPU ray caster's rule); misses are discarded and the ray depth is the
-// fragment depth, so the id buffer (R32UI) holds the nearest hit of the same ray the CPU casts:
-// coverage and silhouettes match the reference pixel for pixel despite lens distortion, with
-// no intermediate image to resample. (2) Shading, every frame, one full-screen triangle: per
-// pixel the hit's barycentrics, the two-sided normal, the uv, the Fourier BRDF's basis values
-// (fourier_brdf_glsl.h), each region's BRDF from its coefficients (bilinear, GL_LINEAR, clamp
-// to edge; low-rank codes evaluated in the low-rank space) weighted by the preset, the light,
-// and the projector compensation; the drive levels go to the target as RGBA8. The shading
-// shader is generated per bundle (shadingShaderSource) as straight-line code.
+// A frame does only what the light changes. Once per bundle and projector (at construction):
+//   - the geometry buffer (GeometryBuffer): every projector pixel's exact ray traced on the
+//     CPU by the reference's own code — position, normals, uv, the projector's 1/S;
+//   - the θs material (ThetaTextures): the regions' coefficients projected onto the bundle's θs
+//     basis in texture space, and the table of the basis functions;
+//   - the material pass (MaterialPass): per projector pixel, the material at its uv — the
+//     preset's regions blended, scaled by the viewer's horizon — packed as half floats.
+// Per frame, one full-screen pass: fetch the pixel's geometry and material, look h_j(θs) up in
+// the table, f = kd·max(cos θd, 0) + Σ_j u_j·h_j, the light's horizon and falloff, the
+// compensation, the response. Changing the preset runs the material pass once and cross-fades
+// between the old and the new material over options.presetFadeSeconds. With liveWeights, the
+// regions' materials are kept apart and blended every frame by the preset's weight maps.
 #pragma once
 
 #include <array>
 #include <cstddef>
-#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vpe/proto/bundle.h"
+#include "vpe/renderer/gles/frame_shaders.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/graphics_platform.h"
 
 namespace vpe::renderer::gles {
 
+class GeometryBuffer;
+class ThetaTextures;
+class MaterialPass;
+class TileCover;
+
 struct GlesRendererOptions {
     // Largest texture side accepted, on top of GL_MAX_TEXTURE_SIZE (the Pi 4/5 guarantee).
     int maxTextureSize = 4096;
-    // The visibility pass depends on the mesh and the projector only, fixed for the renderer's
-    // life: it is drawn on the first frame (and when the target's orientation changes) and its
-    // ids reused. false draws it every frame (to profile it, or to test that reuse changes
-    // nothing).
-    bool reuseVisibility = true;
+    // Blend the regions every frame by the preset's weights (weight maps stay live), instead of
+    // composing the preset's material once: costs one material per region per pixel.
+    bool liveWeights = false;
+    // A preset change cross-fades over this long (0: at once).
+    double presetFadeSeconds = 0.5;
+    // Samples of the θs table (docs/pi-headroom.md: chosen by the measured loss).
+    int thetaTableSamples = 1024;
+    // CPU threads tracing the geometry at load; 0: all cores.
+    int threads = 0;
+    // The viewer the view-dependent terms are rendered for; default the bundle's.
+    std::optional<std::array<float, 3>> viewer;
 };
 
 // What changes from frame to frame.
@@ -48,81 +57,99 @@ struct FrameInputs {
     std::array<float, 3> lightIntensity{1, 1, 1};
     bool inverseSquare = false;
     float referenceDistance = 1.0f;
-    std::array<float, 3> viewerPosition{0, 0, 1};
     float gain = 1.0f;  // > 0; the bundle's settings hold a default
+    // The frame's time (seconds, any monotonic origin): drives preset cross-fades.
+    double timeSeconds = 0;
 };
 
-// Wall time of each pass when asked for (render() then waits for the GPU after each: for
+// Wall time of the frame's pass when asked for (render() then waits for the GPU: for
 // profiling only, it serializes the pipeline).
 struct FramePassTimes {
-    bool visibilityDrawn = false;  // false: the ids were reused (visibilityMs 0)
-    double visibilityMs = 0;
     double shadingMs = 0;
 };
 
-// The shading pass's fragment shader for a bundle, as GlesFrameRenderer compiles it: generated
-// per bundle, M, the regions' encodings and the low-rank means and bases baked in as constants
-// (for inspection, and for counting its operations: docs/pi-headroom.md).
-std::string shadingShaderSource(const proto::BundleView& bundle);
+// What the construction cost (startup).
+struct LoadTimes {
+    double geometryMs = 0;  // tracing and uploading the geometry buffer
+    double materialMs = 0;  // projecting, uploading the θs maps, first material pass
+    double shadersMs = 0;   // compiling and linking
+};
 
 class GlesFrameRenderer {
 public:
     // Uploads the bundle (a GL ES 3.1 context must be current and stay current for the
     // renderer's life; the bundle must outlive the constructor only). Throws GraphicsError
-    // naming the problem: textures larger than the limits, too many regions for the texture
-    // units, a response curve with too many samples, a shader that does not compile.
+    // naming the problem (textures larger than the limits, a shader that does not compile) and
+    // std::invalid_argument for a bundle it cannot render (regions without presets).
     GlesFrameRenderer(const proto::BundleView& bundle, const GlesRendererOptions& options = {});
     ~GlesFrameRenderer();
     GlesFrameRenderer(const GlesFrameRenderer&) = delete;
     GlesFrameRenderer& operator=(const GlesFrameRenderer&) = delete;
 
-    // Selects a weight preset by name (empty: the first). Throws std::invalid_argument naming
-    // the preset and the ones the bundle has.
-    void selectPreset(const std::string& name);
+    // Selects a weight preset by name (empty: the first). After the first frame the change
+    // cross-fades (fade false: at once). Throws std::invalid_argument naming the preset and
+    // the ones the bundle has.
+    void selectPreset(const std::string& name, bool fade = true);
     const std::string& presetName() const { return presetName_; }
+    // A cross-fade is under way: the next frame differs from the last even if the light did not
+    // move.
+    bool animating() const { return fading_; }
 
-    // The projector's size: the target must have it.
     int width() const { return width_; }
     int height() const { return height_; }
+    const LoadTimes& loadTimes() const { return loadTimes_; }
+    // K, the θs functions each pixel evaluates (2M + 1 when the bundle carries no basis).
+    int basisSize() const;
 
-    // Renders one frame into the target (its size must be the projector's). With `passTimes`,
-    // finishes the GPU's work before, between and after the passes and times each.
+    // Renders one frame into the target (its size must be the projector's).
     void render(RenderTarget& target, const FrameInputs& inputs,
                 FramePassTimes* passTimes = nullptr);
 
-private:
-    void uploadMesh(const proto::BundleView& bundle);
-    void uploadTextures(const proto::BundleView& bundle, int maxSize);
-    void buildPrograms(const proto::BundleView& bundle);
-    void ensureVisibilityBuffer();
+    // The frame shader of a variant as compiled (for reading and counting its operations).
+    std::string frameShader(FrameVariant variant) const;
+    // The texture-fetch floor of the next frame: a shader reading exactly the textures the
+    // frame reads per pixel and doing nothing else (passThroughShaderSource), drawn into the
+    // target. For benchmarks.
+    void renderPassThrough(RenderTarget& target);
+    // Projector pixels that see the object.
+    std::size_t coveredPixels() const;
+    // The variant the next frame draws.
+    FrameVariant nextVariant() const;
 
-    int width_ = 0, height_ = 0;
-    int harmonics_ = 0;
-    std::size_t triangles_ = 0;
+private:
+    struct FrameProgram;
+    void buildFramePrograms();
+    std::unique_ptr<FrameProgram> linkFrameProgram(FrameVariant variant, std::string source,
+                                                   const std::string& name);
+    void bindFrameTextures();
+    // Clears the target to black and readies `frame` to draw the covered tiles.
+    void beginTiles(RenderTarget& target, const FrameProgram& frame);
+    FrameProgram& program(FrameVariant variant);
+    std::size_t presetIndex(const std::string& name) const;
+
     std::string bundleName_;
-    std::string presetName_;
+    proto::RenderSettings settings_;
+    int width_ = 0, height_ = 0;
+    std::array<float, 3> viewer_{};
+    GlesRendererOptions options_;
+    std::unique_ptr<GeometryBuffer> geometry_;
+    std::unique_ptr<ThetaTextures> textures_;
+    std::unique_ptr<MaterialPass> materialPass_;
     std::vector<std::string> presetNames_;
-    std::vector<GlObject> presetTextures_;
-    std::size_t preset_ = 0;
-    std::vector<GlObject> regionTextures_;
-    GlObject curveTexture_;
-    GlObject triangleTable_, rays_;
-    GlObject visibilityProgram_, shadingProgram_;
-    GlObject vertexArray_;
-    GlObject idTexture_, depthBuffer_, idFramebuffer_;
-    bool reuseVisibility_ = true;
-    int visibilityOrientation_ = -1;  // the ids' topRowAtGlOrigin (0, 1), −1 none yet
-    // Settings and calibration as uniforms.
-    std::array<float, 9> rotation_{};
-    std::array<float, 3> translation_{}, center_{};
-    std::array<float, 4> intrinsics_{};  // fx, fy, cx, cy
-    float skew_ = 0;
-    std::array<float, 5> distortion_{};
-    float depthScale_ = 1;
-    std::array<float, 3> albedo_{}, ambient_{};
-    float peakIrradiance_ = 1;
-    bool curveResponse_ = false;
-    std::array<std::vector<float>, 3> curve_;  // normalized, r(1) = 1
+    std::string presetName_;
+    std::size_t preset_ = 0, fadeFromPreset_ = 0;
+    // Composed materials (static): [shown] the current preset's, the other the previous one's
+    // while fading. Live: one per region.
+    std::array<GlObject, 2> composed_;
+    int shown_ = 0;
+    std::vector<GlObject> regionMaterials_;
+    bool fading_ = false;
+    bool renderedOnce_ = false;
+    std::optional<double> fadeStart_;
+    std::vector<std::unique_ptr<FrameProgram>> programs_;             // per FrameVariant
+    std::vector<std::unique_ptr<FrameProgram>> passThroughPrograms_;  // built when first asked
+    std::unique_ptr<TileCover> tiles_;
+    LoadTimes loadTimes_;
 };
 
 }  // namespace vpe::renderer::gles

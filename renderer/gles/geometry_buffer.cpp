@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// GeometryBuffer: trace, pack and upload the projector pixels' geometry (see the header).
+#include "vpe/renderer/gles/geometry_buffer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <vector>
+
+#include <GLES3/gl31.h>
+
+#include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/gles/tile_cover.h"
+#include "vpe/renderer/parallel_rows.h"
+
+namespace vpe::renderer::gles {
+
+namespace {
+
+// Rows traced, packed and uploaded at a time: bounds the CPU's copy (64 rows of 1920 pixels:
+// 2.5 MB) while keeping the threads busy.
+constexpr int kBandRows = 64;
+
+std::uint32_t unorm16(double value) {
+    return static_cast<std::uint32_t>(std::lround(std::clamp(value, 0.0, 1.0) * 65535.0));
+}
+
+}  // namespace
+
+PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
+    PackedPixel packed;
+    if (!pixel) {
+        return packed;
+    }
+    const SurfacePoint& point = pixel->point;
+    packed.geometry0 = {
+        static_cast<float>(point.position.x), static_cast<float>(point.position.y),
+        static_cast<float>(point.position.z),
+        // Finite however grazing (0 · ∞ would be NaN in the shader).
+        pixel->irradianceScale > 0
+            ? std::min(static_cast<float>(1.0 / pixel->irradianceScale), kNoProjectorLight)
+            : kNoProjectorLight};
+    packed.geometry1 = {std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.x)),
+                        std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.y)),
+                        std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.z)),
+                        encodeOctahedralNormal(point.geometricNormal)};
+    // The renderer's uv has v up (OBJ / GL); the textures are uploaded rows from the top.
+    packed.uv = unorm16(point.uv.x) | (unorm16(1.0 - point.uv.y) << 16);
+    return packed;
+}
+
+GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
+    : width_(pixels.width()), height_(pixels.height()) {
+    geometry0_ = makeTexture2D(GL_RGBA32F, width_, height_, GL_RGBA, GL_FLOAT, nullptr);
+    geometry1_ =
+        makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
+    uv_ = makeTexture2D(GL_R32UI, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    const auto w = static_cast<std::size_t>(width_);
+    std::vector<float> geometry0(w * kBandRows * 4);
+    std::vector<std::uint32_t> geometry1(w * kBandRows * 4), uv(w * kBandRows);
+    std::atomic<std::size_t> covered{0};
+    const int tilesX = (width_ + kTileSize - 1) / kTileSize;
+    coveredTiles_.assign(static_cast<std::size_t>(tilesX) *
+                             static_cast<std::size_t>((height_ + kTileSize - 1) / kTileSize),
+                         0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int first = 0; first < height_; first += kBandRows) {
+        const int rows = std::min(kBandRows, height_ - first);
+        forEachRow(rows, threads, [&](int row) {
+            std::size_t hits = 0;
+            for (int x = 0; x < width_; ++x) {
+                const std::optional<ProjectorPixel> pixel = pixels.trace(x, first + row);
+                hits += pixel ? 1 : 0;
+                const PackedPixel packed = packProjectorPixel(pixel);
+                const std::size_t i =
+                    static_cast<std::size_t>(row) * w + static_cast<std::size_t>(x);
+                std::copy(packed.geometry0.begin(), packed.geometry0.end(),
+                          geometry0.begin() + 4 * i);
+                std::copy(packed.geometry1.begin(), packed.geometry1.end(),
+                          geometry1.begin() + 4 * i);
+                uv[i] = packed.uv;
+            }
+            covered += hits;
+        });
+        for (int row = 0; row < rows; ++row) {
+            for (int x = 0; x < width_; ++x) {
+                if (geometry0[(static_cast<std::size_t>(row) * w + static_cast<std::size_t>(x)) *
+                                  4 +
+                              3] >= 0) {
+                    coveredTiles_[static_cast<std::size_t>(((first + row) / kTileSize) * tilesX +
+                                                           x / kTileSize)] = 1;
+                }
+            }
+        }
+        glBindTexture(GL_TEXTURE_2D, geometry0_.get());
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RGBA, GL_FLOAT,
+                        geometry0.data());
+        glBindTexture(GL_TEXTURE_2D, geometry1_.get());
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                        geometry1.data());
+        glBindTexture(GL_TEXTURE_2D, uv_.get());
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                        uv.data());
+    }
+    covered_ = covered;
+    checkGlError("uploading the projector's geometry buffer");
+}
+
+}  // namespace vpe::renderer::gles

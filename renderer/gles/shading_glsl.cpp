@@ -1,0 +1,150 @@
+// SPDX-License-Identifier: MIT
+// GLSL mirrors of the frame's C++ steps (see the header).
+#include "vpe/renderer/gles/shading_glsl.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+#include <vector>
+
+#include "vpe/proto/surface_horizon.h"
+
+namespace vpe::renderer::gles {
+
+std::string glslFloat(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(value));
+    std::string literal = text;
+    if (literal.find_first_of(".en") == std::string::npos) {
+        literal += ".0";
+    }
+    return literal;
+}
+
+std::string shadingStepsGlsl() {
+    return "const float VPE_HORIZON_SCALE = " +
+           glslFloat(static_cast<float>(1.0 / proto::kHorizonWidth)) + ";\n" + R"GLSL(
+// proto::horizonFactor: smoothstep(0, kHorizonWidth, cosine).
+float vpeHorizonFactor(float cosine) {
+    float t = clamp(cosine * VPE_HORIZON_SCALE, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// proto::reflectionAngles: (cos θd = n·l, cos θs = 2(n·l)(n·v) − l·v clamped to [−1, 1]).
+vec2 vpeReflectionAngles(vec3 normal, vec3 toLight, vec3 toViewer) {
+    float nl = dot(normal, toLight);
+    float rv = 2.0 * nl * dot(normal, toViewer) - dot(toLight, toViewer);
+    return vec2(nl, clamp(rv, -1.0, 1.0));
+}
+
+// proto::thetaTableParameter: sin(θs/2)/√2 for cos θs ≥ 0, 1 − cos(θs/2)/√2 below.
+float vpeThetaTableParameter(float cosThetaS) {
+    float s = sqrt(max(0.5 - 0.5 * abs(cosThetaS), 0.0)) * 0.70710678118654752440;
+    return cosThetaS >= 0.0 ? s : 1.0 - s;
+}
+
+// The table's texture coordinate, vpeThetaTableParameter(c)·scale + offset with the constants
+// folded (scale, offset: a table of N samples maps x to x·(N − 1)/N + ½/N).
+float vpeThetaTableCoordinate(float cosThetaS, float scale, float offset) {
+    float s = sqrt(max(0.5 - 0.5 * abs(cosThetaS), 0.0)) * (0.70710678118654752440 * scale);
+    return cosThetaS >= 0.0 ? offset + s : (scale + offset) - s;
+}
+
+// decodeOctahedralNormal.
+vec3 vpeOctahedralNormal(uint bits) {
+    vec2 e = unpackUnorm2x16(bits) * 2.0 - 1.0;
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    float fold = max(-n.z, 0.0);
+    n.x += n.x >= 0.0 ? -fold : fold;
+    n.y += n.y >= 0.0 ? -fold : fold;
+    return normalize(n);
+}
+)GLSL";
+}
+
+std::uint32_t encodeOctahedralNormal(const Vec3d& unit) {
+    const double sum = std::fabs(unit.x) + std::fabs(unit.y) + std::fabs(unit.z);
+    double a = unit.x / sum, b = unit.y / sum;
+    if (unit.z < 0) {
+        const double foldedA = (1 - std::fabs(b)) * (a >= 0 ? 1 : -1);
+        const double foldedB = (1 - std::fabs(a)) * (b >= 0 ? 1 : -1);
+        a = foldedA;
+        b = foldedB;
+    }
+    const auto unorm = [](double value) {
+        return static_cast<std::uint32_t>(
+            std::lround(std::clamp(value * 0.5 + 0.5, 0.0, 1.0) * 65535));
+    };
+    return unorm(a) | (unorm(b) << 16);
+}
+
+Vec3d decodeOctahedralNormal(std::uint32_t packed) {
+    // As vpeOctahedralNormal, in float where the shader is (unpackUnorm2x16 divides by 65535).
+    const float ex = static_cast<float>(packed & 0xffffu) / 65535.0f * 2.0f - 1.0f;
+    const float ey = static_cast<float>(packed >> 16) / 65535.0f * 2.0f - 1.0f;
+    float x = ex, y = ey;
+    const float z = 1.0f - std::fabs(ex) - std::fabs(ey);
+    const float fold = std::max(-z, 0.0f);
+    x += x >= 0.0f ? -fold : fold;
+    y += y >= 0.0f ? -fold : fold;
+    const double dx = x, dy = y, dz = z;
+    const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+    return {dx / length, dy / length, dz / length};
+}
+
+std::string projectorLevelGlsl(const proto::ProjectorResponse& response) {
+    if (response.kind != proto::ResponseKind::kCurve) {
+        // r(v) = v^γ: black level 0, level = r^(1/γ) on [0, 1]; 1/γ as the CPU takes it.
+        std::string inverse;
+        for (std::size_t c = 0; c < 3; ++c) {
+            inverse += (c == 0 ? "" : ", ") +
+                       glslFloat(static_cast<float>(1.0 / static_cast<double>(response.gamma[c])));
+        }
+        return R"GLSL(
+// ProjectorResponse::level for this bundle's gamma, with compensatePixel's clipping: the
+// clamp does it (above 1 → 1, below 0 → 0^(1/γ) = 0).
+vec3 vpeProjectorLevel(vec3 relative) {
+    return pow(clamp(relative, 0.0, 1.0), vec3()GLSL" +
+               inverse + R"GLSL());
+}
+)GLSL";
+    }
+    // A sampled curve, normalized (r(1) = 1): below its first sample (the black level) 0, above
+    // 1 full, else the first sample at or above r and the one before, interpolated. The samples
+    // are constants: the loop unrolls into compares and selects.
+    std::string s =
+        "\n// ProjectorResponse::level for this bundle's sampled curves.\n"
+        "vec3 vpeProjectorLevel(vec3 relative) {\n    vec3 level;\n";
+    for (std::size_t c = 0; c < 3; ++c) {
+        const std::vector<float>& samples = response.curve[c];
+        const float last = samples.back();
+        std::string array = "float[" + std::to_string(samples.size()) + "](";
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            array += (k == 0 ? "" : ", ") + glslFloat(samples[k] / last);
+        }
+        array += ")";
+        const std::string ch = std::to_string(c);
+        s += "    {\n        const float curve[" + std::to_string(samples.size()) + "] = " + array +
+             ";\n        float fraction = relative[" + ch + "];\n" +
+             "        float previous = curve[0];\n        level[" + ch +
+             "] = fraction > 1.0 ? 1.0 : 0.0;\n"
+             "        if (fraction > previous && fraction <= 1.0) {\n"
+             "            level[" +
+             ch +
+             "] = 1.0;\n"
+             "            for (int k = 1; k < " +
+             std::to_string(samples.size()) +
+             "; ++k) {\n"
+             "                if (curve[k] >= fraction) {\n"
+             "                    float f = (fraction - previous) / (curve[k] - previous);\n"
+             "                    level[" +
+             ch + "] = clamp((float(k - 1) + f) / " + std::to_string(samples.size() - 1) +
+             ".0, 0.0, 1.0);\n"
+             "                    break;\n                }\n"
+             "                previous = curve[k];\n            }\n        }\n    }\n";
+    }
+    return s + "    return level;\n}\n";
+}
+
+}  // namespace vpe::renderer::gles

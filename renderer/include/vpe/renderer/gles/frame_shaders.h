@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// The GLSL the GLES renderer compiles, generated per bundle: the material pass (run at load and
+// when the preset changes) and the frame (run every frame). Straight-line code with the
+// bundle's sizes and response baked in, so that no array is indexed dynamically and nothing but
+// the textures is loaded (renderer/gles/README.md says why).
+#pragma once
+
+#include <string>
+
+#include "vpe/proto/bundle_contents.h"
+
+namespace vpe::renderer::gles {
+
+// How a frame finds its material.
+enum class FrameVariant {
+    kStatic,    // one composed material (the preset's regions blended once, at load)
+    kFade,      // two composed materials mixed: a preset change cross-fading
+    kLive,      // every region's material, blended per frame by the preset's weights
+    kLiveFade,  // the same, the weights of two presets mixed
+};
+const char* frameVariantName(FrameVariant variant);  // "static", "fade", "live", "live-fade"
+
+// The sizes a shader is generated for.
+struct ShaderLayout {
+    int basisSize = 0;  // K: θs functions (proto::ThetaBasis::size)
+    int regions = 0;
+    int tableSamples = 0;  // samples of the θs table (proto::ThetaTable::samples)
+    int tableRows() const { return (basisSize + 3) / 4; }
+    // A material is proto::thetaMaterialSize(K) values: kd (RGB), then u_j (RGB) per function.
+    int materialValues() const { return 3 * (1 + basisSize); }
+    // In texture space, RGBA16F layers of 4 values.
+    int mapLayers() const { return (materialValues() + 3) / 4; }
+    // In projector space, half floats, two a 32-bit word, in RGBA32UI layers of four words
+    // (eight values). K = 4: 15 values, two layers, 32 bytes.
+    int materialLayers() const { return (materialValues() + 7) / 8; }
+};
+
+// The frame's fragment shader (full-screen triangle): fetch the pixel's geometry and material,
+// evaluate the model for the light through the θs table, apply the horizon, compensate for the
+// projector, output RGBA8 drive levels. `settings` gives the response and whether room light
+// is subtracted.
+std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
+                              const proto::RenderSettings& settings);
+
+// The material pass's fragment shader writing material layers [first, first + count) (count ≤
+// 4, one colour attachment each): per pixel, the texture-space θs maps at the pixel's uv, one
+// region alone or all blended by a preset's weights, scaled by the viewer's horizon factor
+// (fixed per pixel), packed as half floats.
+std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count);
+
+// A shader reading exactly the textures `frameShaderSource` reads per pixel, summing them and
+// doing nothing else: the texture-fetch floor a frame is compared with.
+std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant variant);
+
+// The vertex shader of a full-screen triangle.
+std::string fullScreenVertexSource();
+
+}  // namespace vpe::renderer::gles

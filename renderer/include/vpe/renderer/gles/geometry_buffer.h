@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// GeometryBuffer: the per-projector-pixel geometry (renderer::ProjectorPixels, the CPU
+// reference's own definition: exact rays in double precision) packed and uploaded once per
+// bundle and projector. A frame only fetches it: no ray is cast and no triangle is read per
+// frame (Pellacini's deep framebuffer; Bimber's precomputed projector form factor).
+//
+// Three textures, texel (x, y) = projector pixel (x, y), row 0 the projector's top row:
+//   geometry0 RGBA32F: X (object frame, metres) and 1/S (S the projector's irradiance scale
+//     P·cos θp/d²), at most kNoProjectorLight (S = 0: any light asked of the projector there
+//     clips, none gives 0, as compensatePixel's ±∞), kUncovered when the pixel sees nothing;
+//   geometry1 RGBA32UI: the shading normal's float bits (xyz), the geometric normal (w,
+//     encodeOctahedralNormal: it only decides the horizon);
+//   uv R32UI: the texture coordinate as two 16-bit unorms, rows from the top as the bundle
+//     stores them (read by the material pass, and by frames with live weights).
+// Full floats where the shading's precision needs them: unpacking costs ALU, which the Pi's
+// GPU has least of (docs/pi-headroom.md).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/projector_pixels.h"
+
+namespace vpe::renderer::gles {
+
+inline constexpr float kNoProjectorLight = 1e30f;
+inline constexpr float kUncovered = -1.0f;
+
+// One pixel as packed (the CPU side of what the shaders unpack; for tests).
+struct PackedPixel {
+    std::array<float, 4> geometry0{0, 0, 0, kUncovered};
+    std::array<std::uint32_t, 4> geometry1{0, 0, 0, 0};
+    std::uint32_t uv = 0;
+};
+PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel);
+
+class GeometryBuffer {
+public:
+    // Traces every pixel (threads ≤ 0: all cores) in bands of rows, each band packed and
+    // uploaded before the next is traced, so the CPU never holds the whole buffer. A GL ES 3.1
+    // context must be current.
+    GeometryBuffer(const ProjectorPixels& pixels, int threads = 0);
+
+    const GlObject& geometry0() const { return geometry0_; }
+    const GlObject& geometry1() const { return geometry1_; }
+    const GlObject& uv() const { return uv_; }
+    int width() const { return width_; }
+    int height() const { return height_; }
+    std::size_t coveredPixels() const { return covered_; }
+    // Per kTileSize × kTileSize tile (tile_cover.h), row-major: whether a pixel sees the object.
+    const std::vector<std::uint8_t>& coveredTiles() const { return coveredTiles_; }
+
+private:
+    int width_ = 0, height_ = 0;
+    std::size_t covered_ = 0;
+    std::vector<std::uint8_t> coveredTiles_;
+    GlObject geometry0_, geometry1_, uv_;
+};
+
+}  // namespace vpe::renderer::gles

@@ -1,0 +1,275 @@
+// SPDX-License-Identifier: MIT
+// Each GLSL mirror of a C++ step the frame takes, against its C++ side, one test each: the
+// horizon, the reflection angles, the θs table parameter and the table lookup, the octahedral
+// normal, the projector's response inverse. Evaluated by a compute shader (core in ES 3.1)
+// into a buffer.
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <GLES3/gl31.h>
+#include <gtest/gtest.h>
+
+#include "vpe/proto/reflection_geometry.h"
+#include "vpe/proto/surface_horizon.h"
+#include "vpe/proto/theta_basis.h"
+#include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/projector_response.h"
+
+#include "gles_test_platform.h"
+
+namespace vpe::renderer::testing {
+namespace {
+
+using gles::GlObject;
+
+class GlesShadingGlslTest : public GlesTest {};
+
+// Runs `body` (GLSL computing `vec4 result` from `float in[]` at `base = s * FLOATS` and
+// `uint bits[]` at the same base) once per sample; returns 4 floats per sample. `prelude` is
+// pasted before main (the functions under test, uniforms).
+std::vector<float> runOnGpu(const std::string& prelude, const std::string& body,
+                            const std::vector<float>& inputs, int floatsPerSample) {
+    const int samples = static_cast<int>(inputs.size()) / floatsPerSample;
+    std::string source =
+        "#version 310 es\nprecision highp float;\nprecision highp int;\n"
+        "precision highp sampler2D;\n";
+    source += prelude;
+    source += "#define FLOATS " + std::to_string(floatsPerSample) + "\n";
+    source += R"GLSL(
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Inputs { float in_[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 out_[]; };
+uniform int uSamples;
+void main() {
+    int s = int(gl_GlobalInvocationID.x);
+    if (s >= uSamples) {
+        return;
+    }
+    int base = s * FLOATS;
+    vec4 result = vec4(0.0);
+)GLSL";
+    source += body;
+    source += "    out_[s] = result;\n}\n";
+    const unsigned shader = gles::compileShader(GL_COMPUTE_SHADER, "shading_test.comp", source);
+    GlObject program = GlObject::program(gles::linkProgram("shading_test", shader));
+    GlObject in = GlObject::buffer(), out = GlObject::buffer();
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, in.get());
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(inputs.size() * sizeof(float)),
+                 inputs.data(), GL_STATIC_DRAW);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, in.get());
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, out.get());
+    glBufferData(GL_SHADER_STORAGE_BUFFER, static_cast<GLsizeiptr>(samples * 4 * sizeof(float)),
+                 nullptr, GL_STATIC_READ);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, out.get());
+    glUseProgram(program.get());
+    glUniform1i(glGetUniformLocation(program.get(), "uSamples"), samples);
+    glDispatchCompute(static_cast<GLuint>((samples + 63) / 64), 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> result(static_cast<std::size_t>(samples) * 4);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, out.get());
+    const void* mapped =
+        glMapBufferRange(GL_SHADER_STORAGE_BUFFER, 0,
+                         static_cast<GLsizeiptr>(result.size() * sizeof(float)), GL_MAP_READ_BIT);
+    EXPECT_NE(mapped, nullptr);
+    if (mapped != nullptr) {
+        std::memcpy(result.data(), mapped, result.size() * sizeof(float));
+        glUnmapBuffer(GL_SHADER_STORAGE_BUFFER);
+    }
+    gles::checkGlError("shading test dispatch");
+    return result;
+}
+
+TEST_F(GlesShadingGlslTest, HorizonFactorMatchesProto) {
+    std::vector<float> inputs;
+    for (int i = -200; i <= 1200; ++i) {
+        inputs.push_back(static_cast<float>(i) * 1e-4f);  // the ramp, finely, and beyond
+    }
+    inputs.push_back(-1.0f);
+    inputs.push_back(1.0f);
+    const std::vector<float> gpu = runOnGpu(
+        gles::shadingStepsGlsl(), "    result.x = vpeHorizonFactor(in_[base]);\n", inputs, 1);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        ASSERT_NEAR(gpu[4 * i], proto::horizonFactor(inputs[i]), 2e-6f) << inputs[i];
+    }
+    EXPECT_EQ(gpu[0], 0.0f);
+    EXPECT_EQ(gpu[4 * (inputs.size() - 1)], 1.0f);
+}
+
+TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
+    std::mt19937 random(7);
+    std::normal_distribution<float> gaussian;
+    std::vector<float> inputs;
+    for (int s = 0; s < 4000; ++s) {
+        for (int v = 0; v < 3; ++v) {
+            const auto unit = proto::normalized(
+                proto::Vec3<float>{gaussian(random), gaussian(random), gaussian(random)});
+            inputs.insert(inputs.end(), {unit.x, unit.y, unit.z});
+        }
+    }
+    const std::vector<float> gpu = runOnGpu(gles::shadingStepsGlsl(), R"GLSL(
+    vec3 n = vec3(in_[base], in_[base + 1], in_[base + 2]);
+    vec3 l = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);
+    vec3 v = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);
+    result.xy = vpeReflectionAngles(n, l, v);
+)GLSL",
+                                            inputs, 9);
+    for (std::size_t s = 0; s < inputs.size() / 9; ++s) {
+        const float* x = inputs.data() + 9 * s;
+        const auto angles = proto::reflectionAngles(proto::Vec3<float>{x[0], x[1], x[2]},
+                                                    proto::Vec3<float>{x[3], x[4], x[5]},
+                                                    proto::Vec3<float>{x[6], x[7], x[8]});
+        ASSERT_NEAR(gpu[4 * s], angles.cosThetaD, 1e-6f) << s;
+        ASSERT_NEAR(gpu[4 * s + 1], angles.cosThetaS, 4e-6f) << s;
+    }
+}
+
+TEST_F(GlesShadingGlslTest, ThetaTableParameterMatchesProto) {
+    std::vector<float> inputs;
+    for (int i = -1000; i <= 1000; ++i) {
+        inputs.push_back(static_cast<float>(i) / 1000.0f);
+    }
+    inputs.insert(inputs.end(), {1e-7f, -1e-7f, 0.9999999f, -0.9999999f});
+    const std::vector<float> gpu = runOnGpu(
+        gles::shadingStepsGlsl(), "    result.x = vpeThetaTableParameter(in_[base]);\n", inputs, 1);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        ASSERT_NEAR(gpu[4 * i], proto::thetaTableParameter(inputs[i]), 1e-6f) << inputs[i];
+    }
+    // The frame's folded form, for a 1024-sample table.
+    const float scale = 1023.0f / 1024.0f, offset = 0.5f / 1024.0f;
+    const std::vector<float> folded =
+        runOnGpu(gles::shadingStepsGlsl(),
+                 "    result.x = vpeThetaTableCoordinate(in_[base], " + gles::glslFloat(scale) +
+                     ", " + gles::glslFloat(offset) + ");\n",
+                 inputs, 1);
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        ASSERT_NEAR(folded[4 * i], proto::thetaTableParameter(inputs[i]) * scale + offset, 1e-6f)
+            << inputs[i];
+    }
+}
+
+TEST_F(GlesShadingGlslTest, OctahedralNormalMatchesItsCppDecoding) {
+    std::mt19937 random(11);
+    std::normal_distribution<double> gaussian;
+    std::vector<Vec3d> normals{{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0, -1, 0}, {0.6, 0, -0.8}};
+    for (int i = 0; i < 4000; ++i) {
+        normals.push_back(
+            proto::normalized(Vec3d{gaussian(random), gaussian(random), gaussian(random)}));
+    }
+    std::vector<float> inputs;
+    for (const Vec3d& n : normals) {
+        inputs.push_back(std::bit_cast<float>(gles::encodeOctahedralNormal(n)));
+    }
+    const std::vector<float> gpu =
+        runOnGpu(gles::shadingStepsGlsl(),
+                 "    result.xyz = vpeOctahedralNormal(floatBitsToUint(in_[base]));\n", inputs, 1);
+    double worstAngle = 0;
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+        const Vec3d cpu = gles::decodeOctahedralNormal(gles::encodeOctahedralNormal(normals[i]));
+        ASSERT_NEAR(gpu[4 * i], cpu.x, 2e-6) << i;
+        ASSERT_NEAR(gpu[4 * i + 1], cpu.y, 2e-6) << i;
+        ASSERT_NEAR(gpu[4 * i + 2], cpu.z, 2e-6) << i;
+        worstAngle = std::max(worstAngle, std::acos(std::min(1.0, proto::dot(cpu, normals[i]))));
+    }
+    std::cout << "octahedral normals: largest angular error " << worstAngle << " rad\n";
+    EXPECT_LT(worstAngle, 7e-5);  // measured 5.9e-5: 16 bits per coordinate
+}
+
+// The table as the renderer uploads it (RGBA16F, linear filtering, sample s at texel s)
+// against proto::ThetaTable::sample on the same (half-rounded) values.
+TEST_F(GlesShadingGlslTest, ThetaTableLookupMatchesProto) {
+    const proto::ThetaBasis basis = proto::ThetaBasis::full(1);  // 1/√2, cos θ, sin θ
+    const int samples = 64;
+    const proto::ThetaTable table = proto::ThetaTable::of(basis, samples);
+    std::vector<float> texels(static_cast<std::size_t>(samples) * 4, 0.0f);
+    for (int s = 0; s < samples; ++s) {
+        for (int j = 0; j < table.size; ++j) {
+            texels[static_cast<std::size_t>(4 * s + j)] =
+                table.values[static_cast<std::size_t>(s * table.size + j)];
+        }
+    }
+    // RGBA32F keeps the values exact, so that the comparison measures the filtering alone.
+    GlObject texture = gles::makeTexture2D(GL_RGBA32F, samples, 1, GL_RGBA, GL_FLOAT, texels.data(),
+                                           gles::TextureFilter::kLinear);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, texture.get());
+    std::vector<float> inputs;
+    for (int i = -500; i <= 500; ++i) {
+        inputs.push_back(static_cast<float>(i) / 500.0f);
+    }
+    const std::string prelude = gles::shadingStepsGlsl() + "uniform highp sampler2D uTable;\n";
+    const std::string scale = gles::glslFloat((samples - 1.0f) / samples);
+    const std::string offset = gles::glslFloat(0.5f / samples);
+    const std::vector<float> gpu =
+        runOnGpu(prelude,
+                 "    float x = vpeThetaTableParameter(in_[base]) * " + scale + " + " + offset +
+                     ";\n" + "    result = texture(uTable, vec2(x, 0.5));\n",
+                 inputs, 1);
+    double worst = 0;
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        const double x = proto::thetaTableParameter(static_cast<double>(inputs[i]));
+        for (int j = 0; j < table.size; ++j) {
+            const double error = std::fabs(
+                static_cast<double>(gpu[4 * i + static_cast<std::size_t>(j)]) - table.sample(j, x));
+            worst = std::max(worst, error);
+        }
+    }
+    std::cout << "θs table lookup, 64 samples: largest |GLSL − proto| " << worst << "\n";
+    // llvmpipe weighs the two samples in float (measured 3.5e-7). A GPU with 8-bit subtexel
+    // weights would be off by up to the step between samples (≤ 0.05 here) times 2⁻⁹.
+    EXPECT_LT(worst, 1e-6);
+}
+
+// vpeProjectorLevel against ProjectorResponse::level with compensatePixel's clipping.
+TEST_F(GlesShadingGlslTest, ProjectorLevelMatchesTheResponseInverse) {
+    std::vector<float> inputs;
+    for (int i = -100; i <= 1300; ++i) {
+        inputs.push_back(static_cast<float>(i) / 1000.0f);  // relative outputs, clipped both ways
+    }
+    proto::ProjectorResponse gamma;
+    gamma.gamma = {2.2f, 2.0f, 2.6f};
+    proto::ProjectorResponse curve;
+    curve.kind = proto::ResponseKind::kCurve;
+    curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
+                   std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
+                   std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
+    for (const proto::ProjectorResponse& response : {gamma, curve}) {
+        const std::vector<float> gpu =
+            runOnGpu(gles::projectorLevelGlsl(response),
+                     "    result.xyz = vpeProjectorLevel(vec3(in_[base]));\n", inputs, 1);
+        ProjectorResponse cpu;
+        if (response.kind == proto::ResponseKind::kGamma) {
+            cpu = ProjectorResponse::gamma({2.2, 2.0, 2.6});
+        } else {
+            std::array<std::vector<double>, 3> levels, outputs;
+            for (std::size_t c = 0; c < 3; ++c) {
+                for (std::size_t k = 0; k < response.curve[c].size(); ++k) {
+                    levels[c].push_back(static_cast<double>(k) / (response.curve[c].size() - 1));
+                    outputs[c].push_back(static_cast<double>(response.curve[c][k]));
+                }
+            }
+            cpu = ProjectorResponse::sampled(levels, outputs);
+        }
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            for (int c = 0; c < 3; ++c) {
+                const double r = inputs[i];
+                // compensatePixel: above 1 → 1, below the black level → 0, else the inverse.
+                const double expected =
+                    r > 1.0 ? 1.0 : (r < cpu.blackLevel(c) ? 0.0 : cpu.level(c, r));
+                ASSERT_NEAR(gpu[4 * i + static_cast<std::size_t>(c)], expected, 2e-5)
+                    << (response.kind == proto::ResponseKind::kGamma ? "gamma" : "curve")
+                    << " channel " << c << " at r = " << r;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace vpe::renderer::testing
