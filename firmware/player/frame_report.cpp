@@ -75,6 +75,9 @@ std::string FrameReport::summaryLine() const {
              << latencyMs.percentile(0.99) << " ms over " << latencyMs.count() << " events";
     }
     line << "; RSS " << rssStartKb << " → " << rssEndKb << " KiB";
+    if (skipped > 0) {
+        line << "; " << skipped << " ticks skipped (nothing changed)";
+    }
     if (written > 0) {
         line << "; " << written << " frames written";
     }
@@ -86,9 +89,10 @@ std::string FrameReport::summaryLine() const {
 
 std::string FrameReport::json() const {
     std::ostringstream json;
-    json << "{\"frames\": " << frames << ", \"width\": " << width << ", \"height\": " << height
-         << ", \"preset\": " << jsonString(preset) << ", \"platform\": " << jsonString(platform)
-         << ", \"fps\": " << fps() << ", \"frame_ms\": {\"p50\": " << frameMs.percentile(0.5)
+    json << "{\"frames\": " << frames << ", \"skipped\": " << skipped << ", \"width\": " << width
+         << ", \"height\": " << height << ", \"preset\": " << jsonString(preset)
+         << ", \"platform\": " << jsonString(platform) << ", \"fps\": " << fps()
+         << ", \"frame_ms\": {\"p50\": " << frameMs.percentile(0.5)
          << ", \"p99\": " << frameMs.percentile(0.99) << ", \"mean\": " << frameMs.mean()
          << ", \"max\": " << frameMs.max() << "}, \"first_frame_ms\": " << firstFrameMs
          << ", \"seconds\": " << seconds << ", \"latency_ms\": {\"events\": " << latencyMs.count()

@@ -131,10 +131,19 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
         playerLog(std::string(error.what()) + "; reload with SIGHUP only");
     }
     const double rate = options_.rate.value_or(board_.render.rate);
+    // Unpaced (headless, rate 0: a benchmark) every tick draws; paced, a tick whose light,
+    // preset and scene equal the frame on show draws nothing.
+    skipUnchanged_ = !(headless_ && rate <= 0);
     if (!headless_) {
         loop_.watch(target_->vsyncDescriptor(), [this] {
             if (target_->onVsyncReadable()) {
                 waitingForFlip_ = false;
+                frameDue_ = true;
+            }
+        });
+        // No flip comes while frames are skipped: this clock ticks at the display's pace then.
+        loop_.watch(frameClock_.fd(), [this] {
+            if (frameClock_.expirations() > 0 && !waitingForFlip_) {
                 frameDue_ = true;
             }
         });
@@ -222,6 +231,7 @@ void Player::reload(const char* why) {
         playerLog(std::string(error.what()) + "; reload (" + why +
                   ") refused, still playing the previous bundle");
     }
+    sceneChanged_ = true;
     watchdog_.reloaded("playing " + options_.bundle.string());
 }
 
@@ -239,9 +249,19 @@ void Player::renderFrame() {
             std::string(presets[static_cast<std::size_t>(rig_.preset())].name));
         shownPreset_ = rig_.preset();
     }
+    const std::array<float, 3> light = rig_.position();
+    if (skipUnchanged_ && !sceneChanged_ && shownLight_ == light &&
+        !scene_->renderer().animating()) {
+        skipFrame(beginNs);
+        return;
+    }
+    if (!headless_) {
+        frameClock_.disarm();  // page flips pace the frames again
+        skipClockArmed_ = false;
+    }
     gles::FrameInputs inputs;
     const proto::RenderSettings& settings = scene_->view().settings();
-    inputs.lightPosition = rig_.position();
+    inputs.lightPosition = light;
     const auto intensity = static_cast<float>(board_.light.intensity);
     inputs.lightIntensity = {intensity, intensity, intensity};
     inputs.inverseSquare = board_.light.inverseSquare;
@@ -273,6 +293,8 @@ void Player::renderFrame() {
         return;
     }
     const std::int64_t submittedNs = monotonicNowNs();
+    shownLight_ = light;
+    sceneChanged_ = false;
     for (const std::int64_t eventNs : unshownEvents_) {
         report_.latencyMs.add(msBetween(eventNs, submittedNs));
     }
@@ -298,6 +320,22 @@ void Player::renderFrame() {
     watchdog_.frameDone(submittedNs);
 }
 
+void Player::skipFrame(std::int64_t nowNs) {
+    // What is on show is what this frame would draw: events since the last frame changed
+    // nothing visible, so they are shown now.
+    for (const std::int64_t eventNs : unshownEvents_) {
+        report_.latencyMs.add(msBetween(eventNs, nowNs));
+    }
+    unshownEvents_.clear();
+    ++report_.skipped;
+    watchdog_.frameDone(nowNs);
+    if (!headless_ && !skipClockArmed_) {
+        const auto period = static_cast<std::int64_t>(1e9 / kSkipClockHz);
+        frameClock_.arm(nowNs + period, period);
+        skipClockArmed_ = true;
+    }
+}
+
 FrameReport Player::run() {
     const bool unpaced = headless_ && options_.rate.value_or(board_.render.rate) <= 0;
     while (running_) {
@@ -314,7 +352,7 @@ FrameReport Player::run() {
         if ((frameDue_ || unpaced) && !waitingForFlip_) {
             frameDue_ = false;
             renderFrame();  // KMS: may set frameDue_ again
-            if (options_.frames > 0 && report_.frames >= options_.frames) {
+            if (options_.frames > 0 && report_.frames + report_.skipped >= options_.frames) {
                 report_.stoppedBy = "frames";
                 break;
             }

@@ -155,6 +155,37 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     EXPECT_NE(json.find("\"active\": \"osc\""), std::string::npos) << json;
 }
 
+// Paced, a tick whose light and preset equal the frame on show draws nothing: no drift, no
+// input, one frame drawn and the rest skipped; a replayed knob turn draws again.
+TEST_F(PlayerInputTest, DrawsNothingWhenNothingChanged) {
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    std::string paced = kInputs;
+    paced.replace(paced.find("rate = 0"), 8, "rate = 200");
+    const fs::path board = writeFile("paced.toml", "[display]\nbackend = \"headless\"\n" + paced);
+    PlayerRun run =
+        play({"--board", board.string(), "--bundle", bundle_.string(), "--frames", "40", "--json"});
+    ASSERT_EQ(run.status, 0) << run.err;
+    std::string json = jsonOf(run);
+    EXPECT_EQ(number(json, "frames"), 1.0) << json;
+    EXPECT_EQ(number(json, "skipped"), 39.0) << json;
+
+    ReplayScript script;
+    script.knobTurn(17, 18, 0.05, 3, 0.02);  // three detents: three new lights
+    const fs::path knobs = folder_ / "turn.jsonl";
+    script.write(knobs);
+    run = play({"--board", board.string(), "--bundle", bundle_.string(), "--replay", knobs.string(),
+                "--json"});
+    ASSERT_EQ(run.status, 0) << run.err;
+    json = jsonOf(run);
+    EXPECT_GE(number(json, "frames"), 2.0) << json;
+    EXPECT_LE(number(json, "frames"), 4.0) << json;
+    EXPECT_GT(number(json, "skipped"), 0.0) << json;
+    EXPECT_EQ(number(json, "azimuth"), 6.0) << json;  // 2° a detent
+}
+
 TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
     const auto refuse = [&](const std::string& text, const std::string& needle) {
         const fs::path file = writeFile("bad.jsonl", text);
@@ -249,7 +280,10 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     EXPECT_EQ(number(json, "reloads_refused"), 1.0) << json;
     EXPECT_EQ(number(json, "errors"), 0.0) << json;
     EXPECT_NE(json.find("\"stopped_by\": \"SIGTERM\""), std::string::npos) << json;
-    EXPECT_GT(number(json, "frames"), 10.0) << json;
+    // Nothing moves (no drift, no input): the first frame and one after each reload are drawn,
+    // the other ticks skipped.
+    EXPECT_GT(number(json, "frames") + number(json, "skipped"), 10.0) << json;
+    EXPECT_GE(number(json, "frames"), 3.0) << json;
 }
 
 }  // namespace

@@ -49,7 +49,8 @@ private:
 };
 
 struct FrameReport {
-    long frames = 0;
+    long frames = 0;   // drawn
+    long skipped = 0;  // ticks with nothing changed: not drawn (frames + skipped = ticks)
     int width = 0, height = 0;
     std::string preset, platform;
     SampleSet frameMs;

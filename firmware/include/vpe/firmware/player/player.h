@@ -6,6 +6,7 @@
 // the bundle; a bad new bundle is refused and the old one keeps playing.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -58,6 +59,8 @@ public:
 
 private:
     void renderFrame();
+    // A frame tick with nothing changed: no drawing, no presenting; the watchdog is fed.
+    void skipFrame(std::int64_t nowNs);
     void applyEvents(std::vector<InputEvent>& events);
     // The inputs' and the rig's refusals into report_ (refusedByReason, eventsRefused).
     void collectRefusals();
@@ -91,6 +94,14 @@ private:
     bool frameDue_ = true;
     bool waitingForFlip_ = false;
     int shownPreset_ = -1;
+    // What the frame on show was drawn for: a tick with the same light, no preset fade and no
+    // new scene draws nothing (skipUnchanged_, off when unpaced).
+    std::optional<std::array<float, 3>> shownLight_;
+    bool sceneChanged_ = true;
+    bool skipUnchanged_ = true;
+    bool skipClockArmed_ = false;
+    // While skipping on KMS no page flip paces the loop: this clock does.
+    static constexpr double kSkipClockHz = 60.0;
     long consecutiveErrors_ = 0;
     std::int64_t firstFrameNs_ = 0;
 };
