@@ -76,8 +76,8 @@ proto::ProjectorCalibration toBundleProjector(const scene::ProjectorCalibration&
     return out;
 }
 
-proto::ProjectorResponse toBundleResponse(const scene::ProjectorResponse& response, int samples) {
-    proto::ProjectorResponse out;
+proto::ResponseCurves toBundleResponse(const scene::ResponseInput& response, int samples) {
+    proto::ResponseCurves out;
     if (response.isGamma()) {
         out.kind = proto::ResponseKind::kGamma;
         for (int c = 0; c < 3; ++c) {

@@ -11,7 +11,7 @@
 
 #include "bake/bundle_writer.h"
 #include "scene/projector_calibration.h"
-#include "scene/projector_response.h"
+#include "scene/response_input.h"
 #include "scene/screen_mesh.h"
 
 namespace vpe::bake {
@@ -32,7 +32,6 @@ BundleMesh toBundleMesh(const scene::ScreenMesh& mesh);
 proto::ProjectorCalibration toBundleProjector(const scene::ProjectorCalibration& projector);
 // Sampled curves are resampled at `samples` even levels (linear in between, as both sides
 // interpolate); gammas stay gammas.
-proto::ProjectorResponse toBundleResponse(const scene::ProjectorResponse& response,
-                                          int samples = 256);
+proto::ResponseCurves toBundleResponse(const scene::ResponseInput& response, int samples = 256);
 
 }  // namespace vpe::bake

@@ -62,7 +62,7 @@ nlohmann::json mapJson(const CoefficientMapView& map) {
     return json;
 }
 
-nlohmann::json responseJson(const proto::ProjectorResponse& response) {
+nlohmann::json responseJson(const proto::ResponseCurves& response) {
     if (response.kind == proto::ResponseKind::kGamma) {
         return {{"kind", "gamma"}, {"gamma", decimals(response.gamma)}};
     }

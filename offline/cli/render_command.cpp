@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/proto/bundle.h"
+#include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/srgb.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/loop_closure.h"
@@ -189,7 +190,7 @@ void addRenderCommand(CLI::App& app, Action& action) {
             json["clipped_high_pixels"] = frame.stats.clippedHighPixels;
             json["clipped_low_pixels"] = frame.stats.clippedLowPixels;
             if (!args->simulate.empty() || !args->direct.empty()) {
-                const renderer::PinholeCamera camera = renderer::cameraLookingAt(
+                const proto::PinholeCamera camera = proto::cameraLookingAt(
                     viewWidth, viewHeight, args->fov, viewer, meshCentre(file.view().mesh()));
                 const renderer::DirectView direct =
                     renderer::renderDirectView(scene, camera, options);

@@ -14,13 +14,12 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <opencv2/core.hpp>
-
-#include "vpe/renderer/pinhole_camera.h"
 
 #include "common/atomic_output.h"
 #include "common/input_error.h"
@@ -211,11 +210,6 @@ InputError parseError(const std::filesystem::path& path, const cv::Exception& fa
 }
 
 }  // namespace
-
-Vec3d ProjectorCalibration::center() const {
-    return {-(R[0] * T[0] + R[3] * T[1] + R[6] * T[2]), -(R[1] * T[0] + R[4] * T[1] + R[7] * T[2]),
-            -(R[2] * T[0] + R[5] * T[1] + R[8] * T[2])};
-}
 
 void validateProjectorCalibration(const ProjectorCalibration& c,
                                   const std::filesystem::path& source) {
@@ -449,21 +443,14 @@ ProjectorCalibration projectorLookingAt(int width, int height, double verticalFo
     if (!(proto::dot(toTarget, toTarget) > 0)) {
         throw InputError("projector: the eye and the target coincide");
     }
-    // The pose is the renderer's (one definition of "looking at": x right, y down, the
-    // world's y up in the image).
-    renderer::PinholeCamera camera;
+    // The pose is proto's (one definition of "looking at": x right, y down, the world's y up
+    // in the image).
+    ProjectorCalibration c;
     try {
-        camera = renderer::cameraLookingAt(width, height, verticalFovDegrees, {eye.x, eye.y, eye.z},
-                                           {target.x, target.y, target.z});
+        c = proto::cameraLookingAt(width, height, verticalFovDegrees, eye, target);
     } catch (const std::invalid_argument& error) {
         throw InputError(std::string("projector: ") + error.what());
     }
-    ProjectorCalibration c;
-    c.width = width;
-    c.height = height;
-    c.K = camera.K;
-    c.R = camera.R;
-    c.T = camera.T;
     validateProjectorCalibration(c, "projector");
     return c;
 }
@@ -473,23 +460,6 @@ ProjectorCalibration makeDemoProjector(double distance, const Vec3d& target) {
         throw InputError("projector: distance must be a positive number of metres");
     }
     return projectorLookingAt(1920, 1080, 30.0, {target.x, target.y, target.z + distance}, target);
-}
-
-std::optional<std::array<double, 2>> projectToPixel(const ProjectorCalibration& c, const Vec3d& p) {
-    const auto& R = c.R;
-    const double x = R[0] * p.x + R[1] * p.y + R[2] * p.z + c.T[0];
-    const double y = R[3] * p.x + R[4] * p.y + R[5] * p.z + c.T[1];
-    const double z = R[6] * p.x + R[7] * p.y + R[8] * p.z + c.T[2];
-    if (!(z > 0)) {
-        return std::nullopt;
-    }
-    const double a = x / z, b = y / z;
-    const auto& [k1, k2, p1, p2, k3] = c.distortion;
-    const double r2 = a * a + b * b;
-    const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
-    const double ad = a * radial + 2 * p1 * a * b + p2 * (r2 + 2 * a * a);
-    const double bd = b * radial + p1 * (r2 + 2 * b * b) + 2 * p2 * a * b;
-    return std::array<double, 2>{c.K[0] * ad + c.K[1] * bd + c.K[2], c.K[4] * bd + c.K[5]};
 }
 
 }  // namespace vpe::scene

@@ -4,28 +4,22 @@
 // FileStorage files (YAML, XML, JSON) that projector–camera calibration tools write.
 #pragma once
 
-#include <array>
 #include <filesystem>
 #include <optional>
 
-#include "vpe/proto/reflection_geometry.h"
+#include "vpe/proto/pinhole_camera.h"
+#include "vpe/proto/vector_types.h"
 
 namespace vpe::scene {
 
-using Vec3d = proto::Vec3<double>;
+using Vec3d = proto::Vec3d;
 
-// A point X of the object frame (the screen mesh's, metres) is x = R·X + T in projector
-// coordinates (x right, y down, z forward), then pixel (fx·x'/z + s·y'/z + cx, fy·y'/z + cy)
-// after OpenCV's distortion of (x/z, y/z); pixel centres sit at integer coordinates.
-struct ProjectorCalibration {
-    int width = 0, height = 0;                           // pixels
-    std::array<double, 9> K{};                           // row-major intrinsics
-    std::array<double, 5> distortion{};                  // k1, k2, p1, p2, k3
-    std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};  // row-major, object → projector
-    std::array<double, 3> T{};                           // metres
-
-    Vec3d center() const;  // the projector's centre in the object frame, −Rᵀ·T
-};
+// A calibration file holds exactly proto's camera model (its conventions there): a point X of
+// the object frame (the screen mesh's, metres) is x = R·X + T in projector coordinates, then a
+// pixel after OpenCV's distortion. One type, so that the offline tools project, centre and
+// aim the projector with the device's own math (proto::projectToPixel, center(),
+// proto::cameraLookingAt); the checks below are offline's, stricter and with file messages.
+using ProjectorCalibration = proto::PinholeCamera;
 
 // What the command line adds to a calibration file.
 struct ProjectorCalibrationOverrides {
@@ -65,10 +59,5 @@ ProjectorCalibration projectorLookingAt(int width, int height, double verticalFo
 // The demo's projector: 1920 × 1080, 30° vertical field of view, on the +z side of `target`
 // (by default the middle of the procedural vase) at `distance` metres, level with it.
 ProjectorCalibration makeDemoProjector(double distance, const Vec3d& target = {0, 0.075, 0});
-
-// The pixel that shows object point X (distortion applied), or nothing when X is behind the
-// projector. The pixel may lie outside the image.
-std::optional<std::array<double, 2>> projectToPixel(const ProjectorCalibration& calibration,
-                                                    const Vec3d& point);
 
 }  // namespace vpe::scene

@@ -8,15 +8,12 @@
 #include <filesystem>
 #include <vector>
 
-#include "vpe/proto/reflection_geometry.h"
+#include "vpe/proto/vector_types.h"
 
 namespace vpe::scene {
 
-using Vec3f = proto::Vec3<float>;
-
-struct Vec2f {
-    float x{}, y{};
-};
+using Vec2f = proto::Vec2f;
+using Vec3f = proto::Vec3f;
 
 // Texture coordinates follow OBJ and OpenGL: (0, 0) is the bottom-left corner of the screen
 // texture, v grows upwards; all lie in [0, 1] (no wrapping). Triangles are counter-clockwise

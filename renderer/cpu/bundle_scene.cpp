@@ -4,6 +4,8 @@
 #include <stdexcept>
 
 #include "vpe/proto/half_float.h"
+#include "vpe/proto/pinhole_camera.h"
+#include "vpe/proto/response_function.h"
 
 namespace vpe::renderer {
 
@@ -81,31 +83,9 @@ BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& pre
         weights_.push_back(std::move(alpha));
     }
 
-    const proto::ProjectorCalibration& calibration = bundle.projector();
-    projector_.camera.width = static_cast<int>(calibration.width);
-    projector_.camera.height = static_cast<int>(calibration.height);
-    projector_.camera.K = calibration.intrinsics;
-    projector_.camera.distortion = calibration.distortion;
-    projector_.camera.R = calibration.rotation;
-    projector_.camera.T = calibration.translation;
+    projector_.camera = proto::cameraOf(bundle.projector());
     const proto::RenderSettings& settings = bundle.settings();
-    if (settings.response.kind == proto::ResponseKind::kGamma) {
-        projector_.response =
-            ProjectorResponse::gamma({static_cast<double>(settings.response.gamma[0]),
-                                      static_cast<double>(settings.response.gamma[1]),
-                                      static_cast<double>(settings.response.gamma[2])});
-    } else {
-        std::array<std::vector<double>, 3> levels, outputs;
-        for (std::size_t ch = 0; ch < 3; ++ch) {
-            const std::vector<float>& curve = settings.response.curve[ch];
-            for (std::size_t i = 0; i < curve.size(); ++i) {
-                levels[ch].push_back(static_cast<double>(i) /
-                                     static_cast<double>(curve.size() - 1));
-                outputs[ch].push_back(static_cast<double>(curve[i]));
-            }
-        }
-        projector_.response = ProjectorResponse::sampled(std::move(levels), std::move(outputs));
-    }
+    projector_.response = proto::responseFunctionOf(settings.response);
     projector_.peakIrradiance = static_cast<double>(settings.peakIrradiance);
     for (std::size_t ch = 0; ch < 3; ++ch) {
         surface_.albedo[ch] = static_cast<double>(settings.screenAlbedo[ch]);

@@ -34,9 +34,9 @@ std::array<double, 3> screenRadiance(const ScreenSurface& surface, double irradi
     return radiance;
 }
 
-CompensatedPixel compensatePixel(const ScreenSurface& surface, const ProjectorResponse& response,
-                                 double irradianceScale, const std::array<double, 3>& target,
-                                 double gain) {
+CompensatedPixel compensatePixel(const ScreenSurface& surface,
+                                 const proto::ResponseFunction& response, double irradianceScale,
+                                 const std::array<double, 3>& target, double gain) {
     constexpr double kInfinity = std::numeric_limits<double>::infinity();
     CompensatedPixel pixel;
     pixel.gainLimit = kInfinity;

@@ -9,10 +9,10 @@
 #include <stdexcept>
 
 #include "vpe/renderer/lambertian_screen.h"
+#include "vpe/renderer/parallel_rows.h"
 #include "vpe/renderer/ray_caster.h"
 #include "vpe/renderer/surface_point.h"
 
-#include "vpe/renderer/parallel_rows.h"
 #include "target_radiance.h"
 #include "vector_math.h"
 
@@ -23,7 +23,7 @@ namespace {
 // Calls visit(x, y, point) for every pixel of `camera` whose ray hits the mesh, and marks it
 // in `coverage`; rows run on `threads`.
 template <typename Visit>
-void forEachSeenPoint(const RenderScene& scene, const PinholeCamera& camera,
+void forEachSeenPoint(const RenderScene& scene, const proto::PinholeCamera& camera,
                       const RayCaster& caster, int threads, MaskImage& coverage,
                       const Visit& visit) {
     const Vec3d eye = camera.center();
@@ -44,7 +44,8 @@ void forEachSeenPoint(const RenderScene& scene, const PinholeCamera& camera,
 // rounding of X itself (≈1e-15 relative) is far below, a real occluder (1 µm at 1 m) above.
 constexpr double kShadowTolerance = 1e-6;
 
-void checkViewInputs(const char* what, const RenderScene& scene, const PinholeCamera& camera) {
+void checkViewInputs(const char* what, const RenderScene& scene,
+                     const proto::PinholeCamera& camera) {
     if (auto problem = checkRenderScene(scene); !problem.empty()) {
         throw std::invalid_argument(std::string(what) + ": " + problem);
     }
@@ -55,8 +56,8 @@ void checkViewInputs(const char* what, const RenderScene& scene, const PinholeCa
 
 // Bilinear interpolation of r(level) at a projector pixel coordinate (pixel centres at
 // integers), clamp to edge: light is blended, not drive levels.
-std::array<double, 3> interpolatedOutput(const RgbImage& pattern, const ProjectorResponse& response,
-                                         const Vec2d& p) {
+std::array<double, 3> interpolatedOutput(const RgbImage& pattern,
+                                         const proto::ResponseFunction& response, const Vec2d& p) {
     const auto axis = [](double coordinate, int size, int& i0, int& i1, double& f) {
         const double x = std::clamp(coordinate, 0.0, static_cast<double>(size - 1));
         i0 = static_cast<int>(std::floor(x));
@@ -87,9 +88,10 @@ std::array<double, 3> interpolatedOutput(const RgbImage& pattern, const Projecto
 }  // namespace
 
 SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& pattern,
-                                  const PinholeCamera& viewerCamera, const RenderOptions& options) {
+                                  const proto::PinholeCamera& viewerCamera,
+                                  const RenderOptions& options) {
     checkViewInputs("simulateVisitorView", scene, viewerCamera);
-    const PinholeCamera& projector = scene.projector.camera;
+    const proto::PinholeCamera& projector = scene.projector.camera;
     if (pattern.width != projector.width || pattern.height != projector.height ||
         pattern.values.size() != pattern.pixelCount() * 3) {
         throw std::invalid_argument(
@@ -139,7 +141,7 @@ SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& patt
     return view;
 }
 
-DirectView renderDirectView(const RenderScene& scene, const PinholeCamera& viewerCamera,
+DirectView renderDirectView(const RenderScene& scene, const proto::PinholeCamera& viewerCamera,
                             const RenderOptions& options) {
     checkViewInputs("renderDirectView", scene, viewerCamera);
     if (!(options.gain > 0) || !std::isfinite(options.gain)) {

@@ -10,6 +10,7 @@
 
 #include <GLES3/gl31.h>
 
+#include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
 #include "vpe/renderer/gles/material_pass.h"
@@ -56,14 +57,8 @@ struct OwnedRenderMesh {
 };
 
 ProjectorModel projectorOf(const proto::BundleView& bundle) {
-    const proto::ProjectorCalibration& calibration = bundle.projector();
     ProjectorModel projector;
-    projector.camera.width = static_cast<int>(calibration.width);
-    projector.camera.height = static_cast<int>(calibration.height);
-    projector.camera.K = calibration.intrinsics;
-    projector.camera.distortion = calibration.distortion;
-    projector.camera.R = calibration.rotation;
-    projector.camera.T = calibration.translation;
+    projector.camera = proto::cameraOf(bundle.projector());
     projector.peakIrradiance = static_cast<double>(bundle.settings().peakIrradiance);
     return projector;
 }

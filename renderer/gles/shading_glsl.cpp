@@ -93,7 +93,7 @@ Vec3d decodeOctahedralNormal(std::uint32_t packed) {
     return {dx / length, dy / length, dz / length};
 }
 
-std::string projectorLevelGlsl(const proto::ProjectorResponse& response) {
+std::string projectorLevelGlsl(const proto::ResponseCurves& response) {
     if (response.kind != proto::ResponseKind::kCurve) {
         // r(v) = v^γ: black level 0, level = r^(1/γ) on [0, 1]; 1/γ as the CPU takes it.
         std::string inverse;
@@ -102,7 +102,7 @@ std::string projectorLevelGlsl(const proto::ProjectorResponse& response) {
                        glslFloat(static_cast<float>(1.0 / static_cast<double>(response.gamma[c])));
         }
         return R"GLSL(
-// ProjectorResponse::level for this bundle's gamma, with compensatePixel's clipping: the
+// ResponseFunction::level for this bundle's gamma, with compensatePixel's clipping: the
 // clamp does it (above 1 → 1, below 0 → 0^(1/γ) = 0).
 vec3 vpeProjectorLevel(vec3 relative) {
     return pow(clamp(relative, 0.0, 1.0), vec3()GLSL" +
@@ -114,7 +114,7 @@ vec3 vpeProjectorLevel(vec3 relative) {
     // 1 full, else the first sample at or above r and the one before, interpolated. The samples
     // are constants: the loop unrolls into compares and selects.
     std::string s =
-        "\n// ProjectorResponse::level for this bundle's sampled curves.\n"
+        "\n// ResponseFunction::level for this bundle's sampled curves.\n"
         "vec3 vpeProjectorLevel(vec3 relative) {\n    vec3 level;\n";
     for (std::size_t c = 0; c < 3; ++c) {
         const std::vector<float>& samples = response.curve[c];

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/proto/pinhole_camera.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/visitor_view.h"
 
@@ -26,8 +27,8 @@ using vpe::renderer::Vec3d;
 std::vector<vpe::renderer::DirectView> renderViews(const std::filesystem::path& bundle) {
     const vpe::proto::BundleFile file = vpe::proto::BundleFile::open(bundle);
     const vpe::renderer::BundleScene scene(file.view(), "");
-    const vpe::renderer::PinholeCamera camera =
-        vpe::renderer::cameraLookingAt(480, 360, 12.0, scene.bundleViewer(), {0, 0.075, 0});
+    const vpe::proto::PinholeCamera camera =
+        vpe::proto::cameraLookingAt(480, 360, 12.0, scene.bundleViewer(), {0, 0.075, 0});
     std::vector<vpe::renderer::DirectView> views;
     for (const Vec3d& light : {Vec3d{0.3, 0.4, 0.6}, Vec3d{-0.4, 0.2, 0.5}, Vec3d{0.0, 0.1, 0.8},
                                Vec3d{0.5, -0.1, 0.3}}) {

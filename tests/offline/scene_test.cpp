@@ -16,7 +16,7 @@
 #include "common/input_error.h"
 #include "scene/procedural_vase.h"
 #include "scene/projector_calibration.h"
-#include "scene/projector_response.h"
+#include "scene/response_input.h"
 #include "scene/scene_settings.h"
 #include "scene/screen_mesh.h"
 #include "support/test_data.h"
@@ -731,20 +731,20 @@ TEST(ProjectorCalibration, DemoProjectorFramesTheVase) {
     EXPECT_NEAR(centre.z, 0.8, 1e-15);
     const auto middle = projectToPixel(c, {0, 0.075, 0});
     ASSERT_TRUE(middle);
-    EXPECT_NEAR((*middle)[0], 959.5, 1e-9);
-    EXPECT_NEAR((*middle)[1], 539.5, 1e-9);
+    EXPECT_NEAR(middle->x, 959.5, 1e-9);
+    EXPECT_NEAR(middle->y, 539.5, 1e-9);
     // The lip is above the middle on the image (rows grow downwards); right is right.
-    EXPECT_LT((*projectToPixel(c, {0, 0.15, 0.04}))[1], 539.5);
-    EXPECT_GT((*projectToPixel(c, {0.05, 0.075, 0}))[0], 959.5);
+    EXPECT_LT(projectToPixel(c, {0, 0.15, 0.04})->y, 539.5);
+    EXPECT_GT(projectToPixel(c, {0.05, 0.075, 0})->x, 959.5);
     const ScreenMesh vase = makeProceduralVase();
     for (const Vec3f& p : vase.positions) {
         const auto pixel = projectToPixel(
             c, {static_cast<double>(p.x), static_cast<double>(p.y), static_cast<double>(p.z)});
         ASSERT_TRUE(pixel);
-        EXPECT_GT((*pixel)[0], 0);
-        EXPECT_LT((*pixel)[0], c.width - 1);
-        EXPECT_GT((*pixel)[1], 0);
-        EXPECT_LT((*pixel)[1], c.height - 1);
+        EXPECT_GT(pixel->x, 0);
+        EXPECT_LT(pixel->x, c.width - 1);
+        EXPECT_GT(pixel->y, 0);
+        EXPECT_LT(pixel->y, c.height - 1);
     }
     EXPECT_FALSE(projectToPixel(c, {0, 0.075, 2.0}));  // behind the projector
 }
@@ -756,14 +756,14 @@ TEST(ProjectorCalibration, ProjectionAppliesOpenCvDistortion) {
     // r² = 0.01, radial 1.001.
     const auto pixel = projectToPixel(c, {0.1, 0, 0});
     ASSERT_TRUE(pixel);
-    EXPECT_NEAR((*pixel)[0], c.K[2] + c.K[0] * 0.1 * 1.001, 1e-9);
+    EXPECT_NEAR(pixel->x, c.K[2] + c.K[0] * 0.1 * 1.001, 1e-9);
 }
 
 // ----------------------------------------------------------------------------------------
 // Projector response
 
-TEST(ProjectorResponse, GammaInverseUndoesTheResponse) {
-    const ProjectorResponse response = ProjectorResponse::gamma({2.2, 2.4, 1.8});
+TEST(ResponseInput, GammaInverseUndoesTheResponse) {
+    const ResponseInput response = ResponseInput::gamma({2.2, 2.4, 1.8});
     for (int c = 0; c < 3; ++c) {
         for (int i = 0; i <= 100; ++i) {
             const double x = i / 100.0;
@@ -777,9 +777,9 @@ TEST(ProjectorResponse, GammaInverseUndoesTheResponse) {
     EXPECT_EQ(response.output(1, 2.0), 1.0);
 }
 
-TEST(ProjectorResponse, SampledInverseUndoesTheResponseAndClamps) {
+TEST(ResponseInput, SampledInverseUndoesTheResponseAndClamps) {
     // In cd/m², with a black level: normalized per channel.
-    const ProjectorResponse response = ProjectorResponse::sampled(
+    const ResponseInput response = ResponseInput::sampled(
         {0, 0.25, 0.5, 0.75, 1}, {{{2, 10, 40, 90, 200}, {1, 5, 20, 45, 100}, {0, 1, 2, 3, 4}}});
     EXPECT_NEAR(response.output(0, 1), 1.0, 1e-15);
     EXPECT_NEAR(response.output(0, 0), 0.01, 1e-15);
@@ -798,28 +798,28 @@ TEST(ProjectorResponse, SampledInverseUndoesTheResponseAndClamps) {
     EXPECT_NEAR(rgb[2], 0.9, 1e-12);
 }
 
-TEST(ProjectorResponse, FlatStretchesInvertToTheirLowestLevel) {
-    const ProjectorResponse response = ProjectorResponse::sampled(
+TEST(ResponseInput, FlatStretchesInvertToTheirLowestLevel) {
+    const ResponseInput response = ResponseInput::sampled(
         {0, 0.5, 0.8, 1}, {{{0, 0.5, 1, 1}, {0, 0.5, 0.5, 1}, {0, 0.5, 0.5, 1}}});
     EXPECT_DOUBLE_EQ(response.level(0, 1.0), 0.8);  // saturates before level 1
     EXPECT_DOUBLE_EQ(response.level(1, 0.5), 0.5);
     EXPECT_DOUBLE_EQ(response.level(1, 0.75), 0.9);
 }
 
-TEST(ProjectorResponse, ReadsCsvWithHeaderAndComments) {
+TEST(ResponseInput, ReadsCsvWithHeaderAndComments) {
     TemporaryFolder folder;
     writeFile(folder / "response.csv",
               "\xEF\xBB\xBFlevel,r,g,b\r\n# measured 2024\r\n0, 0.01, 0.01, 0.02\r\n\r\n"
               "0.5,0.2,0.21,0.22\r\n1,1,1,1\r\n");
-    const ProjectorResponse response = readProjectorResponseCsv(folder / "response.csv");
+    const ResponseInput response = readProjectorResponseCsv(folder / "response.csv");
     EXPECT_FALSE(response.isGamma());
     EXPECT_NEAR(response.output(0, 0.25), 0.105, 1e-12);
     EXPECT_NEAR(response.level(2, 0.22), 0.5, 1e-12);
-    const ProjectorResponse same = parseProjectorResponse((folder / "response.csv").string());
+    const ResponseInput same = parseProjectorResponse((folder / "response.csv").string());
     EXPECT_NEAR(same.output(1, 0.75), 0.605, 1e-12);
 }
 
-TEST(ProjectorResponse, CsvErrorsNameTheLine) {
+TEST(ResponseInput, CsvErrorsNameTheLine) {
     TemporaryFolder folder;
     const auto refuse = [&](const std::string& text, const std::string& fragment) {
         SCOPED_TRACE(text);
@@ -846,14 +846,14 @@ TEST(ProjectorResponse, CsvErrorsNameTheLine) {
                        "absent.csv: cannot open projector response");
 }
 
-TEST(ProjectorResponse, ParsesGammaArguments) {
+TEST(ResponseInput, ParsesGammaArguments) {
     EXPECT_TRUE(parseProjectorResponse("2.2").isGamma());
     EXPECT_DOUBLE_EQ(parseProjectorResponse("2.2").exponents()[2], 2.2);
     EXPECT_DOUBLE_EQ(parseProjectorResponse("2.2, 2.3,2.4").exponents()[1], 2.3);
     EXPECT_INPUT_ERROR(parseProjectorResponse("2.2,2.2"), "--response: '2.2,2.2' is neither");
     EXPECT_INPUT_ERROR(parseProjectorResponse("0"), "response: gamma of r is 0");
     EXPECT_INPUT_ERROR(parseProjectorResponse("-1,2,2"), "gamma of r is -1");
-    EXPECT_INPUT_ERROR(ProjectorResponse::gamma(std::nan("")), "gamma of r is nan");
+    EXPECT_INPUT_ERROR(ResponseInput::gamma(std::nan("")), "gamma of r is nan");
 }
 
 // ----------------------------------------------------------------------------------------

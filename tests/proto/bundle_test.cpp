@@ -140,7 +140,7 @@ TEST_F(BundleReader, ReadsACurveResponse) {
     RawBundleSpec spec;
     spec.curveResponse = true;
     const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
-    const ProjectorResponse& response = file->settings().response;
+    const ResponseCurves& response = file->settings().response;
     EXPECT_EQ(response.kind, ResponseKind::kCurve);
     EXPECT_EQ(response.curve[0], spec.curve[0]);
     EXPECT_EQ(response.curve[2], spec.curve[2]);

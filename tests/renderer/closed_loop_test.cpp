@@ -28,7 +28,7 @@ struct LoopScene {
     testing::OwnedMesh mesh = testing::makeVaseMesh(96, 48);
     testing::OwnedMaterial material;
     RenderScene scene;
-    PinholeCamera viewer;
+    proto::PinholeCamera viewer;
 
     explicit LoopScene(int projectorWidth, int projectorHeight) {
         const auto wave = [](int x, int y) {
@@ -55,16 +55,16 @@ struct LoopScene {
         }
         scene.mesh = mesh.view();
         scene.material = material.view();
-        scene.projector.camera = cameraLookingAt(projectorWidth, projectorHeight, 16.0,
-                                                 {0.25, 0.12, 0.55}, {0, 0.075, 0});
+        scene.projector.camera = proto::cameraLookingAt(projectorWidth, projectorHeight, 16.0,
+                                                        {0.25, 0.12, 0.55}, {0, 0.075, 0});
         scene.projector.camera.distortion = {-0.08, 0.03, 0.001, -0.0005, 0.0};
-        scene.projector.response = ProjectorResponse::gamma({2.2, 2.2, 2.4});
+        scene.projector.response = proto::ResponseFunction::gamma({2.2, 2.2, 2.4});
         scene.projector.peakIrradiance = 3.0;
         scene.surface.albedo = {0.85, 0.83, 0.8};
         scene.surface.ambientIrradiance = {0.05, 0.05, 0.04};
         scene.light.position = {0.4, 0.5, 0.6};
         scene.light.intensity = {1.0, 0.95, 0.9};
-        viewer = cameraLookingAt(160, 120, 18.0, {-0.2, 0.09, 0.6}, {0, 0.075, 0});
+        viewer = proto::cameraLookingAt(160, 120, 18.0, {-0.2, 0.09, 0.6}, {0, 0.075, 0});
         scene.viewer = viewer.center();
     }
 };
@@ -106,7 +106,7 @@ LoopError closeTheLoop(const LoopScene& loop, int threads = 2) {
         simulateVisitorView(loop.scene, frame.level, loop.viewer, {.threads = threads});
     const DirectView direct = renderDirectView(loop.scene, loop.viewer, {.threads = threads});
     const RayCaster caster(loop.scene.mesh);
-    const ProjectorResponse& response = loop.scene.projector.response;
+    const proto::ResponseFunction& response = loop.scene.projector.response;
     const int pw = frame.level.width, ph = frame.level.height;
     const auto compensated = [&](int x, int y) {
         return x >= 0 && y >= 0 && x < pw && y < ph && frame.coverage.at(x, y) &&

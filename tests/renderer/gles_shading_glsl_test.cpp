@@ -17,11 +17,11 @@
 #include <gtest/gtest.h>
 
 #include "vpe/proto/reflection_geometry.h"
+#include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/projector_response.h"
 
 #include "gles_test_platform.h"
 
@@ -227,36 +227,25 @@ TEST_F(GlesShadingGlslTest, ThetaTableLookupMatchesProto) {
     EXPECT_LT(worst, 1e-6);
 }
 
-// vpeProjectorLevel against ProjectorResponse::level with compensatePixel's clipping.
+// vpeProjectorLevel against ResponseFunction::level with compensatePixel's clipping, the
+// function made from the same curves as the CPU reference makes it (responseFunctionOf).
 TEST_F(GlesShadingGlslTest, ProjectorLevelMatchesTheResponseInverse) {
     std::vector<float> inputs;
     for (int i = -100; i <= 1300; ++i) {
         inputs.push_back(static_cast<float>(i) / 1000.0f);  // relative outputs, clipped both ways
     }
-    proto::ProjectorResponse gamma;
+    proto::ResponseCurves gamma;
     gamma.gamma = {2.2f, 2.0f, 2.6f};
-    proto::ProjectorResponse curve;
+    proto::ResponseCurves curve;
     curve.kind = proto::ResponseKind::kCurve;
     curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
                    std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
                    std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
-    for (const proto::ProjectorResponse& response : {gamma, curve}) {
+    for (const proto::ResponseCurves& response : {gamma, curve}) {
         const std::vector<float> gpu =
             runOnGpu(gles::projectorLevelGlsl(response),
                      "    result.xyz = vpeProjectorLevel(vec3(in_[base]));\n", inputs, 1);
-        ProjectorResponse cpu;
-        if (response.kind == proto::ResponseKind::kGamma) {
-            cpu = ProjectorResponse::gamma({2.2, 2.0, 2.6});
-        } else {
-            std::array<std::vector<double>, 3> levels, outputs;
-            for (std::size_t c = 0; c < 3; ++c) {
-                for (std::size_t k = 0; k < response.curve[c].size(); ++k) {
-                    levels[c].push_back(static_cast<double>(k) / (response.curve[c].size() - 1));
-                    outputs[c].push_back(static_cast<double>(response.curve[c][k]));
-                }
-            }
-            cpu = ProjectorResponse::sampled(levels, outputs);
-        }
+        const proto::ResponseFunction cpu = proto::responseFunctionOf(response);
         for (std::size_t i = 0; i < inputs.size(); ++i) {
             for (int c = 0; c < 3; ++c) {
                 const double r = inputs[i];

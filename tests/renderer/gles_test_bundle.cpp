@@ -15,7 +15,7 @@
 
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
-#include "vpe/renderer/pinhole_camera.h"
+#include "vpe/proto/pinhole_camera.h"
 
 #include "test_scenes.h"
 
@@ -160,8 +160,8 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
     payloads.push_back(plan(fb::ElementType::UInt8, {2, uh, uw}, stripes));
     payloads.push_back(plan(fb::ElementType::Float16, {2, uh, uw}, radial));
 
-    PinholeCamera camera = cameraLookingAt(spec.projectorWidth, spec.projectorHeight, 38.0,
-                                           {0.08, 0.11, 0.42}, {0.0, 0.075, 0.0});
+    proto::PinholeCamera camera = proto::cameraLookingAt(
+        spec.projectorWidth, spec.projectorHeight, 38.0, {0.08, 0.11, 0.42}, {0.0, 0.075, 0.0});
     if (spec.distortion) {
         camera.distortion = spec.distortionCoefficients;
     }

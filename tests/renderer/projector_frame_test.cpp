@@ -35,13 +35,13 @@ protected:
         });
         scene_.mesh = mesh_.view();
         scene_.material = material_.view();
-        PinholeCamera& camera = scene_.projector.camera;
+        proto::PinholeCamera& camera = scene_.projector.camera;
         camera.width = 160;
         camera.height = 120;
         const double focal = 60.0 / std::tan(15.0 * kPi / 180);
         camera.K = {focal, 0, 79.5, 0, focal, 59.5, 0, 0, 1};
         camera.distortion = {-0.1, 0.02, 0.001, -0.001, 0.0};
-        scene_.projector.response = ProjectorResponse::gamma(kGamma);
+        scene_.projector.response = proto::ResponseFunction::gamma(kGamma);
         scene_.projector.peakIrradiance = kPeak;
         scene_.surface.albedo = {kAlbedo, kAlbedo, kAlbedo};
         scene_.light.position = {0, 0, 0};
@@ -55,7 +55,7 @@ protected:
 
     // |X|² for the point pixel (x, y) sees on the plane z = 1.
     double squaredDistance(int x, int y) const {
-        const PinholeCamera& camera = scene_.projector.camera;
+        const proto::PinholeCamera& camera = scene_.projector.camera;
         const Vec2d ideal = undistortNormalized(camera.distortion,
                                                 pixelToNormalized(camera, {double(x), double(y)}));
         return ideal.x * ideal.x + ideal.y * ideal.y + 1;
@@ -127,7 +127,7 @@ TEST_F(PlaneScene, ViewDependentTermsFollowTheViewerAndTheLightFalloff) {
                     .referenceDistance = 0.5};
     scene_.viewer = {-0.3, 0.2, -0.5};
     const ProjectorFrame frame = renderProjectorFrame(scene_);
-    const PinholeCamera& camera = scene_.projector.camera;
+    const proto::PinholeCamera& camera = scene_.projector.camera;
     const Vec3d n{0, 0, -1};
     for (int y = 0; y < 120; y += 11) {
         for (int x = 0; x < 160; x += 9) {
@@ -236,7 +236,8 @@ TEST_F(PlaneScene, SampledResponseIsInverted) {
         levels.push_back(k / 16.0);
         outputs.push_back(0.02 + std::pow(k / 16.0, 2.4));
     }
-    scene_.projector.response = ProjectorResponse::sampled(levels, {outputs, outputs, outputs});
+    scene_.projector.response =
+        proto::ResponseFunction::sampled(levels, {outputs, outputs, outputs});
     const ProjectorFrame frame = renderProjectorFrame(scene_);
     for (int y = 0; y < 120; y += 13) {
         for (int x = 0; x < 160; x += 7) {

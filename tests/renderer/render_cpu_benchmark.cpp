@@ -43,13 +43,14 @@ int main() {
     RenderScene scene;
     scene.mesh = mesh.view();
     scene.material = material.view();
-    scene.projector.camera = cameraLookingAt(1920, 1080, 16.0, {0.25, 0.12, 0.55}, {0, 0.075, 0});
+    scene.projector.camera =
+        vpe::proto::cameraLookingAt(1920, 1080, 16.0, {0.25, 0.12, 0.55}, {0, 0.075, 0});
     scene.projector.camera.distortion = {-0.08, 0.03, 0.001, -0.0005, 0.0};
-    scene.projector.response = ProjectorResponse::gamma(2.2);
+    scene.projector.response = vpe::proto::ResponseFunction::gamma(2.2);
     scene.projector.peakIrradiance = 3.0;
     scene.light.position = {0.4, 0.5, 0.6};
-    const PinholeCamera viewer =
-        cameraLookingAt(1920, 1080, 18.0, {-0.2, 0.09, 0.6}, {0, 0.075, 0});
+    const vpe::proto::PinholeCamera viewer =
+        vpe::proto::cameraLookingAt(1920, 1080, 18.0, {-0.2, 0.09, 0.6}, {0, 0.075, 0});
     scene.viewer = viewer.center();
 
     std::printf("mesh: %zu triangles; projector 1920x1080\n", mesh.indices.size() / 3);

@@ -31,12 +31,12 @@ protected:
         });
         scene_.mesh = mesh_.view();
         scene_.material = material_.view();
-        PinholeCamera& camera = scene_.projector.camera;
+        proto::PinholeCamera& camera = scene_.projector.camera;
         camera.width = 64;
         camera.height = 48;
         const double focal = 32.0 / std::tan(20.0 * kPi / 180);
         camera.K = {focal, 0, 31.5, 0, focal, 23.5, 0, 0, 1};
-        scene_.projector.response = ProjectorResponse::gamma(2.2);
+        scene_.projector.response = proto::ResponseFunction::gamma(2.2);
         scene_.projector.peakIrradiance = 4.0;
         scene_.surface.albedo = {0.85, 0.85, 0.85};
         scene_.viewer = {0.1, 0.1, 0.0};  // in front

@@ -24,9 +24,11 @@ struct ProjectorCalibration {
 
 enum class ResponseKind { kGamma, kCurve };
 
-// The projector's relative output r(v) for an input level v ∈ [0, 1], per channel (R, G, B):
-// v^gamma, or a sampled curve (sample i at v = i / (N − 1), linear in between).
-struct ProjectorResponse {
+// The projector's relative output r(v) for an input level v ∈ [0, 1], per channel (R, G, B),
+// as the bundle stores it: v^gamma, or a sampled curve (sample i at v = i / (N − 1), linear in
+// between). The data; its math — evaluation and inverse — is ResponseFunction
+// (response_function.h, responseFunctionOf).
+struct ResponseCurves {
     ResponseKind kind = ResponseKind::kGamma;
     std::array<float, 3> gamma{2.2f, 2.2f, 2.2f};  // kGamma
     std::array<std::vector<float>, 3> curve;       // kCurve: N ≥ 2, non-decreasing, rising
@@ -36,7 +38,7 @@ struct RenderSettings {
     std::array<float, 3> viewerPosition{};                   // object frame, metres
     std::array<float, 3> screenAlbedo{0.85f, 0.85f, 0.85f};  // white plaster
     std::array<float, 3> ambientIrradiance{};  // room light on the screen, unit of peakIrradiance
-    ProjectorResponse response;
+    ResponseCurves response;
     // Irradiance the projector gives at relative output r = 1, 1 m away, at normal incidence
     // (it falls off as cos θ / d², renderer/README.md).
     float peakIrradiance = 1.0f;

@@ -4,24 +4,9 @@
 
 #include <cmath>
 
+#include "vpe/proto/vector_types.h"
+
 namespace vpe::proto {
-
-template <typename T>
-struct Vec3 {
-    T x{}, y{}, z{};
-};
-
-template <typename T>
-inline T dot(const Vec3<T>& a, const Vec3<T>& b) {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-
-template <typename T>
-inline Vec3<T> normalized(const Vec3<T>& v) {
-    using std::sqrt;
-    const T length = sqrt(dot(v, v));
-    return {v.x / length, v.y / length, v.z / length};
-}
 
 template <typename T>
 struct ReflectionAngles {

@@ -7,6 +7,7 @@
 
 #include "vpe/renderer/projector_model.h"
 #include "vpe/renderer/screen_surface.h"
+#include "vpe/renderer/vector_types.h"
 
 namespace vpe::renderer {
 
@@ -36,8 +37,8 @@ struct CompensatedPixel {
 // projector grazes or sees the back), r is +∞ when π·L/ρ > E_ambient, −∞ when below, and
 // 0 when equal. gainLimit = gain · min_c ρ_c·(S + E_ambient,c) / (π·L_c) over channels with
 // L_c > 0.
-CompensatedPixel compensatePixel(const ScreenSurface& surface, const ProjectorResponse& response,
-                                 double irradianceScale, const std::array<double, 3>& target,
-                                 double gain);
+CompensatedPixel compensatePixel(const ScreenSurface& surface,
+                                 const proto::ResponseFunction& response, double irradianceScale,
+                                 const std::array<double, 3>& target, double gain);
 
 }  // namespace vpe::renderer

@@ -2,8 +2,8 @@
 // ProjectorModel: where the projector is, how its levels become light, and how much light.
 #pragma once
 
-#include "vpe/renderer/pinhole_camera.h"
-#include "vpe/renderer/projector_response.h"
+#include "vpe/proto/pinhole_camera.h"
+#include "vpe/proto/response_function.h"
 
 namespace vpe::renderer {
 
@@ -12,8 +12,8 @@ namespace vpe::renderer {
 // with d = |C − X| (metres), cos θp = n·(C − X)/d, C the projector's centre: P is the
 // irradiance at 1 m, normal incidence, level 1 (in the units the light intensities use).
 struct ProjectorModel {
-    PinholeCamera camera;  // usually with lens distortion
-    ProjectorResponse response;
+    proto::PinholeCamera camera;  // usually with lens distortion
+    proto::ResponseFunction response;
     double peakIrradiance = 1.0;  // P > 0
 };
 

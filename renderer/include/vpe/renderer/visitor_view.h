@@ -5,8 +5,8 @@
 
 #include <vector>
 
+#include "vpe/proto/pinhole_camera.h"
 #include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/pinhole_camera.h"
 #include "vpe/renderer/render_scene.h"
 
 namespace vpe::renderer {
@@ -37,12 +37,12 @@ struct DirectView {
 // scene.surface are used. Throws std::invalid_argument when the pattern's size is not the
 // projector's or the inputs are invalid.
 SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& pattern,
-                                  const PinholeCamera& viewerCamera,
+                                  const proto::PinholeCamera& viewerCamera,
                                   const RenderOptions& options = {});
 
 // The material rendered directly from the viewer camera: as renderProjectorFrame's target,
 // with the viewer at the camera's centre (scene.viewer is not used) and options.gain.
-DirectView renderDirectView(const RenderScene& scene, const PinholeCamera& viewerCamera,
+DirectView renderDirectView(const RenderScene& scene, const proto::PinholeCamera& viewerCamera,
                             const RenderOptions& options = {});
 
 }  // namespace vpe::renderer

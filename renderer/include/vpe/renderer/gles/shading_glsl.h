@@ -23,11 +23,11 @@ namespace vpe::renderer::gles {
 std::string shadingStepsGlsl();
 
 // GLSL defining vec3 vpeProjectorLevel(vec3 relative): the drive levels for wanted relative
-// outputs, ProjectorResponse::level with compensatePixel's clipping (below the black level →
+// outputs, ResponseFunction::level with compensatePixel's clipping (below the black level →
 // 0, above 1 → 1), for this bundle's response only: a gamma compiles to a pow, a sampled
 // curve to a search over its samples, baked in as constants (a shader handling both kinds
 // behind a uniform pays for both).
-std::string projectorLevelGlsl(const proto::ProjectorResponse& response);
+std::string projectorLevelGlsl(const proto::ResponseCurves& response);
 
 // A unit vector in 32 bits: octahedral mapping (Meyer et al. 2010), two 16-bit unorms, x in
 // the low half (GLSL's packUnorm2x16 order). Angular error below 6e-5 rad. Used for the

@@ -1,14 +1,12 @@
 // SPDX-License-Identifier: MIT
 // OpenCV's pinhole camera with distortion, and its inverse after cv::undistortPoints.
-#include "vpe/renderer/pinhole_camera.h"
+#include "vpe/proto/pinhole_camera.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "vector_math.h"
-
-namespace vpe::renderer {
+namespace vpe::proto {
 
 namespace {
 
@@ -19,6 +17,10 @@ constexpr double kRotationTolerance = 1e-6;
 // units: ~1e-10 px for focal lengths of a few thousand pixels).
 constexpr double kUndistortTolerance = 1e-13;
 constexpr int kUndistortMaxIterations = 200;
+
+Vec3d cross(const Vec3d& a, const Vec3d& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 }  // namespace
 
@@ -141,17 +143,17 @@ PinholeCamera cameraLookingAt(int width, int height, double verticalFovDegrees, 
     if (!(verticalFovDegrees > 0 && verticalFovDegrees < 180)) {
         throw std::invalid_argument("camera: vertical field of view must be in (0, 180) degrees");
     }
-    const Vec3d toTarget = target - eye;
-    if (!(proto::dot(toTarget, toTarget) > 0)) {
+    const Vec3d toTarget{target.x - eye.x, target.y - eye.y, target.z - eye.z};
+    if (!(dot(toTarget, toTarget) > 0)) {
         throw std::invalid_argument("camera: the eye and the target coincide");
     }
-    const Vec3d forward = proto::normalized(toTarget);
+    const Vec3d forward = normalized(toTarget);
     const Vec3d side{-forward.z, 0, forward.x};  // forward × (0, 1, 0)
-    if (!(proto::dot(side, side) > 1e-12)) {
+    if (!(dot(side, side) > 1e-12)) {
         throw std::invalid_argument(
             "camera: looking straight up or down leaves the image rows undefined");
     }
-    const Vec3d right = proto::normalized(side);
+    const Vec3d right = normalized(side);
     const Vec3d down = cross(forward, right);
     PinholeCamera c;
     c.width = width;
@@ -165,4 +167,15 @@ PinholeCamera cameraLookingAt(int width, int height, double verticalFovDegrees, 
     return c;
 }
 
-}  // namespace vpe::renderer
+PinholeCamera cameraOf(const ProjectorCalibration& calibration) {
+    PinholeCamera camera;
+    camera.width = static_cast<int>(calibration.width);
+    camera.height = static_cast<int>(calibration.height);
+    camera.K = calibration.intrinsics;
+    camera.distortion = calibration.distortion;
+    camera.R = calibration.rotation;
+    camera.T = calibration.translation;
+    return camera;
+}
+
+}  // namespace vpe::proto

@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
-// ProjectorResponse: gamma or sampled curve, and its clamped inverse.
-#include "vpe/renderer/projector_response.h"
+// ResponseFunction: gamma or sampled curve, and its clamped inverse.
+#include "vpe/proto/response_function.h"
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
-namespace vpe::renderer {
+namespace vpe::proto {
 
 namespace {
 
@@ -19,29 +20,29 @@ const char* channelName(std::size_t c) {
 
 }  // namespace
 
-ProjectorResponse ProjectorResponse::gamma(double exponent) {
+ResponseFunction ResponseFunction::gamma(double exponent) {
     return gamma({exponent, exponent, exponent});
 }
 
-ProjectorResponse ProjectorResponse::gamma(const std::array<double, 3>& exponents) {
+ResponseFunction ResponseFunction::gamma(const std::array<double, 3>& exponents) {
     for (std::size_t c = 0; c < 3; ++c) {
         if (!(exponents[c] > 0) || !std::isfinite(exponents[c])) {
             throw std::invalid_argument(std::string("response: gamma of ") + channelName(c) +
                                         " must be a positive number");
         }
     }
-    ProjectorResponse response;
+    ResponseFunction response;
     response.exponents_ = exponents;
     return response;
 }
 
-ProjectorResponse ProjectorResponse::sampled(std::vector<double> levels,
-                                             std::array<std::vector<double>, 3> outputs) {
+ResponseFunction ResponseFunction::sampled(std::vector<double> levels,
+                                           std::array<std::vector<double>, 3> outputs) {
     return sampled(std::array<std::vector<double>, 3>{levels, levels, levels}, std::move(outputs));
 }
 
-ProjectorResponse ProjectorResponse::sampled(std::array<std::vector<double>, 3> levels,
-                                             std::array<std::vector<double>, 3> outputs) {
+ResponseFunction ResponseFunction::sampled(std::array<std::vector<double>, 3> levels,
+                                           std::array<std::vector<double>, 3> outputs) {
     for (std::size_t c = 0; c < 3; ++c) {
         const std::string name = channelName(c);
         const auto& channelLevels = levels[c];
@@ -82,13 +83,13 @@ ProjectorResponse ProjectorResponse::sampled(std::array<std::vector<double>, 3> 
         }
         channel.back() = 1.0;  // exactly, whatever the division rounded to
     }
-    ProjectorResponse response;
+    ResponseFunction response;
     response.levels_ = std::move(levels);
     response.outputs_ = std::move(outputs);
     return response;
 }
 
-double ProjectorResponse::output(int channel, double level) const {
+double ResponseFunction::output(int channel, double level) const {
     level = std::isnan(level) ? 0.0 : std::clamp(level, 0.0, 1.0);
     const auto c = static_cast<std::size_t>(channel);
     if (isGamma()) {
@@ -105,7 +106,7 @@ double ProjectorResponse::output(int channel, double level) const {
     return outputs[k - 1] + f * (outputs[k] - outputs[k - 1]);
 }
 
-double ProjectorResponse::level(int channel, double fraction) const {
+double ResponseFunction::level(int channel, double fraction) const {
     if (std::isnan(fraction)) {
         return 0.0;
     }
@@ -128,4 +129,21 @@ double ProjectorResponse::level(int channel, double fraction) const {
     return std::clamp(levels[k - 1] + f * (levels[k] - levels[k - 1]), 0.0, 1.0);
 }
 
-}  // namespace vpe::renderer
+ResponseFunction responseFunctionOf(const ResponseCurves& curves) {
+    if (curves.kind == ResponseKind::kGamma) {
+        return ResponseFunction::gamma({static_cast<double>(curves.gamma[0]),
+                                        static_cast<double>(curves.gamma[1]),
+                                        static_cast<double>(curves.gamma[2])});
+    }
+    std::array<std::vector<double>, 3> levels, outputs;
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+        const std::vector<float>& curve = curves.curve[ch];
+        for (std::size_t i = 0; i < curve.size(); ++i) {
+            levels[ch].push_back(static_cast<double>(i) / static_cast<double>(curve.size() - 1));
+            outputs[ch].push_back(static_cast<double>(curve[i]));
+        }
+    }
+    return ResponseFunction::sampled(std::move(levels), std::move(outputs));
+}
+
+}  // namespace vpe::proto

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
-// ProjectorResponse: how a projector's drive level (0..1, what the frame buffer holds) turns
-// into light, per channel, as a fraction of the channel's full output. Compensation needs
-// the inverse: the level that makes a wanted fraction. A gamma per channel, or a measured
-// curve read from CSV. This class reads and checks them with offline-grade messages; the
-// curve and its inverse are renderer::ProjectorResponse's, the device's own.
+// ResponseInput: the projector response as the offline tools take it (`vpe bake --response`):
+// how a projector's drive level (0..1, what the frame buffer holds) turns into light, per
+// channel, as a fraction of the channel's full output. Compensation needs the inverse: the
+// level that makes a wanted fraction. A gamma per channel, or a measured curve read from CSV
+// with levels of its own. This class reads and checks them with offline-grade messages and
+// keeps the gammas for the bundle (bake/bake_inputs.h); the curve and its inverse are
+// proto::ResponseFunction's, the device's own.
 #pragma once
 
 #include <array>
@@ -11,22 +13,22 @@
 #include <string_view>
 #include <vector>
 
-#include "vpe/renderer/projector_response.h"
+#include "vpe/proto/response_function.h"
 
 namespace vpe::scene {
 
-class ProjectorResponse {
+class ResponseInput {
 public:
     // output = level^γ per channel; γ > 0.
-    static ProjectorResponse gamma(double exponent);
-    static ProjectorResponse gamma(const std::array<double, 3>& exponents);
+    static ResponseInput gamma(double exponent);
+    static ResponseInput gamma(const std::array<double, 3>& exponents);
     // Piecewise linear through (levels[k], outputs[c][k]): levels strictly increasing from
     // 0 to 1, outputs finite, ≥ 0, non-decreasing and rising overall; each channel is
     // divided by its output at level 1 (outputs may be in any unit, e.g. cd/m²). Throws
     // InputError naming `source` otherwise.
-    static ProjectorResponse sampled(std::vector<double> levels,
-                                     std::array<std::vector<double>, 3> outputs,
-                                     std::string_view source = "response");
+    static ResponseInput sampled(std::vector<double> levels,
+                                 std::array<std::vector<double>, 3> outputs,
+                                 std::string_view source = "response");
 
     bool isGamma() const { return curve_.isGamma(); }
     const std::array<double, 3>& exponents() const { return exponents_; }
@@ -41,10 +43,10 @@ public:
     std::array<double, 3> level(const std::array<double, 3>& fractions) const;
 
 private:
-    ProjectorResponse() = default;
+    ResponseInput() = default;
 
     std::array<double, 3> exponents_{1, 1, 1};
-    renderer::ProjectorResponse curve_;  // the math, shared with the device
+    proto::ResponseFunction curve_;  // the math, shared with the device
 };
 
 // A measured curve: one "level,r,g,b" row per sample, levels from 0 to 1 increasing, outputs
@@ -52,10 +54,10 @@ private:
 // a header (level,r,g,b). Throws InputError "PATH:LINE: problem" for bad numbers, wrong
 // field counts, non-monotone rows, and "PATH: problem" for too few samples (at least 2,
 // covering levels 0 and 1) or a flat channel.
-ProjectorResponse readProjectorResponseCsv(const std::filesystem::path& path);
+ResponseInput readProjectorResponseCsv(const std::filesystem::path& path);
 
 // The --response argument: "2.2" (one gamma), "2.2,2.2,2.4" (per channel) or the path of a
 // CSV file as above.
-ProjectorResponse parseProjectorResponse(std::string_view argument);
+ResponseInput parseProjectorResponse(std::string_view argument);
 
 }  // namespace vpe::scene

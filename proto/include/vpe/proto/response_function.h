@@ -1,32 +1,36 @@
 // SPDX-License-Identifier: MIT
-// ProjectorResponse: the projector's relative output r(level) per channel — the fraction of
-// the channel's full output at a drive level in [0, 1] — and its inverse for compensation.
+// ResponseFunction: the projector's relative output r(level) per channel — the fraction of
+// the channel's full output at a drive level in [0, 1] — and its inverse for compensation. The
+// math of the bundle's ResponseCurves (bundle_contents.h: the data), one implementation for
+// the offline tools, the CPU reference and the device.
 #pragma once
 
 #include <array>
 #include <vector>
 
-namespace vpe::renderer {
+#include "vpe/proto/bundle_contents.h"
 
-class ProjectorResponse {
+namespace vpe::proto {
+
+class ResponseFunction {
 public:
     // Linear: r(level) = level.
-    ProjectorResponse() = default;
+    ResponseFunction() = default;
 
     // r(level) = level^γ per channel, γ > 0. Throws std::invalid_argument otherwise.
-    static ProjectorResponse gamma(double exponent);
-    static ProjectorResponse gamma(const std::array<double, 3>& exponents);
+    static ResponseFunction gamma(double exponent);
+    static ResponseFunction gamma(const std::array<double, 3>& exponents);
     // Piecewise linear through N ≥ 2 samples (levels[k], outputs[c][k]): levels strictly
     // increasing from exactly 0 to exactly 1 (a bundle's curve: levels[k] = k / (N − 1)),
     // outputs finite, ≥ 0, non-decreasing, last > first. Each channel is divided by its
     // output at level 1, so r(1) = 1; r(0) ≥ 0 is the black level. Throws
     // std::invalid_argument naming the problem.
-    static ProjectorResponse sampled(std::vector<double> levels,
-                                     std::array<std::vector<double>, 3> outputs);
+    static ResponseFunction sampled(std::vector<double> levels,
+                                    std::array<std::vector<double>, 3> outputs);
     // The same with levels of its own per channel (a bundle's channels may have different
     // sample counts).
-    static ProjectorResponse sampled(std::array<std::vector<double>, 3> levels,
-                                     std::array<std::vector<double>, 3> outputs);
+    static ResponseFunction sampled(std::array<std::vector<double>, 3> levels,
+                                    std::array<std::vector<double>, 3> outputs);
 
     bool isGamma() const { return levels_[0].empty(); }
 
@@ -45,4 +49,9 @@ private:
     std::array<std::vector<double>, 3> outputs_;  // normalized, r(1) = 1
 };
 
-}  // namespace vpe::renderer
+// The function a bundle's response curves describe: a gamma stays a gamma; sample i of a
+// curve of N sits at level i / (N − 1). Throws std::invalid_argument, as gamma() and sampled()
+// do, for values they refuse (a bundle's reader has refused them already: checkSettings).
+ResponseFunction responseFunctionOf(const ResponseCurves& curves);
+
+}  // namespace vpe::proto

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// PinholeCamera: distortion and its inverse, pixel rays, cameraLookingAt's conventions.
-#include "vpe/renderer/pinhole_camera.h"
+// PinholeCamera: distortion and its inverse, pixel rays, cameraLookingAt's conventions, the
+// camera of a bundle's projector.
+#include "vpe/proto/pinhole_camera.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-namespace vpe::renderer {
+namespace vpe::proto {
 namespace {
 
 // A projector lens as calibrations report them: barrel distortion, a little decentering.
@@ -85,5 +86,25 @@ TEST(PinholeCamera, ChecksRefuseBadCameras) {
     EXPECT_THROW(cameraLookingAt(160, 120, 40.0, {0, 1, 0}, {0, 0, 0}), std::invalid_argument);
 }
 
+// The bundle names K, R, T intrinsics, rotation, translation; cameraOf is where they meet.
+TEST(PinholeCamera, CameraOfABundleProjectorCopiesItsCalibration) {
+    const PinholeCamera original = distortedProjector();
+    ProjectorCalibration calibration;
+    calibration.width = 1920;
+    calibration.height = 1080;
+    calibration.intrinsics = original.K;
+    calibration.distortion = original.distortion;
+    calibration.rotation = original.R;
+    calibration.translation = original.T;
+    const PinholeCamera camera = cameraOf(calibration);
+    EXPECT_EQ(camera.width, 1920);
+    EXPECT_EQ(camera.height, 1080);
+    EXPECT_EQ(camera.K, original.K);
+    EXPECT_EQ(camera.distortion, original.distortion);
+    EXPECT_EQ(camera.R, original.R);
+    EXPECT_EQ(camera.T, original.T);
+    EXPECT_EQ(checkCamera(camera), "");
+}
+
 }  // namespace
-}  // namespace vpe::renderer
+}  // namespace vpe::proto

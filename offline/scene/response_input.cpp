@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Projector response curves and their inverses.
-#include "scene/projector_response.h"
+// ResponseInput: gammas and measured curves, checked with offline-grade messages.
+#include "scene/response_input.h"
 
 #include <algorithm>
 #include <charconv>
@@ -104,9 +104,8 @@ void checkSamples(const std::vector<double>& levels,
     }
 }
 
-ProjectorResponse makeSampled(std::vector<double> levels,
-                              std::array<std::vector<double>, 3> outputs, std::string_view source,
-                              const std::vector<int>* lines);
+ResponseInput makeSampled(std::vector<double> levels, std::array<std::vector<double>, 3> outputs,
+                          std::string_view source, const std::vector<int>* lines);
 
 std::optional<std::vector<double>> parseNumberList(std::string_view text) {
     std::vector<double> values;
@@ -122,11 +121,11 @@ std::optional<std::vector<double>> parseNumberList(std::string_view text) {
 
 }  // namespace
 
-ProjectorResponse ProjectorResponse::gamma(double exponent) {
+ResponseInput ResponseInput::gamma(double exponent) {
     return gamma({exponent, exponent, exponent});
 }
 
-ProjectorResponse ProjectorResponse::gamma(const std::array<double, 3>& exponents) {
+ResponseInput ResponseInput::gamma(const std::array<double, 3>& exponents) {
     for (int c = 0; c < 3; ++c) {
         const double g = exponents[static_cast<std::size_t>(c)];
         if (!std::isfinite(g) || !(g > 0)) {
@@ -134,40 +133,40 @@ ProjectorResponse ProjectorResponse::gamma(const std::array<double, 3>& exponent
                              formatNumber(g) + "; it must be a positive number");
         }
     }
-    ProjectorResponse response;
+    ResponseInput response;
     response.exponents_ = exponents;
-    response.curve_ = renderer::ProjectorResponse::gamma(exponents);
+    response.curve_ = proto::ResponseFunction::gamma(exponents);
     return response;
 }
 
-ProjectorResponse ProjectorResponse::sampled(std::vector<double> levels,
-                                             std::array<std::vector<double>, 3> outputs,
-                                             std::string_view source) {
+ResponseInput ResponseInput::sampled(std::vector<double> levels,
+                                     std::array<std::vector<double>, 3> outputs,
+                                     std::string_view source) {
     checkSamples(levels, outputs, source, nullptr);
-    ProjectorResponse response;
-    // The curve itself, and its inverse, are the renderer's: one implementation for the
-    // offline tools and the device.
-    response.curve_ = renderer::ProjectorResponse::sampled(std::move(levels), std::move(outputs));
+    ResponseInput response;
+    // The curve itself, and its inverse, are proto's: one implementation for the offline
+    // tools and the device.
+    response.curve_ = proto::ResponseFunction::sampled(std::move(levels), std::move(outputs));
     return response;
 }
 
-double ProjectorResponse::output(int channel, double level) const {
+double ResponseInput::output(int channel, double level) const {
     return curve_.output(channel, level);
 }
 
-double ProjectorResponse::level(int channel, double fraction) const {
+double ResponseInput::level(int channel, double fraction) const {
     return curve_.level(channel, fraction);
 }
 
-std::array<double, 3> ProjectorResponse::output(const std::array<double, 3>& levels) const {
+std::array<double, 3> ResponseInput::output(const std::array<double, 3>& levels) const {
     return {output(0, levels[0]), output(1, levels[1]), output(2, levels[2])};
 }
 
-std::array<double, 3> ProjectorResponse::level(const std::array<double, 3>& fractions) const {
+std::array<double, 3> ResponseInput::level(const std::array<double, 3>& fractions) const {
     return {level(0, fractions[0]), level(1, fractions[1]), level(2, fractions[2])};
 }
 
-ProjectorResponse readProjectorResponseCsv(const std::filesystem::path& path) {
+ResponseInput readProjectorResponseCsv(const std::filesystem::path& path) {
     const std::string contents = text::readTextFile(path, "projector response");
     std::vector<double> levels;
     std::array<std::vector<double>, 3> outputs;
@@ -214,17 +213,16 @@ ProjectorResponse readProjectorResponseCsv(const std::filesystem::path& path) {
 
 namespace {
 
-ProjectorResponse makeSampled(std::vector<double> levels,
-                              std::array<std::vector<double>, 3> outputs, std::string_view source,
-                              const std::vector<int>* lines) {
+ResponseInput makeSampled(std::vector<double> levels, std::array<std::vector<double>, 3> outputs,
+                          std::string_view source, const std::vector<int>* lines) {
     // Checked here first so that errors carry line numbers; sampled() checks again.
     checkSamples(levels, outputs, source, lines);
-    return ProjectorResponse::sampled(std::move(levels), std::move(outputs), source);
+    return ResponseInput::sampled(std::move(levels), std::move(outputs), source);
 }
 
 }  // namespace
 
-ProjectorResponse parseProjectorResponse(std::string_view argument) {
+ResponseInput parseProjectorResponse(std::string_view argument) {
     const bool looksNumeric =
         !argument.empty() &&
         argument.find_first_not_of("0123456789.,+-eE \t") == std::string_view::npos;
@@ -237,9 +235,9 @@ ProjectorResponse parseProjectorResponse(std::string_view argument) {
                          "' is neither a gamma (2.2 or r,g,b like 2.2,2.2,2.4) nor a CSV file");
     }
     if (values->size() == 1) {
-        return ProjectorResponse::gamma(values->front());
+        return ResponseInput::gamma(values->front());
     }
-    return ProjectorResponse::gamma({(*values)[0], (*values)[1], (*values)[2]});
+    return ResponseInput::gamma({(*values)[0], (*values)[1], (*values)[2]});
 }
 
 }  // namespace vpe::scene

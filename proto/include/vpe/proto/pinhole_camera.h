@@ -8,16 +8,18 @@
 #include <optional>
 #include <string>
 
-#include "vpe/renderer/vector_types.h"
+#include "vpe/proto/bundle_contents.h"
+#include "vpe/proto/vector_types.h"
 
-namespace vpe::renderer {
+namespace vpe::proto {
 
 // A point X of the object frame (metres) is x = R·X + T in the camera frame (x right, y down,
 // z forward: the camera looks along +z). Its ideal normalized coordinates are
 // (a, b) = (x/z, y/z); OpenCV's distortion turns them into (a', b') (distortNormalized), and
 // the pixel is (fx·a' + s·b' + cx, fy·b' + cy) with K = [fx s cx; 0 fy cy; 0 0 1]. Pixel
 // centres sit at integer coordinates: pixel (0, 0) covers [−0.5, 0.5]², row 0 is the top row.
-// The same conventions as offline/scene's ProjectorCalibration and the bundle's Projector.
+// The same conventions as the bundle's ProjectorCalibration (cameraOf below); offline/scene's
+// projector calibration is this type.
 struct PinholeCamera {
     int width = 0, height = 0;                           // pixels
     std::array<double, 9> K{};                           // row-major intrinsics
@@ -59,10 +61,15 @@ std::optional<Vec2d> projectToPixel(const PinholeCamera& camera, const Vec3d& po
 
 // A distortion-free camera at `eye` aimed at `target`, image rows parallel to the horizontal
 // plane (world up is +y), square pixels, principal point at the image centre
-// ((width − 1)/2, (height − 1)/2). As offline/scene's projectorLookingAt. Throws
+// ((width − 1)/2, (height − 1)/2). offline/scene's projectorLookingAt is this. Throws
 // std::invalid_argument for a field of view outside (0, 180), eye = target, or looking
 // straight up or down.
 PinholeCamera cameraLookingAt(int width, int height, double verticalFovDegrees, const Vec3d& eye,
                               const Vec3d& target);
 
-}  // namespace vpe::renderer
+// The camera of a bundle's projector: the one place where the bundle's field names
+// (intrinsics, rotation, translation) become the camera's (K, R, T). Values are copied as they
+// are; checkProjector (bundle_contents.h) is what refuses bad ones.
+PinholeCamera cameraOf(const ProjectorCalibration& calibration);
+
+}  // namespace vpe::proto
