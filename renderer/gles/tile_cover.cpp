@@ -8,8 +8,7 @@
 
 namespace vpe::renderer::gles {
 
-TileCover::TileCover(int width, int height, const std::vector<std::uint8_t>& covered)
-    : width_(width), height_(height) {
+TileCover::TileCover(int width, int height, const std::vector<std::uint8_t>& covered) {
     const int tilesX = (width + kTileSize - 1) / kTileSize;
     const int tilesY = (height + kTileSize - 1) / kTileSize;
     std::vector<float> corners;

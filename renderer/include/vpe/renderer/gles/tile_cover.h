@@ -33,7 +33,6 @@ public:
     bool fullScreen() const { return fullScreen_; }
 
 private:
-    int width_ = 0, height_ = 0;
     std::size_t quads_ = 0;
     bool fullScreen_ = false;
     GlObject buffer_, vertexArray_;
