@@ -24,110 +24,18 @@
 #include "bake/scene_baker.h"
 #include "bake/theta_basis_fit.h"
 #include "curve_texture.h"
+#include "support/reference_lights.h"
 
 namespace {
 
 using vpe::renderer::Vec3d;
 
-struct CurveLight {
-    const char* name;
-    Vec3d position;  // object frame, metres; the vase stands on the origin, 0.15 m tall
-};
+using vpe::testing::LevelError;
+using vpe::testing::psnr;
+using vpe::testing::ReferenceLight;
 
-// Around the vase, the projector and viewer at +z. "over" and "under" rake across it from
-// above and below behind it: of the surface they light (the shoulder, the lower body), they
-// light much from at most 5° above its horizon. "behind" lights only the rim of the
-// silhouette, which the horizon factor fades.
-constexpr CurveLight kLights[] = {
-    {"key", {0.3, 0.4, 0.6}},      {"left", {-0.4, 0.2, 0.5}},    {"front", {0.0, 0.1, 0.8}},
-    {"low", {0.5, -0.1, 0.3}},     {"side", {0.6, 0.1, 0.0}},     {"over", {0.0, 0.42, -0.38}},
-    {"under", {0.0, -0.4, -0.38}}, {"behind", {0.15, 0.2, -0.6}},
-};
-constexpr int kLightCount = static_cast<int>(std::size(kLights));
-
-// The light's elevation above the surface, at most this, counts as grazing.
-constexpr double kGrazingDegrees = 5.0;
 // --gain auto's clipping share: the exact frame's gain, used for every K.
 constexpr double kClippedFraction = 0.005;
-
-// Of the mesh vertices the projector and the viewer both see, the share the light reaches,
-// and of those the share it reaches from at most kGrazingDegrees above their horizon
-// (occlusion ignored): how grazing a light is.
-struct Grazing {
-    double lit = 0, grazing = 0;
-};
-
-Grazing grazingShare(const vpe::proto::BundleView& bundle, const Vec3d& light) {
-    const vpe::proto::ProjectorCalibration& p = bundle.projector();
-    // The projector's centre in the object frame: −Rᵀ·T.
-    const Vec3d projector{-(p.rotation[0] * p.translation[0] + p.rotation[3] * p.translation[1] +
-                            p.rotation[6] * p.translation[2]),
-                          -(p.rotation[1] * p.translation[0] + p.rotation[4] * p.translation[1] +
-                            p.rotation[7] * p.translation[2]),
-                          -(p.rotation[2] * p.translation[0] + p.rotation[5] * p.translation[1] +
-                            p.rotation[8] * p.translation[2])};
-    const auto& v = bundle.settings().viewerPosition;
-    const Vec3d viewer{v[0], v[1], v[2]};
-    const double sine = std::sin(kGrazingDegrees * 3.14159265358979323846 / 180.0);
-    const vpe::proto::MeshView& mesh = bundle.mesh();
-    std::size_t seen = 0, lit = 0, grazing = 0;
-    for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
-        const Vec3d x{mesh.positions[3 * i], mesh.positions[3 * i + 1], mesh.positions[3 * i + 2]};
-        const Vec3d n{mesh.normals[3 * i], mesh.normals[3 * i + 1], mesh.normals[3 * i + 2]};
-        const auto toward = [&](const Vec3d& target) {
-            return vpe::proto::normalized(Vec3d{target.x - x.x, target.y - x.y, target.z - x.z});
-        };
-        if (vpe::proto::dot(n, toward(projector)) <= 0 || vpe::proto::dot(n, toward(viewer)) <= 0) {
-            continue;
-        }
-        ++seen;
-        const double elevation = vpe::proto::dot(n, toward(light));
-        lit += elevation > 0 ? 1 : 0;
-        grazing += elevation > 0 && elevation <= sine ? 1 : 0;
-    }
-    Grazing share;
-    share.lit = seen > 0 ? static_cast<double>(lit) / static_cast<double>(seen) : 0.0;
-    share.grazing = lit > 0 ? static_cast<double>(grazing) / static_cast<double>(lit) : 0.0;
-    return share;
-}
-
-// Squared errors of one frame against the exact one, over the pixels that see the object
-// (elsewhere both are 0): 8-bit levels as the projector shows them, and the levels before
-// quantization; values compared, on the object and in the whole frame.
-struct FrameError {
-    double squared8 = 0, squaredLevels = 0;
-    std::size_t count = 0, frameCount = 0;
-};
-
-int level8(float level) {
-    return static_cast<int>(std::lround(std::clamp(static_cast<double>(level), 0.0, 1.0) * 255.0));
-}
-
-FrameError frameError(const vpe::renderer::ProjectorFrame& exact,
-                      const vpe::renderer::ProjectorFrame& test) {
-    FrameError error;
-    error.frameCount = 3 * exact.coverage.values.size();
-    for (std::size_t p = 0; p < exact.coverage.values.size(); ++p) {
-        if (!exact.coverage.values[p]) {
-            continue;
-        }
-        for (std::size_t c = 0; c < 3; ++c) {
-            const float a = exact.level.values[3 * p + c], b = test.level.values[3 * p + c];
-            const double d8 = level8(a) - level8(b);
-            const double d = static_cast<double>(a) - static_cast<double>(b);
-            error.squared8 += d8 * d8;
-            error.squaredLevels += d * d;
-            ++error.count;
-        }
-    }
-    return error;
-}
-
-// PSNR for a peak of 255 (8-bit) or 1 (levels); +∞ for identical frames.
-double psnr(double squared, std::size_t count, double peak) {
-    const double mse = squared / static_cast<double>(std::max<std::size_t>(count, 1));
-    return mse > 0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
-}
 
 // A coefficient map with every texel's θs part (each channel) replaced by its projection onto
 // the basis, Σ_j u_j h_j, as the device renders it.
@@ -202,7 +110,7 @@ int main(int argc, char** argv) {
         std::vector<double> gains;
         std::printf("%-8s %-20s %7s %7s %18s\n", "light", "position (m)", "gain", "lit",
                     "of which grazing");
-        for (const CurveLight& light : kLights) {
+        for (const ReferenceLight& light : vpe::testing::referenceLights()) {
             vpe::renderer::VirtualLight virtualLight;
             virtualLight.position = light.position;
             const vpe::renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
@@ -213,7 +121,8 @@ int main(int argc, char** argv) {
             if (render.gain < 1) {
                 frame = vpe::renderer::renderProjectorFrame(scene, render);
             }
-            const Grazing share = grazingShare(file.view(), light.position);
+            const vpe::testing::GrazingShare share =
+                vpe::testing::grazingShare(file.view(), light.position);
             char position[64];
             std::snprintf(position, sizeof position, "(%.2f, %.2f, %.2f)", light.position.x,
                           light.position.y, light.position.z);
@@ -232,7 +141,7 @@ int main(int argc, char** argv) {
 
         std::printf("\n%-5s %12s %8s %8s %8s %8s", "K", "energy kept", "worst", "pooled", "frame",
                     "linear");
-        for (const CurveLight& light : kLights) {
+        for (const ReferenceLight& light : vpe::testing::referenceLights()) {
             std::printf(" %7s", light.name);
         }
         std::printf("\n");
@@ -252,22 +161,24 @@ int main(int argc, char** argv) {
             const double inf = std::numeric_limits<double>::infinity();
             std::vector<double> perLight;
             double worst = inf, worstFrame = inf, worstLinear = inf;
-            FrameError pooled;
-            for (int l = 0; l < kLightCount; ++l) {
+            LevelError pooled;
+            const auto lights = vpe::testing::referenceLights();
+            for (std::size_t l = 0; l < lights.size(); ++l) {
                 vpe::renderer::VirtualLight virtualLight;
-                virtualLight.position = kLights[l].position;
+                virtualLight.position = lights[l].position;
                 vpe::renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
                 for (std::size_t r = 0; r < maps.size(); ++r) {
                     scene.material.regions[r].coefficients = maps[r];
                 }
                 vpe::renderer::RenderOptions render;
-                render.gain = gains[static_cast<std::size_t>(l)];
-                const FrameError error =
-                    frameError(exactFrames[static_cast<std::size_t>(l)],
-                               vpe::renderer::renderProjectorFrame(scene, render));
+                render.gain = gains[l];
+                const LevelError error = vpe::testing::levelError(
+                    exactFrames[l],
+                    vpe::renderer::renderProjectorFrame(scene, render).level.values);
                 perLight.push_back(psnr(error.squared8, error.count, 255.0));
                 worst = std::min(worst, perLight.back());
-                worstFrame = std::min(worstFrame, psnr(error.squared8, error.frameCount, 255.0));
+                worstFrame =
+                    std::min(worstFrame, psnr(error.squared8Frame, error.frameCount, 255.0));
                 worstLinear = std::min(worstLinear, psnr(error.squaredLevels, error.count, 1.0));
                 pooled.squared8 += error.squared8;
                 pooled.count += error.count;

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+// What the device shows against the exact material: a synthetic capture fitted and baked as
+// `vpe bake` does by default (low-rank rank 12, θs basis K = 4), rendered by the GLES renderer
+// (headless) and by the CPU reference with the full-precision coefficients under the reference
+// lights, two of them grazing and one behind the vase. The loss is the θs basis's, the half
+// floats' and the table's together. SKIPs without EGL.
+#include <algorithm>
+#include <iostream>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "vpe/proto/bundle.h"
+#include "vpe/renderer/gles/headless_egl_platform.h"
+
+#include "support/command_runner.h"
+#include "support/gpu_fidelity.h"
+#include "support/test_data.h"
+
+namespace vpe {
+namespace {
+
+using testing::runCommand;
+constexpr auto& vpe = testing::vpeCommand;
+
+TEST(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
+    std::unique_ptr<renderer::gles::GraphicsPlatform> platform;
+    try {
+        platform = renderer::gles::createHeadlessEglPlatform();
+    } catch (const renderer::gles::GraphicsError& error) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << error.what();
+    }
+    const testing::TemporaryFolder folder;
+    const std::string capture = (folder / "capture").string();
+    const std::string model = (folder / "model.exr").string();
+    const std::string bundle = (folder / "scene.vpeb").string();
+    ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "64"})).exitStatus, 0);
+    ASSERT_EQ(
+        runCommand(vpe({"fit", capture + "/train", "--out", model, "--no-preview"})).exitStatus, 0);
+    const testing::CommandResult baked =
+        runCommand(vpe({"bake", "--texture", model, "--out", bundle}));
+    ASSERT_EQ(baked.exitStatus, 0) << baked.err;
+    const proto::BundleFile file = proto::BundleFile::open(bundle);
+    ASSERT_EQ(file->model().thetaBasisSize(), 4);
+    platform->makeCurrent();
+    double worstObject = std::numeric_limits<double>::infinity(), worstFrame = worstObject;
+    for (const testing::GpuFidelity& light : testing::measureGpuFidelity(file.view(), *platform)) {
+        std::cout << light.light << ": gain " << light.gain << ", " << light.covered
+                  << " pixels on the vase, " << light.psnrObject << " dB on it, " << light.psnrFrame
+                  << " dB over the frame, largest difference " << light.largest << " levels\n";
+        worstObject = std::min(worstObject, light.psnrObject);
+        worstFrame = std::min(worstFrame, light.psnrFrame);
+    }
+    // Measured 48.9 dB on the vase and 58.6 dB over the frame (the front light, at gain 1):
+    // this 64² fit of a noisy capture, mapped unquilted, is harder for K = 4 than the demo's
+    // quilted texture (52.3 and 62.0 dB, vpe_gles_fidelity in demo-output/summary.txt).
+    EXPECT_GE(worstObject, 48.5);
+    EXPECT_GE(worstFrame, 58.0);
+}
+
+}  // namespace
+}  // namespace vpe
