@@ -31,7 +31,7 @@ std::string component(int i) {
 const char* const kGeometryUniforms = R"GLSL(
 uniform highp sampler2D uGeometry0;   // X, 1/S (geometry_buffer.h)
 uniform highp usampler2D uGeometry1;  // shading normal (float bits), geometric normal (octahedral)
-uniform highp usampler2D uUv;         // uv as two 16-bit unorms, rows from the top
+uniform highp sampler2D uUv;          // uv, rows from the top
 )GLSL";
 
 // Statements fetching material `sampler` at `pixel` and naming its values: half floats, two a
@@ -149,7 +149,7 @@ void main() {
     // The material: value q of the (blended) codes.
     std::vector<std::string> m(static_cast<std::size_t>(values));
     if (live) {
-        s += "    vec2 uv = unpackUnorm2x16(texelFetch(uUv, pixel, 0).x);\n";
+        s += "    vec2 uv = texelFetch(uUv, pixel, 0).xy;\n";
         for (int r = 0; r < layout.regions; ++r) {
             const std::string alpha = "texture(uWeights, vec3(uv, " + str(r) + ".0)).r";
             s += "    float alpha" + str(r) + " = " +
@@ -234,7 +234,7 @@ void main() {
         vec3 v = normalize(uViewer - geometry0.xyz);
         viewerHorizon = vpeHorizonFactor(dot(uintBitsToFloat(geometry1.xyz), v)) *
                         vpeHorizonFactor(dot(vpeOctahedralNormal(geometry1.w), v));
-        uv = unpackUnorm2x16(texelFetch(uUv, pixel, 0).x);
+        uv = texelFetch(uUv, pixel, 0).xy;
     }
 )GLSL";
     for (int r = 0; r < layout.regions; ++r) {
@@ -304,7 +304,7 @@ void main() {
         }
     };
     if (live) {
-        s += "    vec2 uv = unpackUnorm2x16(texelFetch(uUv, pixel, 0).x);\n";
+        s += "    vec2 uv = texelFetch(uUv, pixel, 0).xy;\n";
         for (int r = 0; r < layout.regions; ++r) {
             s += "    sum.x += texture(uWeights, vec3(uv, " + str(r) + ".0)).r;\n";
             if (fade) {

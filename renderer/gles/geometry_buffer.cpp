@@ -22,9 +22,6 @@ namespace {
 // 2.5 MB) while keeping the threads busy.
 constexpr int kBandRows = 64;
 
-std::uint32_t unorm16(double value) {
-    return static_cast<std::uint32_t>(std::lround(std::clamp(value, 0.0, 1.0) * 65535.0));
-}
 
 }  // namespace
 
@@ -46,7 +43,7 @@ PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
                         std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.z)),
                         encodeOctahedralNormal(point.geometricNormal)};
     // The renderer's uv has v up (OBJ / GL); the textures are uploaded rows from the top.
-    packed.uv = unorm16(point.uv.x) | (unorm16(1.0 - point.uv.y) << 16);
+    packed.uv = {static_cast<float>(point.uv.x), static_cast<float>(1.0 - point.uv.y)};
     return packed;
 }
 
@@ -55,10 +52,11 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
     geometry0_ = makeTexture2D(GL_RGBA32F, width_, height_, GL_RGBA, GL_FLOAT, nullptr);
     geometry1_ =
         makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
-    uv_ = makeTexture2D(GL_R32UI, width_, height_, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    uv_ = makeTexture2D(GL_RG32F, width_, height_, GL_RG, GL_FLOAT, nullptr);
     const auto w = static_cast<std::size_t>(width_);
     std::vector<float> geometry0(w * kBandRows * 4);
-    std::vector<std::uint32_t> geometry1(w * kBandRows * 4), uv(w * kBandRows);
+    std::vector<std::uint32_t> geometry1(w * kBandRows * 4);
+    std::vector<float> uv(w * kBandRows * 2);
     std::atomic<std::size_t> covered{0};
     const int tilesX = (width_ + kTileSize - 1) / kTileSize;
     coveredTiles_.assign(static_cast<std::size_t>(tilesX) *
@@ -79,7 +77,8 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
                           geometry0.begin() + 4 * i);
                 std::copy(packed.geometry1.begin(), packed.geometry1.end(),
                           geometry1.begin() + 4 * i);
-                uv[i] = packed.uv;
+                uv[2 * i] = packed.uv[0];
+                uv[2 * i + 1] = packed.uv[1];
             }
             covered += hits;
         });
@@ -100,8 +99,7 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                         geometry1.data());
         glBindTexture(GL_TEXTURE_2D, uv_.get());
-        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                        uv.data());
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RG, GL_FLOAT, uv.data());
     }
     covered_ = covered;
     checkGlError("uploading the projector's geometry buffer");

@@ -99,7 +99,7 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
     const int w = geometry.width(), h = geometry.height();
     const auto g0 = readTexels(geometry.geometry0().get(), w, h, "sampler2D");
     const auto g1 = readTexels(geometry.geometry1().get(), w, h, "usampler2D");
-    const auto uv = readTexels(geometry.uv().get(), w, h, "usampler2D");
+    const auto uv = readTexels(geometry.uv().get(), w, h, "sampler2D");
     std::size_t covered = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
@@ -113,7 +113,8 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
                     << x << "," << y;
                 ASSERT_EQ(g1[i + k], packed.geometry1[k]) << x << "," << y;
             }
-            ASSERT_EQ(uv[i], packed.uv) << x << "," << y;
+            ASSERT_EQ(uv[i], std::bit_cast<std::uint32_t>(packed.uv[0])) << x << "," << y;
+            ASSERT_EQ(uv[i + 1], std::bit_cast<std::uint32_t>(packed.uv[1])) << x << "," << y;
         }
     }
     EXPECT_EQ(covered, geometry.coveredPixels());
@@ -181,8 +182,7 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
                 continue;
             }
             const gles::PackedPixel packed = gles::packProjectorPixel(traced);
-            const double u = static_cast<double>(packed.uv & 0xffffu) / 65535.0;
-            const double v = static_cast<double>(packed.uv >> 16) / 65535.0;
+            const double u = packed.uv[0], v = packed.uv[1];
             const Vec3d position{packed.geometry0[0], packed.geometry0[1], packed.geometry0[2]};
             const Vec3d toViewer =
                 proto::normalized(Vec3d{static_cast<double>(viewer[0]) - position.x,

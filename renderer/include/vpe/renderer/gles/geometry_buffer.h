@@ -10,8 +10,9 @@
 //     clips, none gives 0, as compensatePixel's ±∞), kUncovered when the pixel sees nothing;
 //   geometry1 RGBA32UI: the shading normal's float bits (xyz), the geometric normal (w,
 //     encodeOctahedralNormal: it only decides the horizon);
-//   uv R32UI: the texture coordinate as two 16-bit unorms, rows from the top as the bundle
-//     stores them (read by the material pass, and by frames with live weights).
+//   uv RG32F: the texture coordinate, rows from the top as the bundle stores it (read by the
+//     material pass, and by frames with live weights; floats, as unpacking 16-bit unorms
+//     costs V3D six operations a pixel).
 // Full floats where the shading's precision needs them: unpacking costs ALU, which the Pi's
 // GPU has least of (docs/pi-headroom.md).
 #pragma once
@@ -33,7 +34,7 @@ inline constexpr float kUncovered = -1.0f;
 struct PackedPixel {
     std::array<float, 4> geometry0{0, 0, 0, kUncovered};
     std::array<std::uint32_t, 4> geometry1{0, 0, 0, 0};
-    std::uint32_t uv = 0;
+    std::array<float, 2> uv{0, 0};
 };
 PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel);
 
