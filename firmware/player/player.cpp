@@ -269,13 +269,10 @@ void Player::renderFrame() {
         static_cast<float>(rig_.limits().distanceM->first + rig_.limits().distanceM->second) * 0.5f;
     inputs.gain = settings.gain;
     inputs.timeSeconds = static_cast<double>(beginNs) * 1e-9;
-    std::vector<std::uint8_t> rgba;
     try {
         scene_->renderer().render(*target_, inputs);
-        target_->present();
-        if (headless_) {
-            rgba = target_->readRgba8();  // the frame leaves the GPU, as a scanout would
-        } else {
+        target_->present();  // headless: glFinish, the frame is done
+        if (!headless_) {
             // Paced by the flip: the next frame when its event arrives (the first frame's
             // modeset is synchronous, so no event comes for it).
             waitingForFlip_ = target_->vsyncPending();
@@ -311,6 +308,9 @@ void Player::renderFrame() {
     }
     report_.seconds = static_cast<double>(submittedNs - firstFrameNs_) * 1e-9;
     if (options_.out && report_.frames % options_.every == 0) {
+        // Read back only to write it, after the frame is timed: a display scans the frame out
+        // by itself (KMS: present() queued the flip and returned), no CPU copy is part of it.
+        const std::vector<std::uint8_t> rgba = target_->readRgba8();
         char name[32];
         std::snprintf(name, sizeof name, "frame_%05ld.ppm", report_.frames);
         writePpmAtomically(*options_.out / name, target_->width(), target_->height(), rgba);
