@@ -8,10 +8,12 @@
 # light with the CPU reference (projector, visitor and material views), plays the bundle on
 # the device program (vpe-player: OpenGL ES, headless) along its idle path, and lays the
 # results out as contact sheets; then does the same on real captures when ../shared/data (or
-# $VPE_DATA) has them. Installs missing Debian packages itself.
+# $VPE_DATA) has them. Installs missing Debian packages itself (the test ones too: the release
+# build it shares with scripts/test.sh configures the tests and benchmarks, and the demo runs
+# two of the benchmarks on its bundle).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+scripts/install-deps.sh --test
 source scripts/lib/pictures.sh
 source scripts/lib/vpe.sh
 
@@ -158,6 +160,20 @@ printf '%-28s vpe-player (GLES, %s): 32 frames 1920x1080, frame p50 %.0f ms; fir
     "$(sed -n 's/.*"frame_ms": {"p50": \([0-9.]*\).*/\1/p' "$play/player.json")" \
     "$(json_field first_frame_ms < "$play/player.json")" | tee -a "$summary"
 
+step "the device's speed and fidelity on this bundle (unpaced vpe-player; GPU against the exact CPU frame)"
+cmake --build --preset release --target vpe_gles_fidelity -j "$(nproc)" >/dev/null
+"$player" --board boards/headless.toml --rate 0 --bundle "$stage/scene.vpeb" --frames 240 \
+    --size 1920x1080 --json > "$play/unpaced.txt"
+tail -1 "$play/unpaced.txt" > "$play/unpaced.json"
+build/release/tests/benchmarks/vpe_gles_fidelity "$stage/scene.vpeb" --json > "$play/fidelity.txt"
+tail -1 "$play/fidelity.txt" > "$play/fidelity.json"
+head -n -1 "$play/fidelity.txt" >&2
+printf '%-28s vpe-player unpaced, 240 frames 1920x1080: %.0f fps (frame p50 %.1f ms)\n' "" \
+    "$(jq .fps "$play/unpaced.json")" "$(jq .frame_ms.p50 "$play/unpaced.json")" | tee -a "$summary"
+printf '%-28s GPU frames vs the exact CPU reference, 8 lights: worst %.1f dB on the vase, %.1f dB over the frame\n' "" \
+    "$(jq .psnr_object_worst "$play/fidelity.json")" "$(jq .psnr_frame_worst "$play/fidelity.json")" \
+    | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -198,7 +214,8 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
   synthetic-bizen/player/contact-sheet.png
                                       the device program (vpe-player, OpenGL ES headless)
                                       playing the bundle along its idle path: 16 of 32 frames;
-                                      frames/*.png, the animation's frames in order
+                                      frames/*.png, the animation's frames in order;
+                                      unpaced.json (speed), fidelity.txt (GPU vs exact)
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above

@@ -9,8 +9,10 @@
 //            presses, OSC messages and camera frames; RSS after the first frame and at the end,
 //            errors.
 //
-// Usage: vpe_player_figures [latency] [soak [FRAMES]]  (both by default). Prints the player's
-// JSON lines and a summary per figure. Run by hand on an idle machine.
+// Usage: vpe_player_figures [--bundle PATH] [latency] [soak [FRAMES]]  (both by default;
+// --bundle plays PATH, the demo's bundle say, at its projector's size, instead of the vase).
+// Prints the player's JSON lines and a summary per figure. Run by hand on an idle machine.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -157,15 +159,21 @@ void soak(const fs::path& folder, const fs::path& bundle, long frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::vector<std::string> arguments(argv + 1, argv + argc);
+    std::vector<std::string> arguments(argv + 1, argv + argc);
     const fs::path folder =
         fs::temp_directory_path() / ("vpe-player-figures-" + std::to_string(::getpid()));
     fs::create_directories(folder);
-    const std::vector<std::byte> bytes = vpe::renderer::testing::buildGlesTestBundle();
-    const fs::path bundle = folder / "scene.vpeb";
-    std::ofstream(bundle, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()),
-               static_cast<std::streamsize>(bytes.size()));
+    fs::path bundle = folder / "scene.vpeb";
+    const auto given = std::find(arguments.begin(), arguments.end(), "--bundle");
+    if (given != arguments.end() && given + 1 != arguments.end()) {
+        bundle = fs::absolute(*(given + 1));
+        arguments.erase(given, given + 2);
+    } else {
+        const std::vector<std::byte> bytes = vpe::renderer::testing::buildGlesTestBundle();
+        std::ofstream(bundle, std::ios::binary)
+            .write(reinterpret_cast<const char*>(bytes.data()),
+                   static_cast<std::streamsize>(bytes.size()));
+    }
     const bool all = arguments.empty();
     for (std::size_t i = 0; i < arguments.size() || all; ++i) {
         if (all || arguments[i] == "latency") {
