@@ -22,7 +22,6 @@ namespace {
 // 2.5 MB) while keeping the threads busy.
 constexpr int kBandRows = 64;
 
-
 }  // namespace
 
 PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
