@@ -59,8 +59,20 @@ trap 'rm -f "$found" "$found".*' EXIT
 {
     # CMake files read from outside the source and build trees: package configs, find modules
     # (CMake's own modules are the toolchain's and pass below).
-    jq -r '.inputs[] | select(.isExternal == true and (.isCMake // false) == false) | .path' \
-        "$(reply_file cmakeFiles)"
+    configs=$(jq -r '.inputs[] | select(.isExternal == true and (.isCMake // false) == false) | .path' \
+        "$(reply_file cmakeFiles)")
+    echo "$configs"
+    # Every file the packages' exported targets name (their libraries, headers and programs:
+    # IMPORTED_LOCATION and the existence checks of *-targets-<config>.cmake), which CMake
+    # requires to exist even when vpe links none of them: glslang's config fails without
+    # glslangValidator, from a package glslang-dev does not depend on. Debian installs every
+    # such package under /usr, its ${_IMPORT_PREFIX}.
+    grep -E '[Tt]argets-[A-Za-z]+\.cmake$' <<<"$configs" | while read -r exported; do
+        prefix=/
+        [[ "$exported" == /usr/* ]] && prefix=/usr
+        grep -o '"\${_IMPORT_PREFIX}/[^"]*"' "$exported" | tr -d '"' | tr ';' '\n' |
+            sed "s|\${_IMPORT_PREFIX}|$prefix|" || true
+    done
     # find_path / find_library / find_file / find_program results, pkg-config's library hits.
     # CMAKE_* entries are CMake's own settings (compilers, install prefix), not things found.
     jq -r '.entries[] | select((.type == "FILEPATH" or .type == "PATH") and (.name | startswith("CMAKE_") | not))

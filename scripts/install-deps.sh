@@ -29,7 +29,8 @@ test_packages=(
     libgtest-dev libgmock-dev libbenchmark-dev
     clang libclang-rt-14-dev                  # libFuzzer, sanitizers
     jq                                        # the dependency audit reads CMake's file API
-    glslang-dev spirv-tools                   # vpe_shader_cost: GLSL → SPIR-V, optimizer
+    glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
+                                              # CMake config names glslangValidator, in glslang-tools)
 )
 
 test=0
