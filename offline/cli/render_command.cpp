@@ -87,7 +87,7 @@ Vec3d meshCentre(const proto::MeshView& mesh) {
 
 void addRenderCommand(CLI::App& app, Action& action) {
     struct Arguments {
-        std::string bundle, out, simulate, direct, exr, weights, gain = "1";
+        std::string bundle, out, simulate, direct, exr, weights, gain;
         std::string light, viewer, viewSize = "480x360";
         double intensity = 1.0, exposure = 0.0, fov = 30.0, clipTarget = 0.005;
         int threads = 0;
@@ -104,11 +104,9 @@ void addRenderCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_option("--viewer", args->viewer, "Viewer position x,y,z (default: the bundle's)");
     command->add_option("--weights", args->weights, "Weight-map preset (default: the first)");
-    command
-        ->add_option("--gain", args->gain,
-                     "Gain on the rendered radiance, or 'auto': the largest ≤ 1 that clips at "
-                     "most --clip-target of the object's pixels")
-        ->capture_default_str();
+    command->add_option("--gain", args->gain,
+                        "Gain on the rendered radiance, or 'auto': the largest ≤ 1 that clips at "
+                        "most --clip-target of the object's pixels (default: the bundle's)");
     command->add_option("--clip-target", args->clipTarget, "Clipped share --gain auto allows")
         ->capture_default_str();
     command->add_option("--out", args->out, "Projector frame: 8-bit drive levels (PNG)")
@@ -160,7 +158,7 @@ void addRenderCommand(CLI::App& app, Action& action) {
             renderer::RenderOptions options;
             options.threads = static_cast<int>(resolveThreadCount(args->threads));
             options.gain = static_cast<double>(file.view().settings().gain);
-            if (args->gain != "auto") {
+            if (!args->gain.empty() && args->gain != "auto") {
                 char* end = nullptr;
                 options.gain = std::strtod(args->gain.c_str(), &end);
                 if (end == args->gain.c_str() || *end != '\0' || !(options.gain > 0) ||

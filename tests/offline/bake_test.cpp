@@ -249,6 +249,24 @@ TEST_F(Render, WritesTheFrameAndPreviewsThatCloseTheLoop) {
     }
 }
 
+// The bundle's gain is what vpe render uses unless --gain says otherwise.
+TEST_F(Render, UsesTheBundlesGainUnlessToldOtherwise) {
+    ASSERT_EQ(runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                              path("projector.yml"), "--gain", "0.25", "--out", path("gain.vpeb")}))
+                  .exitStatus,
+              0);
+    const auto gainOf = [&](std::vector<std::string> extra) {
+        std::vector<std::string> arguments = {"render", path("gain.vpeb"), "--light", "0.3,0.4,0.6",
+                                              "--out",  path("gain.png"),  "--json"};
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        const testing::CommandResult result = runCommand(vpe(arguments));
+        EXPECT_EQ(result.exitStatus, 0) << result.err;
+        return lastJsonLine(result.out)["gain"].get<double>();
+    };
+    EXPECT_DOUBLE_EQ(gainOf({}), 0.25);
+    EXPECT_DOUBLE_EQ(gainOf({"--gain", "0.5"}), 0.5);
+}
+
 TEST_F(Render, BadInputExitsTwoNamingIt) {
     const std::string out = path("bad/frame.png");
     // A bundle with one byte flipped fails its checksum.
