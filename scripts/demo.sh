@@ -10,10 +10,10 @@
 # results out as contact sheets; then does the same on real captures when ../shared/data (or
 # $VPE_DATA) has them. Installs missing Debian packages itself (the test ones too: the release
 # build it shares with scripts/test.sh configures the tests and benchmarks, and the demo runs
-# two of the benchmarks on its bundle).
+# two of the benchmarks on its bundle), and ffmpeg for its animation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh --test
+scripts/install-deps.sh --test --demo
 source scripts/lib/pictures.sh
 source scripts/lib/vpe.sh
 
@@ -132,6 +132,27 @@ printf '%-28s baked %s bytes (%s bytes/texel per region); 8 frames rendered, loo
     "$(json_field bytes < "$stage/bake.json")" "$(json_field bytes_per_texel < "$stage/bake.json")" \
     "$(json_field psnr < "$stage/frames/frame00.json")" | tee -a "$summary"
 
+step "animation: what a visitor sees while the light circles the vase (vpe render, ffmpeg)"
+movie="$stage/animation"
+mkdir -p "$movie"
+# 96 lights, one turn at the contact sheet's radius and height: 4 s at 24 frames a second.
+for index in $(seq 0 95); do
+    light=$(awk -v i="$index" 'BEGIN { r = 0.5; t = 2 * 3.14159265 * i / 96;
+                                      printf "%.4f,%.4f,%.4f", r * sin(t), 0.3, 0.2 + r * cos(t) }')
+    name=$(printf '%03d' "$index")
+    "$vpe" render "$stage/scene.vpeb" --light "$light" --gain 0.5 --exposure 6 --view-fov 12 \
+        --out "$movie/projector.png" --simulate "$movie/visitor$name.png" \
+        --direct "$movie/material$name.png" 2>/dev/null
+done
+# Left the white vase lit by the projector (simulated), right the material itself.
+ffmpeg -loglevel error -y -framerate 24 -i "$movie/visitor%03d.png" -framerate 24 \
+    -i "$movie/material%03d.png" -filter_complex hstack -c:v libx264 -pix_fmt yuv420p -crf 18 \
+    -movflags +faststart "$movie/partial.mp4"
+mv "$movie/partial.mp4" "$stage/visitor.mp4"
+rm -rf "$movie"
+printf '%-28s animation: projection/visitor.mp4, 96 frames (visitor sees | the material)\n' "" \
+    | tee -a "$summary"
+
 step "play (vpe-player, OpenGL ES headless): the light drifting along the idle path"
 play="$synthetic/player"
 mkdir -p "$play/frames" "$play/tiles"
@@ -209,6 +230,9 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
   synthetic-bizen/projection/contact-sheet.png
                                       a light moving around the vase: the projector frame,
                                       what a visitor would see, and the material itself
+  synthetic-bizen/projection/visitor.mp4
+                                      the same, animated: one turn of the light in 4 s, what a
+                                      visitor sees (left) next to the material itself (right)
   synthetic-bizen/projection/scene.vpeb
                                       the device bundle (vpe info: info.txt)
   synthetic-bizen/player/contact-sheet.png

@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian 12 packages vpe needs that are missing. As root it runs apt-get;
 # otherwise it prints the exact apt line and stops, so nothing is installed behind your back.
-#   scripts/install-deps.sh          build + run the offline tools and the demo
+#   scripts/install-deps.sh          build + run the offline tools
 #   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer
-#   scripts/install-deps.sh --list [--test]
+#   scripts/install-deps.sh --demo   also what only the demo runs (ffmpeg for its MP4)
+#   scripts/install-deps.sh --list [--test] [--demo]
 #                                    print the packages named here, one per line
 #                                    (scripts/audit-deps.sh reads them)
 #
@@ -32,18 +33,26 @@ test_packages=(
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
 )
+demo_packages=(
+    ffmpeg                                    # the demo's animation of the visitor view (MP4, H.264)
+)
 
 test=0
+demo=0
 list=0
 for argument in "$@"; do
     case "$argument" in
         --test) test=1 ;;
+        --demo) demo=1 ;;
         --list) list=1 ;;
         *) echo "install-deps: unknown option $argument" >&2; exit 2 ;;
     esac
 done
 if [[ $test -eq 1 ]]; then
     packages+=("${test_packages[@]}")
+fi
+if [[ $demo -eq 1 ]]; then
+    packages+=("${demo_packages[@]}")
 fi
 if [[ $list -eq 1 ]]; then
     printf '%s\n' "${packages[@]}"
