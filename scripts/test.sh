@@ -1,13 +1,23 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Runs every test: the suite in a release build, again under AddressSanitizer +
-# UndefinedBehaviorSanitizer, the libFuzzer targets briefly (clang), and a device-only
-# configure that must succeed without any offline dependency. Installs missing packages.
+# UndefinedBehaviorSanitizer, the libFuzzer targets briefly (clang), and the device-only build
+# (no offline dependency) with its own tests. Installs missing packages. This is what CI runs.
+#   scripts/test.sh --quick   a developer's loop: the release build and its tests labelled
+#                             unit, gpu or data (not slow; see cmake/VpeTests.cmake), no
+#                             sanitizers, fuzzing or device build
 # Every configure is followed by the dependency audit (scripts/audit-deps.sh): a file the
 # build found that no package in scripts/install-deps.sh brings fails the run, so a package
 # installed by hand on this machine cannot hide a broken fresh install.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+quick=0
+for argument in "$@"; do
+    case "$argument" in
+        --quick) quick=1 ;;
+        *) echo "test.sh: unknown option $argument (--quick)" >&2; exit 2 ;;
+    esac
+done
 scripts/install-deps.sh --test
 
 jobs=$(nproc)
@@ -21,10 +31,26 @@ configure() {
 # audit_headers PRESET: after building, also every system header the compiler read.
 audit_headers() { scripts/audit-deps.sh check --headers "build/$1"; }
 
+# Every test must carry a label (cmake/VpeTests.cmake), or the quick path would miss it.
+check_labels() {
+    local unlabelled
+    unlabelled=$(ctest --test-dir "build/$1" -N -LE '^(unit|gpu|slow|data|fuzz)$' | sed -n 's/^ *Test *#[0-9]*: //p')
+    if [[ -n "$unlabelled" ]]; then
+        echo "test.sh: tests without a label in build/$1 (cmake/VpeTests.cmake):" $unlabelled >&2
+        exit 1
+    fi
+}
+
 step "release build and tests"
 configure release
 cmake --build --preset release -j "$jobs"
 audit_headers release
+check_labels release
+if [[ $quick -eq 1 ]]; then
+    ctest --preset release -j "$jobs" -LE '^(slow|fuzz)$'
+    step "quick tests passed (the full run: scripts/test.sh)"
+    exit 0
+fi
 ctest --preset release -j "$jobs"
 
 step "ASan + UBSan build and tests"
@@ -37,9 +63,11 @@ configure fuzz
 cmake --build --preset fuzz -j "$jobs"
 ctest --test-dir build/fuzz --output-on-failure
 
-step "device-only build (proto, renderer, firmware; no offline dependencies)"
+step "device-only build and its tests (proto, renderer, firmware; no offline dependencies)"
 configure device
 cmake --build --preset device -j "$jobs"
 audit_headers device
+check_labels device
+ctest --test-dir build/device --output-on-failure -j "$jobs"
 
 step "all tests passed"
