@@ -272,6 +272,8 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     EXPECT_TRUE(waitFor("reloaded (file replaced)")) << spawnedErr();
     ::kill(pid, SIGHUP);
     EXPECT_TRUE(waitFor("reloaded (SIGHUP)")) << spawnedErr();
+    // Long enough for a dozen ticks at 30 Hz after the reloads, however slow the start was.
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
     ::kill(pid, SIGTERM);
     const PlayerRun run = finish(pid);
     EXPECT_EQ(run.status, 0) << run.err;
