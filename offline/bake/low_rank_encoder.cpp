@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
-// Principal components by the eigen-decomposition of the sampled covariance (C × C is tiny),
-// then every texel projected onto them.
+// Principal components of a sample of the texels (common/principal_axes.h), then every texel
+// projected onto them.
 #include "bake/low_rank_encoder.h"
 
 #include <algorithm>
 #include <string>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Core>
 
 #include "common/input_error.h"
 #include "common/parallel_for.h"
+#include "common/principal_axes.h"
 
 namespace vpe::bake {
 
@@ -36,49 +37,21 @@ LowRankCode encodeLowRank(const std::vector<float>& coefficients, int channels,
     const std::size_t stride =
         std::max<std::size_t>(1, used.size() / std::max<std::size_t>(1, options.maxSamples));
 
-    Eigen::VectorXd mean = Eigen::VectorXd::Zero(channels);
-    Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(channels, channels);
-    std::size_t samples = 0;
-    for (std::size_t i = 0; i < used.size(); i += stride) {
-        mean +=
-            Eigen::Map<const Eigen::VectorXf>(&coefficients[used[i] * c], channels).cast<double>();
-        ++samples;
-    }
-    if (samples > 0) {
-        mean /= static_cast<double>(samples);
-        for (std::size_t i = 0; i < used.size(); i += stride) {
-            const Eigen::VectorXd d =
-                Eigen::Map<const Eigen::VectorXf>(&coefficients[used[i] * c], channels)
-                    .cast<double>() -
-                mean;
-            covariance.selfadjointView<Eigen::Lower>().rankUpdate(d);
-        }
-        covariance = covariance.selfadjointView<Eigen::Lower>();
-        covariance /= static_cast<double>(samples);
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);
-    // Eigenvalues come in increasing order: the principal axes are the last columns.
-    const double total = std::max(solver.eigenvalues().sum(), 1e-300);
+    const PrincipalAxes pca =
+        principalAxes((used.size() + stride - 1) / stride, channels,
+                      [&](std::size_t i) { return &coefficients[used[i * stride] * c]; },
+                      AxisSelection{.maxAxes = options.rank});
 
     LowRankCode code;
     code.channels = channels;
     code.rank = options.rank;
     code.mean.resize(c);
     for (std::size_t k = 0; k < c; ++k) {
-        code.mean[k] = static_cast<float>(mean[static_cast<Eigen::Index>(k)]);
+        code.mean[k] = static_cast<float>(pca.mean[static_cast<Eigen::Index>(k)]);
     }
-    Eigen::MatrixXf basis(options.rank, channels);
+    const Eigen::MatrixXf basis = pca.axes.transpose().cast<float>();
     for (int r = 0; r < options.rank; ++r) {
-        const Eigen::Index column = channels - 1 - r;
-        Eigen::VectorXd axis = solver.eigenvectors().col(column);
-        // A fixed sign (largest entry positive), so the code does not flip between builds.
-        Eigen::Index largest = 0;
-        axis.cwiseAbs().maxCoeff(&largest);
-        if (axis[largest] < 0) {
-            axis = -axis;
-        }
-        basis.row(r) = axis.cast<float>().transpose();
-        code.explained.push_back(std::max(0.0, solver.eigenvalues()[column]) / total);
+        code.explained.push_back(pca.variances[r] / std::max(pca.totalVariance, 1e-300));
     }
     code.basis.resize(static_cast<std::size_t>(options.rank) * c);
     for (int r = 0; r < options.rank; ++r) {
@@ -90,7 +63,7 @@ LowRankCode encodeLowRank(const std::vector<float>& coefficients, int channels,
 
     const std::size_t rank = static_cast<std::size_t>(options.rank);
     code.weights.assign(texels * rank, 0.0f);
-    const Eigen::VectorXf meanF = mean.cast<float>();
+    const Eigen::VectorXf meanF = pca.mean.cast<float>();
     parallelFor(texels, 4096, options.threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t t = begin; t < end; ++t) {
             if (!isValid(t)) {

@@ -12,6 +12,7 @@
 
 #include "common/input_error.h"
 #include "common/parallel_for.h"
+#include "common/principal_axes.h"
 #include "model/fourier_model_file.h"
 
 namespace vpe {
@@ -190,32 +191,13 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     // Principal axes of the coefficients: the 3(2M + 2) values are strongly correlated (the
     // three channels, the harmonics of one lobe), so a few axes hold most of the variation
     // between materials, and the noisy rest stays out of the distances.
-    const Eigen::Index sampleCount = static_cast<Eigen::Index>(samples.size()) / dims;
-    const Eigen::MatrixXd data =
-        Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-            samples.data(), sampleCount, dims)
-            .cast<double>();
-    const Eigen::RowVectorXd mean = data.colwise().mean();
-    const Eigen::MatrixXd centred = data.rowwise() - mean;
-    const Eigen::MatrixXd covariance =
-        centred.transpose() * centred / static_cast<double>(std::max<Eigen::Index>(1, sampleCount));
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);
-    // Eigen sorts eigenvalues ascending: the last columns are the principal axes. Each axis's
-    // sign is fixed (largest entry positive) so features do not flip between builds.
-    Eigen::MatrixXd axes(dims, components);
-    double kept = 0;
-    for (int i = 0; i < components; ++i) {
-        Eigen::VectorXd axis = solver.eigenvectors().col(dims - 1 - i);
-        Eigen::Index largest = 0;
-        axis.cwiseAbs().maxCoeff(&largest);
-        if (axis(largest) < 0) {
-            axis = -axis;
-        }
-        axes.col(i) = axis;
-        kept += std::max(0.0, solver.eigenvalues()(dims - 1 - i));
-    }
-    const double total = std::max(solver.eigenvalues().sum(), 1e-300);
-    a.explainedVariance = std::min(1.0, kept / total);
+    const PrincipalAxes pca = principalAxes(
+        samples.size() / static_cast<std::size_t>(dims), dims,
+        [&](std::size_t i) { return &samples[i * static_cast<std::size_t>(dims)]; },
+        AxisSelection{.maxAxes = components});
+    const Eigen::MatrixXd& axes = pca.axes;
+    const Eigen::RowVectorXd mean = pca.mean.transpose();
+    a.explainedVariance = pca.explained();
 
     // Pass 2: the features.
     for (int rowBegin = 0; rowBegin < a.height; rowBegin += kBandRows) {
