@@ -54,6 +54,9 @@ reply_file() { # KIND: the reply object of that kind
     echo "$reply/$name"
 }
 
+# The project's own files are not the system's: the source tree the build was configured from
+# (which need not be this script's, e.g. an older commit's tree audited with this script).
+source=$(jq -r '.paths.source' "$(reply_file codemodel)")
 found=$(mktemp)
 trap 'rm -f "$found" "$found".*' EXIT
 {
@@ -97,7 +100,7 @@ trap 'rm -f "$found" "$found".*' EXIT
             { echo "audit-deps: $build: no ninja dependency log to read headers from" >&2; exit 2; }
         ninja -C "$build" -t deps | sed -n 's/^    \(\/.*\)$/\1/p'
     fi
-} | grep '^/' | grep -vE "^($(realpath -m "$here/..")|$(realpath -m "$build"))(/|$)" |
+} | grep '^/' | grep -vE "^($(realpath -m "$source")|$(realpath -m "$build"))(/|$)" |
     grep -vE '^/(tmp|proc|dev)/' | sort -u >"$found"
 
 # Which Debian package owns each file, asked in batches. dpkg records some files under / and
