@@ -2,10 +2,6 @@
 // Region-restricted Image Quilting with FFT overlap search.
 #include "quilt/image_quilter.h"
 
-#include <fftw3.h>
-
-#include <Eigen/Dense>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -14,6 +10,9 @@
 #include <mutex>
 #include <stdexcept>
 #include <tuple>
+
+#include <Eigen/Dense>
+#include <fftw3.h>
 
 #include "common/input_error.h"
 #include "common/parallel_for.h"
@@ -35,8 +34,12 @@ struct FftwFree {
 using RealBuffer = std::unique_ptr<float, FftwFree>;
 using ComplexBuffer = std::unique_ptr<fftwf_complex, FftwFree>;
 
-RealBuffer allocateReal(std::size_t n) { return RealBuffer(fftwf_alloc_real(n)); }
-ComplexBuffer allocateComplex(std::size_t n) { return ComplexBuffer(fftwf_alloc_complex(n)); }
+RealBuffer allocateReal(std::size_t n) {
+    return RealBuffer(fftwf_alloc_real(n));
+}
+ComplexBuffer allocateComplex(std::size_t n) {
+    return ComplexBuffer(fftwf_alloc_complex(n));
+}
 
 // The smallest size ≥ n with no prime factor above 7: FFTW is fast on those.
 int fftFriendly(int n) {
@@ -56,7 +59,8 @@ int fftFriendly(int n) {
 // Sums over axis-aligned boxes in O(1).
 class IntegralImage {
 public:
-    IntegralImage(int width, int height) : width_(width), sums_((width + 1) * static_cast<std::size_t>(height + 1), 0.0) {}
+    IntegralImage(int width, int height)
+        : width_(width), sums_((width + 1) * static_cast<std::size_t>(height + 1), 0.0) {}
     void build(const std::vector<double>& values, int height) {
         for (int y = 0; y < height; ++y) {
             double row = 0;
@@ -138,7 +142,9 @@ public:
     int fftWidth() const { return fw_; }
     int fftHeight() const { return fh_; }
     std::size_t spectrumSize() const { return static_cast<std::size_t>(fh_) * (fw_ / 2 + 1); }
-    const fftwf_complex* spectrum(int k) const { return spectra_[static_cast<std::size_t>(k)].get(); }
+    const fftwf_complex* spectrum(int k) const {
+        return spectra_[static_cast<std::size_t>(k)].get();
+    }
     fftwf_plan forward() const { return forward_; }
     fftwf_plan inverse() const { return inverse_; }
     // Σ over the overlap shape, at candidate p, of the squared PCA components.
@@ -250,7 +256,8 @@ private:
             kept += values[components_];
             ++components_;
         }
-        const Eigen::MatrixXd basis = solver.eigenvectors().rowwise().reverse().leftCols(components_);
+        const Eigen::MatrixXd basis =
+            solver.eigenvectors().rowwise().reverse().leftCols(components_);
         projected_.assign(static_cast<std::size_t>(bw_) * bh_ * components_, 0.0f);
         std::vector<double> squares(static_cast<std::size_t>(bw_) * bh_, 0.0);
         for (int y = 0; y < bh_; ++y) {
@@ -259,7 +266,8 @@ private:
                     continue;  // never inside a valid block: left at zero
                 }
                 const Eigen::VectorXd d =
-                    Eigen::Map<const Eigen::VectorXf>(source_.at(x + bx_, y + by_), c).cast<double>() -
+                    Eigen::Map<const Eigen::VectorXf>(source_.at(x + bx_, y + by_), c)
+                        .cast<double>() -
                     mean;
                 const Eigen::VectorXd p = basis.transpose() * d;
                 float* out = &projected_[(static_cast<std::size_t>(y) * bw_ + x) * components_];
@@ -329,7 +337,8 @@ struct Candidate {
     double error;
     int px, py;  // bounding-box coordinates
     bool operator<(const Candidate& other) const {
-        return error < other.error || (error == other.error && (py < other.py || (py == other.py && px < other.px)));
+        return error < other.error ||
+               (error == other.error && (py < other.py || (py == other.py && px < other.px)));
     }
 };
 
@@ -337,8 +346,13 @@ class Quilter {
 public:
     Quilter(const SourceTexture& source, const RegionSearch& search, int region, int width,
             int height, int block, int overlap, const QuiltSettings& settings)
-        : source_(source), search_(search), region_(region), block_(block), overlap_(overlap),
-          step_(block - overlap), settings_(settings) {
+        : source_(source),
+          search_(search),
+          region_(region),
+          block_(block),
+          overlap_(overlap),
+          step_(block - overlap),
+          settings_(settings) {
         blocksX_ = std::max(1, (width - overlap + step_ - 1) / step_);
         blocksY_ = std::max(1, (height - overlap + step_ - 1) / step_);
         canvasWidth_ = blocksX_ * step_ + overlap;
@@ -360,17 +374,19 @@ public:
                     front.emplace_back(i, j);
                 }
             }
-            parallelFor(front.size(), 1, settings_.threads, [&](std::size_t begin, std::size_t end) {
-                thread_local std::unique_ptr<SearchScratch> scratch;
-                thread_local std::uint64_t scratchFor = 0;
-                if (settings_.search == QuiltSettings::Search::kFft && scratchFor != search_.id()) {
-                    scratch = std::make_unique<SearchScratch>(search_);
-                    scratchFor = search_.id();
-                }
-                for (std::size_t f = begin; f < end; ++f) {
-                    placeBlock(front[f].first, front[f].second, scratch.get());
-                }
-            });
+            parallelFor(front.size(), 1, settings_.threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            thread_local std::unique_ptr<SearchScratch> scratch;
+                            thread_local std::uint64_t scratchFor = 0;
+                            if (settings_.search == QuiltSettings::Search::kFft &&
+                                scratchFor != search_.id()) {
+                                scratch = std::make_unique<SearchScratch>(search_);
+                                scratchFor = search_.id();
+                            }
+                            for (std::size_t f = begin; f < end; ++f) {
+                                placeBlock(front[f].first, front[f].second, scratch.get());
+                            }
+                        });
         }
     }
 
@@ -400,13 +416,14 @@ private:
     void placeBlock(int i, int j, SearchScratch* scratch) {
         const int ox = i * step_, oy = j * step_;
         const OverlapShape shape{i > 0, j > 0};
-        std::uint64_t rng = synth::mixBits(settings_.seed ^ synth::mixBits(
-                                                                static_cast<std::uint64_t>(region_) * 0x9e37 +
-                                                                static_cast<std::uint64_t>(j) * 0x10000 +
-                                                                static_cast<std::uint64_t>(i)));
+        std::uint64_t rng = synth::mixBits(
+            settings_.seed ^ synth::mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
+                                            static_cast<std::uint64_t>(j) * 0x10000 +
+                                            static_cast<std::uint64_t>(i)));
         auto random = [&rng](std::size_t n) {
             rng = synth::mixBits(rng);
-            return static_cast<std::size_t>(synth::uniformFromBits(rng) * static_cast<double>(n)) % n;
+            return static_cast<std::size_t>(synth::uniformFromBits(rng) * static_cast<double>(n)) %
+                   n;
         };
         int px, py;
         if (!shape.left && !shape.top) {
@@ -421,7 +438,8 @@ private:
             }
             std::sort(shortlist.begin(), shortlist.end());
             if (shortlist.empty()) {
-                throw std::logic_error("quilting: a region with candidates gave an empty shortlist");
+                throw std::logic_error(
+                    "quilting: a region with candidates gave an empty shortlist");
             }
             const double limit = shortlist.front().error * (1.0 + settings_.tolerance) + 1e-12;
             std::size_t within = 0;
@@ -516,9 +534,11 @@ private:
                 if (!search_.valid(px, py)) {
                     continue;
                 }
-                const double cross = static_cast<double>(image[static_cast<std::size_t>(py) * fw + px]) * scale;
-                const Candidate c{search_.overlapEnergy(px, py, shape, overlap_) - 2.0 * cross + templateEnergy,
-                                  px, py};
+                const double cross =
+                    static_cast<double>(image[static_cast<std::size_t>(py) * fw + px]) * scale;
+                const Candidate c{
+                    search_.overlapEnergy(px, py, shape, overlap_) - 2.0 * cross + templateEnergy,
+                    px, py};
                 if (static_cast<int>(best.size()) < settings_.shortlist) {
                     best.push_back(c);
                     std::push_heap(best.begin(), best.end());
@@ -547,12 +567,15 @@ private:
             }
             return e;
         };
-        std::vector<int> cutX(static_cast<std::size_t>(block_), 0), cutY(static_cast<std::size_t>(block_), 0);
+        std::vector<int> cutX(static_cast<std::size_t>(block_), 0),
+            cutY(static_cast<std::size_t>(block_), 0);
         if (shape.left) {
-            cutX = minimumCut(block_, overlap_, [&](int along, int across) { return error(across, along); });
+            cutX = minimumCut(block_, overlap_,
+                              [&](int along, int across) { return error(across, along); });
         }
         if (shape.top) {
-            cutY = minimumCut(block_, overlap_, [&](int along, int across) { return error(along, across); });
+            cutY = minimumCut(block_, overlap_,
+                              [&](int along, int across) { return error(along, across); });
         }
         for (int qy = 0; qy < block_; ++qy) {
             for (int qx = 0; qx < block_; ++qx) {
@@ -579,7 +602,8 @@ private:
                     previous = std::numeric_limits<double>::infinity();
                     for (int db = -1; db <= 1; ++db) {
                         if (b + db >= 0 && b + db < width) {
-                            previous = std::min(previous, cost[static_cast<std::size_t>(a - 1) * width + b + db]);
+                            previous = std::min(
+                                previous, cost[static_cast<std::size_t>(a - 1) * width + b + db]);
                         }
                     }
                 }
@@ -587,7 +611,8 @@ private:
             }
         }
         std::vector<int> cut(static_cast<std::size_t>(length));
-        int b = static_cast<int>(std::min_element(cost.end() - width, cost.end()) - (cost.end() - width));
+        int b = static_cast<int>(std::min_element(cost.end() - width, cost.end()) -
+                                 (cost.end() - width));
         for (int a = length - 1; a >= 0; --a) {
             cut[static_cast<std::size_t>(a)] = b;
             if (a > 0) {
@@ -595,7 +620,8 @@ private:
                 double bestCost = std::numeric_limits<double>::infinity();
                 for (int db = -1; db <= 1; ++db) {
                     const int nb = b + db;
-                    if (nb >= 0 && nb < width && cost[static_cast<std::size_t>(a - 1) * width + nb] < bestCost) {
+                    if (nb >= 0 && nb < width &&
+                        cost[static_cast<std::size_t>(a - 1) * width + nb] < bestCost) {
                         bestCost = cost[static_cast<std::size_t>(a - 1) * width + nb];
                         bestB = nb;
                     }
@@ -630,8 +656,8 @@ RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint
     for (int block = settings.block; block >= 8; block = block * 3 / 4) {
         // Keep at least three pixels of overlap: with two, the boundary cut has too little room and
         // the seams show as lines (seen on the synthetic streaks). Less than half a block.
-        const int overlap = std::clamp(settings.overlap * block / settings.block, std::min(3, settings.overlap),
-                                       (block - 1) / 2);
+        const int overlap = std::clamp(settings.overlap * block / settings.block,
+                                       std::min(3, settings.overlap), (block - 1) / 2);
         const RegionSearch search(source, labels, region, block, settings);
         const bool smallest = block * 3 / 4 < 8;
         if (search.candidateCount() == 0 ||

@@ -2,10 +2,10 @@
 // The `vpe quilt` pipeline.
 #include "quilt/texture_quilt.h"
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
+
+#include <nlohmann/json.hpp>
 
 #include "common/atomic_folder.h"
 #include "common/atomic_output.h"
@@ -28,10 +28,10 @@ double since(Clock::time_point start) {
 
 }  // namespace
 
-
 QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     const auto start = Clock::now();
-    if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384) {
+    if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
+        options.height > 16384) {
         throw InputError("--size must be between 1x1 and 16384x16384");
     }
     QuiltTextureReport report;
@@ -87,8 +87,8 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
                                                  " has no pixel (labels must be 0..K-1)");
         }
         const auto quiltStart = Clock::now();
-        RegionQuilt quilt = quiltRegion(source, labels, region, options.width, options.height,
-                                        options.settings);
+        RegionQuilt quilt =
+            quiltRegion(source, labels, region, options.width, options.height, options.settings);
         regionReport.seconds = since(quiltStart);
         report.quiltSeconds += regionReport.seconds;
 
@@ -98,7 +98,8 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         texture.height = options.height;
         texture.variant = "paper";  // a texture holds materials only: no capture transport
         texture.calibration = {};
-        texture.capture = "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
+        texture.capture =
+            "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
         ModelWriter writer(texture::regionMapPath(partial, region), texture);
         constexpr int kBand = 64;
         texture::PositionMap positions;
