@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // ImageBandReader: streams the images of a capture in bands of rows, so memory grows with
 // N × W × band height, never N × W × H. Every image stays open and is decoded once, top to
-// bottom (OpenImageIO scanline reads: JPEG, PNG, TIFF and OpenEXR decode incrementally).
+// bottom (OpenImageIO scanline reads: JPEG, PNG, TIFF and OpenEXR decode incrementally); the
+// images of a band are decoded on all threads, and the result does not depend on how many.
 #pragma once
 
 #include <memory>

@@ -10,9 +10,31 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 namespace vpe {
+
+// Storage on cache-line boundaries. A band's chunk runs are whole cache lines only if the
+// arrays start on one: malloc's 16-byte alignment split every 64-byte run across two lines,
+// so the decoder's streaming stores wrote partial lines and the kernel's vector loads
+// straddled two.
+template <typename T>
+struct CacheLineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlignment{64};
+    CacheLineAllocator() = default;
+    template <typename U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) {}
+    T* allocate(std::size_t n) {
+        return static_cast<T*>(::operator new(n * sizeof(T), kAlignment));
+    }
+    void deallocate(T* p, std::size_t) { ::operator delete(p, kAlignment); }
+    friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
+};
+
+template <typename T>
+using CacheLineVector = std::vector<T, CacheLineAllocator<T>>;
 
 struct SampleBand {
     static constexpr int kChannels = 3;
@@ -23,9 +45,9 @@ struct SampleBand {
     int rowBegin = 0;
     int rows = 0;
     int images = 0;
-    std::vector<float> values;            // [row][chunk][image][channel][lane]
-    std::vector<float> weights;           // [row][chunk][image][lane]: 1 usable, 0 not
-    std::vector<std::uint8_t> saturated;  // [row][chunk][image][lane]: a channel hit full scale
+    CacheLineVector<float> values;            // [row][chunk][image][channel][lane]
+    CacheLineVector<float> weights;           // [row][chunk][image][lane]: 1 usable, 0 not
+    CacheLineVector<std::uint8_t> saturated;  // [row][chunk][image][lane]: a channel hit full scale
     // [row][chunk]: 1 when every sample of the chunk has weight 1 (the common case), so the
     // fitter can skip loading weights. Set by markFullyUsableChunks().
     std::vector<std::uint8_t> fullyUsable;
@@ -42,6 +64,16 @@ struct SampleBand {
         weights.assign(samples, 0.0f);
         saturated.assign(samples, 0);
         fullyUsable.assign(static_cast<std::size_t>(rows) * chunksPerRow, 0);
+    }
+
+    // As resize(), for a writer that sets every in-range value, weight and saturation flag
+    // (ImageBandReader): a band of the same shape keeps its storage without clearing it
+    // again, which for 192 MiB per band was only memory traffic. Lanes past the row's end
+    // stay zero.
+    void prepare(int imageCount, int imageWidth, int rowCount) {
+        if (imageCount != images || imageWidth != width || rowCount != rows) {
+            resize(imageCount, imageWidth, rowCount);
+        }
     }
 
     void markFullyUsableChunks() {
