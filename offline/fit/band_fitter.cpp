@@ -33,9 +33,12 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
     parallelFor(
         static_cast<std::size_t>(band.rows) * chunksPerRow, 4, settings_.threads,
         [&](std::size_t begin, std::size_t end) {
-            auto sums = std::make_unique<NormalEquationSums>();
-            auto plain = std::make_unique<ChunkSolution>();
-            auto withTransport = std::make_unique<ExtendedChunkSolution>();
+            // Not value-initialized: the kernel clears the sums it uses and the solve writes
+            // what is read; zeroing these 38 KiB for every four chunks added 2.5 GB of writes
+            // to a 2048² fit.
+            auto sums = std::make_unique_for_overwrite<NormalEquationSums>();
+            auto plain = std::make_unique_for_overwrite<ChunkSolution>();
+            auto withTransport = std::make_unique_for_overwrite<ExtendedChunkSolution>();
             const ChunkSolution& solution = settings_.extended ? withTransport->brdf : *plain;
             ChunkGeometry chunk;
             for (std::size_t index = begin; index < end; ++index) {
