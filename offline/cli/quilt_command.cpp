@@ -92,7 +92,9 @@ void addQuiltCommand(CLI::App& app, Action& action) {
                 json["height"] = size.height;
                 json["channels"] = report.channels;
                 json["seconds"] = report.seconds;
+                json["load_seconds"] = report.loadSeconds;
                 json["quilt_seconds"] = report.quiltSeconds;
+                json["write_seconds"] = report.writeSeconds;
                 json["out"] = args->out;
                 printJson(json.dump());
             }
