@@ -20,7 +20,21 @@ ProgressBar::~ProgressBar() {
 }
 
 void ProgressBar::advance(std::size_t steps) {
-    const std::size_t done = done_.fetch_add(steps) + steps;
+    maybeDraw(done_.fetch_add(steps) + steps);
+}
+
+void ProgressBar::setPhase(std::string phase) {
+    if (!enabled_) {
+        return;
+    }
+    {
+        std::lock_guard lock(drawMutex_);
+        phase_ = std::move(phase);
+    }
+    maybeDraw(done_.load());
+}
+
+void ProgressBar::maybeDraw(std::size_t done) {
     if (!enabled_) {
         return;
     }
@@ -55,13 +69,15 @@ void ProgressBar::draw(std::size_t done, bool final) {
         bar[i] = i < filled ? '#' : '.';
     }
     bar[kWidth] = '\0';
+    const std::string phase = phase_.empty() ? "" : "  " + phase_;
+    // \x1b[K clears what a longer previous line left behind.
     if (final || fraction <= 0.0) {
-        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s   ", label_.c_str(), bar,
-                     100.0 * fraction, elapsed);
+        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s%s\x1b[K", label_.c_str(), bar,
+                     100.0 * fraction, elapsed, phase.c_str());
     } else {
         const double remaining = elapsed * (1.0 - fraction) / fraction;
-        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s, %.0f s left   ", label_.c_str(), bar,
-                     100.0 * fraction, elapsed, remaining);
+        std::fprintf(stderr, "\r%-12s [%s] %5.1f%%  %.1f s, %.0f s left%s\x1b[K", label_.c_str(),
+                     bar, 100.0 * fraction, elapsed, remaining, phase.c_str());
     }
     std::fflush(stderr);
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "capture/image_band_reader.h"
 #include "capture/surface_geometry.h"
@@ -151,12 +152,21 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     ModelRows rows;
     double rmsSum = 0;
     ProgressBar progress("fit", static_cast<std::size_t>(report.height));
+    // The bar names the phase under way and the time each has taken so far.
+    auto showPhase = [&](const char* phase) {
+        char text[160];
+        std::snprintf(text, sizeof text, "%s  (decode %.1f s, fit %.1f s, write %.1f s)", phase,
+                      report.decodeSeconds, report.fitSeconds, report.writeSeconds);
+        progress.setPhase(text);
+    };
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);
+        showPhase("decoding");
         decodeStart = Clock::now();
         reader->readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
         report.decodeSeconds += secondsSince(decodeStart);
 
+        showPhase("fitting");
         const auto fitStart = Clock::now();
         fitter.fit(band, rows);
         for (std::size_t p = 0; p < rows.valid.size(); ++p) {
@@ -169,6 +179,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         }
         report.fitSeconds += secondsSince(fitStart);
 
+        showPhase("writing");
         const auto writeStart = Clock::now();
         writer.writeRows(rowBegin, rows);
         if (options.writePreview) {
@@ -177,7 +188,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         report.writeSeconds += secondsSince(writeStart);
         progress.advance(static_cast<std::size_t>(bandHeight));
     }
-    progress.finish();
+    showPhase("finishing");
     const auto writeStart = Clock::now();
     writer.finish();
     if (options.writePreview) {
@@ -186,6 +197,8 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         preview.write(report.preview);
     }
     report.writeSeconds += secondsSince(writeStart);
+    showPhase("done");
+    progress.finish();
     report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
     report.totalSeconds = secondsSince(start);
     return report;

@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -75,7 +77,17 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     description["seed"] = options.settings.seed;
     description["tolerance"] = options.settings.tolerance;
     description["regions"] = nlohmann::json::array();
-    ProgressBar progress("quilt", static_cast<std::size_t>(regions));
+    // Two steps per region: quilting it, writing its maps.
+    ProgressBar progress("quilt", 2 * static_cast<std::size_t>(regions));
+    auto showPhase = [&](const std::string& what) {
+        char text[160];
+        std::snprintf(text, sizeof text, "%s  (load %.1f s, quilt %.1f s, write %.1f s)",
+                      what.c_str(), report.loadSeconds, report.quiltSeconds, report.writeSeconds);
+        progress.setPhase(text);
+    };
+    auto regionName = [regions](int region) {
+        return "region " + std::to_string(region + 1) + " of " + std::to_string(regions);
+    };
     for (int region = 0; region < regions; ++region) {
         RegionReport regionReport;
         regionReport.region = region;
@@ -86,11 +98,14 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
             throw InputError(options.labels, "region " + std::to_string(region) +
                                                  " has no pixel (labels must be 0..K-1)");
         }
+        showPhase("quilting " + regionName(region));
         const auto quiltStart = Clock::now();
         RegionQuilt quilt =
             quiltRegion(source, labels, region, options.width, options.height, options.settings);
         regionReport.seconds = since(quiltStart);
         report.quiltSeconds += regionReport.seconds;
+        progress.advance();
+        showPhase("writing " + regionName(region));
 
         const auto writeStart = Clock::now();
         ModelInfo texture = info;
@@ -142,6 +157,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         report.regions.push_back(std::move(regionReport));
         progress.advance();
     }
+    showPhase("done");
     progress.finish();
     report.seconds = since(start);
     description["seconds"] = report.seconds;
