@@ -213,19 +213,19 @@ TEST(ThetaBasisFit, StaysOrthonormalInFloatsOrSaysSo) {
         previous = fit.energyKept;
     }
     EXPECT_GT(previous, 1.0 - 1e-6);
-    // K = 17 still holds (3.4e-5); at K = 18 the last direction, whose coefficients reach 1e4,
-    // loses orthonormality to float rounding (3e-4): refused, rather than a basis the device
-    // would refuse.
-    EXPECT_EQ(proto::checkThetaBasis(harmonics, bake::fitThetaBasis(moment, 17).functions), "");
-    try {
-        bake::fitThetaBasis(moment, 18);
-        ADD_FAILURE() << "K = 18 accepted";
-    } catch (const InputError& error) {
-        EXPECT_TRUE(std::string(error.what())
-                        .starts_with("the 18 fitted θs functions do not stay orthonormal once "
-                                     "rounded to floats (functions "))
-            << error.what();
+    // At K = 17 and 18 the last directions' coefficients reach 1e4, and rounding them to floats
+    // moves their inner products past 1e-4 (3e-4 measured at K = 18) but within what rounding
+    // can do, which the reader allows: both are accepted, as the device will accept them.
+    for (int k : {17, 18}) {
+        EXPECT_EQ(proto::checkThetaBasis(harmonics, bake::fitThetaBasis(moment, k).functions), "")
+            << "K = " << k;
     }
+    // The allowance is rounding's and no more: a well-conditioned function moved by 1e-3 is
+    // refused.
+    std::vector<float> damaged = bake::fitThetaBasis(moment, 18).functions;
+    damaged[1] += 1e-3F;
+    EXPECT_TRUE(proto::checkThetaBasis(harmonics, damaged).starts_with("functions 0 and "))
+        << proto::checkThetaBasis(harmonics, damaged);
 }
 
 TEST(ThetaBasisFit, KeepsEverythingOfAnEmptyTexture) {

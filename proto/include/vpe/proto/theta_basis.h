@@ -119,7 +119,8 @@ struct ThetaBasis {
 };
 
 // Why `functions` (K × (2M + 1) values, as a bundle stores them) is not an orthonormal θs
-// basis, as a phrase; "" when it is (every ∫₀^π h_i h_j within 1e-4 of δ_ij).
+// basis, as a phrase; "" when it is (every ∫₀^π h_i h_j within 1e-4 of δ_ij, plus what rounding
+// its coefficients to floats can move it).
 inline std::string checkThetaBasis(int harmonics, std::span<const float> functions) {
     const int n = thetaFunctionCount(harmonics);
     if (functions.empty() || functions.size() % static_cast<std::size_t>(n) != 0) {
@@ -135,17 +136,40 @@ inline std::string checkThetaBasis(int harmonics, std::span<const float> functio
             return "a value is not finite";
         }
     }
+    // G·h_a and |h_a| of every function's stored coefficients, for the rounding allowance.
+    std::vector<double> gramTimes(functions.size(), 0.0);
+    std::vector<double> norms(static_cast<std::size_t>(k), 0.0);
+    for (int a = 0; a < k; ++a) {
+        for (int i = 0; i < n; ++i) {
+            const double value = functions[static_cast<std::size_t>(a * n + i)];
+            norms[static_cast<std::size_t>(a)] += value * value;
+            for (int j = 0; j < n; ++j) {
+                gramTimes[static_cast<std::size_t>(a * n + j)] += value * thetaGram(i, j);
+            }
+        }
+        norms[static_cast<std::size_t>(a)] = std::sqrt(norms[static_cast<std::size_t>(a)]);
+    }
+    const auto gramNorm = [&](int a) {
+        double sum = 0;
+        for (int i = 0; i < n; ++i) {
+            sum += gramTimes[static_cast<std::size_t>(a * n + i)] *
+                   gramTimes[static_cast<std::size_t>(a * n + i)];
+        }
+        return std::sqrt(sum);
+    };
     for (int a = 0; a < k; ++a) {
         for (int b = a; b < k; ++b) {
             double product = 0;
             for (int i = 0; i < n; ++i) {
-                for (int j = 0; j < n; ++j) {
-                    product += static_cast<double>(functions[static_cast<std::size_t>(a * n + i)]) *
-                               static_cast<double>(functions[static_cast<std::size_t>(b * n + j)]) *
-                               thetaGram(i, j);
-                }
+                product += static_cast<double>(functions[static_cast<std::size_t>(a * n + i)]) *
+                           gramTimes[static_cast<std::size_t>(b * n + i)];
             }
-            if (std::fabs(product - (a == b ? 1.0 : 0.0)) > 1e-4) {
+            // Rounding exactly orthonormal coefficients c to floats (relative 2⁻²⁴ each) moves
+            // cₐᵀ G c_b by at most 2⁻²⁴ (|cₐ|·|G c_b| + |c_b|·|G cₐ|): large for the functions
+            // that nearly cancel on [0, π] (coefficients near 1e5), tiny for the others.
+            const double rounding = 0x1p-24 * (norms[static_cast<std::size_t>(a)] * gramNorm(b) +
+                                               norms[static_cast<std::size_t>(b)] * gramNorm(a));
+            if (std::fabs(product - (a == b ? 1.0 : 0.0)) > 1e-4 + rounding) {
                 return "functions " + std::to_string(a) + " and " + std::to_string(b) +
                        " are not orthonormal over [0, π] (inner product " +
                        std::to_string(product) + ")";
