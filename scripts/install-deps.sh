@@ -19,6 +19,7 @@ packages=(
     libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
+    libopencv-imgproc-dev                     # streak widths (exact distance transform)
     fonts-dejavu-core                         # labels on contact sheets
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
     libdrm-dev libgbm-dev                     # GLES renderer's KMS platform (DRM + GBM + EGL)
