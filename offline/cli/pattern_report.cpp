@@ -66,20 +66,41 @@ nlohmann::json describeStrokes(const texture::WeightSource& source,
     return json;
 }
 
+nlohmann::json describeQuilted(const texture::WeightSource& source,
+                               const texture::WeightMaps& weights, int region) {
+    const texture::StreakStatistics composed =
+        texture::measureStreaks(texture::streakMaskFromWeights(
+            weights.alpha[static_cast<std::size_t>(region)], weights.width, weights.height,
+            /*wrapsU=*/false));
+    const texture::StreakStatistics labels =
+        texture::measureLabelStreaks(source.labelQuilt.labels, source.labelQuilt.region);
+    std::fprintf(stderr,
+                 "quilted labels for region %d: α ≥ ½ covers %.3f, medial-axis width %.1f "
+                 "(quartiles %.1f, %.1f); the source's region covers %.3f, width %.1f (%.1f, "
+                 "%.1f)\n",
+                 region, composed.coverage, composed.widthMedian, composed.widthQuartile1,
+                 composed.widthQuartile3, labels.coverage, labels.widthMedian,
+                 labels.widthQuartile1, labels.widthQuartile3);
+    return {{"region", region}, {"composed", streakJson(composed)}, {"source", streakJson(labels)}};
+}
+
 }  // namespace
 
 void reportPatterns(const std::vector<texture::WeightSource>& sources,
                     const texture::WeightMaps& weights, nlohmann::json& json) {
-    nlohmann::json strokes = nlohmann::json::array();
+    nlohmann::json strokes = nlohmann::json::array(), quilted = nlohmann::json::array();
     for (std::size_t k = 0; k < sources.size(); ++k) {
         if (sources[k].invert) {
             continue;
         }
         if (sources[k].kind == texture::WeightKind::kStrokes) {
             strokes.push_back(describeStrokes(sources[k], weights, static_cast<int>(k)));
+        } else if (sources[k].kind == texture::WeightKind::kQuilted) {
+            quilted.push_back(describeQuilted(sources[k], weights, static_cast<int>(k)));
         }
     }
     json["strokes"] = std::move(strokes);
+    json["quilted"] = std::move(quilted);
 }
 
 }  // namespace vpe::cli

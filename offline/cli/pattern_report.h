@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// What the `strokes` entries of a weight spec decided and the streaks their
+// What the `strokes` and `quilted` entries of a weight spec decided and the streaks their
 // normalized weights show, for `vpe compose` and `vpe weights`: one line per entry on stderr
 // and JSON.
 #pragma once
@@ -12,7 +12,7 @@
 
 namespace vpe::cli {
 
-// Sets json["strokes"]: one element per such entry that is not inverted
+// Sets json["strokes"] and json["quilted"]: one element per such entry that is not inverted
 // (an inverted one repeats its pattern) with "region", "composed" (the streaks where the
 // entry's normalized α ≥ ½) and "source" (the label map's region, when there is one); strokes
 // add their parameters, the body width and spread as fitted.

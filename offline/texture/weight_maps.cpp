@@ -190,6 +190,35 @@ void parseStrokes(ParameterParser parser, const std::vector<std::string_view>& p
     }
 }
 
+void parseQuilted(ParameterParser parser, const std::vector<std::string_view>& parts,
+                  WeightSource& source) {
+    LabelQuiltParameters& quilted = source.labelQuilt;
+    bool hasRegion = false;
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        const std::string_view name = parser.parse(parts[i], source);
+        if (name == "from") {
+            if (parser.text().empty()) {
+                parser.fail("from needs a label image, as in from=labels.png");
+            }
+            quilted.labels = std::filesystem::path(std::string(parser.text()));
+        } else if (name == "region") {
+            quilted.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            hasRegion = true;
+        } else if (name == "block") {
+            quilted.block = static_cast<int>(parser.integer(8, 4096));
+        } else if (name == "overlap") {
+            quilted.overlap = static_cast<int>(parser.integer(1, 2048));
+        } else if (name == "softness") {
+            quilted.softness = parser.number(0, 1e5);
+        } else if (name == "seed") {
+            quilted.seed = parser.integer(0, UINT64_MAX);
+        }
+    }
+    if (quilted.labels.empty() || !hasRegion) {
+        parser.fail("quilted needs from=LABELS and region=R (the label map and its label)");
+    }
+}
+
 WeightSource parseEntry(std::string_view origin, int index, std::string_view entry) {
     const std::string label = entryLabel(origin, index, entry);
     WeightSource source;
@@ -265,6 +294,11 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
                                              "spread", "wobble", "length", "bend", "softness",
                                              "angle", "angle-spread", "seed", "wrap", "invert"}),
                      parts, source);
+    } else if (kind == "quilted") {
+        source.kind = WeightKind::kQuilted;
+        parseQuilted(ParameterParser(label, {"from", "region", "block", "overlap", "softness",
+                                             "seed", "invert"}),
+                     parts, source);
     } else if (kind == "constant") {
         source.kind = WeightKind::kConstant;
         ParameterParser parser(label, {"value"});
@@ -274,7 +308,7 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
         }
     } else {
         throw InputError(label + ": unknown kind '" + std::string(kind) +
-                         "' (image, stripes, radial, noise, strokes, constant)");
+                         "' (image, stripes, radial, noise, strokes, quilted, constant)");
     }
     return source;
 }
@@ -364,8 +398,10 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
         }
         return out;
     }
-    if (source.kind == WeightKind::kStrokes) {
-        out = generateStrokes(resolveStrokes(source.strokes), width, height).weight;
+    if (source.kind == WeightKind::kStrokes || source.kind == WeightKind::kQuilted) {
+        out = source.kind == WeightKind::kStrokes
+                  ? generateStrokes(resolveStrokes(source.strokes), width, height).weight
+                  : quiltLabelPattern(source.labelQuilt, width, height);
         if (source.invert) {
             for (float& v : out) {
                 v = 1.0f - v;
@@ -404,6 +440,7 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
                 case WeightKind::kConstant:
                 case WeightKind::kImage:
                 case WeightKind::kStrokes:
+                case WeightKind::kQuilted:
                     value = source.value;
                     break;
             }
