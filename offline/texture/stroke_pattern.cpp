@@ -243,15 +243,18 @@ StrokePattern drawStrokes(const ResolvedStrokes& s, int width, int height) {
     pattern.weight.assign(static_cast<std::size_t>(width) * height, 0.0f);
     const double pixels = static_cast<double>(width) * height;
     const double target = s.coverage * pixels;
-    // Strokes a Boolean model of this coverage needs; a cap far above it ends the loop even
-    // when strokes keep missing a map that does not wrap.
+    // Strokes a Boolean model of this coverage needs; a cap on attempts far above it ends the
+    // loop even if strokes kept missing the map.
     const double strokeArea = std::max(s.width * s.length, 1.0);
     const double expected = s.count > 0 ? s.count : -std::log(1 - s.coverage) * pixels / strokeArea;
-    const int cap = s.count > 0 ? s.count : static_cast<int>(std::min(100 + 20 * expected, 1e7));
+    const int attempts = static_cast<int>(std::min(1000 + 100 * expected, 1e7));
     StrokeLayer layer(width, height, s.wrap);
     double covered = 0;
-    for (int index = 0; index < cap; ++index) {
+    for (int index = 0; index < attempts; ++index) {
         layer.draw(traceStroke(s, index, width, height), s.softness);
+        if (layer.touched().empty()) {
+            continue;  // drawn wholly beyond an edge that does not wrap: not a stroke of the map
+        }
         std::size_t gain = 0;
         for (std::size_t pixel : layer.touched()) {
             gain += pattern.weight[pixel] < 0.5f && layer.at(pixel) >= 0.5f ? 1 : 0;
@@ -267,7 +270,7 @@ StrokePattern drawStrokes(const ResolvedStrokes& s, int width, int height) {
             ++pattern.strokes;
         }
         layer.clear();
-        if (last) {
+        if (last || (s.count > 0 && pattern.strokes == s.count)) {
             break;
         }
     }

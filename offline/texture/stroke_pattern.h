@@ -72,7 +72,8 @@ struct StrokePattern {
 };
 
 // Draws strokes until `count` are drawn or the covered share is as near `coverage` as one
-// more stroke can bring it. Crossings and the rounded ends make a map's measured widths
+// more stroke can bring it; strokes falling wholly beyond an edge that does not wrap are not
+// counted. Crossings and the rounded ends make a map's measured widths
 // differ from its strokes' body widths, so when the width or spread come from a source, the
 // map is redrawn (same strokes, up to 4 times) with the body width scaled by source median /
 // measured median and the spread moved by source spread − measured spread, keeping the
