@@ -51,6 +51,20 @@ double slicedDistance(const std::vector<float>& a, const std::vector<float>& b, 
                                       b.size() / static_cast<std::size_t>(dims), dims, {});
 }
 
+// (a) Per region: the quilt's coefficient distribution against the source region's.
+void expectQuiltedRegionsLikeTheSource(const nlohmann::json& report, int streaks) {
+    ASSERT_EQ(report["regions"].size(), 2u);
+    for (const nlohmann::json& region : report["regions"]) {
+        const double ratio = region["sliced_wasserstein"]["ratio"].get<double>();
+        std::printf("region %d: sliced Wasserstein %.4f, %.2f × the source's top vs bottom\n",
+                    region["region"].get<int>(),
+                    region["sliced_wasserstein"]["distance"].get<double>(), ratio);
+        // Measured 0.31 (streaks: their top and bottom halves differ more than the quilt
+        // differs from both) and 1.62 (ground).
+        EXPECT_LT(ratio, region["region"] == streaks ? 0.45 : 2.0) << "region " << region["region"];
+    }
+}
+
 class TextureStatistics : public ::testing::Test {
 protected:
     // synth 96² → fit → segment → quilt 160²: the demo's stages at a third of its sizes
@@ -93,26 +107,13 @@ protected:
 
 testing::TemporaryFolder* TextureStatistics::folder_ = nullptr;
 
-TEST_F(TextureStatistics, QuiltedRegionsKeepTheSourceCoefficientDistribution) {
-    const testing::CommandResult result =
+TEST_F(TextureStatistics, QuiltedAndComposedMapsMeasureLikeTheSource) {
+    const testing::CommandResult quality =
         runCommand(vpe({"quilt-quality", path("model.exr"), "--labels", path("labels.png"),
                         "--quilt", path("quilt"), "--json"}));
-    ASSERT_EQ(result.exitStatus, 0) << result.err;
-    const nlohmann::json report = lastJsonLine(result.out);
-    ASSERT_EQ(report["regions"].size(), 2u);
-    const int streaks = streakRegion(path("labels.png"));
-    for (const nlohmann::json& region : report["regions"]) {
-        const double ratio = region["sliced_wasserstein"]["ratio"].get<double>();
-        std::printf("region %d: sliced Wasserstein %.4f, %.2f × the source's top vs bottom\n",
-                    region["region"].get<int>(),
-                    region["sliced_wasserstein"]["distance"].get<double>(), ratio);
-        // Measured 0.31 (streaks: their top and bottom halves differ more than the quilt
-        // differs from both) and 1.62 (ground).
-        EXPECT_LT(ratio, region["region"] == streaks ? 0.45 : 2.0) << "region " << region["region"];
-    }
-}
+    ASSERT_EQ(quality.exitStatus, 0) << quality.err;
+    expectQuiltedRegionsLikeTheSource(lastJsonLine(quality.out), streakRegion(path("labels.png")));
 
-TEST_F(TextureStatistics, ComposedStreaksMeasureLikeTheSource) {
     const std::filesystem::path labels = path("labels.png");
     const int streaks = streakRegion(labels);
     const texture::StreakStatistics source = texture::measureLabelStreaks(labels, streaks);
