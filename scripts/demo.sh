@@ -82,8 +82,11 @@ mkdir -p "$texture/tiles"
     --out "$texture/quilt" --json > "$texture/quilt.json"
 "$vpe" quilt-quality "$synthetic/paper.exr" --labels "$texture/labels.png" --quilt "$texture/quilt" \
     --json > "$texture/quilt-quality.json"
+# Hidasuki strokes with the source's own streak coverage and widths: label 0 is the streaks
+# (labels are ordered by luminance; the red-brown streaks are darker than the ground).
+strokes="strokes:from=$texture/labels.png:region=0"
 "$vpe" compose "$texture/quilt" --out "$texture/composed.exr" \
-    --weights "noise:scale=96:sharpness=3:seed=4,noise:scale=96:sharpness=3:seed=4:invert" \
+    --weights "$strokes,$strokes:invert" \
     --weights-out "$texture/weights.png" --json > "$texture/compose.json"
 light=0.45,0.35,1
 "$vpe" relight "$synthetic/paper.exr" --light "$light" --out "$texture/source-relit.png"
@@ -109,7 +112,7 @@ step "bake (vpe bake) and render (vpe render): the screen vase, a projector, a l
 stage="$synthetic/projection"
 mkdir -p "$stage/frames" "$stage/tiles"
 "$vpe" bake --quilt "$texture/quilt" \
-    --preset "noise=noise:scale=96:sharpness=3:seed=4,noise:scale=96:sharpness=3:seed=4:invert" \
+    --preset "strokes=$strokes,$strokes:invert" \
     --preset "stripes=stripes:angle=60:period=48:sharpness=4,stripes:angle=60:period=48:sharpness=4:invert" \
     --out "$stage/scene.vpeb" --json > "$stage/bake.json"
 "$vpe" info "$stage/scene.vpeb" > "$stage/info.txt"
