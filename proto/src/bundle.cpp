@@ -298,6 +298,7 @@ private:
         }
         view.textureWidth_ = static_cast<int>(width);
         view.textureHeight_ = static_cast<int>(height);
+        view.textureWrapsU_ = textures->wrap_u();
         const auto* regions = textures->regions();
         if (regions == nullptr || regions->size() == 0) {
             fail("textures: no regions");

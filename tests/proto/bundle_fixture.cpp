@@ -113,8 +113,9 @@ std::vector<std::uint8_t> metadata(const RawBundleSpec& spec,
     std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
         fb::CreateWeightPresetDirect(b, "even", reference(b, payloads[7])),
         fb::CreateWeightPresetDirect(b, "glazed", reference(b, payloads[8]))};
-    const auto textures = fb::CreateTexturesDirect(b, spec.textureWidth, spec.textureHeight,
-                                                   &regions, composed, &presets);
+    const auto textures =
+        fb::CreateTexturesDirect(b, spec.textureWidth, spec.textureHeight, &regions, composed,
+                                 &presets, spec.wrapU.value_or(false));
     fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
     return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }

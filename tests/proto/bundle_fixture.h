@@ -38,6 +38,8 @@ struct RawBundleSpec {
     std::uint16_t minorVersion = kBundleMinorVersion;
     // Model.theta_basis as written; nullopt leaves the field out, as 1.0 writers did.
     std::optional<std::vector<float>> thetaBasis;
+    // Textures.wrap_u as written; nullopt leaves the field out, as 1.0 and 1.1 writers did.
+    std::optional<bool> wrapU;
     bool curveResponse = false;
     std::array<std::vector<float>, 3> curve{
         {{0.0f, 0.25f, 1.0f}, {0.0f, 0.5f, 1.0f}, {0.0f, 0.75f, 1.0f}}};

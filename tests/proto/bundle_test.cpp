@@ -391,7 +391,7 @@ TEST_F(BundleReader, ReadsAThetaBasis) {
     RawBundleSpec spec;
     spec.thetaBasis = kThetaBasis;
     const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
-    EXPECT_EQ(file->header().minorVersion, 1);
+    EXPECT_EQ(file->header().minorVersion, kBundleMinorVersion);
     EXPECT_EQ(file->model().thetaBasis, kThetaBasis);
     EXPECT_EQ(file->model().thetaBasisSize(), 2);
 }
@@ -405,6 +405,16 @@ TEST_F(BundleReader, ReadsNoThetaBasisAsNone) {
     const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
     EXPECT_TRUE(file->model().thetaBasis.empty());
     EXPECT_EQ(file->model().thetaBasisSize(), 0);
+}
+
+TEST_F(BundleReader, ReadsWhetherTexturesWrapInU) {
+    // Absent (every 1.0 and 1.1 bundle) or false: clamped; true: sampling wraps in u.
+    RawBundleSpec spec;
+    EXPECT_FALSE(BundleFile::open(writeBytes(path(), buildRawBundle(spec)))->textureWrapsU());
+    spec.wrapU = false;
+    EXPECT_FALSE(BundleFile::open(writeBytes(path(), buildRawBundle(spec)))->textureWrapsU());
+    spec.wrapU = true;
+    EXPECT_TRUE(BundleFile::open(writeBytes(path(), buildRawBundle(spec)))->textureWrapsU());
 }
 
 TEST_F(BundleReader, ReadsAFormat10Bundle) {

@@ -96,6 +96,8 @@ public:
     const BundleModel& model() const { return model_; }
     int textureWidth() const { return textureWidth_; }
     int textureHeight() const { return textureHeight_; }
+    // Sampling wraps in u (format 1.2): the textures tile around the screen object.
+    bool textureWrapsU() const { return textureWrapsU_; }
     const std::vector<RegionView>& regions() const { return regions_; }
     const std::optional<CoefficientMapView>& composed() const { return composed_; }
     const std::vector<WeightPresetView>& presets() const { return presets_; }
@@ -117,6 +119,7 @@ private:
     BundleModel model_;
     int textureWidth_ = 0;
     int textureHeight_ = 0;
+    bool textureWrapsU_ = false;
     std::vector<RegionView> regions_;
     std::optional<CoefficientMapView> composed_;
     std::vector<WeightPresetView> presets_;

@@ -20,8 +20,8 @@ static_assert(std::endian::native == std::endian::little, "bundles are little-en
 inline constexpr std::array<char, 4> kBundleMagic{'V', 'P', 'E', 'B'};
 // Readers accept any minor version of their major one (minor versions only append fields).
 inline constexpr std::uint16_t kBundleMajorVersion = 1;
-// 1.1 appended Model.theta_basis.
-inline constexpr std::uint16_t kBundleMinorVersion = 1;
+// 1.1 appended Model.theta_basis; 1.2 Textures.wrap_u.
+inline constexpr std::uint16_t kBundleMinorVersion = 2;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
 // Payloads start on 64-byte boundaries: a cache line, and more than any GL upload needs.
