@@ -109,6 +109,7 @@ RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) c
     scene.material.harmonics = bundle_.model().harmonics;
     scene.material.width = bundle_.textureWidth();
     scene.material.height = bundle_.textureHeight();
+    scene.material.wrapU = bundle_.textureWrapsU();
     for (std::size_t r = 0; r < coefficients_.size(); ++r) {
         scene.material.regions.push_back({coefficients_[r], weights_[r]});
     }

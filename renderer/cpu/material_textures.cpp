@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Bilinear, clamp-to-edge sampling of the region maps and the Fourier BRDF per channel.
+// Bilinear sampling of the region maps (clamped to the edge, or wrapping in u) and the Fourier
+// BRDF per channel.
 #include "vpe/renderer/material_textures.h"
 
 #include <algorithm>
@@ -20,8 +21,9 @@ struct BilinearFootprint {
 
 // Continuous coordinate of texel centres: x = u·width − 0.5 (texel x at its centre), likewise
 // y = (1 − v)·height − 0.5 with row 0 at the top; clamped to the outermost centres, which is
-// clamp-to-edge.
-BilinearFootprint footprint(int width, int height, const Vec2d& uv) {
+// clamp-to-edge, or (u when it wraps) taken modulo the size, which is GL's REPEAT: left of
+// texel 0's centre the taps are texels width − 1 and 0.
+BilinearFootprint footprint(int width, int height, const Vec2d& uv, bool wrapU) {
     const auto axis = [](double coordinate, int size, int& i0, int& i1, double& f) {
         double x = coordinate * size - 0.5;
         x = std::isnan(x) ? 0.0 : std::clamp(x, 0.0, static_cast<double>(size - 1));
@@ -29,9 +31,20 @@ BilinearFootprint footprint(int width, int height, const Vec2d& uv) {
         i1 = std::min(i0 + 1, size - 1);
         f = x - i0;
     };
+    const auto wrappingAxis = [](double coordinate, int size, int& i0, int& i1, double& f) {
+        double x = coordinate * size - 0.5;
+        x = std::isfinite(x) ? x - size * std::floor(x / size) : 0.0;  // [0, size)
+        i0 = std::min(static_cast<int>(std::floor(x)), size - 1);
+        i1 = i0 + 1 == size ? 0 : i0 + 1;
+        f = std::clamp(x - i0, 0.0, 1.0);
+    };
     int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
     double fx = 0, fy = 0;
-    axis(uv.x, width, x0, x1, fx);
+    if (wrapU) {
+        wrappingAxis(uv.x, width, x0, x1, fx);
+    } else {
+        axis(uv.x, width, x0, x1, fx);
+    }
     axis(1.0 - uv.y, height, y0, y1, fy);
     const auto index = [width](int x, int y) {
         return static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
@@ -77,7 +90,7 @@ std::string checkMaterialTextures(const MaterialTextures& material) {
 void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients) {
     const int count = material.coefficientsPerTexel();
     std::fill(coefficients, coefficients + count, 0.0);
-    const BilinearFootprint taps = footprint(material.width, material.height, uv);
+    const BilinearFootprint taps = footprint(material.width, material.height, uv, material.wrapU);
     const auto perTexel = static_cast<std::size_t>(count);
     for (const auto& region : material.regions) {
         double regionWeight = 1.0;

@@ -144,11 +144,12 @@ GlObject GlObject::vertexArray() {
 
 namespace {
 
-void setSampling(GLenum target, TextureFilter filter) {
+void setSampling(GLenum target, TextureFilter filter, TextureWrapS wrapS = TextureWrapS::kClamp) {
     const GLint mode = filter == TextureFilter::kLinear ? GL_LINEAR : GL_NEAREST;
     glTexParameteri(target, GL_TEXTURE_MIN_FILTER, mode);
     glTexParameteri(target, GL_TEXTURE_MAG_FILTER, mode);
-    glTexParameteri(target, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S,
+                    wrapS == TextureWrapS::kRepeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     glTexParameteri(target, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
@@ -168,7 +169,8 @@ GlObject makeTexture2D(unsigned internalFormat, int width, int height, unsigned 
 }
 
 GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
-                          unsigned format, unsigned type, const void* data, TextureFilter filter) {
+                          unsigned format, unsigned type, const void* data, TextureFilter filter,
+                          TextureWrapS wrapS) {
     GlObject texture = GlObject::texture();
     glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
     glTexStorage3D(GL_TEXTURE_2D_ARRAY, 1, static_cast<GLenum>(internalFormat), width, height,
@@ -177,7 +179,7 @@ GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int la
         glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
         glTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, width, height, layers, format, type, data);
     }
-    setSampling(GL_TEXTURE_2D_ARRAY, filter);
+    setSampling(GL_TEXTURE_2D_ARRAY, filter, wrapS);
     return texture;
 }
 

@@ -28,6 +28,9 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
                             " regions exceed GL_MAX_ARRAY_TEXTURE_LAYERS " +
                             std::to_string(maxLayers));
     }
+    // Maps that tile around the object repeat in u, as the CPU reference samples them.
+    const TextureWrapS wrapS =
+        bundle.textureWrapsU() ? TextureWrapS::kRepeat : TextureWrapS::kClamp;
     const auto texels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     const auto values = static_cast<std::size_t>(layout_.materialValues());
     const auto layers = static_cast<std::size_t>(layout_.mapLayers());
@@ -43,15 +46,17 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
         }
         // GL rounds the floats to half floats on upload (RGBA16F from GL_FLOAT data).
         maps_.push_back(makeArrayTexture(GL_RGBA16F, w, h, static_cast<int>(layers), GL_RGBA,
-                                         GL_FLOAT, layered.data()));
+                                         GL_FLOAT, layered.data(), TextureFilter::kLinear, wrapS));
     }
     for (const proto::WeightPresetView& preset : bundle.presets()) {
         if (preset.encoding == proto::AlphaEncoding::kUnorm8) {
             weights_.push_back(makeArrayTexture(GL_R8, w, h, preset.layers, GL_RED,
-                                                GL_UNSIGNED_BYTE, preset.unorm8.data()));
+                                                GL_UNSIGNED_BYTE, preset.unorm8.data(),
+                                                TextureFilter::kLinear, wrapS));
         } else {
             weights_.push_back(makeArrayTexture(GL_R16F, w, h, preset.layers, GL_RED, GL_HALF_FLOAT,
-                                                preset.halves.data()));
+                                                preset.halves.data(), TextureFilter::kLinear,
+                                                wrapS));
         }
     }
     if (weights_.empty() && layout_.regions > 1) {

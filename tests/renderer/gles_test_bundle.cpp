@@ -68,10 +68,13 @@ std::uint64_t alignUp(std::uint64_t offset) {
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
     const OwnedMesh vase = makeVaseMesh(spec.vaseSegments, spec.vaseRings);
     std::vector<float> positions, normals, uvs;
+    // Half a turn about y: (x, y, z) → (−x, y, −z).
+    const float turn = spec.seamInFront ? -1.0f : 1.0f;
     for (std::size_t v = 0; v < vase.positions.size(); ++v) {
-        positions.insert(positions.end(),
-                         {vase.positions[v].x, vase.positions[v].y, vase.positions[v].z});
-        normals.insert(normals.end(), {vase.normals[v].x, vase.normals[v].y, vase.normals[v].z});
+        positions.insert(positions.end(), {turn * vase.positions[v].x, vase.positions[v].y,
+                                           turn * vase.positions[v].z});
+        normals.insert(normals.end(),
+                       {turn * vase.normals[v].x, vase.normals[v].y, turn * vase.normals[v].z});
         uvs.insert(uvs.end(), {vase.uvs[v].x, 1.0f - vase.uvs[v].y});  // the bundle's v is down
     }
     const auto vertices = static_cast<std::uint32_t>(vase.positions.size());
@@ -224,7 +227,8 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
         std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
             fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
             fb::CreateWeightPresetDirect(b, "radial", ref(7))};
-        const auto textures = fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets);
+        const auto textures =
+            fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
         fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
         std::vector<std::uint8_t> built(b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize());
         const bool settled = built.size() == size;

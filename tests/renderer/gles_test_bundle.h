@@ -2,7 +2,8 @@
 // A small but complete device bundle for the GLES renderer's tests, built straight from the
 // schema (no offline writer: the device-only build runs these tests too): a vase seen by a
 // 160 × 120 projector with lens distortion, M = 3, two regions ('base' full, 'glaze' low-rank),
-// presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response.
+// presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response;
+// optionally with textures that wrap in u and the seam u = 0 | 1 turned to the projector.
 #pragma once
 
 #include <array>
@@ -26,6 +27,10 @@ struct GlesBundleSpec {
     std::array<double, 5> distortionCoefficients{0.09, -0.12, 0.0015, -0.001, 0.02};
     // The vase's quads around and along its axis: fewer means longer, more bent edges.
     int vaseSegments = 48, vaseRings = 24;
+    // The textures tile in u (Textures.wrap_u): sampling wraps around the vase.
+    bool wrapU = false;
+    // The vase turned half a turn about its axis, so that u = 0 | 1 faces the projector.
+    bool seamInFront = false;
 };
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});

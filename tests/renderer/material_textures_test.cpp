@@ -47,6 +47,31 @@ TEST(MaterialTextures, VZeroIsTheBottomRowAndTexelCentresAreExact) {
     EXPECT_DOUBLE_EQ(coefficients[0], 12.0);
 }
 
+// A texture that tiles in u: left of texel 0's centre and right of the last one's, sampling
+// blends the two edge columns (GL's REPEAT); v still clamps.
+TEST(MaterialTextures, WrapsInUWhenTheMapsTile) {
+    const auto owned = makeMaterial(0, 4, 2, [](int x, int y, int k, int) {
+        return k == proto::kLambertIndex ? 10.0 * y + x + 1 : 0.0;
+    });
+    MaterialTextures material = owned.view();
+    material.wrapU = true;
+    double coefficients[kMaxCoefficientsPerTexel];
+    // The seam, u = 0 or 1, halfway between texel 3's centre and texel 0's (top row: 4 and 1).
+    for (const double u : {0.0, 1.0, -1.0, 2.0}) {
+        sampleMaterial(material, {u, 0.75}, coefficients);
+        EXPECT_DOUBLE_EQ(coefficients[0], (4 + 1) / 2.0) << u;
+    }
+    // A quarter texel left of texel 0's centre (u = 1/16): ¼ of texel 3, ¾ of texel 0.
+    sampleMaterial(material, {1.0 / 16, 0.75}, coefficients);
+    EXPECT_DOUBLE_EQ(coefficients[0], 0.25 * 4 + 0.75 * 1);
+    // Texel centres are unchanged, and v clamps: beyond the bottom row reads it.
+    sampleMaterial(material, {0.375, -0.5}, coefficients);
+    EXPECT_DOUBLE_EQ(coefficients[0], 12.0);
+    material.wrapU = false;
+    sampleMaterial(material, {0.0, 0.75}, coefficients);
+    EXPECT_DOUBLE_EQ(coefficients[0], 1.0);
+}
+
 TEST(MaterialTextures, RegionsBlendByTheirBilinearWeights) {
     auto owned = makeMaterial(0, 2, 2, [](int, int, int k, int) { return k == 0 ? 1.0 : 0.0; });
     owned.weights[0] = {1, 0, 1, 0};  // region 0 on the left column

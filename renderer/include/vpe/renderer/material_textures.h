@@ -28,6 +28,9 @@ struct MaterialRegion {
 struct MaterialTextures {
     int harmonics = 0;  // M, 0 … proto::kMaxHarmonics
     int width = 0, height = 0;
+    // The maps tile in u (the bundle's wrap_u): sampling wraps around in u, so that texel 0
+    // and texel width − 1 are neighbours; otherwise (and always in v) it clamps to the edge.
+    bool wrapU = false;
     std::vector<MaterialRegion> regions;
 
     int coefficientsPerChannel() const { return proto::coefficientCount(harmonics); }
@@ -44,7 +47,8 @@ std::string checkMaterialTextures(const MaterialTextures& material);
 //   Σ_regions bilinear(weights)(uv) · bilinear(coefficients)(uv)
 // — each map sampled on its own, as a GPU samples two textures. Bilinear with texel centres
 // at ((x + 0.5)/width, 1 − (y + 0.5)/height) in uv, i.e. continuous texel coordinates
-// (u·width − 0.5, (1 − v)·height − 0.5); clamp to edge. Writes coefficientsPerTexel() values.
+// (u·width − 0.5, (1 − v)·height − 0.5); clamp to edge, or in u wrapping around (GL's REPEAT)
+// when material.wrapU. Writes coefficientsPerTexel() values.
 void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients);
 
 // Radiance per unit irradiance f(θd, θs) of each channel for blended coefficients (as

@@ -62,6 +62,9 @@ private:
 };
 
 enum class TextureFilter { kNearest, kLinear };
+// Along s (x, the texture's u): clamp to edge, or repeat (a texture that tiles around the
+// screen object). t always clamps.
+enum class TextureWrapS { kClamp, kRepeat };
 
 // An immutable 2D texture (one level, clamped to edge): internal format, then the data's
 // format and type (GL enums); `data` may be null (storage only, filled later).
@@ -69,9 +72,11 @@ GlObject makeTexture2D(unsigned internalFormat, int width, int height, unsigned 
                        unsigned type, const void* data,
                        TextureFilter filter = TextureFilter::kNearest);
 
-// An immutable 2D texture array, likewise (a bundle's texture payloads: linear filtering).
+// An immutable 2D texture array, likewise (a bundle's texture payloads: linear filtering),
+// repeating along s if asked (a bundle whose textures wrap in u).
 GlObject makeArrayTexture(unsigned internalFormat, int width, int height, int layers,
                           unsigned format, unsigned type, const void* data,
-                          TextureFilter filter = TextureFilter::kLinear);
+                          TextureFilter filter = TextureFilter::kLinear,
+                          TextureWrapS wrapS = TextureWrapS::kClamp);
 
 }  // namespace vpe::renderer::gles
