@@ -3,7 +3,8 @@
 # The demo: the whole pipeline built so far, end to end, writing pictures to demo-output/
 # (or $1). It renders the built-in synthetic Bizen capture, fits the paper's Fourier BRDF
 # and vpe's extended model, scores them on held-out lights, reproduces the paper's Fig. 6,
-# splits the texture into regions, quilts each to a new 512² texture and blends them with
+# splits the texture into regions, quilts each to a new texture sized for the vase (the
+# capture's texel as long on it, tiling around it) and blends them with
 # weight maps, bakes a device bundle for a vase and a projector, renders frames for a moving
 # light with the CPU reference (projector, visitor and material views), plays the bundle on
 # the device program (vpe-player: OpenGL ES, headless) along its idle path, and lays the
@@ -78,7 +79,7 @@ mkdir -p "$texture/tiles"
 "$vpe" segment "$synthetic/paper.exr" --out "$texture/labels.png" --auto auto \
     --truth "$synthetic/capture/truth/labels.png" --average "$texture/average.png" --json \
     > "$texture/segment.json"
-"$vpe" quilt "$synthetic/paper.exr" --labels "$texture/labels.png" --size 512x512 \
+"$vpe" quilt "$synthetic/paper.exr" --labels "$texture/labels.png" --size auto \
     --out "$texture/quilt" --json > "$texture/quilt.json"
 "$vpe" quilt-quality "$synthetic/paper.exr" --labels "$texture/labels.png" --quilt "$texture/quilt" \
     --json > "$texture/quilt-quality.json"
@@ -97,8 +98,11 @@ done
 printf '%-28s regions: mean IoU %.3f vs the true materials (K = %s chosen by silhouette)\n' \
     "synthetic-bizen" "$(json_field mean_iou < "$texture/segment.json")" \
     "$(json_field clusters < "$texture/segment.json")" | tee -a "$summary"
-printf '%-28s quilted 2 regions to 512x512 in %.2f s\n' "" \
-    "$(json_field seconds < "$texture/quilt.json")" | tee -a "$summary"
+printf '%-28s quilted 2 regions to %sx%s (texels %.2f mm, stretch on the vase: median %.2f, p95 %.2f; u seam %.2fx the interior step) in %.2f s\n' "" \
+    "$(jq .width "$texture/quilt.json")" "$(jq .height "$texture/quilt.json")" \
+    "$(jq .texel_mm "$texture/quilt.json")" "$(jq .stretch.median "$texture/quilt.json")" \
+    "$(jq .stretch.p95 "$texture/quilt.json")" "$(jq '[.seams[].ratio] | max' "$texture/quilt.json")" \
+    "$(jq .seconds "$texture/quilt.json")" | tee -a "$summary"
 tile "$texture/average.png" "$texture/tiles/1.png" "average (dome)"
 tile "$texture/labels-overlay.png" "$texture/tiles/2.png" "vpe segment --auto auto"
 tile "$texture/source-relit.png" "$texture/tiles/3.png" "source, one light"
