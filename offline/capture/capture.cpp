@@ -20,6 +20,19 @@ std::optional<Vec3d> unitDirection(const Vec3d& v) {
     return Vec3d{scaled.x / scaledLength, scaled.y / scaledLength, scaled.z / scaledLength};
 }
 
+Capture selectHeldOutLights(const Capture& capture, int every, bool heldOut) {
+    Capture result = capture;
+    result.images.clear();
+    for (std::size_t i = 0; i < capture.images.size(); ++i) {
+        const bool test =
+            every >= 2 && static_cast<int>(i % static_cast<std::size_t>(every)) == every - 1;
+        if (test == heldOut) {
+            result.images.push_back(capture.images[i]);
+        }
+    }
+    return result;
+}
+
 Vec3d PinholeCamera::center() const {
     const auto& r = rotation;
     const Vec3d& t = translation;

@@ -78,9 +78,6 @@ struct Capture {
     std::optional<std::filesystem::path> positionMap;  // world XYZ per pixel (floating point)
     std::optional<SurfacePlane> plane;
     std::optional<std::filesystem::path> mask;  // nonzero = use the pixel
-    // The side of one pixel on the captured surface, millimetres: what gives the texture its
-    // physical scale on another object (vpe quilt --size auto).
-    std::optional<double> texelMm;
 
     bool needsSurfacePositions() const {
         return lightKind == LightKind::kPoint || std::holds_alternative<PinholeCamera>(camera);
@@ -91,6 +88,11 @@ struct Capture {
 // ≤ 1e-9). Components are scaled by the largest first, so neither 1e200 (squares overflow)
 // nor 1e-200 (squares underflow) turns a valid direction into a NaN or a zero one.
 std::optional<Vec3d> unitDirection(const Vec3d& v);
+
+// The held-out protocol of RTI benchmarks: every `every`-th light (positions every − 1,
+// 2·every − 1, … in the capture's order, 0-based) is a test light. Returns the test lights
+// (`heldOut`) or the others (training); `every` must be ≥ 2.
+Capture selectHeldOutLights(const Capture& capture, int every, bool heldOut);
 
 // The light of one image as it arrives at a surface point: the unit direction towards it and
 // its irradiance (normal to the light) relative to the unit that models are normalized to.

@@ -276,6 +276,12 @@ int ImageBandReader::imageCount() const {
     return static_cast<int>(sources_.size());
 }
 
+bool ImageBandReader::eightBitCodes() const {
+    return std::all_of(sources_.begin(), sources_.end(), [](const std::unique_ptr<Source>& source) {
+        return source->readFormat == OIIO::TypeDesc::UINT8;
+    });
+}
+
 int ImageBandReader::rowsForBudget(std::size_t budgetBytes) const {
     const std::size_t perRow = sources_.size() * static_cast<std::size_t>(width_ + 16) *
                                (SampleBand::kChannels * sizeof(float) + sizeof(float) + 1);

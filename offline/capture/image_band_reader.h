@@ -24,6 +24,8 @@ public:
     int width() const;
     int height() const;
     int imageCount() const;
+    // True when every image stores 8-bit codes ("auto" decodes them as sRGB).
+    bool eightBitCodes() const;
 
     // Reads rows [rowBegin, rowBegin + rows) of every image into band; bands must be read in
     // order. `mask` (W × H, nonzero = use) may be null.

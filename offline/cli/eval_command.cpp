@@ -18,6 +18,7 @@ void addEvalCommand(CLI::App& app, Action& action) {
         std::string capture;
         std::string predictions;
         int threads = 0;
+        int heldOut = 0;
         bool json = false;
     };
     auto args = std::make_shared<Arguments>();
@@ -29,6 +30,11 @@ void addEvalCommand(CLI::App& app, Action& action) {
     command->add_option("--predictions", args->predictions,
                         "Folder to write the predicted images to (PNG)");
     command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    command
+        ->add_option("--held-out", args->heldOut,
+                     "Score only every N-th light (positions N-1, 2N-1, ...): those vpe fit "
+                     "--held-out N left out")
+        ->check(CLI::Range(2, 1000));
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action] {
         action = [args] {
@@ -37,7 +43,10 @@ void addEvalCommand(CLI::App& app, Action& action) {
             if (!args->predictions.empty()) {
                 options.predictionsDir = args->predictions;
             }
-            const Capture capture = openCapture(args->capture);
+            Capture capture = openCapture(args->capture);
+            if (args->heldOut > 0) {
+                capture = selectHeldOutLights(capture, args->heldOut, true);
+            }
             const EvaluationReport report = evaluateModel(args->model, capture, options);
             if (!args->json) {
                 std::printf("%-32s %10s %10s\n", "image", "rms(8bit)", "psnr(dB)");

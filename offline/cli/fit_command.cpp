@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "common/parallel_for.h"
 #include "fit/capture_fitter.h"
+#include "model/rti_basis.h"
 
 namespace vpe::cli {
 
@@ -22,6 +23,7 @@ void addFitCommand(CLI::App& app, Action& action) {
         int threads = 0;
         std::string precision = "auto";
         std::string model = "paper";
+        int heldOut = 0;
         bool regularizationGiven = false;
         bool json = false;
         bool noPreview = false;
@@ -55,9 +57,22 @@ void addFitCommand(CLI::App& app, Action& action) {
     command
         ->add_option("--model", args->model,
                      "paper: eq. 16-19 under the capture's stated geometry; extended: also "
-                     "calibrate camera field of view and light distance (docs/extended-model.md)")
-        ->check(CLI::IsMember({"paper", "extended"}))
+                     "calibrate camera field of view and light distance (docs/extended-model.md); "
+                     "ptm6, ptm10, hsh4, hsh9, hsh16, hsh25: a classic RTI basis fitted on the "
+                     "stored image values, for comparison (not a BRDF; docs/rti-bases.md)")
+        ->check([](const std::string& model) {
+            return model == "paper" || model == "extended" || RtiBasis::parse(model)
+                       ? std::string()
+                       : "expected paper, extended, ptm6, ptm10, hsh4, hsh9, hsh16 or hsh25, "
+                         "found '" +
+                             model + "'";
+        })
         ->capture_default_str();
+    command
+        ->add_option("--held-out", args->heldOut,
+                     "Leave every N-th light out (positions N-1, 2N-1, ... of the capture): the "
+                     "RTI benchmarks' protocol; score them with vpe eval --held-out N")
+        ->check(CLI::Range(2, 1000));
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action, harmonicsOption, lambdaOption] {
@@ -74,19 +89,35 @@ void addFitCommand(CLI::App& app, Action& action) {
                 options.normals = args->normals;
             }
             options.writePreview = !args->noPreview;
-            options.variant =
-                args->model == "extended" ? ModelVariant::kExtended : ModelVariant::kPaper;
+            options.variant = args->model == "extended" ? ModelVariant::kExtended
+                              : args->model == "paper"  ? ModelVariant::kPaper
+                                                        : ModelVariant::kRti;
+            if (options.variant == ModelVariant::kRti) {
+                options.rtiBasis = *RtiBasis::parse(args->model);
+                options.writePreview = false;  // the preview relights a BRDF
+            }
             // The extended model picks M and λ by held-out validation unless they are given.
             options.selectRegularization =
                 options.variant == ModelVariant::kExtended && !args->regularizationGiven;
-            const Capture capture = openCapture(args->capture);
+            Capture capture = openCapture(args->capture);
+            if (args->heldOut > 0) {
+                capture = selectHeldOutLights(capture, args->heldOut, false);
+            }
             const FitReport report = fitCapture(capture, options, args->out);
-            std::fprintf(stderr,
-                         "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: %s) "
-                         "in %.2f s; mean residual RMS %.4f\n",
-                         report.validPixels, report.pixels, report.images, report.harmonics,
-                         report.lambda, report.normalsSource.c_str(), report.totalSeconds,
-                         report.meanRms);
+            if (options.variant == ModelVariant::kRti) {
+                std::fprintf(stderr,
+                             "fitted %zu of %zu pixels from %d images (%s on stored values) in "
+                             "%.2f s; mean residual RMS %.4f\n",
+                             report.validPixels, report.pixels, report.images,
+                             options.rtiBasis.name().c_str(), report.totalSeconds, report.meanRms);
+            } else {
+                std::fprintf(stderr,
+                             "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: "
+                             "%s) in %.2f s; mean residual RMS %.4f\n",
+                             report.validPixels, report.pixels, report.images, report.harmonics,
+                             report.lambda, report.normalsSource.c_str(), report.totalSeconds,
+                             report.meanRms);
+            }
             if (options.variant == ModelVariant::kExtended) {
                 std::fprintf(stderr,
                              "selected: field of view %.1f°, light distance %.2f half-widths, "
@@ -112,8 +143,12 @@ void addFitCommand(CLI::App& app, Action& action) {
                 json["images"] = report.images;
                 json["width"] = report.width;
                 json["height"] = report.height;
-                json["harmonics"] = report.harmonics;
-                json["lambda"] = report.lambda;
+                if (options.variant == ModelVariant::kRti) {
+                    json["basis"] = options.rtiBasis.name();
+                } else {
+                    json["harmonics"] = report.harmonics;
+                    json["lambda"] = report.lambda;
+                }
                 json["normals"] = report.normalsSource;
                 json["mean_rms"] = report.meanRms;
                 json["model"] = args->out;

@@ -7,16 +7,17 @@
 #include <mutex>
 
 #include "vpe/proto/fourier_brdf.h"
-#include "vpe/proto/srgb.h"
 
 #include "capture/image_band_reader.h"
 #include "capture/surface_geometry.h"
+#include "capture/transfer_function.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
 #include "model/light_transport.h"
+#include "model/rti_basis.h"
 
 namespace vpe {
 
@@ -27,8 +28,9 @@ double psnrFromMse(double mse) {
 
 EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& statedCapture,
                                const EvaluationOptions& options) {
-    ModelReader model(modelPath);
+    ModelReader model(modelPath, ModelKinds::kAny);
     const ModelInfo& info = model.info();
+    const std::optional<RtiBasis> rti = info.rtiBasis();
     ImageBandReader reader(statedCapture, options.threads);
     // A model fitted under a calibrated geometry predicts other captures of the same dome
     // under that geometry too.
@@ -36,6 +38,18 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
         acceptsGeometryCalibration(statedCapture)
             ? applyGeometryCalibration(statedCapture, info.calibration, info.width, info.height)
             : statedCapture;
+    // Prediction and truth are compared sRGB-encoded, as people see them. An RTI basis
+    // predicts the stored values, which are decoded first.
+    const TransferFunction metric{TransferFunction::Kind::kSrgb};
+    const TransferFunction stored = storedTransfer(capture, reader.eightBitCodes());
+    std::vector<double> rtiBasisValues;
+    if (rti) {
+        rtiBasisValues.resize(capture.images.size() * static_cast<std::size_t>(rti->terms));
+        for (std::size_t s = 0; s < capture.images.size(); ++s) {
+            rti->evaluate(capture.images[s].light,
+                          &rtiBasisValues[s * static_cast<std::size_t>(rti->terms)]);
+        }
+    }
     if (reader.width() != info.width || reader.height() != info.height) {
         throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
                                              std::to_string(reader.height()) + " but the model " +
@@ -71,6 +85,14 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
             [&](std::size_t begin, std::size_t end) {
                 std::vector<double> localError(static_cast<std::size_t>(imageCount), 0.0);
                 std::size_t localScored = 0;
+                auto score = [&](int s, int y, int x, int c, double p8, double t8) {
+                    localError[static_cast<std::size_t>(s)] += (p8 - t8) * (p8 - t8);
+                    if (!predictions.empty()) {
+                        predictions[static_cast<std::size_t>(s)]
+                                   [(static_cast<std::size_t>(y) * width + x) * 3 + c] =
+                                       static_cast<std::uint8_t>(std::lround(p8 * 255));
+                    }
+                };
                 for (std::size_t r = begin; r < end; ++r) {
                     const int row = static_cast<int>(r);
                     const int y = rowBegin + row;
@@ -80,6 +102,25 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                             continue;
                         }
                         ++localScored;
+                        if (rti) {
+                            for (int s = 0; s < imageCount; ++s) {
+                                const double* basis =
+                                    &rtiBasisValues[static_cast<std::size_t>(s) * rti->terms];
+                                for (int c = 0; c < 3; ++c) {
+                                    const float* coefficients = rows.coefficientsAt(row, x, c);
+                                    double value = 0;
+                                    for (int k = 0; k < rti->terms; ++k) {
+                                        value += basis[k] * static_cast<double>(coefficients[k]);
+                                    }
+                                    const double p8 =
+                                        metric.encode(std::clamp(stored.decode(value), 0.0, 1.0));
+                                    const double t8 = metric.encode(std::clamp(
+                                        static_cast<double>(band.value(s, c, row, x)), 0.0, 1.0));
+                                    score(s, y, x, c, p8, t8);
+                                }
+                            }
+                            continue;
+                        }
                         const Vec3d normal{rows.normal[p * 3], rows.normal[p * 3 + 1],
                                            rows.normal[p * 3 + 2]};
                         const Vec3d view = geometry.toViewer(x, y);
@@ -107,16 +148,10 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                                     proto::evaluateFourierBrdf(rows.coefficientsAt(row, x, c),
                                                                info.harmonics, angles.cosThetaD,
                                                                angles.cosThetaS);
-                                const double p8 =
-                                    proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0));
-                                const double t8 = proto::linearToSrgb(std::clamp(
+                                const double p8 = metric.encode(std::clamp(predicted, 0.0, 1.0));
+                                const double t8 = metric.encode(std::clamp(
                                     static_cast<double>(band.value(s, c, row, x)), 0.0, 1.0));
-                                localError[static_cast<std::size_t>(s)] += (p8 - t8) * (p8 - t8);
-                                if (!predictions.empty()) {
-                                    predictions[static_cast<std::size_t>(s)]
-                                               [(static_cast<std::size_t>(y) * width + x) * 3 + c] =
-                                                   static_cast<std::uint8_t>(std::lround(p8 * 255));
-                                }
+                                score(s, y, x, c, p8, t8);
                             }
                         }
                     }

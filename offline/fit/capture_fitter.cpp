@@ -9,11 +9,13 @@
 
 #include "capture/image_band_reader.h"
 #include "capture/surface_geometry.h"
+#include "capture/transfer_function.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
 #include "fit/band_fitter.h"
 #include "fit/held_out_search.h"
+#include "fit/rti_band_fitter.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
 #include "normals/normal_source.h"
@@ -47,6 +49,66 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
     return mask;
 }
 
+// The RTI bases: no normals, no calibration, the images' stored values fitted as they are.
+FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
+                        const std::filesystem::path& modelPath) {
+    const auto start = Clock::now();
+    FitReport report;
+    auto decodeStart = Clock::now();
+    ImageBandReader reader(capture, options.threads);
+    report.decodeSeconds += secondsSince(decodeStart);
+    report.width = reader.width();
+    report.height = reader.height();
+    report.images = reader.imageCount();
+    report.pixels = static_cast<std::size_t>(report.width) * report.height;
+    report.normalsSource = "none (RTI basis)";
+    const std::vector<std::uint8_t> mask = readMask(capture, report.width, report.height);
+    const fit::RtiBandFitter fitter(capture, options.rtiBasis,
+                                    storedTransfer(capture, reader.eightBitCodes()),
+                                    options.threads);
+    ModelInfo info;
+    info.width = report.width;
+    info.height = report.height;
+    info.samples = report.images;
+    info.capture = capture.source.string();
+    info.variant = options.rtiBasis.kind == RtiBasis::Kind::kPtm ? "ptm" : "hsh";
+    info.terms = options.rtiBasis.terms;
+    ModelWriter writer(modelPath, info);
+    const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
+    SampleBand band;
+    ModelRows rows;
+    double rmsSum = 0;
+    ProgressBar progress("fit", static_cast<std::size_t>(report.height));
+    for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
+        const int bandHeight = std::min(bandRows, report.height - rowBegin);
+        decodeStart = Clock::now();
+        reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
+        report.decodeSeconds += secondsSince(decodeStart);
+        const auto fitStart = Clock::now();
+        fitter.fit(band, rows);
+        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+            if (rows.valid[p]) {
+                ++report.validPixels;
+                for (int c = 0; c < 3; ++c) {
+                    rmsSum += static_cast<double>(rows.rms[p * 3 + c]) / 3.0;
+                }
+            }
+        }
+        report.fitSeconds += secondsSince(fitStart);
+        const auto writeStart = Clock::now();
+        writer.writeRows(rowBegin, rows);
+        report.writeSeconds += secondsSince(writeStart);
+        progress.advance(static_cast<std::size_t>(bandHeight));
+    }
+    progress.finish();
+    const auto writeStart = Clock::now();
+    writer.finish();
+    report.writeSeconds += secondsSince(writeStart);
+    report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
+    report.totalSeconds = secondsSince(start);
+    return report;
+}
+
 }  // namespace
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda) {
@@ -65,7 +127,9 @@ fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambd
 FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
                      const std::filesystem::path& modelPath) {
     const auto start = Clock::now();
-    const int coefficients = proto::coefficientCount(options.harmonics);
+    const bool rti = options.variant == ModelVariant::kRti;
+    const int coefficients =
+        rti ? options.rtiBasis.terms : proto::coefficientCount(options.harmonics);
     if (options.harmonics < 0 || options.harmonics > proto::kMaxHarmonics) {
         throw InputError("--harmonics " + std::to_string(options.harmonics) +
                          " is out of range (0.." + std::to_string(proto::kMaxHarmonics) + ")");
@@ -81,8 +145,12 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         throw InputError(originalCapture.source,
                          std::to_string(originalCapture.images.size()) +
                              " images cannot determine " + std::to_string(coefficients) +
-                             " coefficients: M = " + std::to_string(options.harmonics) +
-                             " needs N >= 2M + 2 = " + std::to_string(coefficients));
+                             (rti ? " coefficients of " + options.rtiBasis.name()
+                                  : " coefficients: M = " + std::to_string(options.harmonics) +
+                                        " needs N >= 2M + 2 = " + std::to_string(coefficients)));
+    }
+    if (rti) {
+        return fitRtiCapture(originalCapture, options, modelPath);
     }
 
     FitReport report;
@@ -144,7 +212,6 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     info.capture = capture.source.string();
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
     info.calibration = report.calibration;
-    info.texelMm = capture.texelMm.value_or(0.0);
     ModelWriter writer(modelPath, info);
     RelightPreview preview(report.width, report.height, harmonics);
 

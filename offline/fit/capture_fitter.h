@@ -14,6 +14,7 @@
 #include "capture/capture.h"
 #include "capture/geometry_calibration.h"
 #include "fit/normal_equations.h"
+#include "model/rti_basis.h"
 
 namespace vpe {
 
@@ -26,10 +27,12 @@ enum class FitPrecision {
 enum class ModelVariant {
     kPaper,     // the paper's fit, exactly (eq. 16–19) under the capture's stated geometry
     kExtended,  // also calibrates the capture geometry (see docs/extended-model.md)
+    kRti,       // a classic RTI basis (FitOptions::rtiBasis), for comparison; not a BRDF
 };
 
 struct FitOptions {
     ModelVariant variant = ModelVariant::kPaper;
+    RtiBasis rtiBasis;  // kRti only
     // Choose M and λ by held-out validation on the training lights instead of using the
     // values below (the CLI does so for the extended model unless they are given).
     bool selectRegularization = false;

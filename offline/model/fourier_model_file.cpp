@@ -3,7 +3,6 @@
 #include "model/fourier_model_file.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include <OpenImageIO/imageio.h>
 
@@ -27,11 +26,13 @@ std::string transportName(int term) {
 }
 
 // Every channel of the file, in the order the rows are packed.
-std::vector<std::string> channelNames(int coefficients, bool withTransport) {
+std::vector<std::string> channelNames(const ModelInfo& info) {
     std::vector<std::string> names;
+    const int coefficients = info.coefficientCount();
+    const bool withTransport = info.hasTransport();
     for (int k = 0; k < coefficients; ++k) {
         for (int c = 0; c < 3; ++c) {
-            names.push_back(coefficientName(k) + "." + kColour[c]);
+            names.push_back(coefficientName(info, k) + "." + kColour[c]);
         }
     }
     for (int a = 0; a < 3; ++a) {
@@ -59,6 +60,24 @@ std::string coefficientName(int index) {
         return "a0";
     }
     return (index % 2 == 0 ? "a" : "b") + std::to_string(proto::harmonicOf(index));
+}
+
+std::string coefficientName(const ModelInfo& info, int index) {
+    if (info.isBrdf()) {
+        return coefficientName(index);
+    }
+    return (index < 10 ? "c0" : "c") + std::to_string(index);
+}
+
+std::optional<RtiBasis> ModelInfo::rtiBasis() const {
+    if (isBrdf()) {
+        return std::nullopt;
+    }
+    return RtiBasis::parse(variant + std::to_string(terms));
+}
+
+int ModelInfo::coefficientCount() const {
+    return isBrdf() ? proto::coefficientCount(harmonics) : terms;
 }
 
 void ModelRows::resize(int w, int r, int k, bool withTransport) {
@@ -90,9 +109,13 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     if (path.extension() != ".exr") {
         throw InputError(path, "the model file must have the .exr extension");
     }
-    impl_->coefficients = proto::coefficientCount(info.harmonics);
+    if (!info.isBrdf() && !info.rtiBasis()) {
+        throw InputError(path, "unknown model variant '" + info.variant + "' with " +
+                                   std::to_string(info.terms) + " terms");
+    }
+    impl_->coefficients = info.coefficientCount();
     impl_->transport = info.hasTransport();
-    const std::vector<std::string> names = channelNames(impl_->coefficients, impl_->transport);
+    const std::vector<std::string> names = channelNames(info);
     impl_->channels = static_cast<int>(names.size());
     OIIO::ImageSpec spec(info.width, info.height, impl_->channels, OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
@@ -107,18 +130,17 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     spec.attribute("vpeLambda", static_cast<float>(info.lambda));
     spec.attribute("vpeSamples", info.samples);
     spec.attribute("vpeVariant", info.variant);
+    if (!info.isBrdf()) {
+        spec.attribute("vpeTerms", info.terms);
+    }
     spec.attribute("vpeCapture", info.capture);
     spec.attribute("vpeFieldOfView", static_cast<float>(info.calibration.fieldOfViewDegrees));
     spec.attribute("vpeLightDistance", static_cast<float>(info.calibration.lightDistance));
-    if (info.texelMm > 0) {
-        spec.attribute("vpeTexelMm", static_cast<float>(info.texelMm));
-    }
-    if (info.tilesU) {
-        spec.attribute("vpeTilesU", 1);
-    }
-    spec.attribute("vpeUnits",
-                   "linear radiance per unit light irradiance; layout kd,a0,a1,b1,...; "
-                   "see proto/MODEL.md");
+    spec.attribute("vpeUnits", info.isBrdf()
+                                   ? "linear radiance per unit light irradiance; layout "
+                                     "kd,a0,a1,b1,...; see proto/MODEL.md"
+                                   : "stored image values (code / full scale) of the RTI basis "
+                                     "named by vpeVariant and vpeTerms; see docs/model-file.md");
     impl_->image = OIIO::ImageOutput::create("exr");
     if (!impl_->image || !impl_->image->open(impl_->output.temporaryPath().string(), spec)) {
         throw InputError(path, "cannot write model file: " +
@@ -181,7 +203,8 @@ struct ModelReader::Impl {
     std::vector<float> scanlines;
 };
 
-ModelReader::ModelReader(const std::filesystem::path& path) : impl_(std::make_unique<Impl>()) {
+ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
+    : impl_(std::make_unique<Impl>()) {
     impl_->path = path;
     impl_->image = OIIO::ImageInput::open(path.string());
     if (!impl_->image) {
@@ -207,20 +230,21 @@ ModelReader::ModelReader(const std::filesystem::path& path) : impl_(std::make_un
     info.lambda = spec.get_float_attribute("vpeLambda", 0.0f);
     info.samples = spec.get_int_attribute("vpeSamples", 0);
     info.variant = spec.get_string_attribute("vpeVariant", "paper");
-    if (info.variant != "paper" && info.variant != "extended") {
+    info.terms = spec.get_int_attribute("vpeTerms", 0);
+    if (!info.isBrdf() && !info.rtiBasis()) {
         throw InputError(path, "unknown model variant '" + info.variant + "'");
+    }
+    if (!info.isBrdf() && accepted == ModelKinds::kBrdf) {
+        throw InputError(path, "is an RTI basis fit (" + info.rtiBasis()->name() +
+                                   "), not a Fourier BRDF: use a model from vpe fit --model "
+                                   "paper|extended");
     }
     info.capture = spec.get_string_attribute("vpeCapture");
     info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
     info.calibration.lightDistance = spec.get_float_attribute("vpeLightDistance", 0.0f);
-    info.texelMm = spec.get_float_attribute("vpeTexelMm", 0.0f);
-    info.tilesU = spec.get_int_attribute("vpeTilesU", 0) != 0;
     if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&
           info.calibration.lightDistance >= 0)) {
         throw InputError(path, "geometry calibration out of range");
-    }
-    if (!(info.texelMm >= 0) || !std::isfinite(info.texelMm)) {
-        throw InputError(path, "vpeTexelMm must be a size in millimetres ≥ 0");
     }
     if (info.harmonics < 0 || info.harmonics > proto::kMaxHarmonics) {
         throw InputError(path,
@@ -234,12 +258,12 @@ ModelReader::ModelReader(const std::filesystem::path& path) : impl_(std::make_un
         }
         return static_cast<int>(it - spec.channelnames.begin());
     };
-    const int k = proto::coefficientCount(info.harmonics);
+    const int k = info.coefficientCount();
     impl_->coefficientChannel.resize(static_cast<std::size_t>(k) * 3);
     for (int i = 0; i < k; ++i) {
         for (int c = 0; c < 3; ++c) {
             impl_->coefficientChannel[static_cast<std::size_t>(i) * 3 + c] =
-                find(coefficientName(i) + "." + kColour[c]);
+                find(coefficientName(info, i) + "." + kColour[c]);
         }
     }
     for (int a = 0; a < 3; ++a) {
@@ -261,7 +285,7 @@ const ModelInfo& ModelReader::info() const {
 }
 
 void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
-    const int k = proto::coefficientCount(impl_->info.harmonics);
+    const int k = impl_->info.coefficientCount();
     const int width = impl_->info.width;
     const int channels = impl_->channels;
     out.resize(width, rows, k, !impl_->transportChannel.empty());

@@ -9,10 +9,12 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "capture/geometry_calibration.h"
+#include "model/rti_basis.h"
 
 namespace vpe {
 
@@ -22,22 +24,24 @@ struct ModelInfo {
     int harmonics = 0;
     double lambda = 0;
     int samples = 0;  // images the fit used
+    // "paper" or "extended" (Fourier BRDFs), or an RTI basis fitted for comparison: "ptm",
+    // "hsh" with `terms` coefficients per channel (model/rti_basis.h).
     std::string variant = "paper";
+    int terms = 0;
     std::string capture;  // what was fitted (for people reading the header)
     // The capture geometry the model was fitted under (extended variant): evaluation of
     // another capture from the same dome applies it too.
     GeometryCalibration calibration;
-    // The side of a texel on the captured surface, millimetres (0: unknown): from the capture's
-    // manifest through vpe fit; a quilted texture keeps its source's.
-    double texelMm = 0;
-    // The texture tiles in u: its last column continues into its first (vpe quilt on a screen
-    // object whose u wraps).
-    bool tilesU = false;
     bool hasTransport() const { return variant == "extended"; }
+    bool isBrdf() const { return variant == "paper" || variant == "extended"; }
+    std::optional<RtiBasis> rtiBasis() const;  // for "ptm" and "hsh"
+    int coefficientCount() const;              // per colour channel
 };
 
 // "kd", "a0", "a1", "b1", ..., in coefficient order.
 std::string coefficientName(int index);
+// A model's coefficient layer names: the Fourier BRDF's above, or an RTI basis's "c00" ….
+std::string coefficientName(const ModelInfo& info, int index);
 
 // A band of model rows, pixel-major.
 struct ModelRows {
@@ -75,10 +79,15 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// What a reader accepts: a Fourier BRDF (what rendering, segmentation, quilting and the bake
+// need), or also an RTI basis fitted for comparison (what `vpe eval` scores).
+enum class ModelKinds { kBrdf, kAny };
+
 class ModelReader {
 public:
-    // Checks that the file is a vpe model and names what is wrong if not.
-    explicit ModelReader(const std::filesystem::path& path);
+    // Checks that the file is a vpe model of an accepted kind and names what is wrong if not.
+    explicit ModelReader(const std::filesystem::path& path,
+                         ModelKinds accepted = ModelKinds::kBrdf);
     ~ModelReader();
     ModelReader(const ModelReader&) = delete;
     ModelReader& operator=(const ModelReader&) = delete;
