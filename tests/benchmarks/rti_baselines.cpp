@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Classic RTI baselines (PTM-6, PTM-10, HSH-9, HSH-16) on SynthRTI, fitted on Dome/ and scored
 // on Test/ with `vpe eval`'s metric, so vpe's numbers compare with them on the same footing.
+// The bases are `vpe fit --model`'s (one set at a time: vpe fit Dome --model hsh16, vpe eval
+// Test); this tool runs all the sets at once and also fits them in linear radiance.
 //   vpe_rti_baselines [--sets PATTERN]... [--json FILE] [--threads N]
 // PATTERN is a glob (fnmatch) matched against a set's name or any leading part of it:
 // "Single/Object1" selects that object's materials, "*/Object2/material3" one per group.
@@ -28,13 +30,15 @@
 #include "capture/image_band_reader.h"
 #include "common/parallel_for.h"
 #include "eval/model_evaluation.h"
+#include "model/rti_basis.h"
 #include "support/test_data.h"
 
 namespace vpe {
 namespace {
 
-enum class Basis { kPtm6, kPtm10, kHsh9, kHsh16 };
-constexpr std::array<Basis, 4> kBases{Basis::kPtm6, Basis::kPtm10, Basis::kHsh9, Basis::kHsh16};
+// The bases as `vpe fit --model ptm6|ptm10|hsh9|hsh16` fits them (model/rti_basis.h).
+const std::array<RtiBasis, 4> kBases{*RtiBasis::parse("ptm6"), *RtiBasis::parse("ptm10"),
+                                     *RtiBasis::parse("hsh9"), *RtiBasis::parse("hsh16")};
 constexpr std::array<const char*, 4> kBasisNames{"PTM-6", "PTM-10", "HSH-9", "HSH-16"};
 
 // The domain the coefficients are fitted in. RTI tools fit the 8-bit codes (code/255);
@@ -43,91 +47,12 @@ enum class Domain { kSrgb, kLinear };
 constexpr std::array<Domain, 2> kDomains{Domain::kSrgb, Domain::kLinear};
 constexpr std::array<const char*, 2> kDomainNames{"srgb", "linear"};
 
-int termCount(Basis basis) {
-    switch (basis) {
-        case Basis::kPtm6:
-            return 6;
-        case Basis::kPtm10:
-            return 10;
-        case Basis::kHsh9:
-            return 9;
-        case Basis::kHsh16:
-            return 16;
-    }
-    return 0;
-}
-
-// Associated Legendre polynomials P_l^m(x), 0 ≤ m ≤ l < orders, by the standard recurrences,
-// scaled to the orthonormal hemispherical-harmonic norm so the Gram matrix stays balanced.
-// The sign convention (Condon–Shortley or not) does not matter to a least-squares fit.
-void hemisphericalHarmonics(const Vec3d& light, int orders, double* out) {
-    const double cosTheta = std::clamp(light.z, -1.0, 1.0);
-    const double phi = std::atan2(light.y, light.x);
-    const double x = std::clamp(2.0 * cosTheta - 1.0, -1.0, 1.0);
-    const double s = std::sqrt(std::max(0.0, 1.0 - x * x));
-    double legendre[4][4] = {};
-    for (int m = 0; m < orders; ++m) {
-        double pmm = 1.0;
-        for (int i = 1; i <= m; ++i) {
-            pmm *= (2 * i - 1) * s;
-        }
-        legendre[m][m] = pmm;
-        if (m + 1 < orders) {
-            legendre[m + 1][m] = x * (2 * m + 1) * pmm;
-        }
-        for (int l = m + 2; l < orders; ++l) {
-            legendre[l][m] =
-                ((2 * l - 1) * x * legendre[l - 1][m] - (l + m - 1) * legendre[l - 2][m]) / (l - m);
-        }
-    }
-    int term = 0;
-    for (int l = 0; l < orders; ++l) {
-        for (int m = -l; m <= l; ++m) {
-            const int a = std::abs(m);
-            double factorialRatio = 1.0;  // (l − |m|)! / (l + |m|)!
-            for (int i = l - a + 1; i <= l + a; ++i) {
-                factorialRatio /= i;
-            }
-            const double norm = std::sqrt((2 * l + 1) / (2.0 * M_PI) * factorialRatio) *
-                                (m == 0 ? 1.0 : std::sqrt(2.0));
-            const double angular = m > 0 ? std::cos(m * phi) : (m < 0 ? std::sin(a * phi) : 1.0);
-            out[term++] = norm * legendre[l][a] * angular;
-        }
-    }
-}
-
-void evaluateBasis(Basis basis, const Vec3d& light, double* out) {
-    const double u = light.x, v = light.y;
-    switch (basis) {
-        case Basis::kPtm10:
-            out[6] = u * u * u;
-            out[7] = v * v * v;
-            out[8] = u * u * v;
-            out[9] = u * v * v;
-            [[fallthrough]];
-        case Basis::kPtm6:
-            out[0] = u * u;
-            out[1] = v * v;
-            out[2] = u * v;
-            out[3] = u;
-            out[4] = v;
-            out[5] = 1.0;
-            return;
-        case Basis::kHsh9:
-            hemisphericalHarmonics(light, 3, out);
-            return;
-        case Basis::kHsh16:
-            hemisphericalHarmonics(light, 4, out);
-            return;
-    }
-}
-
-Eigen::MatrixXd designMatrix(Basis basis, const Capture& capture) {
-    Eigen::MatrixXd a(static_cast<Eigen::Index>(capture.images.size()), termCount(basis));
-    std::vector<double> row(static_cast<std::size_t>(termCount(basis)));
+Eigen::MatrixXd designMatrix(const RtiBasis& basis, const Capture& capture) {
+    Eigen::MatrixXd a(static_cast<Eigen::Index>(capture.images.size()), basis.terms);
+    std::vector<double> row(static_cast<std::size_t>(basis.terms));
     for (std::size_t i = 0; i < capture.images.size(); ++i) {
-        evaluateBasis(basis, capture.images[i].light, row.data());
-        for (int j = 0; j < termCount(basis); ++j) {
+        basis.evaluate(capture.images[i].light, row.data());
+        for (int j = 0; j < basis.terms; ++j) {
             a(static_cast<Eigen::Index>(i), j) = row[static_cast<std::size_t>(j)];
         }
     }
@@ -136,7 +61,8 @@ Eigen::MatrixXd designMatrix(Basis basis, const Capture& capture) {
 
 // The whole prediction is linear in the observations and the design is the same for every
 // pixel: Test values = B (AᵀA + λI)⁻¹ Aᵀ · Dome values, one Nt × Nd matrix per set and basis.
-Eigen::MatrixXd predictionOperator(Basis basis, const Capture& dome, const Capture& test) {
+Eigen::MatrixXd predictionOperator(const RtiBasis& basis, const Capture& dome,
+                                   const Capture& test) {
     const Eigen::MatrixXd a = designMatrix(basis, dome);
     Eigen::MatrixXd gram = a.transpose() * a;
     // A tiny ridge only guards against round-off; it does not regularize the fit.
