@@ -16,6 +16,7 @@ CoefficientTexture readCoefficientTexture(const std::filesystem::path& model) {
     texture.height = info.height;
     texture.harmonics = info.harmonics;
     texture.lambda = info.lambda;
+    texture.tilesU = info.tilesU;
     const int k = proto::coefficientCount(info.harmonics);
     const std::size_t perTexel = 3 * static_cast<std::size_t>(k);
     const std::size_t texels = static_cast<std::size_t>(info.width) * info.height;

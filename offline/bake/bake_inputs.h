@@ -21,7 +21,8 @@ struct CoefficientTexture {
     int height = 0;
     int harmonics = 0;
     double lambda = 0;
-    std::vector<float> values;         // C per texel, proto::bundleCoefficientIndex order
+    bool tilesU = false;        // the model file says it tiles in u (vpe quilt on a wrapping mesh)
+    std::vector<float> values;  // C per texel, proto::bundleCoefficientIndex order
     std::vector<unsigned char> valid;  // per texel
 };
 

@@ -475,9 +475,10 @@ public:
             presets.push_back(fb::CreateWeightPresetDirect(b, c_.presets[i].name.c_str(),
                                                            ref(b, index_.presets[i])));
         }
-        const auto textures = fb::CreateTexturesDirect(
-            b, static_cast<std::uint32_t>(c_.textureWidth),
-            static_cast<std::uint32_t>(c_.textureHeight), &regions, composed, &presets);
+        const auto textures =
+            fb::CreateTexturesDirect(b, static_cast<std::uint32_t>(c_.textureWidth),
+                                     static_cast<std::uint32_t>(c_.textureHeight), &regions,
+                                     composed, &presets, c_.textureWrapsU);
         fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
         return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
     }

@@ -53,6 +53,7 @@ struct BundleContents {
     proto::BundleModel model;  // M, λ and the θs basis (empty: none, rendered exactly)
     int textureWidth = 0;      // 1..4096
     int textureHeight = 0;
+    bool textureWrapsU = false;  // the textures tile in u: the device's sampling wraps
     std::vector<BundleRegion> regions;
     std::optional<CoefficientMapData> composed;
     std::vector<WeightPreset> presets;

@@ -16,6 +16,7 @@
 #include "bake/theta_basis_fit.h"
 #include "common/input_error.h"
 #include "scene/procedural_vase.h"
+#include "scene/surface_scale.h"
 #include "texture/quilt_folder.h"
 #include "texture/region_compose.h"
 #include "texture/weight_maps.h"
@@ -162,6 +163,12 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
     const CoefficientTexture& first = textures.front();
     contents.textureWidth = first.width;
     contents.textureHeight = first.height;
+    // Sampling wraps in u only when every map tiles: one that does not would blend its two
+    // unrelated edges.
+    contents.textureWrapsU = std::all_of(textures.begin(), textures.end(),
+                                         [](const CoefficientTexture& t) { return t.tilesU; });
+    report.wrapU = contents.textureWrapsU;
+    report.meshWrapsU = scene::measureSurfaceScale(mesh).wrapsU;
     contents.model.harmonics = first.harmonics;
     contents.model.lambda = first.lambda;
     const int thetaSize = thetaBasisSize(options.thetaBasis, first.harmonics);

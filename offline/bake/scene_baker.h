@@ -47,6 +47,10 @@ struct BakeOptions {
 struct BakeReport {
     int textureWidth = 0, textureHeight = 0, harmonics = 0, regions = 0;
     std::size_t vertices = 0, triangles = 0;
+    // The textures tile in u, so the bundle's sampling wraps; and whether the mesh's u wraps
+    // (when it does and the textures do not, u = 0 | 1 is a visible seam).
+    bool wrapU = false;
+    bool meshWrapsU = false;
     int bytesPerTexel = 0;  // per region, as stored
     // Low-rank codes: share of the coefficient variance kept, and the RMS coefficient error,
     // worst over the regions.

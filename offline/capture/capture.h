@@ -78,6 +78,9 @@ struct Capture {
     std::optional<std::filesystem::path> positionMap;  // world XYZ per pixel (floating point)
     std::optional<SurfacePlane> plane;
     std::optional<std::filesystem::path> mask;  // nonzero = use the pixel
+    // The side of one pixel on the captured surface, millimetres: what gives the texture its
+    // physical scale on another object (vpe quilt --size auto).
+    std::optional<double> texelMm;
 
     bool needsSurfacePositions() const {
         return lightKind == LightKind::kPoint || std::holds_alternative<PinholeCamera>(camera);

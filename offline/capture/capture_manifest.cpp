@@ -201,7 +201,7 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
     const ManifestReader reader(source);
     reader.requireObject(root, "",
                          {"format", "version", "encoding", "camera", "lights", "images", "normals",
-                          "positions", "plane", "mask"});
+                          "positions", "plane", "mask", "texel_mm"});
     if (root.contains("format") && reader.string(root["format"], "format") != "vpe-capture") {
         reader.fail("format", "expected 'vpe-capture'");
     }
@@ -316,6 +316,9 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
     }
     if (root.contains("mask")) {
         capture.mask = reader.file(root["mask"], "mask");
+    }
+    if (root.contains("texel_mm")) {
+        capture.texelMm = reader.positiveNumber(root["texel_mm"], "texel_mm");
     }
     if (std::holds_alternative<PinholeCamera>(capture.camera) && !capture.positionMap &&
         !capture.plane) {

@@ -162,6 +162,11 @@ void addBakeCommand(CLI::App& app, Action& action) {
                          args->encoding.c_str(), report.bytesPerTexel,
                          thetaBasisText(report).c_str(), report.vertices, report.triangles,
                          static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
+            std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
+                         report.meshWrapsU && !report.wrapU
+                             ? ": the mesh's u wraps but the textures do not tile, so u = 0 | 1 "
+                               "shows as a seam (vpe quilt --wrap auto makes them tile)"
+                             : "");
             if (args->json) {
                 nlohmann::json json;
                 json["out"] = args->out;
@@ -178,6 +183,8 @@ void addBakeCommand(CLI::App& app, Action& action) {
                 json["theta_energy_kept"] = report.thetaEnergyKept;
                 json["vertices"] = report.vertices;
                 json["triangles"] = report.triangles;
+                json["wrap_u"] = report.wrapU;
+                json["mesh_wraps_u"] = report.meshWrapsU;
                 json["bytes"] = report.bytes;
                 json["checksum"] = report.checksum;
                 json["seconds"] = seconds;

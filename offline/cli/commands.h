@@ -20,6 +20,7 @@ void addSegmentCommand(CLI::App& app, Action& action);
 void addQuiltCommand(CLI::App& app, Action& action);
 void addRelightCommand(CLI::App& app, Action& action);
 void addComposeCommand(CLI::App& app, Action& action);
+void addWeightsCommand(CLI::App& app, Action& action);
 void addQuiltQualityCommand(CLI::App& app, Action& action);
 void addInfoCommand(CLI::App& app, Action& action);
 void addBakeCommand(CLI::App& app, Action& action);

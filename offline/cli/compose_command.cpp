@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/pattern_report.h"
 #include "common/input_error.h"
 #include "texture/quilt_folder.h"
 #include "texture/region_compose.h"
@@ -28,14 +29,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
     command->add_option("DIR", args->dir, "Folder with region0.exr, region1.exr, ... (vpe quilt)")
         ->required();
     command->add_option("--out", args->out, "Model file to write (.exr)")->required();
-    command
-        ->add_option("--weights", args->weights,
-                     "One entry per region, comma-separated: image:PATH, "
-                     "stripes[:angle=A][:period=P][:sharpness=S][:phase=F], "
-                     "radial[:cx=X][:cy=Y][:radius=R], "
-                     "noise[:scale=L][:seed=N][:octaves=O][:sharpness=S], constant[:value=V]; "
-                     "any but constant may add :invert (docs/compose.md)")
-        ->required();
+    command->add_option("--weights", args->weights, texture::kWeightSpecSynopsis)->required();
     command->add_option("--weights-out", args->weightsOut,
                         "Picture of the normalized weights: a grey tile per region, then the "
                         "regions colour-coded");
@@ -62,6 +56,8 @@ void addComposeCommand(CLI::App& app, Action& action) {
             if (!args->weightsOut.empty()) {
                 texture::writeWeightPicture(args->weightsOut, weights);
             }
+            nlohmann::json patterns;
+            reportPatterns(sources, weights, patterns);
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::fprintf(stderr,
@@ -100,6 +96,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
                         {{"entry", sources[k].entry}, {"mean", report.meanWeight[k]}});
                 }
                 json["zero_weight_pixels"] = weights.zeroSumPixels;
+                json.update(patterns);
                 json["invalid_pixels"] = report.invalidPixels;
                 if (!args->weightsOut.empty()) {
                     json["weights_picture"] = args->weightsOut;

@@ -124,6 +124,7 @@ nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle
     json["textures"] = {
         {"width", bundle.textureWidth()},
         {"height", bundle.textureHeight()},
+        {"wrap_u", bundle.textureWrapsU()},
         {"regions", regions},
         {"composed", bundle.composed() ? mapJson(*bundle.composed()) : nlohmann::json(nullptr)}};
     nlohmann::json presets = nlohmann::json::array();
@@ -187,8 +188,10 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
                 bundle.model().harmonics, bundle.model().lambda,
                 bundle.model().coefficientsPerTexel(), proto::kBundleCoefficientLayout);
     std::printf("           %s\n", thetaBasisText(bundle.model()).c_str());
-    std::printf("textures   %d x %d, %zu region%s\n", bundle.textureWidth(), bundle.textureHeight(),
-                bundle.regions().size(), bundle.regions().size() == 1 ? "" : "s");
+    std::printf("textures   %d x %d, %zu region%s, sampling %s in u\n", bundle.textureWidth(),
+                bundle.textureHeight(), bundle.regions().size(),
+                bundle.regions().size() == 1 ? "" : "s",
+                bundle.textureWrapsU() ? "wraps" : "clamps");
     for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
         const proto::RegionView& region = bundle.regions()[r];
         std::printf("  region %zu '%.*s': %s\n", r, static_cast<int>(region.name.size()),

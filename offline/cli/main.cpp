@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     vpe::cli::addQuiltCommand(app, action);
     vpe::cli::addRelightCommand(app, action);
     vpe::cli::addComposeCommand(app, action);
+    vpe::cli::addWeightsCommand(app, action);
     vpe::cli::addQuiltQualityCommand(app, action);
     vpe::cli::addBakeCommand(app, action);
     vpe::cli::addRenderCommand(app, action);

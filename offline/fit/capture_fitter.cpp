@@ -212,6 +212,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     info.capture = capture.source.string();
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
     info.calibration = report.calibration;
+    info.texelMm = capture.texelMm.value_or(0.0);
     ModelWriter writer(modelPath, info);
     RelightPreview preview(report.width, report.height, harmonics);
 

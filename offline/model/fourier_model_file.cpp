@@ -3,6 +3,7 @@
 #include "model/fourier_model_file.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <OpenImageIO/imageio.h>
 
@@ -136,6 +137,12 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     spec.attribute("vpeCapture", info.capture);
     spec.attribute("vpeFieldOfView", static_cast<float>(info.calibration.fieldOfViewDegrees));
     spec.attribute("vpeLightDistance", static_cast<float>(info.calibration.lightDistance));
+    if (info.texelMm > 0) {
+        spec.attribute("vpeTexelMm", static_cast<float>(info.texelMm));
+    }
+    if (info.tilesU) {
+        spec.attribute("vpeTilesU", 1);
+    }
     spec.attribute("vpeUnits", info.isBrdf()
                                    ? "linear radiance per unit light irradiance; layout "
                                      "kd,a0,a1,b1,...; see proto/MODEL.md"
@@ -242,9 +249,14 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     info.capture = spec.get_string_attribute("vpeCapture");
     info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
     info.calibration.lightDistance = spec.get_float_attribute("vpeLightDistance", 0.0f);
+    info.texelMm = spec.get_float_attribute("vpeTexelMm", 0.0f);
+    info.tilesU = spec.get_int_attribute("vpeTilesU", 0) != 0;
     if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&
           info.calibration.lightDistance >= 0)) {
         throw InputError(path, "geometry calibration out of range");
+    }
+    if (!(info.texelMm >= 0) || !std::isfinite(info.texelMm)) {
+        throw InputError(path, "vpeTexelMm must be a size in millimetres ≥ 0");
     }
     if (info.harmonics < 0 || info.harmonics > proto::kMaxHarmonics) {
         throw InputError(path,

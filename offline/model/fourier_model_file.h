@@ -32,6 +32,12 @@ struct ModelInfo {
     // The capture geometry the model was fitted under (extended variant): evaluation of
     // another capture from the same dome applies it too.
     GeometryCalibration calibration;
+    // The side of a texel on the captured surface, millimetres (0: unknown): from the capture's
+    // manifest through vpe fit; a quilted texture keeps its source's.
+    double texelMm = 0;
+    // The texture tiles in u: its last column continues into its first (vpe quilt on a screen
+    // object whose u wraps).
+    bool tilesU = false;
     bool hasTransport() const { return variant == "extended"; }
     bool isBrdf() const { return variant == "paper" || variant == "extended"; }
     std::optional<RtiBasis> rtiBasis() const;  // for "ptm" and "hsh"

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 
@@ -156,13 +158,18 @@ struct Rect {
     int x0, y0, x1, y1;  // [x0, x1) × [y0, y1) in block coordinates
 };
 
-// The overlap of a block with what is already placed: a left strip, a top strip, or both.
+// The overlap of a block with what is already placed: strips along its left, top and right
+// sides, each given by its width in pixels (0: none). A right strip only exists when the
+// output wraps in x: the last block of a row overlaps the first one across the seam.
 struct OverlapShape {
-    bool left = false;
-    bool top = false;
-    bool contains(int qx, int qy, int overlap) const {
-        return (left && qx < overlap) || (top && qy < overlap);
+    int left = 0;
+    int top = 0;
+    int right = 0;
+    bool any() const { return left > 0 || top > 0 || right > 0; }
+    bool contains(int qx, int qy, int block) const {
+        return qx < left || qy < top || qx >= block - right;
     }
+    auto key() const { return std::tuple{left, top, right}; }
 };
 
 // Everything about one region that does not change from block to block.
@@ -220,18 +227,26 @@ public:
     // a buffer whose other rows stay zero. About half the cost of the full 2-D transform.
     fftwf_plan templateRows() const { return templateRows_; }
     fftwf_plan templateColumns() const { return templateColumns_; }
-    // Σ over the overlap shape, at candidate p, of the squared PCA components.
-    double overlapEnergy(int px, int py, const OverlapShape& shape, int overlap) const {
+    // Σ over the overlap shape, at candidate p, of the squared PCA components: the strips'
+    // sums less their corners (left and right never meet: each is under half a block).
+    double overlapEnergy(int px, int py, const OverlapShape& shape) const {
         const int x = px, y = py;  // bounding-box coordinates of the block's corner
+        const int b = block_;
         double e = 0;
-        if (shape.left) {
-            e += squares_->sum(x, y, x + overlap, y + block_);
+        if (shape.left > 0) {
+            e += squares_->sum(x, y, x + shape.left, y + b);
         }
-        if (shape.top) {
-            e += squares_->sum(x, y, x + block_, y + overlap);
+        if (shape.right > 0) {
+            e += squares_->sum(x + b - shape.right, y, x + b, y + b);
         }
-        if (shape.left && shape.top) {
-            e -= squares_->sum(x, y, x + overlap, y + overlap);
+        if (shape.top > 0) {
+            e += squares_->sum(x, y, x + b, y + shape.top);
+            if (shape.left > 0) {
+                e -= squares_->sum(x, y, x + shape.left, y + shape.top);
+            }
+            if (shape.right > 0) {
+                e -= squares_->sum(x + b - shape.right, y, x + b, y + shape.top);
+            }
         }
         return e;
     }
@@ -439,6 +454,66 @@ struct Candidate {
     }
 };
 
+// Where the blocks of a row go: every block starts at origins[i] and is `block` wide.
+// Without wrapping, origins step by block − overlap and the canvas is cropped to the output;
+// wrapping, the canvas is exactly the output's width and the origins spread over it so that
+// the last block overlaps the first across x = width | 0 (steps differ by at most a pixel,
+// so each left overlap is within a pixel of the others).
+struct ColumnLayout {
+    std::vector<int> origins;
+    int canvasWidth = 0;
+    bool wrap = false;
+};
+
+// A wrapping row of n blocks over `width` pixels, or nothing when its overlaps would leave
+// the range [1, (block − 1) / 2] in which the boundary cuts work.
+std::optional<ColumnLayout> wrappingColumns(int width, int block, int n) {
+    if (n < 2) {
+        return std::nullopt;
+    }
+    ColumnLayout layout;
+    layout.wrap = true;
+    layout.canvasWidth = width;
+    for (int i = 0; i < n; ++i) {
+        layout.origins.push_back(static_cast<int>(static_cast<long long>(i) * width / n));
+    }
+    for (int i = 0; i < n; ++i) {
+        const int next = i + 1 < n ? layout.origins[static_cast<std::size_t>(i) + 1] : width;
+        const int overlap = layout.origins[static_cast<std::size_t>(i)] + block - next;
+        if (overlap < 1 || overlap > (block - 1) / 2) {
+            return std::nullopt;
+        }
+    }
+    return layout;
+}
+
+ColumnLayout columnLayout(int width, int block, int overlap, bool wrap) {
+    const int step = block - overlap;
+    if (wrap) {
+        // As many blocks as the nominal step needs (overlaps a little wider than asked), else
+        // one fewer (a little narrower).
+        const int atLeast = (width + step - 1) / step;
+        for (int n : {atLeast, atLeast - 1}) {
+            if (std::optional<ColumnLayout> layout = wrappingColumns(width, block, n)) {
+                return *layout;
+            }
+        }
+        // Two blocks a row, each overlapping the other on both sides by at most (block − 1) / 2.
+        const int least = 2 * (block - (block - 1) / 2);
+        throw InputError("a texture that wraps in u cannot be " + std::to_string(width) +
+                         " pixels wide with " + std::to_string(block) +
+                         "-pixel blocks overlapping by " + std::to_string(overlap) + " (at least " +
+                         std::to_string(least) + ")");
+    }
+    ColumnLayout layout;
+    const int blocks = std::max(1, (width - overlap + step - 1) / step);
+    for (int i = 0; i < blocks; ++i) {
+        layout.origins.push_back(i * step);
+    }
+    layout.canvasWidth = blocks * step + overlap;
+    return layout;
+}
+
 class Quilter {
 public:
     Quilter(const SourceTexture& source, const RegionSearch& search, int region, int width,
@@ -449,11 +524,20 @@ public:
           block_(block),
           overlap_(overlap),
           step_(block - overlap),
-          settings_(settings) {
-        blocksX_ = std::max(1, (width - overlap + step_ - 1) / step_);
+          settings_(settings),
+          columns_(columnLayout(width, block, overlap, settings.wrapU)) {
+        blocksX_ = static_cast<int>(columns_.origins.size());
         blocksY_ = std::max(1, (height - overlap + step_ - 1) / step_);
-        canvasWidth_ = blocksX_ * step_ + overlap;
+        canvasWidth_ = columns_.canvasWidth;
         canvasHeight_ = blocksY_ * step_ + overlap;
+        // Skewed wavefronts d = i + skew·j: a block depends on its left, top and top-right
+        // neighbours (the last overlaps its top-right corner), all on earlier fronts, and
+        // blocks of one front are at least two steps apart, so they never touch. Wrapping,
+        // the last block of row j also touches the first of row j + 1 (on front skew·(j + 1)
+        // versus n − 1 + skew·j): with three blocks a row, a skew of 2 would put them on one
+        // front, so it is 3. Which of the two comes first does not matter, only that they do
+        // not run at once: each block's overlap is what is placed when it is placed.
+        skew_ = columns_.wrap && blocksX_ == 3 ? 3 : 2;
         sourceX_.assign(static_cast<std::size_t>(canvasWidth_) * canvasHeight_, -1);
         sourceY_.assign(sourceX_.size(), -1);
         if (search_.usesFft()) {
@@ -462,14 +546,11 @@ public:
     }
 
     void run() {
-        // Skewed wavefronts d = i + 2j: a block depends on its left, top and top-right
-        // neighbours (the last overlaps its top-right corner), all on earlier fronts, and
-        // blocks of one front are at least two steps apart, so they never touch.
-        const int fronts = blocksX_ + 2 * blocksY_;
+        const int fronts = blocksX_ + skew_ * blocksY_;
         for (int d = 0; d < fronts; ++d) {
             std::vector<std::pair<int, int>> front;
             for (int j = 0; j < blocksY_; ++j) {
-                const int i = d - 2 * j;
+                const int i = d - skew_ * j;
                 if (i >= 0 && i < blocksX_) {
                     front.emplace_back(i, j);
                 }
@@ -502,11 +583,35 @@ public:
         out.components = search_.components();
         out.candidates = search_.candidateCount();
         out.blocks = blocksX_ * blocksY_;
+        out.wrapU = columns_.wrap;
         return out;
     }
 
 private:
-    std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * canvasWidth_ + x; }
+    // Canvas pixel (x, y); wrapping, x may run past the right edge (a block's right part
+    // continues at the left), never by more than a block.
+    std::size_t index(int x, int y) const {
+        if (x >= canvasWidth_) {
+            x -= canvasWidth_;
+        }
+        return static_cast<std::size_t>(y) * canvasWidth_ + x;
+    }
+
+    // The overlap of block (i, j) with what is placed before it.
+    OverlapShape shapeOf(int i, int j) const {
+        OverlapShape shape;
+        const auto origin = [this](int k) { return columns_.origins[static_cast<std::size_t>(k)]; };
+        if (i > 0) {
+            shape.left = origin(i - 1) + block_ - origin(i);
+        }
+        if (j > 0) {
+            shape.top = overlap_;
+        }
+        if (columns_.wrap && i == blocksX_ - 1) {
+            shape.right = origin(i) + block_ - canvasWidth_;
+        }
+        return shape;
+    }
 
     // FFT scratch (a few MiB) is kept between wavefronts: each front runs on fresh threads,
     // and allocating, clearing and faulting in new buffers for every front showed in the
@@ -532,31 +637,34 @@ private:
         }
     }
 
-    // Σ S² over the overlap at every candidate, for the three overlap shapes (left, top,
-    // both), computed once instead of up to twelve summed-area lookups per candidate and block.
+    // Σ S² over the overlap at every candidate, for every overlap shape the blocks have (left,
+    // top, both; wrapping, also the left widths a pixel apart and the last column's right
+    // strip), computed once instead of up to twenty summed-area lookups per candidate and block.
     void buildOverlapEnergies() {
         const int nx = search_.positionsX(), ny = search_.positionsY();
-        for (int s = 0; s < 3; ++s) {
-            const OverlapShape shape{s != 1, s != 0};
-            std::vector<double>& energy = overlapEnergies_[static_cast<std::size_t>(s)];
-            energy.assign(static_cast<std::size_t>(nx) * ny, 0.0);
-            for (int py = 0; py < ny; ++py) {
-                for (int px = 0; px < nx; ++px) {
-                    if (search_.valid(px, py)) {
-                        energy[static_cast<std::size_t>(py) * nx + px] =
-                            search_.overlapEnergy(px, py, shape, overlap_);
+        for (int j = 0; j < std::min(blocksY_, 2); ++j) {  // rows past the second repeat it
+            for (int i = 0; i < blocksX_; ++i) {
+                const OverlapShape shape = shapeOf(i, j);
+                if (!shape.any() || overlapEnergies_.count(shape.key()) != 0) {
+                    continue;
+                }
+                std::vector<double>& energy = overlapEnergies_[shape.key()];
+                energy.assign(static_cast<std::size_t>(nx) * ny, 0.0);
+                for (int py = 0; py < ny; ++py) {
+                    for (int px = 0; px < nx; ++px) {
+                        if (search_.valid(px, py)) {
+                            energy[static_cast<std::size_t>(py) * nx + px] =
+                                search_.overlapEnergy(px, py, shape);
+                        }
                     }
                 }
             }
         }
     }
-    static int shapeIndex(const OverlapShape& shape) {
-        return shape.left ? (shape.top ? 2 : 0) : 1;
-    }
 
     void placeBlock(int i, int j, SearchScratch* scratch) {
-        const int ox = i * step_, oy = j * step_;
-        const OverlapShape shape{i > 0, j > 0};
+        const int ox = columns_.origins[static_cast<std::size_t>(i)], oy = j * step_;
+        const OverlapShape shape = shapeOf(i, j);
         std::uint64_t rng = synth::mixBits(
             settings_.seed ^ synth::mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
                                             static_cast<std::uint64_t>(j) * 0x10000 +
@@ -567,7 +675,7 @@ private:
                    n;
         };
         int px, py;
-        if (!shape.left && !shape.top) {
+        if (!shape.any()) {
             std::tie(px, py) = search_.candidate(random(search_.candidateCount()));
         } else {
             std::vector<Candidate> shortlist =
@@ -613,7 +721,7 @@ private:
         OverlapPixels pixels;
         for (int qy = 0; qy < block_; ++qy) {
             for (int qx = 0; qx < block_; ++qx) {
-                if (shape.contains(qx, qy, overlap_)) {
+                if (shape.contains(qx, qy, block_)) {
                     pixels.placed.push_back(placed(ox + qx, oy + qy));
                     pixels.offsets.push_back(
                         (static_cast<std::ptrdiff_t>(qy) * source_.width + qx) * source_.channels);
@@ -649,7 +757,7 @@ private:
             std::fill(image, image + static_cast<std::size_t>(fw) * block_, 0.0f);
             for (int qy = 0; qy < block_; ++qy) {
                 for (int qx = 0; qx < block_; ++qx) {
-                    if (!shape.contains(qx, qy, overlap_)) {
+                    if (!shape.contains(qx, qy, block_)) {
                         continue;
                     }
                     const std::size_t at = index(ox + qx, oy + qy);
@@ -668,8 +776,7 @@ private:
         std::vector<Candidate> best;
         best.reserve(static_cast<std::size_t>(settings_.shortlist) + 1);
         const int nx = search_.positionsX();
-        const std::vector<double>& energy =
-            overlapEnergies_[static_cast<std::size_t>(shapeIndex(shape))];
+        const std::vector<double>& energy = overlapEnergies_.at(shape.key());
         // Only the valid positions, in row order (a thin region's are a small part of its
         // bounding box).
         for (const std::uint32_t at : search_.candidateList()) {
@@ -698,20 +805,31 @@ private:
             return squaredDistance(placed(ox + qx, oy + qy), source_.at(sx + qx, sy + qy), c);
         };
         std::vector<int> cutX(static_cast<std::size_t>(block_), 0),
-            cutY(static_cast<std::size_t>(block_), 0);
-        if (shape.left) {
-            cutX = minimumCut(block_, overlap_,
+            cutY(static_cast<std::size_t>(block_), 0),
+            cutRight(static_cast<std::size_t>(block_), 0);
+        if (shape.left > 0) {
+            cutX = minimumCut(block_, shape.left,
                               [&](int along, int across) { return error(across, along); });
         }
-        if (shape.top) {
-            cutY = minimumCut(block_, overlap_,
+        if (shape.top > 0) {
+            cutY = minimumCut(block_, shape.top,
                               [&](int along, int across) { return error(along, across); });
+        }
+        // The seam: the last block of a wrapping row meets the first one through a cut too,
+        // the new side on its left.
+        const int rightStrip = block_ - shape.right;
+        if (shape.right > 0) {
+            cutRight = minimumCut(block_, shape.right, [&](int along, int across) {
+                return error(rightStrip + across, along);
+            });
         }
         for (int qy = 0; qy < block_; ++qy) {
             for (int qx = 0; qx < block_; ++qx) {
-                const bool newLeft = !shape.left || qx >= cutX[static_cast<std::size_t>(qy)];
-                const bool newTop = !shape.top || qy >= cutY[static_cast<std::size_t>(qx)];
-                if (newLeft && newTop) {
+                const bool newLeft = shape.left == 0 || qx >= cutX[static_cast<std::size_t>(qy)];
+                const bool newTop = shape.top == 0 || qy >= cutY[static_cast<std::size_t>(qx)];
+                const bool newRight =
+                    shape.right == 0 || qx - rightStrip <= cutRight[static_cast<std::size_t>(qy)];
+                if (newLeft && newTop && newRight) {
                     const std::size_t at = index(ox + qx, oy + qy);
                     sourceX_[at] = sx + qx;
                     sourceY_[at] = sy + qy;
@@ -766,9 +884,12 @@ private:
     const RegionSearch& search_;
     int region_, block_, overlap_, step_;
     QuiltSettings settings_;
+    ColumnLayout columns_;
+    int skew_ = 2;
     int blocksX_ = 0, blocksY_ = 0, canvasWidth_ = 0, canvasHeight_ = 0;
     std::vector<std::int32_t> sourceX_, sourceY_;
-    std::vector<double> overlapEnergies_[3];  // [shapeIndex][py * positionsX + px]
+    // [shape.key()][py * positionsX + px]; built before run(), only read while it runs.
+    std::map<std::tuple<int, int, int>, std::vector<double>> overlapEnergies_;
     std::mutex scratchMutex_;
     std::vector<std::unique_ptr<SearchScratch>> freeScratch_;
 };

@@ -6,7 +6,8 @@
 // FFT correlation on a few PCA components (one inverse FFT per block), the best candidates
 // re-scored exactly on all channels, one picked at random within (1 + ε) of the best; the
 // minimum-error boundary cut by dynamic programming; blocks in a skewed wavefront on all
-// threads. Deterministic for a seed whatever the thread count.
+// threads. Deterministic for a seed whatever the thread count. Optionally toroidal in x, so
+// that the texture tiles around a surface whose u wraps.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +38,10 @@ struct QuiltSettings {
     // Search: kFft is the method; kExhaustive scores every candidate on all channels directly
     // (the baseline the benchmark compares with, and a test oracle).
     enum class Search { kFft, kExhaustive } search = Search::kFft;
+    // Tile in x (the texture's u): the output's last column of blocks overlaps its first
+    // across x = width | 0, and that seam gets a minimum-error cut like every other overlap,
+    // so the texture repeats seamlessly left to right (toroidal placement in x).
+    bool wrapU = false;
 };
 
 struct RegionQuilt {
@@ -44,15 +49,17 @@ struct RegionQuilt {
     int height = 0;
     std::vector<std::int32_t> sourceX;  // per output pixel
     std::vector<std::int32_t> sourceY;
-    int block = 0;          // the block size used (smaller than asked if the region is thin)
+    int block = 0;  // the block size used (smaller than asked if the region is thin)
     int overlap = 0;
-    int components = 0;     // PCA components searched
+    int components = 0;          // PCA components searched
     std::size_t candidates = 0;  // valid block positions in the region
     int blocks = 0;
+    bool wrapU = false;  // tiles in x (QuiltSettings::wrapU)
 };
 
 // Synthesizes a width × height texture for `region` (pixels of `labels` equal to it). Throws
-// InputError when the region cannot hold a block of at least 8 pixels.
+// InputError when the region cannot hold a block of at least 8 pixels, or when a texture that
+// wraps is not wider than one block.
 RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
                         int region, int width, int height, const QuiltSettings& settings);
 

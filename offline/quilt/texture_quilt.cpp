@@ -15,6 +15,8 @@
 #include "common/progress_bar.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "scene/procedural_vase.h"
+#include "scene/screen_mesh.h"
 #include "segment/label_map.h"
 #include "texture/quilt_folder.h"
 
@@ -28,18 +30,102 @@ double since(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+nlohmann::json stretchJson(const scene::TexelStretch& s) {
+    return {{"worst", s.worst},
+            {"worst_uv", {s.worstU, s.worstV}},
+            {"mean", s.mean},
+            {"median", s.median},
+            {"p95", s.p95},
+            {"texel_u_mm", s.texelUMm},
+            {"texel_v_mm", s.texelVMm}};
+}
+
+nlohmann::json seamJson(const texture::SeamStatistics& s) {
+    return {{"step", s.seam},
+            {"interior_mean", s.interiorMean},
+            {"interior_median", s.interiorMedian},
+            {"interior_p95", s.interiorP95},
+            {"interior_max", s.interiorMax},
+            {"rank", s.seamRank},
+            {"ratio", s.ratio()}};
+}
+
+nlohmann::json layoutJson(const QuiltTextureReport& report) {
+    nlohmann::json json;
+    json["width"] = report.width;
+    json["height"] = report.height;
+    json["size_auto"] = report.autoSize;
+    json["wrap_u"] = report.wrapU;
+    json["texel_mm"] = report.texelMm;
+    json["mesh"] = report.mesh;
+    json["mesh_wraps_u"] = report.meshWrapsU;
+    json["stretch"] = stretchJson(report.stretch);
+    return json;
+}
+
 }  // namespace
+
+std::string quiltLayoutJson(const QuiltTextureReport& report) {
+    nlohmann::json json = layoutJson(report);
+    json["seams"] = nlohmann::json::array();
+    for (const RegionReport& region : report.regions) {
+        json["seams"].push_back(seamJson(region.seam));
+    }
+    return json.dump();
+}
 
 QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     const auto start = Clock::now();
-    if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
-        options.height > 16384) {
-        throw InputError("--size must be between 1x1 and 16384x16384");
+    if (options.width.has_value() != options.height.has_value() ||
+        (options.width && (*options.width <= 0 || *options.height <= 0 || *options.width > 16384 ||
+                           *options.height > 16384))) {
+        throw InputError("--size must be auto or between 1x1 and 16384x16384");
+    }
+    if (options.texelMm && !(*options.texelMm > 0 && std::isfinite(*options.texelMm))) {
+        throw InputError("--texel-mm must be a positive number of millimetres");
     }
     QuiltTextureReport report;
     // The source: every coefficient of every channel, one vector per pixel.
     ModelReader reader(options.model);
     const ModelInfo info = reader.info();
+
+    // The screen object: its surface lengths give the size, its seam the wrapping.
+    scene::ScreenMesh mesh;
+    if (options.mesh.empty()) {
+        mesh = scene::makeProceduralVase();
+        report.mesh = "the built-in vase";
+    } else {
+        scene::ScreenMeshLoadOptions load;
+        load.metresPerUnit = options.meshMetresPerUnit;
+        mesh = scene::loadScreenMesh(options.mesh, load);
+        report.mesh = options.mesh.string();
+    }
+    const scene::SurfaceScale surface =
+        measureSurfaceScale(mesh, options.mesh.empty() ? "vase" : report.mesh.c_str());
+    report.meshWrapsU = surface.wrapsU;
+    report.texelMm = options.texelMm.value_or(info.texelMm);
+    if (options.width) {
+        report.width = *options.width;
+        report.height = *options.height;
+    } else {
+        if (!(report.texelMm > 0)) {
+            throw InputError(options.model,
+                             "--size auto: the model states no texel size (its "
+                             "capture manifest has no texel_mm); give --texel-mm");
+        }
+        const scene::AutoTextureSize size =
+            scene::chooseTextureSize(surface, report.texelMm, kMaxAutoSide);
+        report.width = size.width;
+        report.height = size.height;
+        report.autoSize = true;
+    }
+    report.stretch = scene::measureTexelStretch(surface, report.width, report.height);
+    report.wrapU =
+        options.wrap == WrapMode::kOn || (options.wrap == WrapMode::kAuto && surface.wrapsU);
+    QuiltSettings settings = options.settings;
+    settings.wrapU = report.wrapU;
+    const int width = report.width, height = report.height;
+
     ModelRows rows;
     reader.readRows(0, info.height, rows);
     SourceTexture source;
@@ -70,8 +156,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     nlohmann::json description;
     description["model"] = options.model.string();
     description["labels"] = options.labels.string();
-    description["width"] = options.width;
-    description["height"] = options.height;
+    description.update(layoutJson(report));
     description["harmonics"] = info.harmonics;
     description["channels"] = source.channels;
     description["seed"] = options.settings.seed;
@@ -100,8 +185,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         }
         showPhase("quilting " + regionName(region));
         const auto quiltStart = Clock::now();
-        RegionQuilt quilt =
-            quiltRegion(source, labels, region, options.width, options.height, options.settings);
+        RegionQuilt quilt = quiltRegion(source, labels, region, width, height, settings);
         regionReport.seconds = since(quiltStart);
         report.quiltSeconds += regionReport.seconds;
         progress.advance();
@@ -109,30 +193,34 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
 
         const auto writeStart = Clock::now();
         ModelInfo texture = info;
-        texture.width = options.width;
-        texture.height = options.height;
-        texture.variant = "paper";  // a texture holds materials only: no capture transport
+        texture.width = width;
+        texture.height = height;
+        texture.tilesU = quilt.wrapU;  // texelMm: the source's, as copied pixels keep their size
+        texture.variant = "paper";     // a texture holds materials only: no capture transport
         texture.calibration = {};
         texture.capture =
             "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
         ModelWriter writer(texture::regionMapPath(partial, region), texture);
         constexpr int kBand = 64;
         texture::PositionMap positions;
-        positions.width = options.width;
-        positions.height = options.height;
+        positions.width = width;
+        positions.height = height;
         positions.sourceX = quilt.sourceX;
         positions.sourceY = quilt.sourceY;
         ModelRows band;
-        for (int y0 = 0; y0 < options.height; y0 += kBand) {
-            const int bandRows = std::min(kBand, options.height - y0);
-            band.resize(options.width, bandRows, rows.coefficients);
+        std::vector<float> quilted(static_cast<std::size_t>(width) * height * source.channels);
+        for (int y0 = 0; y0 < height; y0 += kBand) {
+            const int bandRows = std::min(kBand, height - y0);
+            band.resize(width, bandRows, rows.coefficients);
             for (int r = 0; r < bandRows; ++r) {
-                for (int x = 0; x < options.width; ++x) {
-                    const std::size_t o = static_cast<std::size_t>(y0 + r) * options.width + x;
+                for (int x = 0; x < width; ++x) {
+                    const std::size_t o = static_cast<std::size_t>(y0 + r) * width + x;
                     const int sx = quilt.sourceX[o], sy = quilt.sourceY[o];
                     const std::size_t p = band.pixel(r, x);
                     std::copy_n(source.at(sx, sy), source.channels,
                                 band.coefficient.begin() + static_cast<long>(p) * source.channels);
+                    std::copy_n(source.at(sx, sy), source.channels,
+                                quilted.begin() + static_cast<long>(o) * source.channels);
                     band.normal[p * 3 + 2] = 1.0f;
                     band.valid[p] = 1;
                 }
@@ -142,6 +230,9 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         writer.finish();
         texture::writePositionMap(texture::positionsPath(partial, region), positions, region);
         report.writeSeconds += since(writeStart);
+        if (width >= 3) {
+            regionReport.seam = texture::measureSeam(quilted, width, height, source.channels);
+        }
 
         description["regions"].push_back({{"region", region},
                                           {"source_pixels", regionReport.sourcePixels},
@@ -150,7 +241,9 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
                                           {"overlap", quilt.overlap},
                                           {"components", quilt.components},
                                           {"blocks", quilt.blocks},
+                                          {"seam", seamJson(regionReport.seam)},
                                           {"seconds", regionReport.seconds}});
+        regionReport.seam.columnSteps.clear();
         quilt.sourceX.clear();
         quilt.sourceY.clear();
         regionReport.quilt = std::move(quilt);

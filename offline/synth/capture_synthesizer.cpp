@@ -79,6 +79,7 @@ void writeManifest(const std::filesystem::path& folder, const PotteryScene& scen
     manifest["format"] = "vpe-capture";
     manifest["version"] = 1;
     manifest["encoding"] = encoding == SynthEncoding::kSrgb8 ? "srgb" : "linear";
+    manifest["texel_mm"] = scene.texelMillimetres();
     manifest["camera"] = {{"model", "pinhole"},
                           {"fx", camera.fx},
                           {"fy", camera.fy},
@@ -285,6 +286,7 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
         info.harmonics = harmonics;
         info.samples = 0;
         info.capture = "vpe synth --reflectance fourier (the truth)";
+        info.texelMm = scene.texelMillimetres();
         ModelWriter writer(truth / "fourier.exr", info);
         ModelRows rows;
         rows.resize(n, n, k);
@@ -305,6 +307,8 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     description["generator"] = "vpe synth";
     description["seed"] = options.seed;
     description["size"] = n;
+    description["millimetres_per_unit"] = PotteryScene::kMillimetresPerUnit;
+    description["texel_mm"] = scene.texelMillimetres();
     description["rig"] = rig.name;
     description["noise"] = options.noise == SynthNoise::kCamera ? "camera" : "none";
     description["shadows"] = options.shadows;

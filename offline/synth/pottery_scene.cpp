@@ -73,6 +73,11 @@ double PotteryScene::gridRelief(double u, double v) const {
     return top + fy * (bottom - top);
 }
 
+double PotteryScene::texelMillimetres() const {
+    // The front of the surface is at z = r(0) on the camera's axis; a pixel subtends 1 / fx.
+    return (kCameraDistance - radius(0.0)) / camera_.fx * kMillimetresPerUnit;
+}
+
 double PotteryScene::radius(double y) const {
     return 1.0 + 0.12 * std::sin(2.2 * y + 0.4) - 0.15 * y * y;
 }

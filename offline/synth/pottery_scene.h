@@ -33,12 +33,19 @@ struct SurfacePoint {
 class PotteryScene {
 public:
     static constexpr int kLabels = 2;
+    // The scene is in units of the vase's radius (≈ 1). Physically it is a pot 20 cm across:
+    // this fixes the size of a pixel on it, so that a texture made from the capture can give
+    // its streaks their real width on another object (vpe quilt --size auto).
+    static constexpr double kMillimetresPerUnit = 100.0;
 
     PotteryScene(int size, std::uint64_t seed);
 
     int size() const { return size_; }
     const PinholeCamera& camera() const { return camera_; }
     Vec3d cameraCenter() const { return camera_.center(); }
+    // The side of one pixel's footprint on the surface at the image centre, where the surface
+    // faces the camera, millimetres (away from the centre foreshortening widens it along u).
+    double texelMillimetres() const;
 
     // The surface seen through pixel (x, y), or hit = false.
     SurfacePoint surfaceAt(int x, int y) const;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Quilting quality metrics: region correctness, sliced Wasserstein distance, radially
-// averaged power spectra (FFTW, PCA with Eigen), seam statistics and verbatim-copy areas.
+// averaged power spectra (FFTW, PCA by common/principal_axes), seam statistics and verbatim-copy
+// areas.
 #include "texture/quilt_quality.h"
 
 #include <algorithm>
@@ -9,14 +10,15 @@
 #include <numeric>
 #include <string>
 
-#include <Eigen/Dense>
 #include <OpenImageIO/imageio.h>
 #include <fftw3.h>
 
 #include "vpe/proto/fourier_brdf.h"
 
+#include "common/fftw_planner.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
+#include "common/principal_axes.h"
 #include "model/fourier_model_file.h"
 #include "synth/procedural_noise.h"
 
@@ -105,7 +107,10 @@ public:
     WindowSpectrum(int width, int height) : width_(width), height_(height) {
         in_ = fftwf_alloc_real(static_cast<std::size_t>(width) * height);
         out_ = fftwf_alloc_complex(static_cast<std::size_t>(width / 2 + 1) * height);
-        plan_ = fftwf_plan_dft_r2c_2d(height, width, in_, out_, FFTW_ESTIMATE);
+        {
+            const std::lock_guard lock(fftwPlannerMutex());
+            plan_ = fftwf_plan_dft_r2c_2d(height, width, in_, out_, FFTW_ESTIMATE);
+        }
         hannX_ = hann(width);
         hannY_ = hann(height);
         windowPower_ = 0;
@@ -119,7 +124,10 @@ public:
         bins_ = side / 2;
     }
     ~WindowSpectrum() {
-        fftwf_destroy_plan(plan_);
+        {
+            const std::lock_guard lock(fftwPlannerMutex());
+            fftwf_destroy_plan(plan_);
+        }
         fftwf_free(in_);
         fftwf_free(out_);
     }
@@ -236,38 +244,21 @@ Square largestSquare(const std::vector<std::uint8_t>& mask, int width, int heigh
 }
 
 // The leading principal directions (largest variance first) of the given vectors; directions
-// without variance are dropped.
+// without variance are dropped. A direction's sign does not matter here (only powers are
+// compared).
 std::vector<std::vector<double>> principalDirections(const std::vector<float>& samples, int dims,
                                                      int wanted) {
     const std::size_t count = samples.size() / static_cast<std::size_t>(dims);
     if (count < 2) {
         return {};
     }
-    Eigen::VectorXd mean = Eigen::VectorXd::Zero(dims);
-    for (std::size_t i = 0; i < count; ++i) {
-        for (int d = 0; d < dims; ++d) {
-            mean(d) += static_cast<double>(samples[i * dims + d]);
-        }
-    }
-    mean /= static_cast<double>(count);
-    Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(dims, dims);
-    Eigen::VectorXd centred(dims);
-    for (std::size_t i = 0; i < count; ++i) {
-        for (int d = 0; d < dims; ++d) {
-            centred(d) = static_cast<double>(samples[i * dims + d]) - mean(d);
-        }
-        covariance.selfadjointView<Eigen::Lower>().rankUpdate(centred);
-    }
-    covariance = covariance.selfadjointView<Eigen::Lower>();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(covariance);
-    const double total = std::max(covariance.trace(), 0.0);
+    const PrincipalAxes axes = principalAxes(
+        count, dims,
+        [&](std::size_t i) { return samples.data() + i * static_cast<std::size_t>(dims); },
+        AxisSelection{.maxAxes = wanted, .dropBelow = 1e-12});
     std::vector<std::vector<double>> directions;
-    for (int j = dims - 1; j >= 0 && static_cast<int>(directions.size()) < wanted; --j) {
-        if (!(solver.eigenvalues()(j) > 1e-12 * total) || total == 0) {
-            break;
-        }
-        const Eigen::VectorXd v = solver.eigenvectors().col(j);
-        directions.emplace_back(v.data(), v.data() + dims);
+    for (int j = 0; j < axes.count(); ++j) {
+        directions.emplace_back(axes.axes.col(j).data(), axes.axes.col(j).data() + dims);
     }
     return directions;
 }
@@ -493,7 +484,6 @@ CoefficientImage readCoefficientImage(const std::filesystem::path& model) {
     }
     return image;
 }
-
 
 double slicedWasserstein(const float* a, std::size_t countA, const float* b, std::size_t countB,
                          int dims, const SlicedWassersteinOptions& options) {

@@ -9,6 +9,7 @@
 
 #include "common/input_error.h"
 #include "image/image_file.h"
+#include "segment/label_map.h"
 #include "synth/procedural_noise.h"
 
 namespace vpe::texture {
@@ -93,6 +94,7 @@ public:
         }
         return value;
     }
+    std::string_view text() const { return value_; }
     [[noreturn]] void fail(const std::string& problem) const {
         throw InputError(label_ + ": " + problem);
     }
@@ -128,6 +130,94 @@ private:
     std::string_view name_;
     std::string_view value_;
 };
+
+void parseStrokes(ParameterParser parser, const std::vector<std::string_view>& parts,
+                  WeightSource& source) {
+    constexpr double kMaxLength = 1e5;  // texels: far beyond any texture, catches typos
+    StrokeParameters& strokes = source.strokes;
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        const std::string_view name = parser.parse(parts[i], source);
+        if (name == "from") {
+            if (parser.text().empty()) {
+                parser.fail("from needs a label image, as in from=labels.png");
+            }
+            strokes.labels = std::filesystem::path(std::string(parser.text()));
+        } else if (name == "region") {
+            strokes.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+        } else if (name == "coverage") {
+            strokes.coverage = parser.number(0, 0.9, false);
+        } else if (name == "count") {
+            strokes.count = static_cast<int>(parser.integer(1, 100000));
+        } else if (name == "width") {
+            strokes.width = parser.number(0.5, kMaxLength);
+        } else if (name == "spread") {
+            strokes.spread = parser.number(0, 2);
+        } else if (name == "wobble") {
+            strokes.wobble = parser.number(0, 1);
+        } else if (name == "length") {
+            strokes.length = parser.number(1, kMaxLength);
+        } else if (name == "bend") {
+            strokes.bend = parser.number(0, 360);
+        } else if (name == "softness") {
+            strokes.softness = parser.number(0, kMaxLength);
+        } else if (name == "angle") {
+            strokes.angleDegrees = parser.number(-360, 360);
+        } else if (name == "angle-spread") {
+            strokes.angleSpread = parser.number(0, 360);
+        } else if (name == "seed") {
+            strokes.seed = parser.integer(0, UINT64_MAX);
+        } else if (name == "wrap") {
+            const std::string_view wrap = parser.text();
+            if (wrap == "none") {
+                strokes.wrap = StrokeWrap::kNone;
+            } else if (wrap == "u") {
+                strokes.wrap = StrokeWrap::kU;
+            } else if (wrap == "uv") {
+                strokes.wrap = StrokeWrap::kUV;
+            } else {
+                parser.fail("wrap: '" + std::string(wrap) + "' is not none, u or uv");
+            }
+        }
+    }
+    if (strokes.coverage && strokes.count) {
+        parser.fail("coverage and count both given (one decides how many strokes)");
+    }
+    if (strokes.region && strokes.labels.empty()) {
+        parser.fail("region needs from=LABELS (the label image it is a region of)");
+    }
+    if (!strokes.labels.empty() && !strokes.region) {
+        parser.fail("from needs region=R (the label whose streaks to measure)");
+    }
+}
+
+void parseQuilted(ParameterParser parser, const std::vector<std::string_view>& parts,
+                  WeightSource& source) {
+    LabelQuiltParameters& quilted = source.labelQuilt;
+    bool hasRegion = false;
+    for (std::size_t i = 1; i < parts.size(); ++i) {
+        const std::string_view name = parser.parse(parts[i], source);
+        if (name == "from") {
+            if (parser.text().empty()) {
+                parser.fail("from needs a label image, as in from=labels.png");
+            }
+            quilted.labels = std::filesystem::path(std::string(parser.text()));
+        } else if (name == "region") {
+            quilted.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            hasRegion = true;
+        } else if (name == "block") {
+            quilted.block = static_cast<int>(parser.integer(8, 4096));
+        } else if (name == "overlap") {
+            quilted.overlap = static_cast<int>(parser.integer(1, 2048));
+        } else if (name == "softness") {
+            quilted.softness = parser.number(0, 1e5);
+        } else if (name == "seed") {
+            quilted.seed = parser.integer(0, UINT64_MAX);
+        }
+    }
+    if (quilted.labels.empty() || !hasRegion) {
+        parser.fail("quilted needs from=LABELS and region=R (the label map and its label)");
+    }
+}
 
 WeightSource parseEntry(std::string_view origin, int index, std::string_view entry) {
     const std::string label = entryLabel(origin, index, entry);
@@ -198,6 +288,17 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
                 source.sharpness = parser.number(0, 100);
             }
         }
+    } else if (kind == "strokes") {
+        source.kind = WeightKind::kStrokes;
+        parseStrokes(ParameterParser(label, {"from", "region", "coverage", "count", "width",
+                                             "spread", "wobble", "length", "bend", "softness",
+                                             "angle", "angle-spread", "seed", "wrap", "invert"}),
+                     parts, source);
+    } else if (kind == "quilted") {
+        source.kind = WeightKind::kQuilted;
+        parseQuilted(ParameterParser(label, {"from", "region", "block", "overlap", "softness",
+                                             "seed", "invert"}),
+                     parts, source);
     } else if (kind == "constant") {
         source.kind = WeightKind::kConstant;
         ParameterParser parser(label, {"value"});
@@ -207,7 +308,7 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
         }
     } else {
         throw InputError(label + ": unknown kind '" + std::string(kind) +
-                         "' (image, stripes, radial, noise, constant)");
+                         "' (image, stripes, radial, noise, strokes, quilted, constant)");
     }
     return source;
 }
@@ -297,6 +398,17 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
         }
         return out;
     }
+    if (source.kind == WeightKind::kStrokes || source.kind == WeightKind::kQuilted) {
+        out = source.kind == WeightKind::kStrokes
+                  ? generateStrokes(resolveStrokes(source.strokes), width, height).weight
+                  : quiltLabelPattern(source.labelQuilt, width, height);
+        if (source.invert) {
+            for (float& v : out) {
+                v = 1.0f - v;
+            }
+        }
+        return out;
+    }
     const double angle = source.angleDegrees * kPi / 180.0;
     // Image y points down, so counter-clockwise as seen is (cos a, −sin a); the wave runs
     // along the perpendicular (sin a, cos a).
@@ -327,6 +439,8 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
                     break;
                 case WeightKind::kConstant:
                 case WeightKind::kImage:
+                case WeightKind::kStrokes:
+                case WeightKind::kQuilted:
                     value = source.value;
                     break;
             }

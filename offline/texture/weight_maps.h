@@ -9,6 +9,11 @@
 //   stripes[:angle=A][:period=P][:sharpness=S][:phase=F][:invert]
 //   radial[:cx=X][:cy=Y][:radius=R][:invert]
 //   noise[:scale=L][:seed=N][:octaves=O][:sharpness=S][:invert]
+//   strokes[:from=LABELS:region=R][:coverage=C|:count=N][:width=W][:spread=S][:wobble=V]
+//          [:length=L][:bend=B][:softness=E][:angle=A][:angle-spread=D][:seed=N]
+//          [:wrap=none|u|uv][:invert]            hidasuki bands (texture/stroke_pattern.h)
+//   quilted:from=LABELS:region=R[:block=B][:overlap=O][:softness=E][:seed=N][:invert]
+//                                            the label map quilted (texture/label_quilt_pattern.h)
 //   constant[:value=V]
 //
 // e.g. "image:streaks.png,stripes:angle=30:period=64:invert,constant:value=0.2". Lengths and
@@ -23,9 +28,12 @@
 #include <string_view>
 #include <vector>
 
+#include "texture/label_quilt_pattern.h"
+#include "texture/stroke_pattern.h"
+
 namespace vpe::texture {
 
-enum class WeightKind { kImage, kStripes, kRadial, kNoise, kConstant };
+enum class WeightKind { kImage, kStripes, kRadial, kNoise, kStrokes, kQuilted, kConstant };
 
 // One region's raw weight, as parsed from one spec entry.
 struct WeightSource {
@@ -51,9 +59,23 @@ struct WeightSource {
     double scale = 32;
     std::uint64_t seed = 1;
     int octaves = 1;
+    // strokes
+    StrokeParameters strokes;
+    // quilted
+    LabelQuiltParameters labelQuilt;
     // constant
     double value = 1;
 };
+
+// The spec's grammar in one line, for the commands' help.
+inline constexpr const char* kWeightSpecSynopsis =
+    "One entry per region, comma-separated: image:PATH, "
+    "stripes[:angle=A][:period=P][:sharpness=S][:phase=F], radial[:cx=X][:cy=Y][:radius=R], "
+    "noise[:scale=L][:seed=N][:octaves=O][:sharpness=S], "
+    "strokes[:from=LABELS:region=R][:coverage=C|:count=N][:width=W][:spread=S][:wobble=V]"
+    "[:length=L][:bend=B][:softness=E][:angle=A][:angle-spread=D][:seed=N][:wrap=none|u|uv], "
+    "quilted:from=LABELS:region=R[:block=B][:overlap=O][:softness=E][:seed=N], "
+    "constant[:value=V]; any but constant may add :invert (docs/compose.md)";
 
 // Parses a spec. Throws InputError naming `origin`, the entry (number and text) and the
 // problem: unknown kind or parameter, a repeated parameter, a value that is not a number or

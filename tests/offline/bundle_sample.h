@@ -41,6 +41,7 @@ inline bake::BundleContents sampleBundleContents() {
     c.model.thetaBasis = {0, unit, 0, 0, 0, 0, 0, 0, unit, 0};
     c.textureWidth = 5;
     c.textureHeight = 3;
+    c.textureWrapsU = true;
     const std::size_t texels = 15;
     const std::size_t values = 18;
 

@@ -42,7 +42,8 @@ TEST(CaptureManifest, ReadsEveryField) {
         "normals": "normals.exr",
         "positions": "geometry/positions.exr",
         "plane": {"point": [0, 0, 0.1], "normal": [0, 0, 2]},
-        "mask": "mask.png"
+        "mask": "mask.png",
+        "texel_mm": 0.25
     })",
                                                  kSource);
     EXPECT_EQ(capture.source, kSource);
@@ -78,6 +79,7 @@ TEST(CaptureManifest, ReadsEveryField) {
     expectVector(capture.plane->normal, {0, 0, 1});
     ASSERT_TRUE(capture.mask);
     EXPECT_EQ(*capture.mask, kFolder / "mask.png");
+    EXPECT_EQ(capture.texelMm, 0.25);
     EXPECT_TRUE(capture.needsSurfacePositions());
 }
 
@@ -323,7 +325,8 @@ INSTANTIATE_TEST_SUITE_P(
                     "plane.point"},
         BadManifest{"ZeroPlaneNormal", withTopLevel(R"("plane": {"normal": [0, 0, 0]})"),
                     "plane.normal"},
-        BadManifest{"MaskNotString", withTopLevel(R"("mask": ["m.png"])"), "mask"}),
+        BadManifest{"MaskNotString", withTopLevel(R"("mask": ["m.png"])"), "mask"},
+        BadManifest{"TexelNotPositive", withTopLevel(R"("texel_mm": 0)"), "texel_mm"}),
     [](const ::testing::TestParamInfo<BadManifest>& manifest) { return manifest.param.name; });
 
 // The message of the InputError that parsing `text` throws; a failure if it parses.

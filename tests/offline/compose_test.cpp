@@ -211,6 +211,7 @@ TEST(WeightMaps, SumToOneForEveryGenerator) {
         "image:" + (folder / "grey.exr").string() + ",image:" + (folder / "grey.exr").string() +
             ":invert",
         "noise:seed=1,noise:seed=1:invert,constant:value=0",
+        "strokes:width=3:coverage=0.3,strokes:width=3:coverage=0.3:invert,constant:value=0",
     };
     for (const std::string& spec : specs) {
         SCOPED_TRACE(spec);

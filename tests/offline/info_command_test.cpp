@@ -52,12 +52,12 @@ TEST_F(InfoCommand, DescribesTheBundle) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const std::string& out = result.out;
     for (const std::string& expected : std::vector<std::string>{
-             path_.string() + ": vpe bundle 1.1, ", "checksum 0x", " OK\n",
+             path_.string() + ": vpe bundle 1.2, ", "checksum 0x", " OK\n",
              "mesh       4 vertices, 2 triangles\n", "projector  1280 x 800, fx 1500.5 fy 1498 ",
              "viewer     (0, 0.25, 1.75) m\n", "response   curve, 4/4/4 samples",
              "model      M = 2, lambda = 0.5, 18 values per texel (fourier_brdf:k_major_rgb)\n",
              "           theta basis: 2 functions (orthonormal over [0, π])\n",
-             "textures   5 x 3, 2 regions\n",
+             "textures   5 x 3, 2 regions, sampling wraps in u\n",
              "  region 0 'base': full, 5 RGBA16F layers, 40 bytes per texel\n",
              "  region 1 'glaze': low_rank, rank 5, 2 RGBA16F layers, 16 bytes per texel\n",
              "  composed: full, 5 RGBA16F layers, 40 bytes per texel\n", "presets    2\n",
@@ -72,7 +72,8 @@ TEST_F(InfoCommand, ReportsJson) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json json = nlohmann::json::parse(result.out);
     EXPECT_EQ(json["file"], path_.string());
-    EXPECT_EQ(json["format_version"], "1.1");
+    EXPECT_EQ(json["format_version"], "1.2");
+    EXPECT_EQ(json["textures"]["wrap_u"], true);
     EXPECT_EQ(json["file_bytes"], std::filesystem::file_size(path_));
     EXPECT_EQ(json["checksum_ok"], true);
     EXPECT_EQ(json["mesh"]["vertices"], 4);

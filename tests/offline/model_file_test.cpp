@@ -127,6 +127,8 @@ TEST(ModelFile, RoundTripIsBitExact) {
     EXPECT_EQ(reader.info().samples, info.samples);
     EXPECT_EQ(reader.info().variant, info.variant);
     EXPECT_EQ(reader.info().capture, info.capture);
+    EXPECT_EQ(reader.info().texelMm, 0.0);  // unknown: no attribute
+    EXPECT_FALSE(reader.info().tilesU);
     ModelRows read;
     reader.readRows(0, info.height, read);
     EXPECT_EQ(read.width, info.width);
@@ -136,6 +138,18 @@ TEST(ModelFile, RoundTripIsBitExact) {
     EXPECT_TRUE(sameBits(read.normal, written.normal));
     EXPECT_TRUE(sameBits(read.rms, written.rms));
     EXPECT_EQ(read.valid, written.valid);
+}
+
+// The capture's texel size and whether the texture tiles in u travel in the header.
+TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(4, 3, 1);
+    info.texelMm = 0.625;  // exact in float
+    info.tilesU = true;
+    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    ModelReader reader(folder / "model.exr");
+    EXPECT_EQ(reader.info().texelMm, 0.625);
+    EXPECT_TRUE(reader.info().tilesU);
 }
 
 TEST(ModelFile, RowsCanBeReadInBands) {

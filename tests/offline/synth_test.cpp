@@ -175,6 +175,11 @@ TEST(Synth, FitOfAFourierTruthIsExact) {
         evaluateModel(folder / "capture/truth/fourier.exr", openCapture(folder / "capture/test"),
                       EvaluationOptions{});
     EXPECT_GT(truth.psnr, 90.0);
+    // The physical scale travels: manifest → fit → model; and the truth carries it too.
+    const double texel = 108.38 / 24;  // 100 mm a unit, 1.0838 units across the front
+    EXPECT_NEAR(*openCapture(folder / "capture/train").texelMm, texel, 0.01);
+    EXPECT_NEAR(ModelReader(folder / "model.exr").info().texelMm, texel, 0.01);
+    EXPECT_NEAR(ModelReader(folder / "capture/truth/fourier.exr").info().texelMm, texel, 0.01);
 }
 
 TEST(Synth, RefusesToReplaceAFolderItDidNotWrite) {

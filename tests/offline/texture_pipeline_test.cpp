@@ -3,7 +3,9 @@
 // segmented (automatically and from seeds) against its true materials, quilted per region,
 // measured, and composed; and the bad-input contract of `vpe segment` and `vpe quilt`.
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -117,6 +119,61 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
     result = runCommand(vpe(
         {"relight", path("composed.exr"), "--out", path("composed.png"), "--light", "0.3,0.4,1"}));
     EXPECT_EQ(result.exitStatus, 0) << result.err;
+}
+
+// --size auto: the capture's texel (its manifest's texel_mm, through vpe fit) as long on the
+// screen object; the built-in vase's u wraps, so the maps tile; a flat mesh gets exactly its
+// size and no wrapping; sizes beyond what a bundle holds are refused by name.
+TEST_F(TexturePipeline, QuiltSizesItselfForTheScreenObjectAndTilesAroundIt) {
+    ASSERT_EQ(
+        runCommand(vpe({"segment", model(), "--out", path("sized.png"), "--auto", "2"})).exitStatus,
+        0);
+    auto quilt = [&](const std::string& out, std::vector<std::string> extra) {
+        std::vector<std::string> arguments{"quilt",   model(),   "--labels",  path("sized.png"),
+                                           "--block", "16",      "--overlap", "4",
+                                           "--out",   path(out), "--json"};
+        arguments.insert(arguments.end(), extra.begin(), extra.end());
+        return runCommand(vpe(arguments));
+    };
+    testing::CommandResult result = quilt("auto", {"--size", "auto"});
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    nlohmann::json report = lastJsonLine(result.out);
+    EXPECT_EQ(report["size_auto"], true);
+    EXPECT_EQ(report["mesh_wraps_u"], true);
+    EXPECT_EQ(report["wrap_u"], true);
+    // 96 pixels across 108.4 mm of the synthetic pot's front.
+    EXPECT_NEAR(report["texel_mm"].get<double>(), 108.38 / 96, 0.01);
+    EXPECT_NEAR(report["stretch"]["texel_u_mm"].get<double>(), 108.38 / 96, 0.01);
+    EXPECT_NEAR(report["stretch"]["texel_v_mm"].get<double>(), 108.38 / 96, 0.01);
+    EXPECT_GT(report["width"].get<int>(), report["height"].get<int>());
+    EXPECT_LT(report["stretch"]["median"].get<double>(), 1.3);
+    for (const nlohmann::json& seam : report["seams"]) {
+        EXPECT_LT(seam["ratio"].get<double>(), 1.6) << seam;
+    }
+    EXPECT_NE(result.err.find("stretch"), std::string::npos) << result.err;
+
+    {  // A 0.1 × 0.05 m card, uv over [0, 1]²: 200 × 100 texels of 0.5 mm, nothing wraps.
+        std::ofstream obj(path("card.obj"));
+        obj << "v 0 0 0\nv 0.1 0 0\nv 0.1 0.05 0\nv 0 0.05 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+               "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+    }
+    result = quilt("card", {"--size", "auto", "--mesh", path("card.obj"), "--texel-mm", "0.5"});
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    report = lastJsonLine(result.out);
+    EXPECT_EQ(report["width"], 200);
+    EXPECT_EQ(report["height"], 100);
+    EXPECT_EQ(report["wrap_u"], false);
+    EXPECT_NEAR(report["stretch"]["worst"].get<double>(), 1.0, 1e-6);
+
+    result = quilt("off", {"--size", "64x48", "--wrap", "off"});
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    EXPECT_EQ(lastJsonLine(result.out)["wrap_u"], false);
+
+    expectInputError(quilt("big", {"--size", "auto", "--texel-mm", "0.05"}),
+                     {"--size auto", "4096"});
+    expectInputError(quilt("narrow", {"--size", "12x40", "--wrap", "on"}), {"wraps in u", "12"});
+    expectInputError(quilt("neg", {"--size", "auto", "--texel-mm", "-1"}), {"--texel-mm"});
+    EXPECT_FALSE(std::filesystem::exists(path("big")));
 }
 
 TEST_F(TexturePipeline, QuiltIsDeterministicWhateverTheThreads) {

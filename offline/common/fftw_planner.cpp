@@ -1,0 +1,13 @@
+// SPDX-License-Identifier: MIT
+// One process-wide mutex, so that two rooms (quilting and its quality measures) planning at
+// the same time on different threads do not corrupt FFTW's planner.
+#include "common/fftw_planner.h"
+
+namespace vpe {
+
+std::mutex& fftwPlannerMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+}  // namespace vpe
