@@ -213,7 +213,8 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
     info.calibration = report.calibration;
     info.texelMm = capture.texelMm.value_or(0.0);
-    ModelWriter writer(modelPath, info);
+    info.storage = options.storage;
+    ModelWriter writer(modelPath, info, options.threads);
     RelightPreview preview(report.width, report.height, harmonics);
 
     const int bandRows = reader->rowsForBudget(options.bandBudgetBytes);

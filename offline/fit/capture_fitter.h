@@ -15,6 +15,7 @@
 #include "capture/geometry_calibration.h"
 #include "fit/normal_equations.h"
 #include "model/rti_basis.h"
+#include "model/fourier_model_file.h"
 
 namespace vpe {
 
@@ -43,6 +44,7 @@ struct FitOptions {
     std::optional<std::filesystem::path> normals;
     std::size_t bandBudgetBytes = std::size_t{192} << 20;  // decoded samples held at once
     bool writePreview = true;
+    ModelStorage storage = ModelStorage::kFloat;  // the model file's channels
 };
 
 struct FitReport {

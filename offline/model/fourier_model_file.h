@@ -18,6 +18,14 @@
 
 namespace vpe {
 
+// The channel type of a model file. Half floats keep 11 significant bits (relative error
+// ≤ 2⁻¹¹ ≈ 4.9e-4 for |x| ≥ 2⁻¹⁴, absolute ≤ 2⁻²⁵ below): on the fits measured it changes
+// nothing visible, halves the file and its writing time (docs/model-file.md). Float is exact.
+enum class ModelStorage { kFloat, kHalf };
+
+// "half" / "float", as the commands' --storage option spells them.
+const char* storageName(ModelStorage storage);
+
 struct ModelInfo {
     int width = 0;
     int height = 0;
@@ -38,6 +46,9 @@ struct ModelInfo {
     // The texture tiles in u: its last column continues into its first (vpe quilt on a screen
     // object whose u wraps).
     bool tilesU = false;
+    // As read: the type of the file's coefficient channels. As written: the type of every
+    // channel. Float unless asked, so no caller loses precision without choosing to.
+    ModelStorage storage = ModelStorage::kFloat;
     bool hasTransport() const { return variant == "extended"; }
     bool isBrdf() const { return variant == "paper" || variant == "extended"; }
     std::optional<RtiBasis> rtiBasis() const;  // for "ptm" and "hsh"
@@ -71,8 +82,11 @@ struct ModelRows {
 
 class ModelWriter {
 public:
-    // Writes to a temporary file next to `path`; finish() moves it into place.
-    ModelWriter(const std::filesystem::path& path, const ModelInfo& info);
+    // Writes to a temporary file next to `path`; finish() moves it into place. Channels are
+    // half or float as info.storage says; a value beyond the half range (±65504) is refused
+    // with InputError naming the pixel, never written as infinity. Rows are packed on
+    // `threads` threads.
+    ModelWriter(const std::filesystem::path& path, const ModelInfo& info, unsigned threads = 1);
     ~ModelWriter();
     ModelWriter(const ModelWriter&) = delete;
     ModelWriter& operator=(const ModelWriter&) = delete;
@@ -81,6 +95,8 @@ public:
     void finish();
 
 private:
+    [[noreturn]] void reportHalfOverflow(int rowBegin, int row, const ModelRows& rows) const;
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -8,8 +8,10 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -134,6 +136,7 @@ TEST(ModelFile, RoundTripIsBitExact) {
     EXPECT_EQ(read.width, info.width);
     EXPECT_EQ(read.rows, info.height);
     EXPECT_EQ(read.coefficients, 6);
+    EXPECT_EQ(reader.info().storage, ModelStorage::kFloat);  // the default: exact
     EXPECT_TRUE(sameBits(read.coefficient, written.coefficient));
     EXPECT_TRUE(sameBits(read.normal, written.normal));
     EXPECT_TRUE(sameBits(read.rms, written.rms));
@@ -150,6 +153,126 @@ TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
     ModelReader reader(folder / "model.exr");
     EXPECT_EQ(reader.info().texelMm, 0.625);
     EXPECT_TRUE(reader.info().tilesU);
+}
+
+// Half floats round to 11 significant bits: relative error ≤ 2⁻¹¹ for normal numbers
+// (|x| ≥ 2⁻¹⁴), absolute ≤ 2⁻²⁵ (half a subnormal step) below: docs/model-file.md.
+bool withinHalfTolerance(float read, float written) {
+    const double error = std::fabs(static_cast<double>(read) - static_cast<double>(written));
+    return error <=
+           std::max(std::ldexp(std::fabs(static_cast<double>(written)), -11), std::ldexp(1.0, -25));
+}
+
+TEST(ModelFile, RoundTripInHalfIsWithinItsStatedTolerance) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(9, 6, 3);
+    info.variant = "extended";  // every kind of channel, the transport too
+    info.storage = ModelStorage::kHalf;
+    // Magnitudes from 2⁻²⁴ (subnormal in half) to 2¹⁵, both signs.
+    std::mt19937 random(17);
+    std::uniform_real_distribution<float> mantissa(-1.0f, 1.0f);
+    std::uniform_int_distribution<int> exponent(-24, 15);
+    auto value = [&] { return std::ldexp(mantissa(random), exponent(random)); };
+    ModelRows written;
+    written.resize(info.width, info.height, proto::coefficientCount(info.harmonics), true);
+    for (std::vector<float>* values :
+         {&written.coefficient, &written.normal, &written.rms, &written.transport}) {
+        for (float& v : *values) {
+            v = value();
+        }
+    }
+    for (std::size_t i = 0; i < written.valid.size(); ++i) {
+        written.valid[i] = i % 3 != 0 ? 1 : 0;
+    }
+    {
+        ModelWriter writer(folder / "model.exr", info);
+        writer.writeRows(0, written);
+        writer.finish();
+    }
+    ModelReader reader(folder / "model.exr");
+    EXPECT_EQ(reader.info().storage, ModelStorage::kHalf);
+    ModelRows read;
+    reader.readRows(0, info.height, read);
+    for (const auto& [name, a, b] :
+         {std::tuple{"coefficient", &read.coefficient, &written.coefficient},
+          std::tuple{"normal", &read.normal, &written.normal},
+          std::tuple{"rms", &read.rms, &written.rms},
+          std::tuple{"transport", &read.transport, &written.transport}}) {
+        ASSERT_EQ(a->size(), b->size()) << name;
+        std::size_t outside = 0, notImath = 0;
+        bool changed = false;
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            outside += withinHalfTolerance((*a)[i], (*b)[i]) ? 0 : 1;
+            // Rounded exactly as OpenEXR's own half type rounds (to nearest even).
+            notImath += (*a)[i] == static_cast<float>(Imath::half((*b)[i])) ? 0 : 1;
+            changed |= (*a)[i] != (*b)[i];
+        }
+        EXPECT_EQ(outside, 0u) << name;
+        EXPECT_EQ(notImath, 0u) << name;
+        EXPECT_TRUE(changed) << name << ": not stored as half";
+    }
+    EXPECT_EQ(read.valid, written.valid);  // 0 and 1 are exact in half
+}
+
+TEST(ModelFile, StorageIsTheChannelTypeStandardToolsSee) {
+    testing::TemporaryFolder folder;
+    for (const ModelStorage storage : {ModelStorage::kHalf, ModelStorage::kFloat}) {
+        ModelInfo info = sampleInfo(4, 3, 1);
+        info.storage = storage;
+        const std::filesystem::path path = folder / (std::string(storageName(storage)) + ".exr");
+        ModelRows rows = randomRows(4, 3, 1, 2);
+        for (std::vector<float>* values : {&rows.coefficient, &rows.normal, &rows.rms}) {
+            for (float& v : *values) {
+                v = std::clamp(v, -1.0f, 1.0f);
+            }
+        }
+        writeModel(path, info, rows);
+        auto input = OIIO::ImageInput::open(path.string());
+        ASSERT_TRUE(input);
+        const OIIO::TypeDesc expected =
+            storage == ModelStorage::kHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+        for (int c = 0; c < input->spec().nchannels; ++c) {
+            EXPECT_EQ(input->spec().channelformat(c), expected)
+                << storageName(storage) << " " << input->spec().channelnames[c];
+        }
+        EXPECT_EQ(ModelReader(path).info().storage, storage);
+    }
+}
+
+TEST(ModelFile, HalfWriterRefusesAValueBeyondTheHalfRangeByPixel) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(5, 4, 1);
+    info.storage = ModelStorage::kHalf;
+    ModelRows rows = randomRows(5, 4, 1, 3);
+    for (float& v : rows.coefficient) {
+        v = std::clamp(v, -1.0f, 1.0f);
+    }
+    // Pixel (3, 2) of the band written from row 1: image row 3; channel a1.G.
+    ModelRows band;
+    band.resize(5, 3, rows.coefficients);
+    band.coefficient[(band.pixel(2, 3) * 3 + 1) * static_cast<std::size_t>(rows.coefficients) + 2] =
+        1e5f;
+    const std::string message = inputErrorOf([&] {
+        ModelWriter writer(folder / "model.exr", info);
+        writer.writeRows(0, [&] {
+            ModelRows first;
+            first.resize(5, 1, rows.coefficients);
+            return first;
+        }());
+        writer.writeRows(1, band);
+        writer.finish();
+    });
+    EXPECT_NE(message.find("model.exr"), std::string::npos) << message;
+    EXPECT_NE(message.find("pixel (3, 3)"), std::string::npos) << message;
+    EXPECT_NE(message.find("a1.G"), std::string::npos) << message;
+    EXPECT_NE(message.find("--storage float"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+    // In float the same value is kept exactly.
+    info.storage = ModelStorage::kFloat;
+    ModelWriter writer(folder / "model.exr", info);
+    writer.writeRows(0, band);
+    writer.finish();
 }
 
 TEST(ModelFile, RowsCanBeReadInBands) {
