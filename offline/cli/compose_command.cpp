@@ -8,6 +8,7 @@
 
 #include "cli/commands.h"
 #include "cli/pattern_report.h"
+#include "cli/storage_option.h"
 #include "common/input_error.h"
 #include "texture/quilt_folder.h"
 #include "texture/region_compose.h"
@@ -21,6 +22,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
         std::string out;
         std::string weights;
         std::string weightsOut;
+        std::string storage;
         bool json = false;
     };
     auto args = std::make_shared<Arguments>();
@@ -33,6 +35,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
     command->add_option("--weights-out", args->weightsOut,
                         "Picture of the normalized weights: a grey tile per region, then the "
                         "regions colour-coded");
+    addStorageOption(command, args->storage, "as region0.exr");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action] {
         action = [args] {
@@ -52,7 +55,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
             const texture::WeightMaps weights =
                 texture::buildWeightMaps(sources, info.width, info.height);
             const texture::ComposeReport report =
-                texture::composeRegionMaps(maps, weights, args->out);
+                texture::composeRegionMaps(maps, weights, args->out, parseStorage(args->storage));
             if (!args->weightsOut.empty()) {
                 texture::writeWeightPicture(args->weightsOut, weights);
             }

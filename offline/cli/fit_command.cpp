@@ -7,6 +7,7 @@
 
 #include "capture/capture_loader.h"
 #include "cli/commands.h"
+#include "cli/storage_option.h"
 #include "common/parallel_for.h"
 #include "fit/capture_fitter.h"
 #include "model/rti_basis.h"
@@ -24,6 +25,7 @@ void addFitCommand(CLI::App& app, Action& action) {
         std::string precision = "auto";
         std::string model = "paper";
         int heldOut = 0;
+        std::string storage;
         bool regularizationGiven = false;
         bool json = false;
         bool noPreview = false;
@@ -73,6 +75,7 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "Leave every N-th light out (positions N-1, 2N-1, ... of the capture): the "
                      "RTI benchmarks' protocol; score them with vpe eval --held-out N")
         ->check(CLI::Range(2, 1000));
+    addStorageOption(command, args->storage, "half");
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action, harmonicsOption, lambdaOption] {
@@ -89,6 +92,7 @@ void addFitCommand(CLI::App& app, Action& action) {
                 options.normals = args->normals;
             }
             options.writePreview = !args->noPreview;
+            options.storage = parseStorage(args->storage).value_or(ModelStorage::kHalf);
             options.variant = args->model == "extended" ? ModelVariant::kExtended
                               : args->model == "paper"  ? ModelVariant::kPaper
                                                         : ModelVariant::kRti;

@@ -10,6 +10,7 @@
 
 #include "cli/commands.h"
 #include "cli/size_argument.h"
+#include "cli/storage_option.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "quilt/texture_quilt.h"
@@ -32,6 +33,7 @@ void addQuiltCommand(CLI::App& app, Action& action) {
         std::uint64_t seed = 1;
         std::string search = "fft";
         int threads = 0;
+        std::string storage;
         bool json = false;
     };
     auto args = std::make_shared<Arguments>();
@@ -74,6 +76,7 @@ void addQuiltCommand(CLI::App& app, Action& action) {
         ->check(CLI::IsMember({"fft", "exhaustive"}))
         ->capture_default_str();
     command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    addStorageOption(command, args->storage, "as MODEL");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action] {
         action = [args] {
@@ -100,6 +103,7 @@ void addQuiltCommand(CLI::App& app, Action& action) {
             options.settings.tolerance = args->tolerance;
             options.settings.seed = args->seed;
             options.settings.threads = resolveThreadCount(args->threads);
+            options.storage = parseStorage(args->storage);
             options.settings.search = args->search == "exhaustive"
                                           ? quilt::QuiltSettings::Search::kExhaustive
                                           : quilt::QuiltSettings::Search::kFft;

@@ -12,6 +12,7 @@
 #include "common/atomic_folder.h"
 #include "common/atomic_output.h"
 #include "common/input_error.h"
+#include "common/parallel_for.h"
 #include "common/progress_bar.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
@@ -198,9 +199,11 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         texture.tilesU = quilt.wrapU;  // texelMm: the source's, as copied pixels keep their size
         texture.variant = "paper";     // a texture holds materials only: no capture transport
         texture.calibration = {};
+        texture.storage = options.storage.value_or(info.storage);
         texture.capture =
             "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
-        ModelWriter writer(texture::regionMapPath(partial, region), texture);
+        ModelWriter writer(texture::regionMapPath(partial, region), texture,
+                           options.settings.threads);
         constexpr int kBand = 64;
         texture::PositionMap positions;
         positions.width = width;
@@ -211,20 +214,29 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         std::vector<float> quilted(static_cast<std::size_t>(width) * height * source.channels);
         for (int y0 = 0; y0 < height; y0 += kBand) {
             const int bandRows = std::min(kBand, height - y0);
-            band.resize(width, bandRows, rows.coefficients);
-            for (int r = 0; r < bandRows; ++r) {
-                for (int x = 0; x < width; ++x) {
-                    const std::size_t o = static_cast<std::size_t>(y0 + r) * width + x;
-                    const int sx = quilt.sourceX[o], sy = quilt.sourceY[o];
-                    const std::size_t p = band.pixel(r, x);
-                    std::copy_n(source.at(sx, sy), source.channels,
-                                band.coefficient.begin() + static_cast<long>(p) * source.channels);
-                    std::copy_n(source.at(sx, sy), source.channels,
-                                quilted.begin() + static_cast<long>(o) * source.channels);
-                    band.normal[p * 3 + 2] = 1.0f;
-                    band.valid[p] = 1;
-                }
+            if (band.rows != bandRows) {
+                band.resize(width, bandRows, rows.coefficients);
             }
+            // Every pixel's coefficients are overwritten, on all threads; normal, rms and the
+            // flag are the same for every band.
+            parallelFor(
+                static_cast<std::size_t>(bandRows), 1, options.settings.threads,
+                [&](std::size_t begin, std::size_t end) {
+                    for (std::size_t r = begin; r < end; ++r) {
+                        for (int x = 0; x < width; ++x) {
+                            const std::size_t o = (static_cast<std::size_t>(y0) + r) * width + x;
+                            const std::size_t p = band.pixel(static_cast<int>(r), x);
+                            const float* texel = source.at(quilt.sourceX[o], quilt.sourceY[o]);
+                            std::copy_n(
+                                texel, source.channels,
+                                band.coefficient.begin() + static_cast<long>(p) * source.channels);
+                            std::copy_n(texel, source.channels,
+                                        quilted.begin() + static_cast<long>(o) * source.channels);
+                            band.normal[p * 3 + 2] = 1.0f;
+                            band.valid[p] = 1;
+                        }
+                    }
+                });
             writer.writeRows(y0, band);
         }
         writer.finish();

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "model/fourier_model_file.h"
 #include "quilt/image_quilter.h"
 #include "scene/surface_scale.h"
 #include "texture/seam_statistics.h"
@@ -44,6 +45,8 @@ struct QuiltTextureOptions {
     std::optional<double> texelMm;
     WrapMode wrap = WrapMode::kAuto;
     QuiltSettings settings;
+    // The region maps' channels; unset: as the source model's.
+    std::optional<ModelStorage> storage;
 };
 
 struct RegionReport {

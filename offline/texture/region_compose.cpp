@@ -47,7 +47,8 @@ ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps) 
 }
 
 ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& regionMaps,
-                                const WeightMaps& weights, const std::filesystem::path& out) {
+                                const WeightMaps& weights, const std::filesystem::path& out,
+                                std::optional<ModelStorage> storage) {
     const ModelInfo first = checkRegionMaps(regionMaps);
     const int regions = static_cast<int>(regionMaps.size());
     if (weights.regions() != regions || weights.width != first.width ||
@@ -74,6 +75,7 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
     // A synthesized texture is material only: the extended model's light transport and
     // capture geometry belong to the captured object, so the composite is the paper variant.
     info.variant = "paper";
+    info.storage = storage.value_or(first.storage);
     info.capture = "composed from " + std::to_string(regions) + " region maps in " +
                    regionMaps[0].parent_path().string();
 

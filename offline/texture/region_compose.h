@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "model/fourier_model_file.h"
@@ -31,8 +32,10 @@ struct ComposeReport {
 
 // Writes the composite to `out` (a model file: paper variant, normals (0, 0, 1), rms the
 // α-weighted sum of the regions' rms — by the triangle inequality an upper bound of the
-// blend's residual). `weights` must be normalized and of the maps' size.
+// blend's residual). `weights` must be normalized and of the maps' size. Channels are
+// `storage`, or unset: as the first region map's.
 ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& regionMaps,
-                                const WeightMaps& weights, const std::filesystem::path& out);
+                                const WeightMaps& weights, const std::filesystem::path& out,
+                                std::optional<ModelStorage> storage = std::nullopt);
 
 }  // namespace vpe::texture

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "model/fourier_model_file.h"
 #include "segment/label_map.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
@@ -174,6 +175,38 @@ TEST_F(TexturePipeline, QuiltSizesItselfForTheScreenObjectAndTilesAroundIt) {
     expectInputError(quilt("narrow", {"--size", "12x40", "--wrap", "on"}), {"wraps in u", "12"});
     expectInputError(quilt("neg", {"--size", "auto", "--texel-mm", "-1"}), {"--texel-mm"});
     EXPECT_FALSE(std::filesystem::exists(path("big")));
+}
+
+// The fit wrote half floats (its default); quilt and compose keep their input's storage
+// unless --storage says otherwise.
+TEST_F(TexturePipeline, QuiltAndComposeWriteTheirInputsStorageUnlessTold) {
+    ASSERT_EQ(ModelReader(model()).info().storage, ModelStorage::kHalf);
+    ASSERT_EQ(
+        runCommand(vpe({"segment", model(), "--out", path("st.png"), "--auto", "2"})).exitStatus,
+        0);
+    for (const char* storage : {"", "float"}) {
+        const std::string quilt = path(std::string("st-quilt-") + storage);
+        std::vector<std::string> arguments{"quilt",     model(), "--labels", path("st.png"),
+                                           "--size",    "48x48", "--block",  "12",
+                                           "--overlap", "3",     "--out",    quilt};
+        if (*storage != '\0') {
+            arguments.insert(arguments.end(), {"--storage", storage});
+        }
+        testing::CommandResult result = runCommand(vpe(arguments));
+        ASSERT_EQ(result.exitStatus, 0) << result.err;
+        const ModelStorage expected = *storage ? ModelStorage::kFloat : ModelStorage::kHalf;
+        EXPECT_EQ(ModelReader(texture::regionMapPath(quilt, 1)).info().storage, expected)
+            << storage;
+        result = runCommand(
+            vpe({"compose", quilt, "--out", quilt + ".exr", "--weights", "constant,constant"}));
+        ASSERT_EQ(result.exitStatus, 0) << result.err;
+        EXPECT_EQ(ModelReader(quilt + ".exr").info().storage, expected) << storage;
+    }
+    const testing::CommandResult result =
+        runCommand(vpe({"compose", path("st-quilt-"), "--out", path("st.exr"), "--weights",
+                        "constant,constant", "--storage", "float"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    EXPECT_EQ(ModelReader(path("st.exr")).info().storage, ModelStorage::kFloat);
 }
 
 TEST_F(TexturePipeline, QuiltIsDeterministicWhateverTheThreads) {
