@@ -4,12 +4,13 @@
 #include <cstdio>
 #include <memory>
 
+#include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/srgb.h"
+
 #include "cli/commands.h"
 #include "common/input_error.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
-#include "vpe/proto/fourier_brdf.h"
-#include "vpe/proto/srgb.h"
 
 namespace vpe::cli {
 
@@ -22,7 +23,8 @@ void addRelightCommand(CLI::App& app, Action& action) {
     };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
-        "relight", "Render a model or texture under one directional light, seen from +z (sRGB PNG)");
+        "relight",
+        "Render a model or texture under one directional light, seen from +z (sRGB PNG)");
     command->add_option("MODEL", args->model, "Model or texture file (.exr)")->required();
     command->add_option("--out", args->out, "Picture to write")->required();
     command->add_option("--light", args->light, "Direction towards the light x,y,z")
@@ -49,12 +51,14 @@ void addRelightCommand(CLI::App& app, Action& action) {
                     if (!rows.valid[p]) {
                         continue;
                     }
-                    const Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]};
+                    const Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1],
+                                  rows.normal[p * 3 + 2]};
                     const auto angles = proto::reflectionAngles(n, toLight, Vec3d{0, 0, 1});
                     for (int c = 0; c < 3; ++c) {
-                        const double v = args->exposure *
-                                         proto::evaluateFourierBrdf(rows.coefficientsAt(y, x, c), info.harmonics,
-                                                                    angles.cosThetaD, angles.cosThetaS);
+                        const double v =
+                            args->exposure *
+                            proto::evaluateFourierBrdf(rows.coefficientsAt(y, x, c), info.harmonics,
+                                                       angles.cosThetaD, angles.cosThetaS);
                         pixels[p * 3 + static_cast<std::size_t>(c)] =
                             static_cast<float>(proto::linearToSrgb(std::clamp(v, 0.0, 1.0)));
                     }

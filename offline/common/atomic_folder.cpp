@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "common/atomic_folder.h"
 
-#include <unistd.h>
-
 #include <string>
+
+#include <unistd.h>
 
 #include "common/input_error.h"
 

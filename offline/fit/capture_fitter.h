@@ -14,8 +14,8 @@
 #include "capture/capture.h"
 #include "capture/geometry_calibration.h"
 #include "fit/normal_equations.h"
-#include "model/rti_basis.h"
 #include "model/fourier_model_file.h"
+#include "model/rti_basis.h"
 
 namespace vpe {
 

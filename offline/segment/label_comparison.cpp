@@ -134,5 +134,4 @@ LabelComparison compareLabels(const LabelMap& predicted, const LabelMap& truth) 
     return result;
 }
 
-
 }  // namespace vpe

@@ -256,7 +256,8 @@ LabelMap readLabelImage(const std::filesystem::path& path) {
         for (int x = 0; x < image.width; ++x) {
             const double scaled = static_cast<double>(image.at(x, y, 0)) * 255.0;
             const long value = std::lround(scaled);
-            const std::string where = " (pixel " + std::to_string(x) + ", " + std::to_string(y) + ")";
+            const std::string where =
+                " (pixel " + std::to_string(x) + ", " + std::to_string(y) + ")";
             // A 16-bit image's values fall between the 8-bit steps.
             if (std::fabs(scaled - static_cast<double>(value)) > 1e-3 || value < 0 || value > 255) {
                 throw InputError(path, "not an 8-bit label image" + where);

@@ -5,6 +5,8 @@
 // Which bands are one material (the layout) is decided on Object1, whose surface is nearly
 // flat so edges between bands are clean, and used for Object2's set of the same name (the
 // same nine textures); each set's band lines are then located in its own images.
+#include "support/synthrti_band_truth.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +18,6 @@
 
 #include "common/input_error.h"
 #include "image/image_file.h"
-#include "support/synthrti_band_truth.h"
 
 namespace {
 
@@ -24,8 +25,7 @@ using namespace vpe::testing;
 
 std::vector<std::string> materialSets(const std::filesystem::path& object) {
     std::vector<std::string> names;
-    for (int m = 1; std::filesystem::is_directory(object / ("material" + std::to_string(m)));
-         ++m) {
+    for (int m = 1; std::filesystem::is_directory(object / ("material" + std::to_string(m))); ++m) {
         names.push_back("material" + std::to_string(m));
     }
     if (names.empty()) {
@@ -152,8 +152,8 @@ int main(int argc, char** argv) {
                 const BandTruth truth = labelBands(grid, all, 0.5);
                 const std::filesystem::path out = outDir / object / (sets[s] + ".png");
                 vpe::writeImage8(out, grid.width, grid.height, 1, truth.labels);
-                std::fprintf(stderr, "%s/%s: %d materials, column lines", object,
-                             sets[s].c_str(), truth.materials);
+                std::fprintf(stderr, "%s/%s: %d materials, column lines", object, sets[s].c_str(),
+                             truth.materials);
                 for (double position : positions(grid.columnLines)) {
                     std::fprintf(stderr, " %.0f", position);
                 }

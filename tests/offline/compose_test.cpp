@@ -553,19 +553,19 @@ TEST(ComposeCli, BadInputExitsTwoNamingIt) {
         testing::runCommand(vpe({"compose", dir, "--out", out, "--weights", "constant"})),
         {"--weights has 1 entry but", "2 region maps"});
     testing::expectInputError(testing::runCommand(vpe({"compose", dir, "--out", out, "--weights",
-                                                      "constant,stripes:period=x"})),
-                             {"entry 2", "stripes:period=x", "not a number"});
+                                                       "constant,stripes:period=x"})),
+                              {"entry 2", "stripes:period=x", "not a number"});
     testing::expectInputError(
         testing::runCommand(vpe({"compose", dir, "--out", out, "--weights",
                                  "constant,image:" + (folder / "nope.png").string()})),
         {"nope.png"});
     testing::expectInputError(testing::runCommand(vpe({"compose", (folder / "none").string(),
-                                                      "--out", out, "--weights", "constant"})),
-                             {"none", "no such folder"});
+                                                       "--out", out, "--weights", "constant"})),
+                              {"none", "no such folder"});
     writeRegionMap(folder / "quilt" / "region2.exr", 8, 6, 3, one);
     testing::expectInputError(testing::runCommand(vpe({"compose", dir, "--out", out, "--weights",
-                                                      "constant,constant,constant"})),
-                             {"region2.exr", "3 harmonics"});
+                                                       "constant,constant,constant"})),
+                              {"region2.exr", "3 harmonics"});
     EXPECT_FALSE(std::filesystem::exists(folder / "out" / "composed.exr"));
 }
 

@@ -156,8 +156,8 @@ BandGrid locateBandGrid(const std::vector<std::filesystem::path>& captures,
                     for (int p = kReach; p + kReach - 1 < size; ++p) {
                         differences.clear();
                         for (int a = from; a < to; ++a) {
-                            const float before = vertical ? image.at(p - kReach, a, c)
-                                                          : image.at(a, p - kReach, c);
+                            const float before =
+                                vertical ? image.at(p - kReach, a, c) : image.at(a, p - kReach, c);
                             const float after = vertical ? image.at(p + kReach - 1, a, c)
                                                          : image.at(a, p + kReach - 1, c);
                             differences.push_back(static_cast<double>(after - before));
