@@ -3,7 +3,7 @@
 # Installs the Debian 12 packages vpe needs that are missing. As root it runs apt-get;
 # otherwise it prints the exact apt line and stops, so nothing is installed behind your back.
 #   scripts/install-deps.sh          build + run the offline tools
-#   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer
+#   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer, clang-format
 #   scripts/install-deps.sh --demo   also what only the demo runs (ffmpeg for its MP4)
 #   scripts/install-deps.sh --list [--test] [--demo]
 #                                    print the packages named here, one per line
@@ -31,6 +31,7 @@ test_packages=(
     libgtest-dev libgmock-dev libbenchmark-dev
     clang libclang-rt-14-dev                  # libFuzzer, sanitizers
     jq                                        # the dependency audit reads CMake's file API
+    clang-format                              # scripts/check-format.sh (the style check)
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
 )

@@ -6,9 +6,10 @@
 #   scripts/test.sh --quick   a developer's loop: the release build and its tests labelled
 #                             unit, gpu or data (not slow; see cmake/VpeTests.cmake), no
 #                             sanitizers, fuzzing or device build
-# Every configure is followed by the dependency audit (scripts/audit-deps.sh): a file the
-# build found that no package in scripts/install-deps.sh brings fails the run, so a package
-# installed by hand on this machine cannot hide a broken fresh install.
+# It starts with the style check (scripts/check-format.sh). Every configure is followed by the
+# dependency audit (scripts/audit-deps.sh): a file the build found that no package in
+# scripts/install-deps.sh brings fails the run, so a package installed by hand on this machine
+# cannot hide a broken fresh install.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
@@ -40,6 +41,9 @@ check_labels() {
         exit 1
     fi
 }
+
+step "style (clang-format)"
+scripts/check-format.sh
 
 step "release build and tests"
 configure release
