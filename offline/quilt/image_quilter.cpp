@@ -15,19 +15,15 @@
 #include <Eigen/Dense>
 #include <fftw3.h>
 
+#include "common/fftw_planner.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
+#include "common/principal_axes.h"
 #include "synth/procedural_noise.h"
 
 namespace vpe::quilt {
 
 namespace {
-
-// FFTW's planner is not thread-safe; execution of an existing plan on new arrays is.
-std::mutex& plannerMutex() {
-    static std::mutex mutex;
-    return mutex;
-}
 
 struct FftwFree {
     void operator()(void* p) const { fftwf_free(p); }
@@ -251,7 +247,7 @@ public:
         return e;
     }
     ~RegionSearch() {
-        std::lock_guard lock(plannerMutex());
+        std::lock_guard lock(fftwPlannerMutex());
         if (forward_) {
             fftwf_destroy_plan(forward_);
         }
@@ -316,43 +312,21 @@ private:
     void buildProjection(const std::vector<std::uint8_t>& labels, int region,
                          const QuiltSettings& settings) {
         const int c = source_.channels;
-        Eigen::VectorXd mean = Eigen::VectorXd::Zero(c);
-        Eigen::MatrixXd scatter = Eigen::MatrixXd::Zero(c, c);
-        std::size_t n = 0;
+        std::vector<const float*> texels;
         for (int y = by_; y < by_ + bh_; ++y) {
             for (int x = bx_; x < bx_ + bw_; ++x) {
-                if (labels[static_cast<std::size_t>(y) * source_.width + x] != region) {
-                    continue;
+                if (labels[static_cast<std::size_t>(y) * source_.width + x] == region) {
+                    texels.push_back(source_.at(x, y));
                 }
-                const Eigen::Map<const Eigen::VectorXf> v(source_.at(x, y), c);
-                mean += v.cast<double>();
-                ++n;
             }
         }
-        mean /= static_cast<double>(std::max<std::size_t>(n, 1));
-        for (int y = by_; y < by_ + bh_; ++y) {
-            for (int x = bx_; x < bx_ + bw_; ++x) {
-                if (labels[static_cast<std::size_t>(y) * source_.width + x] != region) {
-                    continue;
-                }
-                const Eigen::VectorXd d =
-                    Eigen::Map<const Eigen::VectorXf>(source_.at(x, y), c).cast<double>() - mean;
-                scatter.selfadjointView<Eigen::Lower>().rankUpdate(d);
-            }
-        }
-        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(
-            scatter.selfadjointView<Eigen::Lower>());
-        const Eigen::VectorXd values = solver.eigenvalues().reverse();
-        const double total = std::max(values.sum(), 1e-300);
-        double kept = 0;
-        components_ = 0;
-        while (components_ < std::min(settings.maxComponents, c) &&
-               (kept / total < settings.pcaVariance || components_ == 0)) {
-            kept += values[components_];
-            ++components_;
-        }
-        const Eigen::MatrixXd basis =
-            solver.eigenvectors().rowwise().reverse().leftCols(components_);
+        const PrincipalAxes axes = principalAxes(
+            texels.size(), c, [&](std::size_t i) { return texels[i]; },
+            AxisSelection{.maxAxes = std::min(settings.maxComponents, c),
+                          .varianceToKeep = settings.pcaVariance});
+        components_ = axes.count();
+        const Eigen::MatrixXd& basis = axes.axes;
+        const Eigen::VectorXd& mean = axes.mean;
         projected_.assign(static_cast<std::size_t>(bw_) * bh_ * components_, 0.0f);
         std::vector<double> squares(static_cast<std::size_t>(bw_) * bh_, 0.0);
         for (int y = 0; y < bh_; ++y) {
@@ -390,7 +364,7 @@ private:
         {
             // FFTW_ESTIMATE: measured plans could differ from run to run, and with them the
             // rounding of the approximate errors: a quilt must not.
-            std::lock_guard lock(plannerMutex());
+            std::lock_guard lock(fftwPlannerMutex());
             forward_ = fftwf_plan_dft_r2c_2d(fh_, fw_, image.get(), scratch.get(), FFTW_ESTIMATE);
             inverse_ = fftwf_plan_dft_c2r_2d(fh_, fw_, scratch.get(), image.get(), FFTW_ESTIMATE);
             templateRows_ =
