@@ -369,6 +369,12 @@ private:
             fail(what + ": encoding " + std::to_string(static_cast<int>(map->encoding_type())) +
                  " is neither full nor low-rank");
         }
+        // 1.2's relief; absent in older bundles (and optional in newer ones).
+        if (map->detail_normals() != nullptr) {
+            view.detailNormals =
+                typed<std::uint16_t>(map->detail_normals(), what + " detail normals",
+                                     {fb::ElementType::Float16}, {height, width, 2});
+        }
         return view;
     }
 

@@ -90,9 +90,10 @@ std::vector<std::uint8_t> metadata(const RawBundleSpec& spec,
         fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics), 3.14,
                               spec.layout.c_str(), spec.thetaBasis ? &*spec.thetaBasis : nullptr);
 
-    const auto full = [&](const PlannedPayload& p) {
-        return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
-                                        fb::CreateFullCoefficients(b, reference(b, p)).Union());
+    const auto full = [&](const PlannedPayload& p, flatbuffers::Offset<fb::Payload> detail = {}) {
+        const auto layers = fb::CreateFullCoefficients(b, reference(b, p)).Union();
+        return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients, layers,
+                                        detail);
     };
     const auto c = static_cast<std::size_t>(coefficients);
     std::vector<float> mean(c), basis(2 * c);
@@ -107,7 +108,10 @@ std::vector<std::uint8_t> metadata(const RawBundleSpec& spec,
         fb::CreateLowRankCoefficientsDirect(b, 2, &mean, &basis, reference(b, payloads[5]))
             .Union());
     std::vector<flatbuffers::Offset<fb::Region>> regions{
-        fb::CreateRegionDirect(b, "base", full(payloads[4])),
+        fb::CreateRegionDirect(
+            b, "base",
+            full(payloads[4], spec.detailNormals ? reference(b, payloads[9])
+                                                 : flatbuffers::Offset<fb::Payload>())),
         fb::CreateRegionDirect(b, "glaze", lowRank)};
     const auto composed = full(payloads[6]);
     std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
@@ -167,6 +171,14 @@ std::vector<std::byte> buildRawBundle(const RawBundleSpec& spec) {
     payloads.push_back(halfLayers("composed", layers, w, h));
     payloads.push_back(payload("preset 0", fb::ElementType::UInt8, {2, h, w}, bytesOf(even)));
     payloads.push_back(payload("preset 1", fb::ElementType::Float16, {2, h, w}, bytesOf(glazed)));
+    if (spec.detailNormals) {
+        std::vector<std::uint16_t> detail(std::size_t{2} * w * h);
+        for (std::size_t i = 0; i < detail.size(); ++i) {
+            detail[i] = halfPattern(i);  // 0.125 … 0.5: inside the unit disc
+        }
+        payloads.push_back(
+            payload("region 0 detail", fb::ElementType::Float16, {h, w, 2}, bytesOf(detail)));
+    }
 
     // Lay out until the metadata's size settles (offsets are in it).
     std::vector<std::uint8_t> meta;

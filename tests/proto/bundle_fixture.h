@@ -44,8 +44,12 @@ struct RawBundleSpec {
     std::array<std::vector<float>, 3> curve{
         {{0.0f, 0.25f, 1.0f}, {0.0f, 0.5f, 1.0f}, {0.0f, 0.75f, 1.0f}}};
     std::uint32_t triangleIndexOverride = UINT32_MAX;  // written as index 0 when set
+    // Region 0 carries a relief ("region 0 detail", Float16 [h, w, 2], format 1.2); without,
+    // the field stays absent, as 1.0 and 1.1 writers left it.
+    bool detailNormals = false;
     // Called for each payload — "positions", "normals", "uvs", "indices", "region 0",
-    // "region 1", "composed", "preset 0", "preset 1" — after layout, before the metadata.
+    // "region 1", "composed", "preset 0", "preset 1", "region 0 detail" — after layout, before
+    // the metadata.
     std::function<void(const std::string& payload, PayloadRecord&)> editPayload;
 };
 

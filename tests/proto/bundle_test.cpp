@@ -426,6 +426,58 @@ TEST_F(BundleReader, ReadsAFormat10Bundle) {
     EXPECT_EQ(file->regions().size(), 2u);
 }
 
+TEST_F(BundleReader, ReadsADetailNormalMap) {
+    RawBundleSpec spec;
+    spec.detailNormals = true;
+    const std::vector<std::byte> bytes = buildRawBundle(spec);
+    const BundleFile file = BundleFile::open(writeBytes(path(), bytes));
+    EXPECT_EQ(file->header().minorVersion, 2);
+    const CoefficientMapView& base = file->regions()[0].coefficients;
+    ASSERT_EQ(base.detailNormals.size(), 2u * 4 * 2);
+    for (std::size_t i = 0; i < base.detailNormals.size(); ++i) {
+        EXPECT_EQ(base.detailNormals[i], testing::halfPattern(i));
+    }
+    EXPECT_TRUE(inside(base.detailNormals, file->bytes()));
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(base.detailNormals.data()) % 64, 0u);
+    EXPECT_EQ(base.bytesPerTexel(), 24);  // the coefficients alone
+    EXPECT_TRUE(file->regions()[1].coefficients.detailNormals.empty());
+    ASSERT_TRUE(file->composed().has_value());
+    EXPECT_TRUE(file->composed()->detailNormals.empty());
+}
+
+TEST_F(BundleReader, ReadsAFormat11BundleAsWithoutRelief) {
+    RawBundleSpec spec;
+    spec.minorVersion = 1;
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_EQ(file->header().minorVersion, 1);
+    for (const RegionView& region : file->regions()) {
+        EXPECT_TRUE(region.coefficients.detailNormals.empty());
+    }
+}
+
+TEST_F(BundleReader, RefusesADetailNormalMapOfAnotherShapeOrType) {
+    RawBundleSpec spec;
+    spec.detailNormals = true;
+    spec.editPayload = [](const std::string& name, PayloadRecord& record) {
+        if (name == "region 0 detail") {
+            record.shape = {2, 4, 3};
+        }
+    };
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() +
+                  "region 0 'base' coefficients detail normals: shape [2, 4, 3], expected "
+                  "[2, 4, 2]");
+    spec.editPayload = [](const std::string& name, PayloadRecord& record) {
+        if (name == "region 0 detail") {
+            record.type = fb::ElementType::Float32;
+        }
+    };
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() +
+                  "region 0 'base' coefficients detail normals: element type float32, "
+                  "expected float16");
+}
+
 TEST(BundleSeeds, TheFuzzerSeedsWrittenIn10StillRead) {
     // tests/fuzz/corpus/bundle_fuzzer: bundles written by the 1.0 writer, checked in.
     int seeds = 0;

@@ -49,7 +49,11 @@ struct CoefficientMapView {
     HalfLayers layers;
     std::span<const float> mean;   // kLowRank: μ, C values
     std::span<const float> basis;  // kLowRank: B_r at [r·C, (r + 1)·C)
-    int bytesPerTexel() const { return layers.layers * 8; }
+    // Format 1.2, optional: the relief's detail normal per texel, x and y as binary16 bits at
+    // [(row·width + x)·2, +2), rows from the top (proto/detail_normal.h; z = √(1 − x² − y²)).
+    // Empty: no relief.
+    std::span<const std::uint16_t> detailNormals;
+    int bytesPerTexel() const { return layers.layers * 8; }  // the coefficients
 };
 
 struct RegionView {

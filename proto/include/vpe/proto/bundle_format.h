@@ -20,7 +20,7 @@ static_assert(std::endian::native == std::endian::little, "bundles are little-en
 inline constexpr std::array<char, 4> kBundleMagic{'V', 'P', 'E', 'B'};
 // Readers accept any minor version of their major one (minor versions only append fields).
 inline constexpr std::uint16_t kBundleMajorVersion = 1;
-// 1.1 appended Model.theta_basis; 1.2 Textures.wrap_u.
+// 1.1 appended Model.theta_basis; 1.2 Textures.wrap_u and CoefficientMap.detail_normals.
 inline constexpr std::uint16_t kBundleMinorVersion = 2;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
