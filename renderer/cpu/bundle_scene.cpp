@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "vpe/renderer/bundle_scene.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "vpe/proto/half_float.h"
@@ -44,6 +45,13 @@ std::vector<float> decodeCoefficientMap(const proto::CoefficientMapView& map, in
     return out;
 }
 
+std::vector<float> decodeDetailNormals(const proto::CoefficientMapView& map) {
+    std::vector<float> out(map.detailNormals.size());
+    std::transform(map.detailNormals.begin(), map.detailNormals.end(), out.begin(),
+                   proto::halfToFloat);
+    return out;
+}
+
 BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& preset)
     : bundle_(bundle) {
     const proto::MeshView& mesh = bundle.mesh();
@@ -74,6 +82,7 @@ BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& pre
                                static_cast<std::size_t>(bundle.textureHeight());
     for (std::size_t r = 0; r < bundle.regions().size(); ++r) {
         coefficients_.push_back(decodeCoefficientMap(bundle.regions()[r].coefficients, c));
+        detailNormals_.push_back(decodeDetailNormals(bundle.regions()[r].coefficients));
         std::vector<float> alpha(texels);
         for (std::size_t t = 0; t < texels; ++t) {
             alpha[t] = chosen->encoding == proto::AlphaEncoding::kUnorm8
@@ -111,7 +120,7 @@ RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) c
     scene.material.height = bundle_.textureHeight();
     scene.material.wrapU = bundle_.textureWrapsU();
     for (std::size_t r = 0; r < coefficients_.size(); ++r) {
-        scene.material.regions.push_back({coefficients_[r], weights_[r]});
+        scene.material.regions.push_back({coefficients_[r], weights_[r], detailNormals_[r]});
     }
     scene.light = light;
     scene.viewer = viewer;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "vpe/proto/detail_normal.h"
 #include "vpe/proto/reflection_geometry.h"
 
 namespace vpe::renderer {
@@ -83,6 +84,11 @@ std::string checkMaterialTextures(const MaterialTextures& material) {
                    " weights: " + std::to_string(region.weights.size()) + " values, expected " +
                    std::to_string(texels);
         }
+        if (!region.detailNormals.empty() && region.detailNormals.size() != 2 * texels) {
+            return "region " + std::to_string(r) +
+                   " detail normals: " + std::to_string(region.detailNormals.size()) +
+                   " values, expected " + std::to_string(2 * texels);
+        }
     }
     return "";
 }
@@ -114,6 +120,53 @@ void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* c
             }
         }
     }
+}
+
+bool hasRelief(const MaterialTextures& material) {
+    return std::any_of(material.regions.begin(), material.regions.end(),
+                       [](const MaterialRegion& region) { return !region.detailNormals.empty(); });
+}
+
+Vec3d sampleDetailNormal(const MaterialTextures& material, const Vec2d& uv) {
+    const BilinearFootprint taps = footprint(material.width, material.height, uv);
+    Vec3d sum{0, 0, 0};
+    for (const auto& region : material.regions) {
+        double regionWeight = 1.0;
+        if (!region.weights.empty()) {
+            regionWeight = 0.0;
+            for (int i = 0; i < 4; ++i) {
+                regionWeight += taps.weight[i] * static_cast<double>(region.weights[taps.texel[i]]);
+            }
+        }
+        if (regionWeight == 0.0) {
+            continue;
+        }
+        Vec3d detail{0, 0, 1};
+        if (!region.detailNormals.empty()) {
+            double x = 0, y = 0;
+            for (int i = 0; i < 4; ++i) {
+                x += taps.weight[i] * static_cast<double>(region.detailNormals[2 * taps.texel[i]]);
+                y += taps.weight[i] *
+                     static_cast<double>(region.detailNormals[2 * taps.texel[i] + 1]);
+            }
+            detail = proto::detailNormalFromXy(x, y);
+        }
+        sum = {sum.x + regionWeight * detail.x, sum.y + regionWeight * detail.y,
+               sum.z + regionWeight * detail.z};
+    }
+    return sum;
+}
+
+Vec3d shadingNormal(const MaterialTextures& material, const SurfacePoint& point) {
+    if (!hasRelief(material)) {
+        return point.normal;
+    }
+    const Vec3d detail = sampleDetailNormal(material, point.uv);
+    if (!(detail.z > 0)) {  // no region weighs here
+        return point.normal;
+    }
+    return proto::applyDetailNormal(
+        proto::tangentFrame(point.normal, point.tangentU, point.tangentV), detail);
 }
 
 std::array<double, 3> evaluateMaterial(const double* coefficients, int harmonics,

@@ -2,6 +2,8 @@
 // surfacePoint: interpolation at a ray hit, and the side of the surface the ray came from.
 #include "vpe/renderer/surface_point.h"
 
+#include <cmath>
+
 #include "vector_math.h"
 
 namespace vpe::renderer {
@@ -45,6 +47,20 @@ SurfacePoint surfacePoint(const RenderMesh& mesh, const Vec3d& origin, const Vec
                     hit.b2 * static_cast<double>(t2.x),
                 b0 * static_cast<double>(t0.y) + hit.b1 * static_cast<double>(t1.y) +
                     hit.b2 * static_cast<double>(t2.y)};
+
+    // The triangle's position as a linear function of uv: e1 = ∂X/∂u·Δu1 + ∂X/∂v·Δv1, likewise
+    // e2; solved for the two derivatives (constant over the triangle).
+    const Vec3d e1 = toDouble(mesh.positions[i1]) - p0, e2 = toDouble(mesh.positions[i2]) - p0;
+    const double du1 = static_cast<double>(t1.x) - static_cast<double>(t0.x),
+                 dv1 = static_cast<double>(t1.y) - static_cast<double>(t0.y),
+                 du2 = static_cast<double>(t2.x) - static_cast<double>(t0.x),
+                 dv2 = static_cast<double>(t2.y) - static_cast<double>(t0.y);
+    const double determinant = du1 * dv2 - du2 * dv1;
+    if (determinant != 0 && std::isfinite(1.0 / determinant)) {
+        const double inverse = 1.0 / determinant;
+        point.tangentU = inverse * (dv2 * e1 - dv1 * e2);
+        point.tangentV = inverse * (du1 * e2 - du2 * e1);
+    }
     return point;
 }
 

@@ -19,17 +19,18 @@ std::array<double, 3> targetRadiance(const RenderScene& scene, const SurfacePoin
         return {0, 0, 0};
     }
     const Vec3d l = (1.0 / lightDistance) * toLight, v = (1.0 / viewerDistance) * toViewer;
+    const Vec3d normal = shadingNormal(scene.material, point);
     // Below the horizon of either normal, toward the light or the viewer: no light at all.
     const double horizon =
-        proto::horizonFactor(proto::dot(point.normal, l), proto::dot(point.geometricNormal, l),
-                             proto::dot(point.normal, v), proto::dot(point.geometricNormal, v));
+        proto::horizonFactor(proto::dot(normal, l), proto::dot(point.geometricNormal, l),
+                             proto::dot(normal, v), proto::dot(point.geometricNormal, v));
     if (horizon == 0) {
         return {0, 0, 0};
     }
     double coefficients[kMaxCoefficientsPerTexel];
     sampleMaterial(scene.material, point.uv, coefficients);
     const std::array<double, 3> f =
-        evaluateMaterial(coefficients, scene.material.harmonics, point.normal, l, v);
+        evaluateMaterial(coefficients, scene.material.harmonics, normal, l, v);
     const std::array<double, 3> irradiance = scene.light.irradianceAt(point.position);
     std::array<double, 3> radiance{};
     for (std::size_t c = 0; c < 3; ++c) {

@@ -111,6 +111,44 @@ TEST(MaterialTextures, EvaluatesProtosModelPerChannel) {
     }
 }
 
+TEST(MaterialTextures, ReliefBlendsLikeTheCoefficientsAndTiltsThroughTheTangentFrame) {
+    // Region 0 (left column) has a relief tilting toward +u; region 1 (right column) none.
+    auto owned = makeMaterial(0, 2, 2, [](int, int, int, int) { return 0.0; });
+    owned.weights[0] = {1, 0, 1, 0};
+    addRegion(
+        owned, [](int, int, int, int) { return 0.0; },
+        [](int x, int) { return x == 1 ? 1.0 : 0.0; });
+    MaterialTextures material = owned.view();
+    EXPECT_FALSE(hasRelief(material));
+    const std::vector<float> detail{0.6f, 0.0f, 0.6f, 0.0f, 0.6f, 0.0f, 0.6f, 0.0f};
+    material.regions[0].detailNormals = detail;
+    ASSERT_EQ(checkMaterialTextures(material), "");
+    EXPECT_TRUE(hasRelief(material));
+    // On the left column: region 0's (0.6, 0, 0.8); on the right: flat; halfway: their mean.
+    Vec3d d = sampleDetailNormal(material, {0.25, 0.5});
+    EXPECT_NEAR(d.x, 0.6, 1e-7);
+    EXPECT_NEAR(d.z, 0.8, 1e-7);
+    d = sampleDetailNormal(material, {0.5, 0.5});
+    EXPECT_NEAR(d.x, 0.3, 1e-7);
+    EXPECT_NEAR(d.z, 0.9, 1e-7);
+    // A point on the plane z = 0 facing +z, u along −y and v along +x (a rotated mapping).
+    SurfacePoint point;
+    point.normal = {0, 0, 1};
+    point.geometricNormal = {0, 0, 1};
+    point.tangentU = {0, -2, 0};
+    point.tangentV = {3, 0, 0};
+    point.uv = {0.25, 0.5};
+    const Vec3d n = shadingNormal(material, point);
+    EXPECT_NEAR(n.x, 0.0, 1e-7);
+    EXPECT_NEAR(n.y, -0.6, 1e-7);  // tilted toward +u
+    EXPECT_NEAR(n.z, 0.8, 1e-7);
+    point.uv = {0.75, 0.5};
+    const Vec3d flat = shadingNormal(material, point);
+    EXPECT_NEAR(flat.z, 1.0, 1e-12);
+    material.regions[0].detailNormals = std::span<const float>(detail).first(6);
+    EXPECT_NE(checkMaterialTextures(material), "");
+}
+
 TEST(MaterialTextures, ChecksSizes) {
     auto owned = tinyMaterial();
     MaterialTextures material = owned.view();

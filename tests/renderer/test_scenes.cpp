@@ -101,7 +101,7 @@ MaterialTextures OwnedMaterial::view() const {
     textures.width = width;
     textures.height = height;
     for (std::size_t r = 0; r < coefficients.size(); ++r) {
-        textures.regions.push_back({coefficients[r], weights[r]});
+        textures.regions.push_back({coefficients[r], weights[r], {}});
     }
     return textures;
 }

@@ -31,13 +31,16 @@ private:
     std::string presetName_;
     std::vector<Vec3f> positions_, normals_;
     std::vector<Vec2f> uvs_;
-    std::vector<std::vector<float>> coefficients_;  // per region, C per texel
-    std::vector<std::vector<float>> weights_;       // per region, one per texel
+    std::vector<std::vector<float>> coefficients_;   // per region, C per texel
+    std::vector<std::vector<float>> weights_;        // per region, one per texel
+    std::vector<std::vector<float>> detailNormals_;  // per region, x and y per texel, or none
     ProjectorModel projector_;
     ScreenSurface surface_;
 };
 
 // A coefficient map decoded to floats (C per texel, bundleCoefficientIndex order).
 std::vector<float> decodeCoefficientMap(const proto::CoefficientMapView& map, int coefficients);
+// A map's relief decoded to floats (x and y per texel), empty when it has none.
+std::vector<float> decodeDetailNormals(const proto::CoefficientMapView& map);
 
 }  // namespace vpe::renderer

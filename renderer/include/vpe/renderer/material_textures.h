@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/renderer/surface_point.h"
 #include "vpe/renderer/vector_types.h"
 
 namespace vpe::renderer {
@@ -19,10 +20,13 @@ namespace vpe::renderer {
 // …, aM, bM) of colour channel c (R, G, B) — proto::bundleCoefficientIndex(k, c), the
 // bundle's "fourier_brdf:k_major_rgb". A weight map holds one float per texel; the weights
 // of all regions add up to 1 at every texel (not checked). Empty weights mean 1 everywhere
-// (a single region, or a composed map).
+// (a single region, or a composed map). A relief map holds the detail normal's x and y per texel
+// (proto/detail_normal.h: tangent space, x along +u, y along +v; z = √(1 − x² − y²)) at
+// [(y·width + x)·2, +2); empty: no relief, (0, 0, 1).
 struct MaterialRegion {
     std::span<const float> coefficients;
     std::span<const float> weights;
+    std::span<const float> detailNormals;
 };
 
 struct MaterialTextures {
@@ -50,6 +54,21 @@ std::string checkMaterialTextures(const MaterialTextures& material);
 // (u·width − 0.5, (1 − v)·height − 0.5); clamp to edge, or in u wrapping around (GL's REPEAT)
 // when material.wrapU. Writes coefficientsPerTexel() values.
 void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients);
+
+// Whether any region carries a relief map.
+bool hasRelief(const MaterialTextures& material);
+
+// The blended detail normal at uv, not normalized (proto::applyDetailNormal normalizes):
+//   Σ_regions bilinear(weights)(uv) · detailNormalFromXy(bilinear(x, y)(uv))
+// — each region's x and y sampled bilinearly, as a GPU samples an RG texture, then z restored;
+// a region without a relief map contributes (0, 0, 1). Same footprint as sampleMaterial.
+Vec3d sampleDetailNormal(const MaterialTextures& material, const Vec2d& uv);
+
+// The normal a surface point is shaded with: the mesh's shading normal, or with a relief, that
+// normal tilted by the blended detail normal through the point's tangent frame
+// (proto::tangentFrame of the normal and the triangle's ∂X/∂u, ∂X/∂v; proto::applyDetailNormal).
+// The projector's irradiance on the plaster keeps the mesh's normal: the screen is smooth.
+Vec3d shadingNormal(const MaterialTextures& material, const SurfacePoint& point);
 
 // Radiance per unit irradiance f(θd, θs) of each channel for blended coefficients (as
 // sampleMaterial writes them), with proto's evaluator and reflection geometry: n, toLight and

@@ -14,6 +14,10 @@ struct SurfacePoint {
     Vec3d normal;           // shading normal, unit, on the side the ray came from
     Vec3d geometricNormal;  // the triangle's plane normal, unit, on the side the ray came from
     Vec2d uv;               // interpolated texture coordinate (OBJ / GL: v up)
+    // ∂X/∂u and ∂X/∂v of the hit triangle (metres per unit of uv; v up): the directions a
+    // relief's tangent frame is built from (proto/detail_normal.h). Zero when the triangle's
+    // uvs are degenerate.
+    Vec3d tangentU, tangentV;
     std::uint32_t triangle = 0;
 };
 
