@@ -2,6 +2,7 @@
 #include "bake/bake_inputs.h"
 
 #include "vpe/proto/bundle_format.h"
+#include "vpe/proto/detail_normal.h"
 #include "vpe/proto/fourier_brdf.h"
 
 #include "model/fourier_model_file.h"
@@ -22,6 +23,9 @@ CoefficientTexture readCoefficientTexture(const std::filesystem::path& model) {
     const std::size_t texels = static_cast<std::size_t>(info.width) * info.height;
     texture.values.assign(texels * perTexel, 0.0f);
     texture.valid.assign(texels, 0);
+    if (info.detailNormals) {
+        texture.detailNormals.assign(texels * 2, 0.0f);
+    }
     constexpr int kBand = 64;
     ModelRows rows;
     for (int row = 0; row < info.height; row += kBand) {
@@ -34,6 +38,14 @@ CoefficientTexture readCoefficientTexture(const std::filesystem::path& model) {
                     continue;
                 }
                 texture.valid[t] = 1;
+                if (!texture.detailNormals.empty()) {
+                    // Stored as x and y (z ≥ 0 follows): scaled onto the unit disc if rounding
+                    // put them a hair outside.
+                    const proto::Vec3f d = proto::detailNormalFromXy(
+                        rows.detail[rows.pixel(r, x) * 3], rows.detail[rows.pixel(r, x) * 3 + 1]);
+                    texture.detailNormals[2 * t] = d.x;
+                    texture.detailNormals[2 * t + 1] = d.y;
+                }
                 for (int c = 0; c < 3; ++c) {
                     const float* coefficients = rows.coefficientsAt(r, x, c);
                     for (int i = 0; i < k; ++i) {

@@ -24,9 +24,13 @@ struct CoefficientTexture {
     bool tilesU = false;        // the model file says it tiles in u (vpe quilt on a wrapping mesh)
     std::vector<float> values;  // C per texel, proto::bundleCoefficientIndex order
     std::vector<unsigned char> valid;  // per texel
+    // The relief, when the model carries one: the detail normal's x and y per texel
+    // (proto/detail_normal.h), (0, 0) where invalid; empty when it has none.
+    std::vector<float> detailNormals;
 };
 
-// Reads a model file (vpe fit, quilt, compose): coefficients only. Invalid texels are zero.
+// Reads a model file (vpe fit, quilt, compose): the coefficients and the relief. Invalid
+// texels are zero (and flat).
 CoefficientTexture readCoefficientTexture(const std::filesystem::path& model);
 
 BundleMesh toBundleMesh(const scene::ScreenMesh& mesh);

@@ -138,6 +138,7 @@ private:
     }
 
     void map(const CoefficientMapData& map, const std::string& what) const {
+        detailNormals(map, what);
         const std::size_t c = static_cast<std::size_t>(c_.model.coefficientsPerTexel());
         if (map.encoding == proto::CoefficientEncoding::kFull) {
             count(map.coefficients.size(), texels(c_) * c, what);
@@ -156,6 +157,23 @@ private:
         finite(map.basis, what + " basis", inf);
         count(map.weights.size(), texels(c_) * rank, what + " weights");
         finite(map.weights, what + " weights", kHalfMax);
+    }
+
+    void detailNormals(const CoefficientMapData& map, const std::string& what) const {
+        if (map.detailNormals.empty()) {
+            return;
+        }
+        count(map.detailNormals.size(), 2 * texels(c_), what + " detail normals");
+        for (std::size_t t = 0; t < texels(c_); ++t) {
+            const double x = map.detailNormals[2 * t], y = map.detailNormals[2 * t + 1];
+            if (!(x * x + y * y <= 1.0 + 1e-6)) {
+                fail(what + " detail normals: texel (" +
+                     std::to_string(t % static_cast<std::size_t>(c_.textureWidth)) + ", " +
+                     std::to_string(t / static_cast<std::size_t>(c_.textureWidth)) + ") is (" +
+                     std::to_string(x) + ", " + std::to_string(y) +
+                     "), not the x and y of a unit normal");
+            }
+        }
     }
 
     void preset(const WeightPreset& preset, const std::string& what,
@@ -393,6 +411,7 @@ std::size_t addAlpha(std::vector<Payload>& payloads, const WeightPreset& preset,
 // Which payload holds what (indices into the payload list).
 struct MapPayloads {
     std::size_t layers = 0;  // coefficients (full) or weights (low rank)
+    std::optional<std::size_t> detailNormals;
 };
 struct PayloadIndex {
     std::size_t positions = 0, normals = 0, uvs = 0, indices = 0;
@@ -417,9 +436,23 @@ PayloadIndex planPayloads(const BundleContents& c, std::vector<Payload>& payload
         addPayload(payloads, fb::ElementType::UInt32, {triangles, 3}, raw(c.mesh.indices));
     const auto planMap = [&](const CoefficientMapData& map) {
         const bool full = map.encoding == proto::CoefficientEncoding::kFull;
-        return MapPayloads{addHalfLayers(payloads, full ? map.coefficients : map.weights,
-                                         full ? c.model.coefficientsPerTexel() : map.rank,
-                                         c.textureWidth, c.textureHeight)};
+        MapPayloads planned{addHalfLayers(payloads, full ? map.coefficients : map.weights,
+                                          full ? c.model.coefficientsPerTexel() : map.rank,
+                                          c.textureWidth, c.textureHeight),
+                            std::nullopt};
+        if (!map.detailNormals.empty()) {
+            planned.detailNormals =
+                addPayload(payloads, fb::ElementType::Float16,
+                           {static_cast<std::uint32_t>(c.textureHeight),
+                            static_cast<std::uint32_t>(c.textureWidth), 2},
+                           [&map](BundleOutput& out) {
+                               std::vector<std::uint16_t> halves(map.detailNormals.size());
+                               std::transform(map.detailNormals.begin(), map.detailNormals.end(),
+                                              halves.begin(), toHalf);
+                               out.write(halves);
+                           });
+        }
+        return planned;
     };
     for (const BundleRegion& region : c.regions) {
         index.regions.push_back(planMap(region.coefficients));
@@ -514,16 +547,20 @@ private:
     flatbuffers::Offset<fb::CoefficientMap> buildMap(flatbuffers::FlatBufferBuilder& b,
                                                      const CoefficientMapData& map,
                                                      const MapPayloads& payloads) {
+        // Absent without a relief: such a map reads exactly as in a 1.1 bundle.
+        const flatbuffers::Offset<fb::Payload> detail = payloads.detailNormals
+                                                            ? ref(b, *payloads.detailNormals)
+                                                            : flatbuffers::Offset<fb::Payload>();
         if (map.encoding == proto::CoefficientEncoding::kFull) {
             const auto full = fb::CreateFullCoefficients(b, ref(b, payloads.layers));
             return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
-                                            full.Union());
+                                            full.Union(), detail);
         }
         const auto lowRank =
             fb::CreateLowRankCoefficientsDirect(b, static_cast<std::uint16_t>(map.rank), &map.mean,
                                                 &map.basis, ref(b, payloads.layers));
         return fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
-                                        lowRank.Union());
+                                        lowRank.Union(), detail);
     }
 
     const BundleContents& c_;

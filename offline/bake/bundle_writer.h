@@ -31,6 +31,9 @@ struct CoefficientMapData {
     std::vector<float> mean;     // C values
     std::vector<float> basis;    // rank × C values, basis vector r at [r·C, (r + 1)·C)
     std::vector<float> weights;  // rank per texel
+    // The relief (format 1.2): the detail normal's x and y per texel (proto/detail_normal.h),
+    // x² + y² ≤ 1; empty: none.
+    std::vector<float> detailNormals;
 };
 
 struct BundleRegion {

@@ -59,6 +59,10 @@ int thetaBasisSize(const std::optional<int>& requested, int harmonics) {
 CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOptions& options,
                              ThetaMoment* moment, BakeReport& report) {
     CoefficientMapData map;
+    if (options.relief) {
+        map.detailNormals = texture.detailNormals;
+        report.relief = report.relief || !map.detailNormals.empty();
+    }
     if (!options.lowRank) {
         map.encoding = proto::CoefficientEncoding::kFull;
         map.coefficients = texture.values;

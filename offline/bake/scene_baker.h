@@ -34,6 +34,8 @@ struct BakeOptions {
     double demoDistance = 0.6;
     std::string response = "2.2";  // gamma, r,g,b gammas, or a CSV curve
     proto::RenderSettings settings;
+    // Carry the textures' relief (detail normal maps) into the bundle when they have one.
+    bool relief = true;
     bool lowRank = true;
     int rank = 12;
     // The θs basis the device renders in (proto/MODEL.md, "Rendering in a θs basis"): K
@@ -51,7 +53,8 @@ struct BakeReport {
     // (when it does and the textures do not, u = 0 | 1 is a visible seam).
     bool wrapU = false;
     bool meshWrapsU = false;
-    int bytesPerTexel = 0;  // per region, as stored
+    int bytesPerTexel = 0;  // per region, as stored (coefficients)
+    bool relief = false;    // the bundle carries detail normal maps (4 bytes a texel more)
     // Low-rank codes: share of the coefficient variance kept, and the RMS coefficient error,
     // worst over the regions.
     double explainedVariance = 1.0;

@@ -58,6 +58,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
         std::vector<std::string> presets;
         std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
         std::string encoding = "low-rank";
+        std::string relief = "on";
         std::string thetaBasis;
         int threads = 0;
         bool json = false;
@@ -111,6 +112,12 @@ void addBakeCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_option("--rank", args->options.rank, "Low-rank: basis vectors per region")
         ->capture_default_str();
+    command
+        ->add_option("--relief", args->relief,
+                     "on: carry the textures' relief (detail normal maps, when they have one) "
+                     "into the bundle; off: leave it out, the mesh's normals alone")
+        ->check(CLI::IsMember({"on", "off"}))
+        ->capture_default_str();
     command->add_option("--theta-basis", args->thetaBasis,
                         "θs functions the device renders in, fitted to the textures "
                         "(proto/MODEL.md); full or 0: none, rendered exactly [default: 4]");
@@ -146,6 +153,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
             options.settings.ambientIrradiance =
                 toFloats(scene::parseAmbient(args->ambient, "--ambient"));
             options.lowRank = args->encoding == "low-rank";
+            options.relief = args->relief == "on";
             if (!args->thetaBasis.empty()) {
                 options.thetaBasis = parseThetaBasis(args->thetaBasis);
             }
@@ -155,12 +163,13 @@ void addBakeCommand(CLI::App& app, Action& action) {
             const double seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             std::fprintf(stderr,
-                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel, %s), mesh %zu "
+                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel%s, %s), mesh %zu "
                          "vertices / %zu triangles, %.1f MiB in %.2f s\n",
                          args->out.c_str(), report.regions, report.regions == 1 ? "" : "s",
                          report.textureWidth, report.textureHeight, report.harmonics,
                          args->encoding.c_str(), report.bytesPerTexel,
-                         thetaBasisText(report).c_str(), report.vertices, report.triangles,
+                         report.relief ? " + 4 of relief" : "", thetaBasisText(report).c_str(),
+                         report.vertices, report.triangles,
                          static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
             std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
                          report.meshWrapsU && !report.wrapU
@@ -176,6 +185,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
                 json["harmonics"] = report.harmonics;
                 json["encoding"] = args->encoding;
                 json["bytes_per_texel"] = report.bytesPerTexel;
+                json["relief"] = report.relief;
                 json["explained_variance"] = report.explainedVariance;
                 json["coefficient_rms"] = report.coefficientRms;
                 json["theta_basis"] = report.thetaBasis > 0 ? nlohmann::json(report.thetaBasis)

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // vpe fit CAPTURE --out MODEL.exr
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include "capture/capture_loader.h"
 #include "cli/commands.h"
 #include "cli/storage_option.h"
+#include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "fit/capture_fitter.h"
 #include "model/rti_basis.h"
@@ -26,6 +28,8 @@ void addFitCommand(CLI::App& app, Action& action) {
         std::string model = "paper";
         int heldOut = 0;
         std::string storage;
+        std::string relief = "detail";
+        double macroSigma = 0;
         bool regularizationGiven = false;
         bool json = false;
         bool noPreview = false;
@@ -76,6 +80,16 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "RTI benchmarks' protocol; score them with vpe eval --held-out N")
         ->check(CLI::Range(2, 1000));
     addStorageOption(command, args->storage, "half");
+    command
+        ->add_option("--relief", args->relief,
+                     "detail: fit the per-pixel normals and write the relief as a detail normal "
+                     "map; coefficients: fit the macro shape's normals, the coefficients absorb "
+                     "the relief (docs/transfer-fidelity.md)")
+        ->check(CLI::IsMember({"detail", "coefficients"}))
+        ->capture_default_str();
+    command->add_option("--macro-sigma", args->macroSigma,
+                        "σ (pixels) of the regression window giving the macro shape (0: 1/8 of the "
+                        "larger side)");
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
     command->add_flag("--json", args->json, "End stdout with a JSON report");
     command->callback([args, &action, harmonicsOption, lambdaOption] {
@@ -93,6 +107,14 @@ void addFitCommand(CLI::App& app, Action& action) {
             }
             options.writePreview = !args->noPreview;
             options.storage = parseStorage(args->storage).value_or(ModelStorage::kHalf);
+            options.relief = args->relief == "coefficients" ? ReliefMode::kInCoefficients
+                                                            : ReliefMode::kDetailMap;
+            if (!(args->macroSigma >= 0) || !std::isfinite(args->macroSigma)) {
+                throw InputError("--macro-sigma must be a number of pixels ≥ 0");
+            }
+            if (args->macroSigma > 0) {
+                options.macroSigma = args->macroSigma;
+            }
             options.variant = args->model == "extended" ? ModelVariant::kExtended
                               : args->model == "paper"  ? ModelVariant::kPaper
                                                         : ModelVariant::kRti;
@@ -152,6 +174,10 @@ void addFitCommand(CLI::App& app, Action& action) {
                 } else {
                     json["harmonics"] = report.harmonics;
                     json["lambda"] = report.lambda;
+                    // An RTI fit is on the stored values: no relief is measured or written.
+                    json["relief"] = args->relief;
+                    json["macro_sigma"] = report.macroSigma;
+                    json["mean_relief_degrees"] = report.meanReliefDegrees;
                 }
                 json["normals"] = report.normalsSource;
                 json["mean_rms"] = report.meanRms;

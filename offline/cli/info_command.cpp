@@ -59,6 +59,7 @@ nlohmann::json mapJson(const CoefficientMapView& map) {
     if (map.encoding == CoefficientEncoding::kLowRank) {
         json["rank"] = map.rank;
     }
+    json["relief"] = !map.detailNormals.empty();  // format 1.2's detail normal map
     return json;
 }
 
@@ -150,7 +151,8 @@ std::string mapText(const CoefficientMapView& map) {
         text += ", rank " + std::to_string(map.rank);
     }
     return text + ", " + std::to_string(map.layers.layers) + " RGBA16F layers, " +
-           std::to_string(map.bytesPerTexel()) + " bytes per texel";
+           std::to_string(map.bytesPerTexel()) + " bytes per texel" +
+           (map.detailNormals.empty() ? "" : ", relief (4 bytes per texel)");
 }
 
 void printInfo(const std::string& path, const proto::BundleView& bundle) {

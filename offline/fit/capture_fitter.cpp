@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "capture/image_band_reader.h"
 #include "capture/surface_geometry.h"
@@ -18,6 +19,7 @@
 #include "fit/rti_band_fitter.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "normals/detail_normals.h"
 #include "normals/normal_source.h"
 #include "preview/relight_preview.h"
 
@@ -167,6 +169,27 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     NormalsResult normals = acquireNormals(originalCapture, options.normals, report.width,
                                            report.height, options.threads);
     report.normalsSource = normals.source;
+    // The relief: measured against the macro shape, then either carried as a detail map or
+    // left for the coefficients (fitted against the macro normals).
+    report.macroSigma = options.macroSigma.value_or(defaultMacroSigma(report.width, report.height));
+    const NormalMap macro = lowPassNormals(normals.normals, report.macroSigma);
+    const std::vector<float> detail =
+        detailNormalMap(normals.normals, macro, imageRightDirection(originalCapture));
+    {
+        double tilt = 0;
+        std::size_t counted = 0;
+        for (std::size_t p = 0; p < macro.valid.size(); ++p) {
+            if (macro.valid[p]) {
+                tilt += std::acos(std::clamp(static_cast<double>(detail[p * 3 + 2]), -1.0, 1.0));
+                ++counted;
+            }
+        }
+        report.meanReliefDegrees =
+            counted ? tilt / static_cast<double>(counted) * 180.0 / std::numbers::pi : 0;
+    }
+    if (options.relief == ReliefMode::kInCoefficients) {
+        normals.normals = macro;
+    }
     report.normalsSeconds = secondsSince(normalsStart);
 
     Capture capture = originalCapture;
@@ -214,6 +237,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     info.calibration = report.calibration;
     info.texelMm = capture.texelMm.value_or(0.0);
     info.storage = options.storage;
+    info.detailNormals = options.relief == ReliefMode::kDetailMap;
     ModelWriter writer(modelPath, info, options.threads);
     RelightPreview preview(report.width, report.height, harmonics);
 
@@ -239,6 +263,12 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         showPhase("fitting");
         const auto fitStart = Clock::now();
         fitter.fit(band, rows);
+        if (info.detailNormals) {
+            const std::size_t first = static_cast<std::size_t>(rowBegin) * report.width * 3;
+            rows.detail.assign(
+                detail.begin() + static_cast<std::ptrdiff_t>(first),
+                detail.begin() + static_cast<std::ptrdiff_t>(first + rows.valid.size() * 3));
+        }
         for (std::size_t p = 0; p < rows.valid.size(); ++p) {
             if (rows.valid[p]) {
                 ++report.validPixels;

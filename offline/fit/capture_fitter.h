@@ -31,6 +31,17 @@ enum class ModelVariant {
     kRti,       // a classic RTI basis (FitOptions::rtiBasis), for comparison; not a BRDF
 };
 
+// What becomes of the relief — the part of the normals the macro shape (the normals
+// low-passed) does not explain (docs/transfer-fidelity.md compares the two).
+enum class ReliefMode {
+    // Fit against the per-pixel normals and write the relief as a detail normal map
+    // (detail.X/Y/Z) that travels with the texels and tilts the screen object's normals.
+    kDetailMap,
+    // Fit against the macro normals: the coefficients absorb the relief's shading as far as a
+    // function of (θd, θs) can; no detail map.
+    kInCoefficients,
+};
+
 struct FitOptions {
     ModelVariant variant = ModelVariant::kPaper;
     RtiBasis rtiBasis;  // kRti only
@@ -42,6 +53,9 @@ struct FitOptions {
     unsigned threads = 1;
     FitPrecision precision = FitPrecision::kAuto;
     std::optional<std::filesystem::path> normals;
+    ReliefMode relief = ReliefMode::kDetailMap;
+    // σ of the low-pass that gives the macro shape, pixels; unset: defaultMacroSigma.
+    std::optional<double> macroSigma;
     std::size_t bandBudgetBytes = std::size_t{192} << 20;  // decoded samples held at once
     bool writePreview = true;
     ModelStorage storage = ModelStorage::kFloat;  // the model file's channels
@@ -54,6 +68,8 @@ struct FitReport {
     int width = 0;
     int height = 0;
     std::string normalsSource;
+    double macroSigma = 0;         // pixels
+    double meanReliefDegrees = 0;  // mean tilt of the per-pixel normals off the macro shape
     double normalsSeconds = 0;
     double decodeSeconds = 0;
     double fitSeconds = 0;

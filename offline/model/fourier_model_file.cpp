@@ -38,6 +38,7 @@ std::vector<std::string> channelNames(const ModelInfo& info) {
     std::vector<std::string> names;
     const int coefficients = info.coefficientCount();
     const bool withTransport = info.hasTransport();
+    const bool withDetail = info.detailNormals;
     for (int k = 0; k < coefficients; ++k) {
         for (int c = 0; c < 3; ++c) {
             names.push_back(coefficientName(info, k) + "." + kColour[c]);
@@ -53,6 +54,11 @@ std::vector<std::string> channelNames(const ModelInfo& info) {
     if (withTransport) {
         for (int t = 0; t < kTransportTerms; ++t) {
             names.push_back(transportName(t));
+        }
+    }
+    if (withDetail) {
+        for (int a = 0; a < 3; ++a) {
+            names.push_back(std::string("detail.") + kAxis[a]);
         }
     }
     return names;
@@ -140,7 +146,7 @@ int ModelInfo::coefficientCount() const {
     return isBrdf() ? proto::coefficientCount(harmonics) : terms;
 }
 
-void ModelRows::resize(int w, int r, int k, bool withTransport) {
+void ModelRows::resize(int w, int r, int k, bool withTransport, bool withDetail) {
     width = w;
     rows = r;
     coefficients = k;
@@ -150,6 +156,10 @@ void ModelRows::resize(int w, int r, int k, bool withTransport) {
     rms.assign(pixels * 3, 0.0f);
     valid.assign(pixels, 0);
     transport.assign(withTransport ? pixels * kTransportTerms : 0, 0.0f);
+    detail.assign(withDetail ? pixels * 3 : 0, 0.0f);
+    for (std::size_t p = 0; p < detail.size(); p += 3) {
+        detail[p + 2] = 1.0f;  // flat
+    }
 }
 
 // Rows packed in the file's channel order, as half or float, waiting to be written.
@@ -168,6 +178,7 @@ struct ModelWriter::Impl {
     int channels = 0;
     int coefficients = 0;
     bool transport = false;
+    bool detail = false;
     bool half = false;
     unsigned threads = 1;
 
@@ -253,6 +264,11 @@ struct ModelWriter::Impl {
                 *out++ = rows.transport[p * kTransportTerms + t];
             }
         }
+        if (detail) {
+            for (int a = 0; a < 3; ++a) {
+                *out++ = rows.detail.empty() ? (a == 2 ? 1.0f : 0.0f) : rows.detail[p * 3 + a];
+            }
+        }
     }
 };
 
@@ -268,6 +284,7 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     }
     impl_->coefficients = info.coefficientCount();
     impl_->transport = info.hasTransport();
+    impl_->detail = info.detailNormals;
     impl_->names = channelNames(info);
     impl_->channels = static_cast<int>(impl_->names.size());
     impl_->half = info.storage == ModelStorage::kHalf;
@@ -398,6 +415,7 @@ struct ModelReader::Impl {
     int rmsChannel[3] = {};
     int validChannel = 0;
     std::vector<int> transportChannel;  // empty without transport
+    std::vector<int> detailChannel;     // empty without a relief
     std::vector<float> scanlines;
 };
 
@@ -482,6 +500,14 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
             impl_->transportChannel.push_back(find(transportName(t)));
         }
     }
+    // Optional: models written before the relief was carried have none.
+    info.detailNormals = std::find(spec.channelnames.begin(), spec.channelnames.end(),
+                                   "detail.X") != spec.channelnames.end();
+    if (info.detailNormals) {
+        for (int a = 0; a < 3; ++a) {
+            impl_->detailChannel.push_back(find(std::string("detail.") + kAxis[a]));
+        }
+    }
 }
 
 ModelReader::~ModelReader() = default;
@@ -494,7 +520,7 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
     const int k = impl_->info.coefficientCount();
     const int width = impl_->info.width;
     const int channels = impl_->channels;
-    out.resize(width, rows, k, !impl_->transportChannel.empty());
+    out.resize(width, rows, k, !impl_->transportChannel.empty(), !impl_->detailChannel.empty());
     impl_->scanlines.resize(static_cast<std::size_t>(width) * rows * channels);
     if (!impl_->image->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0, channels,
                                       OIIO::TypeDesc::FLOAT, impl_->scanlines.data())) {
@@ -517,6 +543,9 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
             out.valid[p] = in[impl_->validChannel] > 0.5f ? 1 : 0;
             for (std::size_t t = 0; t < impl_->transportChannel.size(); ++t) {
                 out.transport[p * kTransportTerms + t] = in[impl_->transportChannel[t]];
+            }
+            for (std::size_t a = 0; a < impl_->detailChannel.size(); ++a) {
+                out.detail[p * 3 + a] = in[impl_->detailChannel[a]];
             }
         }
     }

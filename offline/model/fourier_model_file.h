@@ -49,6 +49,9 @@ struct ModelInfo {
     // As read: the type of the file's coefficient channels. As written: the type of every
     // channel. Float unless asked, so no caller loses precision without choosing to.
     ModelStorage storage = ModelStorage::kFloat;
+    // The relief as a detail normal map (channels detail.X/Y/Z): fitted models whose normals
+    // had relief, and the textures quilted and composed from them. Without it: no relief.
+    bool detailNormals = false;
     bool hasTransport() const { return variant == "extended"; }
     bool isBrdf() const { return variant == "paper" || variant == "extended"; }
     std::optional<RtiBasis> rtiBasis() const;  // for "ptm" and "hsh"
@@ -72,8 +75,11 @@ struct ModelRows {
     // Extended variant only: the capture-specific light transport T, kTransportTerms per
     // pixel (model/light_transport.h); empty for the paper's model.
     std::vector<float> transport;  // [row][x][term]
+    // With ModelInfo::detailNormals: the relief's detail normal per pixel, tangent space
+    // (proto/detail_normal.h; docs/model-file.md), (0, 0, 1) where flat; empty without.
+    std::vector<float> detail;  // [row][x][3]
 
-    void resize(int w, int r, int k, bool withTransport = false);
+    void resize(int w, int r, int k, bool withTransport = false, bool withDetail = false);
     std::size_t pixel(int row, int x) const { return static_cast<std::size_t>(row) * width + x; }
     const float* coefficientsAt(int row, int x, int channel) const {
         return coefficient.data() + (pixel(row, x) * 3 + channel) * coefficients;

@@ -215,7 +215,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         for (int y0 = 0; y0 < height; y0 += kBand) {
             const int bandRows = std::min(kBand, height - y0);
             if (band.rows != bandRows) {
-                band.resize(width, bandRows, rows.coefficients);
+                band.resize(width, bandRows, rows.coefficients, false, texture.detailNormals);
             }
             // Every pixel's coefficients are overwritten, on all threads; normal, rms and the
             // flag are the same for every band.
@@ -226,12 +226,19 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
                         for (int x = 0; x < width; ++x) {
                             const std::size_t o = (static_cast<std::size_t>(y0) + r) * width + x;
                             const std::size_t p = band.pixel(static_cast<int>(r), x);
-                            const float* texel = source.at(quilt.sourceX[o], quilt.sourceY[o]);
+                            const int sx = quilt.sourceX[o], sy = quilt.sourceY[o];
+                            const float* texel = source.at(sx, sy);
                             std::copy_n(
                                 texel, source.channels,
                                 band.coefficient.begin() + static_cast<long>(p) * source.channels);
                             std::copy_n(texel, source.channels,
                                         quilted.begin() + static_cast<long>(o) * source.channels);
+                            // The relief goes with its texel's coefficients.
+                            if (texture.detailNormals) {
+                                std::copy_n(
+                                    rows.detail.begin() + static_cast<long>(rows.pixel(sy, sx) * 3),
+                                    3, band.detail.begin() + static_cast<long>(p * 3));
+                            }
                             band.normal[p * 3 + 2] = 1.0f;
                             band.valid[p] = 1;
                         }

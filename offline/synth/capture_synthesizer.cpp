@@ -241,14 +241,17 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
 
     // Truth: geometry, labels, parameters, lights.
     std::vector<float> normals(pixels * 3), normalsPreview(pixels * 3), positions(pixels * 3),
-        parameters(pixels * 8), labels(pixels), labelsPreview(pixels * 3), mask(pixels);
+        macroNormals(pixels * 3), parameters(pixels * 8), labels(pixels), labelsPreview(pixels * 3),
+        mask(pixels);
     std::size_t streakPixels = 0, hitPixels = 0;
     for (std::size_t p = 0; p < pixels; ++p) {
         const SurfacePoint& s = surface[p];
         const double n3[3] = {s.normal.x, s.normal.y, s.normal.z};
         const double p3[3] = {s.position.x, s.position.y, s.position.z};
+        const double m3[3] = {s.baseNormal.x, s.baseNormal.y, s.baseNormal.z};
         for (int c = 0; c < 3; ++c) {
             normals[p * 3 + c] = s.hit ? static_cast<float>(n3[c]) : 0.0f;
+            macroNormals[p * 3 + c] = s.hit ? static_cast<float>(m3[c]) : 0.0f;
             normalsPreview[p * 3 + c] = s.hit ? static_cast<float>((n3[c] + 1) / 2) : 0.0f;
             positions[p * 3 + c] = static_cast<float>(p3[c]);
         }
@@ -275,6 +278,8 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     const std::filesystem::path truth = partial / "truth";
     writeImage(truth / "normals.exr", n, n, 3, normals, PixelFormat::kFloat);
     writeImage(truth / "normals.png", n, n, 3, normalsPreview, PixelFormat::kUint8);
+    // The smooth surface of revolution's normals: the macro shape the relief tilts.
+    writeImage(truth / "macro-normals.exr", n, n, 3, macroNormals, PixelFormat::kFloat);
     writeImage(truth / "positions.exr", n, n, 3, positions, PixelFormat::kFloat);
     writeImage(truth / "parameters.exr", n, n, 8, parameters, PixelFormat::kFloat);
     writeImage(truth / "labels.png", n, n, 1, labels, PixelFormat::kUint8);

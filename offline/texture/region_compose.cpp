@@ -3,6 +3,7 @@
 #include "texture/region_compose.h"
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 
@@ -78,6 +79,10 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
     info.storage = storage.value_or(first.storage);
     info.capture = "composed from " + std::to_string(regions) + " region maps in " +
                    regionMaps[0].parent_path().string();
+    // The relief is blended as the coefficients are (a region without one is flat there).
+    for (const auto& path : regionMaps) {
+        info.detailNormals = info.detailNormals || ModelReader(path).info().detailNormals;
+    }
 
     std::vector<std::unique_ptr<ModelReader>> readers;
     for (const auto& path : regionMaps) {
@@ -95,12 +100,13 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
             readers[static_cast<std::size_t>(r)]->readRows(rowBegin, bandRows,
                                                            inputs[static_cast<std::size_t>(r)]);
         }
-        rows.resize(first.width, bandRows, k);
+        rows.resize(first.width, bandRows, k, false, info.detailNormals);
         for (int y = 0; y < bandRows; ++y) {
             for (int x = 0; x < first.width; ++x) {
                 const std::size_t p = rows.pixel(y, x);
                 std::fill(coefficient.begin(), coefficient.end(), 0.0);
                 double rms[3] = {0, 0, 0};
+                double detail[3] = {0, 0, 0};
                 bool valid = true;
                 for (int r = 0; r < regions; ++r) {
                     const ModelRows& in = inputs[static_cast<std::size_t>(r)];
@@ -121,6 +127,9 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
                     }
                     for (int ch = 0; ch < 3; ++ch) {
                         rms[ch] += alpha * static_cast<double>(in.rms[p * 3 + ch]);
+                        detail[ch] += alpha * (in.detail.empty()
+                                                   ? (ch == 2 ? 1.0 : 0.0)
+                                                   : static_cast<double>(in.detail[p * 3 + ch]));
                     }
                 }
                 // Texture maps carry no geometry: the bake supplies the object's normals.
@@ -135,6 +144,14 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
                 }
                 for (int ch = 0; ch < 3; ++ch) {
                     rows.rms[p * 3 + ch] = static_cast<float>(rms[ch]);
+                }
+                if (info.detailNormals) {
+                    const double length = std::sqrt(detail[0] * detail[0] + detail[1] * detail[1] +
+                                                    detail[2] * detail[2]);
+                    for (int ch = 0; ch < 3; ++ch) {
+                        rows.detail[p * 3 + ch] =
+                            length > 0 ? static_cast<float>(detail[ch] / length) : (ch == 2);
+                    }
                 }
             }
         }

@@ -90,6 +90,16 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_GT(view.mesh().triangleCount(), 1000u);
     EXPECT_EQ(view.model().thetaBasisSize(), 4);
     EXPECT_EQ(proto::checkThetaBasis(10, view.model().thetaBasis), "");
+    // The fit's relief travels into the bundle (format 1.2): x and y of its detail normals.
+    EXPECT_TRUE(report["relief"].get<bool>());
+    EXPECT_EQ(view.header().minorVersion, 2);
+    const bake::CoefficientTexture relief = bake::readCoefficientTexture(path("model.exr"));
+    ASSERT_EQ(view.regions()[0].coefficients.detailNormals.size(), relief.detailNormals.size());
+    for (std::size_t i = 0; i < relief.detailNormals.size(); i += 7) {
+        EXPECT_NEAR(proto::halfToFloat(view.regions()[0].coefficients.detailNormals[i]),
+                    relief.detailNormals[i], 5e-4)
+            << i;
+    }
     // The vase's UVs are OBJ-style (v up); the bundle's rows run from the top.
     const scene::ScreenMesh vase = scene::makeProceduralVase();
     for (std::size_t i = 0; i < vase.uvs.size(); i += 97) {
@@ -220,10 +230,14 @@ protected:
         const scene::ProjectorCalibration projector =
             scene::projectorLookingAt(160, 120, 30.0, {0.1, 0.1, 0.6}, {0, 0.075, 0});
         scene::writeProjectorCalibration(projector, path("projector.yml"));
-        ASSERT_EQ(runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
-                                  path("projector.yml"), "--out", path("small.vpeb")}))
-                      .exitStatus,
-                  0);
+        // Without the relief: its detail is finer than this projector's pixels, and what the
+        // loop measures is the simulation, not how much of the texture 160 × 120 pixels can
+        // draw (with it: 38.4 dB, 2.5% mean relative error).
+        ASSERT_EQ(
+            runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                            path("projector.yml"), "--relief", "off", "--out", path("small.vpeb")}))
+                .exitStatus,
+            0);
     }
 };
 

@@ -10,6 +10,8 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "vpe/proto/half_float.h"
+
 #include "bundle_sample.h"
 #include "common/input_error.h"
 #include "support/test_data.h"
@@ -236,6 +238,37 @@ TEST_F(BundleWriter, RefusesWeightsThatDoNotSumToOne) {
                                       ": preset 1 'fade' alpha: sums to 1.010000 "
                                       "at texel (3, 0), not 1");
     expectNothingWritten(folder_.path());
+}
+
+TEST_F(BundleWriter, WritesAReliefAsHalfFloatsAndRefusesOneOffTheUnitDisc) {
+    const std::size_t texels = static_cast<std::size_t>(contents_.textureWidth) *
+                               static_cast<std::size_t>(contents_.textureHeight);
+    std::vector<float>& detail = contents_.regions[1].coefficients.detailNormals;
+    for (std::size_t i = 0; i < 2 * texels; ++i) {
+        detail.push_back(0.25f * static_cast<float>(i % 3) - 0.25f);  // -0.25, 0, 0.25
+    }
+    bake::writeBundle(path(), contents_);
+    {
+        const BundleFile file = BundleFile::open(path());
+        EXPECT_EQ(file->header().minorVersion, 2);
+        EXPECT_TRUE(file->regions()[0].coefficients.detailNormals.empty());
+        const auto& read = file->regions()[1].coefficients.detailNormals;
+        ASSERT_EQ(read.size(), detail.size());
+        for (std::size_t i = 0; i < read.size(); ++i) {
+            EXPECT_EQ(proto::halfToFloat(read[i]), detail[i]) << i;  // exact in half floats
+        }
+    }
+    detail[3] = 0.9f;
+    detail[2] = 0.5f;  // texel 1: (0.5, 0.9), off the unit disc
+    EXPECT_EQ(refusal(contents_), path().string() +
+                                      ": region 1 'glaze' coefficients detail normals: texel "
+                                      "(1, 0) is (0.500000, 0.900000), not the x and y of a "
+                                      "unit normal");
+    detail.pop_back();
+    EXPECT_EQ(refusal(contents_), path().string() +
+                                      ": region 1 'glaze' coefficients detail normals: " +
+                                      std::to_string(2 * texels - 1) + " values, expected " +
+                                      std::to_string(2 * texels));
 }
 
 TEST_F(BundleWriter, RefusesValuesAHalfFloatCannotHold) {

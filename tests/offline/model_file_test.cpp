@@ -275,6 +275,33 @@ TEST(ModelFile, HalfWriterRefusesAValueBeyondTheHalfRangeByPixel) {
     writer.finish();
 }
 
+TEST(ModelFile, TheReliefIsOptionalAndRoundTrips) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(4, 3, 1);
+    ModelRows rows = randomRows(info.width, info.height, info.harmonics, 5);
+    writeModel(folder / "flat.exr", info, rows);  // written without: older files read the same
+    ModelReader flat(folder / "flat.exr");
+    EXPECT_FALSE(flat.info().detailNormals);
+    ModelRows read;
+    flat.readRows(0, info.height, read);
+    EXPECT_TRUE(read.detail.empty());
+
+    info.detailNormals = true;
+    {
+        ModelWriter writer(folder / "relief.exr", info);
+        rows.resize(info.width, info.height, rows.coefficients, false, true);
+        for (std::size_t i = 0; i < rows.detail.size(); ++i) {
+            rows.detail[i] = 0.01f * static_cast<float>(i);
+        }
+        writer.writeRows(0, rows);
+        writer.finish();
+    }
+    ModelReader relief(folder / "relief.exr");
+    EXPECT_TRUE(relief.info().detailNormals);
+    relief.readRows(0, info.height, read);
+    EXPECT_TRUE(sameBits(read.detail, rows.detail));
+}
+
 TEST(ModelFile, RowsCanBeReadInBands) {
     testing::TemporaryFolder folder;
     const ModelInfo info = sampleInfo(5, 6, 1);

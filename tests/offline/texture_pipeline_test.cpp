@@ -2,6 +2,7 @@
 // The texture stage end to end, as the demo runs it: a built-in synthetic capture, fitted,
 // segmented (automatically and from seeds) against its true materials, quilted per region,
 // measured, and composed; and the bad-input contract of `vpe segment` and `vpe quilt`.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -101,6 +102,36 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
         EXPECT_TRUE(std::filesystem::exists(texture::regionMapPath(quilt, region)));
         EXPECT_TRUE(std::filesystem::exists(texture::positionsPath(quilt, region)));
     }
+    // The relief travels with its texels: every quilted pixel's detail normal is its source's.
+    {
+        ModelReader source(model());
+        ASSERT_TRUE(source.info().detailNormals);
+        ModelRows sourceRows;
+        source.readRows(0, source.info().height, sourceRows);
+        const std::vector<texture::PositionMap> positions =
+            texture::readPositionMaps(quilt, 2, 96, 80, source.info().width, source.info().height);
+        for (int region = 0; region < 2; ++region) {
+            ModelReader quilted(texture::regionMapPath(quilt, region));
+            ASSERT_TRUE(quilted.info().detailNormals);
+            ModelRows rows;
+            quilted.readRows(0, 80, rows);
+            std::size_t differing = 0, tilted = 0;
+            for (int y = 0; y < 80; ++y) {
+                for (int x = 0; x < 96; ++x) {
+                    const std::size_t p = positions[static_cast<std::size_t>(region)].pixel(x, y);
+                    const std::size_t from =
+                        sourceRows.pixel(positions[static_cast<std::size_t>(region)].sourceY[p],
+                                         positions[static_cast<std::size_t>(region)].sourceX[p]);
+                    for (int a = 0; a < 3; ++a) {
+                        differing += rows.detail[p * 3 + a] != sourceRows.detail[from * 3 + a];
+                    }
+                    tilted += rows.detail[p * 3 + 2] < 0.999f ? 1 : 0;
+                }
+            }
+            EXPECT_EQ(differing, 0u) << region;
+            EXPECT_GT(tilted, 96u * 80u / 4) << "the synthetic relief tilts most normals";
+        }
+    }
 
     result = runCommand(vpe(
         {"quilt-quality", model(), "--labels", path("labels.png"), "--quilt", quilt, "--json"}));
@@ -117,6 +148,18 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     // 2.5 periods of stripes over 80 rows: near, not exactly, half each.
     EXPECT_NEAR(lastJsonLine(result.out)["weights"][0]["mean"].get<double>(), 0.5, 0.1);
+    // The composite carries the blended relief, unit length.
+    {
+        ModelReader composed(path("composed.exr"));
+        ASSERT_TRUE(composed.info().detailNormals);
+        ModelRows rows;
+        composed.readRows(0, 80, rows);
+        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+            const double length =
+                std::hypot(rows.detail[p * 3], rows.detail[p * 3 + 1], rows.detail[p * 3 + 2]);
+            ASSERT_NEAR(length, 1.0, 1e-5) << p;
+        }
+    }
     result = runCommand(vpe(
         {"relight", path("composed.exr"), "--out", path("composed.png"), "--light", "0.3,0.4,1"}));
     EXPECT_EQ(result.exitStatus, 0) << result.err;
