@@ -268,6 +268,43 @@ void main() {
     return s + "}\n";
 }
 
+std::string reliefPassShaderSource(const ShaderLayout& layout) {
+    std::string s = kPrecision;
+    s += shadingStepsGlsl();
+    s += reliefStepsGlsl();
+    s += R"GLSL(
+uniform highp usampler2D uTracedGeometry1;  // the mesh's shading normal, geometric normal
+uniform highp usampler2D uTangents;         // t, b octahedral
+uniform highp sampler2D uUv;                // uv, rows from the top
+uniform highp sampler2DArray uDetail;       // x, y of the detail normal, one layer per region
+uniform highp sampler2DArray uWeights;      // α, one layer per region
+uniform int uRegion;  // ≥ 0: that region alone; −1: all, weighted by uWeights
+layout(location = 0) out uvec4 outGeometry1;
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    uvec4 traced = texelFetch(uTracedGeometry1, pixel, 0);
+    vec3 normal = uintBitsToFloat(traced.xyz);
+    uvec2 frame = texelFetch(uTangents, pixel, 0).xy;
+    vec2 uv = texelFetch(uUv, pixel, 0).xy;
+    vec3 detail = vec3(0.0);
+)GLSL";
+    for (int r = 0; r < layout.regions; ++r) {
+        s += "    detail += (uRegion < 0 ? texture(uWeights, vec3(uv, " + str(r) +
+             ".0)).r : (uRegion == " + str(r) +
+             " ? 1.0 : 0.0)) *\n              vpeDetailNormalFromXy(texture(uDetail, vec3(uv, " +
+             str(r) + ".0)).xy);\n";
+    }
+    s += R"GLSL(    if (detail.z > 0.0) {  // else no region weighs here: the mesh's normal
+        normal = vpeApplyDetailNormal(vpeOctahedralNormal(frame.x), vpeOctahedralNormal(frame.y),
+                                      normal, detail);
+    }
+    outGeometry1 = uvec4(floatBitsToUint(normal), traced.w);
+}
+)GLSL";
+    return s;
+}
+
 std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant variant) {
     const bool live = variant == FrameVariant::kLive || variant == FrameVariant::kLiveFade;
     const bool fade = variant == FrameVariant::kFade || variant == FrameVariant::kLiveFade;

@@ -10,6 +10,7 @@
 
 #include <GLES3/gl31.h>
 
+#include "vpe/proto/detail_normal.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/gles/tile_cover.h"
 #include "vpe/renderer/parallel_rows.h"
@@ -43,19 +44,29 @@ PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
                         encodeOctahedralNormal(point.geometricNormal)};
     // The renderer's uv has v up (OBJ / GL); the textures are uploaded rows from the top.
     packed.uv = {static_cast<float>(point.uv.x), static_cast<float>(1.0 - point.uv.y)};
+    const proto::TangentFrame<double> frame =
+        proto::tangentFrame(point.normal, point.tangentU, point.tangentV);
+    packed.tangents = {encodeOctahedralNormal(frame.t), encodeOctahedralNormal(frame.b)};
     return packed;
 }
 
-GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
-    : width_(pixels.width()), height_(pixels.height()) {
+GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool relief)
+    : width_(pixels.width()), height_(pixels.height()), relief_(relief) {
     geometry0_ = makeTexture2D(GL_RGBA32F, width_, height_, GL_RGBA, GL_FLOAT, nullptr);
     geometry1_ =
         makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
     uv_ = makeTexture2D(GL_RG32F, width_, height_, GL_RG, GL_FLOAT, nullptr);
+    if (relief_) {
+        tracedGeometry1_ =
+            makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
+        tangents_ =
+            makeTexture2D(GL_RG32UI, width_, height_, GL_RG_INTEGER, GL_UNSIGNED_INT, nullptr);
+    }
     const auto w = static_cast<std::size_t>(width_);
     std::vector<float> geometry0(w * kBandRows * 4);
     std::vector<std::uint32_t> geometry1(w * kBandRows * 4);
     std::vector<float> uv(w * kBandRows * 2);
+    std::vector<std::uint32_t> tangents(relief_ ? w * kBandRows * 2 : 0);
     std::atomic<std::size_t> covered{0};
     const int tilesX = (width_ + kTileSize - 1) / kTileSize;
     coveredTiles_.assign(static_cast<std::size_t>(tilesX) *
@@ -78,6 +89,10 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
                           geometry1.begin() + 4 * i);
                 uv[2 * i] = packed.uv[0];
                 uv[2 * i + 1] = packed.uv[1];
+                if (relief_) {
+                    tangents[2 * i] = packed.tangents[0];
+                    tangents[2 * i + 1] = packed.tangents[1];
+                }
             }
             covered += hits;
         });
@@ -99,6 +114,14 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads)
                         geometry1.data());
         glBindTexture(GL_TEXTURE_2D, uv_.get());
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RG, GL_FLOAT, uv.data());
+        if (relief_) {
+            glBindTexture(GL_TEXTURE_2D, tracedGeometry1_.get());
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RGBA_INTEGER,
+                            GL_UNSIGNED_INT, geometry1.data());
+            glBindTexture(GL_TEXTURE_2D, tangents_.get());
+            glTexSubImage2D(GL_TEXTURE_2D, 0, 0, first, width_, rows, GL_RG_INTEGER,
+                            GL_UNSIGNED_INT, tangents.data());
+        }
     }
     covered_ = covered;
     checkGlError("uploading the projector's geometry buffer");

@@ -14,6 +14,7 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
 #include "vpe/renderer/gles/material_pass.h"
+#include "vpe/renderer/gles/relief_pass.h"
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
 #include "vpe/renderer/projector_pixels.h"
@@ -107,7 +108,8 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     {
         const OwnedRenderMesh mesh(bundle.mesh());
         const ProjectorPixels pixels(mesh.view, projectorOf(bundle));
-        geometry_ = std::make_unique<GeometryBuffer>(pixels, options.threads);
+        geometry_ =
+            std::make_unique<GeometryBuffer>(pixels, options.threads, ReliefPass::needed(bundle));
     }
     loadTimes_.geometryMs = msSince(start);
 
@@ -122,6 +124,9 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     start = Clock::now();
     tiles_ = std::make_unique<TileCover>(width_, height_, geometry_->coveredTiles());
     materialPass_ = std::make_unique<MaterialPass>(*textures_, *geometry_, *tiles_, viewer_);
+    if (geometry_->relief()) {
+        reliefPass_ = std::make_unique<ReliefPass>(bundle, *geometry_, *textures_, *tiles_);
+    }
     buildFramePrograms();
     loadTimes_.shadersMs = msSince(start);
 
@@ -129,7 +134,9 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     if (options.liveWeights) {
         for (int r = 0; r < textures_->layout().regions; ++r) {
             regionMaterials_.push_back(materialPass_->makeTarget());
-            materialPass_->composeRegion(regionMaterials_.back(), r);
+            if (!reliefPass_) {  // with a relief, selectPreset composes them on its normals
+                materialPass_->composeRegion(regionMaterials_.back(), r);
+            }
         }
     } else {
         composed_[0] = materialPass_->makeTarget();
@@ -247,6 +254,7 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
             throw std::invalid_argument(bundleName_ + ": no weight preset '" + name +
                                         "' (it has none)");
         }
+        foldRelief();
         if (!options_.liveWeights) {
             materialPass_->composeRegion(composed_[static_cast<std::size_t>(shown_)], 0);
         }
@@ -266,10 +274,30 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
     } else {
         fading_ = false;
     }
+    const bool changed = next != preset_ || !renderedOnce_;
     preset_ = next;
     presetName_ = presetNames_[next];
+    if (changed) {
+        foldRelief();
+    }
     if (!options_.liveWeights) {
         materialPass_->composePreset(composed_[static_cast<std::size_t>(shown_)], preset_);
+    }
+}
+
+void GlesFrameRenderer::foldRelief() {
+    if (!reliefPass_) {
+        return;
+    }
+    if (presetNames_.empty()) {
+        reliefPass_->composeRegion(0);
+    } else {
+        reliefPass_->composePreset(preset_);
+    }
+    if (options_.liveWeights) {
+        for (std::size_t r = 0; r < regionMaterials_.size(); ++r) {
+            materialPass_->composeRegion(regionMaterials_[r], static_cast<int>(r));
+        }
     }
 }
 

@@ -63,6 +63,21 @@ vec3 vpeOctahedralNormal(uint bits) {
 )GLSL";
 }
 
+std::string reliefStepsGlsl() {
+    return R"GLSL(
+// proto::detailNormalFromXy: z = √(1 − x² − y²), x and y scaled onto the unit disc past it.
+vec3 vpeDetailNormalFromXy(vec2 xy) {
+    float r2 = dot(xy, xy);
+    return r2 > 1.0 ? vec3(xy * inversesqrt(r2), 0.0) : vec3(xy, sqrt(max(1.0 - r2, 0.0)));
+}
+
+// proto::applyDetailNormal: normalize(d.x·t + d.y·b + d.z·n).
+vec3 vpeApplyDetailNormal(vec3 t, vec3 b, vec3 n, vec3 d) {
+    return normalize(d.x * t + d.y * b + d.z * n);
+}
+)GLSL";
+}
+
 std::uint32_t encodeOctahedralNormal(const Vec3d& unit) {
     const double sum = std::fabs(unit.x) + std::fabs(unit.y) + std::fabs(unit.z);
     double a = unit.x / sum, b = unit.y / sum;

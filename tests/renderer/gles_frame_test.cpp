@@ -37,6 +37,8 @@ struct FrameCase {
     bool inverseSquare = false;
     float gain = 1.0f;
     bool liveWeights = false;
+    // Rendered first, then `preset` selected (at once): what a preset change leaves behind.
+    std::string before{};
 };
 
 class GlesFrameTest : public GlesTest {
@@ -48,7 +50,6 @@ protected:
         options.viewer = frame.viewer;
         options.liveWeights = frame.liveWeights;
         gles::GlesFrameRenderer renderer(bundle.view(), options);
-        renderer.selectPreset(frame.preset);
         std::unique_ptr<gles::RenderTarget> target =
             platform()->createRenderTarget(renderer.width(), renderer.height());
         gles::FrameInputs inputs;
@@ -56,6 +57,11 @@ protected:
         inputs.inverseSquare = frame.inverseSquare;
         inputs.referenceDistance = 0.5f;
         inputs.gain = frame.gain;
+        if (!frame.before.empty()) {
+            renderer.selectPreset(frame.before);
+            renderer.render(*target, inputs);
+        }
+        renderer.selectPreset(frame.preset, false);
         renderer.render(*target, inputs);
         target->present();
         const std::vector<std::uint8_t> rgba = target->readRgba8();
@@ -222,6 +228,38 @@ TEST_F(GlesFrameTest, LiveWeightsMatchCpuReference) {
         live.name += "_live";
         live.liveWeights = true;
         EXPECT_GE(comparePsnr({}, live), 69.5);  // measured 70.9, 77.2 dB
+    }
+}
+
+// A relief (format 1.2) folded into the shading normal at load: the same frames as the CPU
+// reference, which tilts its normals per pixel; one region has a relief and the other none, so
+// the presets blend a relief with a flat region.
+TEST_F(GlesFrameTest, ReliefMatchesCpuReference) {
+    GlesBundleSpec spec;
+    spec.relief = true;
+    for (const FrameCase& frame : frameCases()) {
+        FrameCase relief = frame;
+        relief.name += "_relief";
+        EXPECT_GE(comparePsnr(spec, relief), 69.5) << relief.name;  // measured 70.3–77.5 dB
+    }
+}
+
+// The relief follows the preset: folded again when the preset changes, and under live weights.
+TEST_F(GlesFrameTest, ReliefFollowsPresetChangesAndLiveWeights) {
+    GlesBundleSpec spec;
+    spec.relief = true;
+    FrameCase changed = frameCases()[1];  // radial
+    changed.name += "_relief_after_stripes";
+    changed.before = "stripes";
+    EXPECT_GE(comparePsnr(spec, changed), 69.5);  // measured 74.8 dB, as without the change
+    for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
+        FrameCase live = frame;
+        live.name += "_relief_live";
+        live.liveWeights = true;
+        EXPECT_GE(comparePsnr(spec, live), 69.5);  // measured 70.5, 77.1 dB
+        live.name += "_after";
+        live.before = frame.preset == "stripes" ? "radial" : "stripes";
+        EXPECT_GE(comparePsnr(spec, live), 69.5);
     }
 }
 

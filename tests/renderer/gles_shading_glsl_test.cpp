@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Each GLSL mirror of a C++ step the frame takes, against its C++ side, one test each: the
 // horizon, the reflection angles, the θs table parameter and the table lookup, the octahedral
-// normal, the projector's response inverse. Evaluated by a compute shader (core in ES 3.1)
-// into a buffer.
+// normal, the relief's detail normal, the projector's response inverse. Evaluated by a compute
+// shader (core in ES 3.1) into a buffer.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -16,6 +16,7 @@
 #include <GLES3/gl31.h>
 #include <gtest/gtest.h>
 
+#include "vpe/proto/detail_normal.h"
 #include "vpe/proto/reflection_geometry.h"
 #include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
@@ -229,6 +230,47 @@ TEST_F(GlesShadingGlslTest, ThetaTableLookupMatchesProto) {
 
 // vpeProjectorLevel against ResponseFunction::level with compensatePixel's clipping, the
 // function made from the same curves as the CPU reference makes it (responseFunctionOf).
+TEST_F(GlesShadingGlslTest, ReliefStepsMatchProto) {
+    // A random frame (t, b, n) from a normal and two tangents, and a stored detail normal's
+    // x, y (some past the unit disc): the relief pass's normal against proto's in double.
+    std::mt19937 random(11);
+    std::normal_distribution<float> gaussian;
+    std::uniform_real_distribution<float> uniform(-0.8f, 0.8f);
+    std::vector<float> inputs;
+    std::vector<proto::Vec3d> expected;
+    for (int s = 0; s < 4000; ++s) {
+        const auto n =
+            proto::normalized(proto::Vec3d{gaussian(random), gaussian(random), gaussian(random)});
+        const proto::Vec3d du{gaussian(random), gaussian(random), gaussian(random)};
+        const proto::Vec3d dv{gaussian(random), gaussian(random), gaussian(random)};
+        const proto::TangentFrame<double> frame = proto::tangentFrame(n, du, dv);
+        const float x = uniform(random), y = uniform(random);
+        for (const proto::Vec3d& v : {frame.t, frame.b, frame.n}) {
+            inputs.insert(inputs.end(), {static_cast<float>(v.x), static_cast<float>(v.y),
+                                         static_cast<float>(v.z)});
+        }
+        inputs.insert(inputs.end(), {x, y});
+        expected.push_back(proto::applyDetailNormal(
+            frame, proto::detailNormalFromXy(static_cast<double>(x), static_cast<double>(y))));
+    }
+    const std::vector<float> gpu = runOnGpu(gles::reliefStepsGlsl(), R"GLSL(
+    vec3 t = vec3(in_[base], in_[base + 1], in_[base + 2]);
+    vec3 b = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);
+    vec3 n = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);
+    vec3 d = vpeDetailNormalFromXy(vec2(in_[base + 9], in_[base + 10]));
+    result.xyz = vpeApplyDetailNormal(t, b, n, d);
+)GLSL",
+                                            inputs, 11);
+    float worst = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        worst = std::max({worst, std::fabs(gpu[4 * i] - static_cast<float>(expected[i].x)),
+                          std::fabs(gpu[4 * i + 1] - static_cast<float>(expected[i].y)),
+                          std::fabs(gpu[4 * i + 2] - static_cast<float>(expected[i].z))});
+    }
+    std::cout << "relief: largest component difference " << worst << "\n";
+    EXPECT_LT(worst, 2e-6f);
+}
+
 TEST_F(GlesShadingGlslTest, ProjectorLevelMatchesTheResponseInverse) {
     std::vector<float> inputs;
     for (int i = -100; i <= 1300; ++i) {

@@ -162,6 +162,20 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
         plan(fb::ElementType::Float16, {static_cast<std::uint32_t>(rankLayers), uh, uw, 4}, codes));
     payloads.push_back(plan(fb::ElementType::UInt8, {2, uh, uw}, stripes));
     payloads.push_back(plan(fb::ElementType::Float16, {2, uh, uw}, radial));
+    if (spec.relief) {
+        // Bumps across the texture: the detail normal's x and y, |(x, y)| ≤ 0.5.
+        std::vector<std::uint16_t> detail(2 * texels);
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                      static_cast<std::size_t>(x);
+                detail[2 * t] = floatToHalf(static_cast<float>(0.35 * std::sin(0.9 * x + 0.4 * y)));
+                detail[2 * t + 1] =
+                    floatToHalf(static_cast<float>(0.35 * std::cos(0.7 * y - 0.5 * x)));
+            }
+        }
+        payloads.push_back(plan(fb::ElementType::Float16, {uh, uw, 2}, detail));
+    }
 
     proto::PinholeCamera camera = proto::cameraLookingAt(
         spec.projectorWidth, spec.projectorHeight, 38.0, {0.08, 0.11, 0.42}, {0.0, 0.075, 0.0});
@@ -213,9 +227,10 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 0.8f, 1.0f);
         const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
                                                  3.14, "fourier_brdf:k_major_rgb");
+        const auto detail = spec.relief ? ref(8) : flatbuffers::Offset<fb::Payload>();
         const auto fullMap =
             fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
-                                     fb::CreateFullCoefficients(b, ref(4)).Union());
+                                     fb::CreateFullCoefficients(b, ref(4)).Union(), detail);
         const auto lowRankMap =
             fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
                                      fb::CreateLowRankCoefficientsDirect(

@@ -3,7 +3,8 @@
 // schema (no offline writer: the device-only build runs these tests too): a vase seen by a
 // 160 × 120 projector with lens distortion, M = 3, two regions ('base' full, 'glaze' low-rank),
 // presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response;
-// optionally with textures that wrap in u and the seam u = 0 | 1 turned to the projector.
+// optionally with textures that wrap in u and the seam u = 0 | 1 turned to the projector, and
+// optionally a relief on 'base'.
 #pragma once
 
 #include <array>
@@ -31,6 +32,9 @@ struct GlesBundleSpec {
     bool wrapU = false;
     // The vase turned half a turn about its axis, so that u = 0 | 1 faces the projector.
     bool seamInFront = false;
+    // Region 'base' carries a relief (format 1.2: a detail normal map tilting up to ~30°);
+    // 'glaze' none, so presets blend a relief with a flat region.
+    bool relief = false;
 };
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});

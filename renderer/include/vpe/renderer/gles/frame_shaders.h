@@ -48,6 +48,12 @@ std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
 // (fixed per pixel), packed as half floats.
 std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count);
 
+// The relief pass's fragment shader: per pixel, the regions' detail normals at the pixel's uv —
+// one region alone, or all blended by a preset's weights (a region without a relief map is flat
+// there) — folded into the traced shading normal through the pixel's tangent frame
+// (renderer::shadingNormal), written with the geometric normal as geometry1 is.
+std::string reliefPassShaderSource(const ShaderLayout& layout);
+
 // A shader reading exactly the textures `frameShaderSource` reads per pixel, summing them and
 // doing nothing else: the texture-fetch floor a frame is compared with.
 std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant variant);

@@ -13,6 +13,12 @@
 //   uv RG32F: the texture coordinate, rows from the top as the bundle stores it (read by the
 //     material pass, and by frames with live weights; floats, as unpacking 16-bit unorms
 //     costs V3D six operations a pixel).
+// With a relief (a bundle carrying detail normal maps), geometry1 is what the relief pass
+// writes — the shading normal tilted by the preset's relief — and two more textures, read only
+// by that pass, keep what it starts from:
+//   tracedGeometry1 RGBA32UI: geometry1 as traced (the mesh's shading normal);
+//   tangents RG32UI: the relief's tangent frame, t and b (proto::tangentFrame of the shading
+//     normal and the triangle's ∂X/∂u, ∂X/∂v), octahedral.
 // Full floats where the shading's precision needs them: unpacking costs ALU, which the Pi's
 // GPU has least of (docs/pi-headroom.md).
 #pragma once
@@ -35,6 +41,7 @@ struct PackedPixel {
     std::array<float, 4> geometry0{0, 0, 0, kUncovered};
     std::array<std::uint32_t, 4> geometry1{0, 0, 0, 0};
     std::array<float, 2> uv{0, 0};
+    std::array<std::uint32_t, 2> tangents{0, 0};
 };
 PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel);
 
@@ -43,11 +50,15 @@ public:
     // Traces every pixel (threads ≤ 0: all cores) in bands of rows, each band packed and
     // uploaded before the next is traced, so the CPU never holds the whole buffer. A GL ES 3.1
     // context must be current.
-    GeometryBuffer(const ProjectorPixels& pixels, int threads = 0);
+    GeometryBuffer(const ProjectorPixels& pixels, int threads = 0, bool relief = false);
 
     const GlObject& geometry0() const { return geometry0_; }
     const GlObject& geometry1() const { return geometry1_; }
     const GlObject& uv() const { return uv_; }
+    bool relief() const { return relief_; }
+    // With a relief only (empty objects otherwise).
+    const GlObject& tracedGeometry1() const { return tracedGeometry1_; }
+    const GlObject& tangents() const { return tangents_; }
     int width() const { return width_; }
     int height() const { return height_; }
     std::size_t coveredPixels() const { return covered_; }
@@ -56,9 +67,10 @@ public:
 
 private:
     int width_ = 0, height_ = 0;
+    bool relief_ = false;
     std::size_t covered_ = 0;
     std::vector<std::uint8_t> coveredTiles_;
-    GlObject geometry0_, geometry1_, uv_;
+    GlObject geometry0_, geometry1_, uv_, tracedGeometry1_, tangents_;
 };
 
 }  // namespace vpe::renderer::gles

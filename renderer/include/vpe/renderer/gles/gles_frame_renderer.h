@@ -14,6 +14,10 @@
 // compensation, the response. Changing the preset runs the material pass once and cross-fades
 // between the old and the new material over options.presetFadeSeconds. With liveWeights, the
 // regions' materials are kept apart and blended every frame by the preset's weight maps.
+// A bundle's relief (detail normal maps) is folded into the geometry buffer's shading normal
+// by the relief pass, for the selected preset, at load and at each preset change: frames pay
+// nothing for it. A cross-fade fades the material; the relief switches to the new preset's at
+// its start. Live weights blend the materials per frame over the selected preset's relief.
 #pragma once
 
 #include <array>
@@ -33,6 +37,7 @@ namespace vpe::renderer::gles {
 class GeometryBuffer;
 class ThetaTextures;
 class MaterialPass;
+class ReliefPass;
 class TileCover;
 
 struct GlesRendererOptions {
@@ -126,6 +131,9 @@ private:
     void beginTiles(RenderTarget& target, const FrameProgram& frame);
     FrameProgram& program(FrameVariant variant);
     std::size_t presetIndex(const std::string& name) const;
+    // With a relief: folds the selected preset's into geometry1 (and, with live weights,
+    // recomposes the regions' materials, whose viewer horizon follows the shading normal).
+    void foldRelief();
 
     std::string bundleName_;
     proto::RenderSettings settings_;
@@ -135,6 +143,7 @@ private:
     std::unique_ptr<GeometryBuffer> geometry_;
     std::unique_ptr<ThetaTextures> textures_;
     std::unique_ptr<MaterialPass> materialPass_;
+    std::unique_ptr<ReliefPass> reliefPass_;  // only for a bundle with a relief
     std::vector<std::string> presetNames_;
     std::string presetName_;
     std::size_t preset_ = 0, fadeFromPreset_ = 0;

@@ -22,6 +22,12 @@ namespace vpe::renderer::gles {
 //   vec3 vpeOctahedralNormal(uint bits)             — decodeOctahedralNormal below
 std::string shadingStepsGlsl();
 
+// GLSL defining the relief's steps (the relief pass only; proto/detail_normal.h):
+//   vec3 vpeDetailNormalFromXy(vec2 xy)              — proto::detailNormalFromXy
+//   vec3 vpeApplyDetailNormal(vec3 t, vec3 b, vec3 n, vec3 d)
+//                                                   — proto::applyDetailNormal in frame (t, b, n)
+std::string reliefStepsGlsl();
+
 // GLSL defining vec3 vpeProjectorLevel(vec3 relative): the drive levels for wanted relative
 // outputs, ResponseFunction::level with compensatePixel's clipping (below the black level →
 // 0, above 1 → 1), for this bundle's response only: a gamma compiles to a pow, a sampled
