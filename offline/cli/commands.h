@@ -25,6 +25,7 @@ void addQuiltQualityCommand(CLI::App& app, Action& action);
 void addInfoCommand(CLI::App& app, Action& action);
 void addBakeCommand(CLI::App& app, Action& action);
 void addRenderCommand(CLI::App& app, Action& action);
+void addTransferCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     vpe::cli::addBakeCommand(app, action);
     vpe::cli::addRenderCommand(app, action);
     vpe::cli::addInfoCommand(app, action);
+    vpe::cli::addTransferCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

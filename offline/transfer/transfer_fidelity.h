@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+// Transfer fidelity (`vpe transfer`): how much the screen object, seen by a visitor, looks like
+// the captured material. The true material of a `vpe synth` capture (synthetic_truth.h) is
+// rendered directly on the bundle's object, and compared with what the pipeline renders there
+// from the fitted model baked into the bundle (the CPU reference's direct view) — same mesh,
+// same texture layout, same camera — under lights and from views the capture never had:
+// grazing, from below the capture's lowest light, around the back.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "vpe/renderer/vector_types.h"
+
+namespace vpe::transfer {
+
+// A visitor's position and the virtual light's, object frame, metres.
+struct TransferView {
+    std::string name;
+    std::string description;
+    renderer::Vec3d viewer;
+    renderer::Vec3d light;
+};
+
+// The views, placed around an object of the given bounding box: the viewer and the light each
+// 4 heights from its centre, in directions given by azimuth (0 = +z, the front; 90° = +x) and
+// elevation.
+std::vector<TransferView> transferViews(const renderer::Vec3d& lower, const renderer::Vec3d& upper);
+
+struct TransferOptions {
+    std::filesystem::path capture;   // what `vpe synth --out` wrote
+    std::filesystem::path bundle;    // `vpe bake --texture MODEL.exr` of a fit of that capture
+    std::filesystem::path out;       // per view: truth, pipeline, difference pictures; empty: none
+    std::vector<std::string> views;  // names; empty: all
+    int viewWidth = 480, viewHeight = 360;
+    double fovDegrees = 20;
+    // A diagnostic: render the pipeline with the truth's relief instead of the bundle's, to
+    // separate what the relief's estimate costs from what the BRDF's does.
+    bool trueRelief = false;
+    int threads = 0;
+};
+
+struct ViewFidelity {
+    std::string name;
+    double psnr = 0;        // dB, 8-bit sRGB, over the object's pixels either picture lights
+    double ssim = 0;        // mean SSIM over the same pixels
+    double psnrObject = 0;  // dB, over all the object's pixels (dark ones too)
+    double litShare = 0;    // of the object's pixels, lit in either picture
+    double exposure = 0;    // applied to both: the truth's 99th percentile at 0.8
+    std::size_t objectPixels = 0;
+};
+
+struct TransferReport {
+    std::vector<ViewFidelity> views;
+    double psnr = 0;       // mean over the views
+    double ssim = 0;       // mean over the views
+    double worstPsnr = 0;  // the lowest view
+    std::string worstView;
+    int textureWidth = 0, textureHeight = 0;
+    bool relief = false;  // the bundle carries a relief
+    // Mean angle between the bundle's relief (flat without one) and the truth's, over texels.
+    double reliefErrorDegrees = 0;
+    double seconds = 0;
+};
+
+// Throws InputError when an input is missing or they do not fit together (the bundle's texture
+// is not the truth's size).
+TransferReport measureTransferFidelity(const TransferOptions& options);
+
+}  // namespace vpe::transfer
