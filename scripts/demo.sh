@@ -202,6 +202,14 @@ printf '%-28s GPU frames vs the exact CPU reference, 8 lights: worst %.1f dB on 
     "$(jq .psnr_object_worst "$play/fidelity.json")" "$(jq .psnr_frame_worst "$play/fidelity.json")" \
     | tee -a "$summary"
 
+step "transfer fidelity (scripts/transfer-report.sh): the true material vs the pipeline on the vase"
+mkdir -p "$synthetic/transfer"
+scripts/transfer-report.sh --capture "$synthetic/capture" --out "$synthetic/transfer" \
+    | tail -1 > "$synthetic/transfer/transfer.json"
+printf '%-28s transfer fidelity, 8 new lights and views: %.2f dB, SSIM %.4f (extended, relief carried)\n' "" \
+    "$(jq .psnr "$synthetic/transfer/transfer.json")" "$(jq .ssim "$synthetic/transfer/transfer.json")" \
+    | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -247,6 +255,11 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
                                       playing the bundle along its idle path: 16 of 32 frames;
                                       frames/*.png, the animation's frames in order;
                                       unpaced.json (speed), fidelity.txt (GPU vs exact)
+  synthetic-bizen/transfer/transfer-fidelity.md
+                                      the true material vs the pipeline's rendering on the vase
+                                      under 8 new lights and views (docs/transfer-fidelity.md);
+                                      transfer-fidelity/contact-sheet.png: truth | pipeline |
+                                      difference | without relief
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above
