@@ -128,7 +128,7 @@ bool hasRelief(const MaterialTextures& material) {
 }
 
 Vec3d sampleDetailNormal(const MaterialTextures& material, const Vec2d& uv) {
-    const BilinearFootprint taps = footprint(material.width, material.height, uv);
+    const BilinearFootprint taps = footprint(material.width, material.height, uv, material.wrapU);
     Vec3d sum{0, 0, 0};
     for (const auto& region : material.regions) {
         double regionWeight = 1.0;

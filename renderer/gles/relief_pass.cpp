@@ -45,8 +45,11 @@ ReliefPass::ReliefPass(const proto::BundleView& bundle, GeometryBuffer& geometry
         const auto& detail = bundle.regions()[r].coefficients.detailNormals;
         std::copy(detail.begin(), detail.end(), layers.begin() + static_cast<long>(r * texels * 2));
     }
-    detail_ = makeArrayTexture(GL_RG16F, w, h, static_cast<int>(regions), GL_RG, GL_HALF_FLOAT,
-                               layers.data());
+    // A relief that tiles around the object repeats in u, as its coefficients and weights do.
+    detail_ =
+        makeArrayTexture(GL_RG16F, w, h, static_cast<int>(regions), GL_RG, GL_HALF_FLOAT,
+                         layers.data(), TextureFilter::kLinear,
+                         bundle.textureWrapsU() ? TextureWrapS::kRepeat : TextureWrapS::kClamp);
 
     const unsigned vertex = compileShader(GL_VERTEX_SHADER, "tiles.vert", tileVertexSource());
     unsigned fragment = 0;
