@@ -11,6 +11,7 @@
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
+#include <cpuid.h>
 #include <immintrin.h>
 
 #include "vpe/proto/fourier_brdf.h"
@@ -90,12 +91,16 @@ __attribute__((target("avx2,f16c"))) bool toHalfF16c(const float* in, std::uint1
         _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i), h);
         overflow = _mm_or_si128(overflow, _mm_cmpeq_epi16(_mm_and_si128(h, exponent), exponent));
     }
-    bool finite = _mm_testz_si128(overflow, overflow) != 0;
-    for (; i < n; ++i) {
-        out[i] = _cvtss_sh(in[i], kRound);
-        finite &= (out[i] & 0x7c00) != 0x7c00;
+    if (i < n) {  // the last 1–7 values, through a zero-padded vector
+        alignas(32) float tail[8] = {};
+        alignas(16) std::uint16_t halves[8];
+        std::copy(in + i, in + n, tail);
+        const __m128i h = _mm256_cvtps_ph(_mm256_load_ps(tail), kRound);
+        _mm_store_si128(reinterpret_cast<__m128i*>(halves), h);
+        overflow = _mm_or_si128(overflow, _mm_cmpeq_epi16(_mm_and_si128(h, exponent), exponent));
+        std::copy(halves, halves + (n - i), out + i);
     }
-    return finite;
+    return _mm_testz_si128(overflow, overflow) != 0;
 }
 
 bool toHalfPortable(const float* in, std::uint16_t* out, std::size_t n) {
@@ -108,7 +113,12 @@ bool toHalfPortable(const float* in, std::uint16_t* out, std::size_t n) {
 }
 
 bool toHalf(const float* in, std::uint16_t* out, std::size_t n) {
-    static const bool f16c = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c");
+    // GCC's __builtin_cpu_supports knows "f16c", clang 14's does not: CPUID leaf 1 says it.
+    static const bool f16c = [] {
+        unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+        return __builtin_cpu_supports("avx2") && __get_cpuid(1, &eax, &ebx, &ecx, &edx) != 0 &&
+               (ecx & bit_F16C) != 0;
+    }();
     return f16c ? toHalfF16c(in, out, n) : toHalfPortable(in, out, n);
 }
 
