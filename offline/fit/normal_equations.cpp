@@ -389,61 +389,67 @@ constexpr int packedIndex(int i, int j) {
     return i * (i + 1) / 2 + j;
 }
 
-VPE_KERNEL_CLONES
-void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double lambda,
-                          ChunkSolution& solution) {
-    harmonics = std::min(harmonics, sums.harmonics);
+namespace {
+
+// Solves kHalfLanes lanes from `first` on. Two halves of one zmm of doubles each, not one
+// 16-lane pack: the 16-lane form kept two registers per value and spilled most of them, and
+// the solve took a quarter of the fit's time.
+constexpr int kHalfLanes = kLanes / 2;
+using HalfPack = simd::Pack<double, kHalfLanes>;
+
+[[gnu::always_inline]] inline void solveLanes(const NormalEquationSums& sums, int harmonics,
+                                              double lambda, int first, ChunkSolution& solution) {
     const int k = proto::coefficientCount(harmonics);
-    auto get = [](const double(&row)[kLanes]) __attribute__((always_inline)) {
-        return DoublePack::load(row);
+    auto get = [first](const double(&row)[kLanes]) __attribute__((always_inline)) {
+        return HalfPack::load(row + first);
     };
 
-    static thread_local DoublePack factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
-    DoublePack diagonal[kMaxCoefficients];
-    DoublePack trace(0.0);
+    HalfPack factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
+    HalfPack diagonal[kMaxCoefficients];
+    HalfPack trace(0.0);
     for (int i = 0; i < k; ++i) {
         for (int j = 0; j <= i; ++j) {
-            factor[packedIndex(i, j)] = normalMatrixEntry<DoublePack>(sums, i, j, get);
+            factor[packedIndex(i, j)] = normalMatrixEntry<HalfPack>(sums, i, j, get);
         }
         trace = trace + factor[packedIndex(i, i)];
     }
-    const DoublePack ridge = trace * DoublePack(sums.roundingLevel / k);
+    const HalfPack ridge = trace * HalfPack(sums.roundingLevel / k);
     for (int i = 0; i < k; ++i) {
         factor[packedIndex(i, i)] =
-            factor[packedIndex(i, i)] + ridge + DoublePack(lambda * proto::smoothnessWeight(i));
+            factor[packedIndex(i, i)] + ridge + HalfPack(lambda * proto::smoothnessWeight(i));
         diagonal[i] = factor[packedIndex(i, i)];
     }
 
     // Left-looking Cholesky. Each dot product is a chain of dependent FMAs, so four rows
     // are reduced together to keep the FMA units busy.
-    bool singular[kLanes] = {};
-    DoublePack inverseDiagonal[kMaxCoefficients];
+    bool singular[kHalfLanes] = {};
+    HalfPack inverseDiagonal[kMaxCoefficients];
     for (int j = 0; j < k; ++j) {
-        const DoublePack* rowJ = &factor[packedIndex(j, 0)];
-        DoublePack pivot = rowJ[j];
+        const HalfPack* rowJ = &factor[packedIndex(j, 0)];
+        HalfPack pivot = rowJ[j];
         for (int p = 0; p < j; ++p) {
             pivot = pivot - rowJ[p] * rowJ[p];
         }
         // A pivot that cancels to rounding noise means the samples do not determine this
         // coefficient; substitute 1 to keep the arithmetic finite and mark the lane.
-        for (int lane = 0; lane < kLanes; ++lane) {
+        for (int lane = 0; lane < kHalfLanes; ++lane) {
             if (!(pivot.v[lane] > 1e-11 * std::fabs(diagonal[j][lane]))) {
                 singular[lane] = true;
                 pivot.v[lane] = 1.0;
             }
         }
-        const DoublePack root = sqrt(pivot);
-        inverseDiagonal[j] = DoublePack(1.0) / root;
+        const HalfPack root = sqrt(pivot);
+        inverseDiagonal[j] = HalfPack(1.0) / root;
         factor[packedIndex(j, j)] = root;
         int i = j + 1;
         for (; i + 3 < k; i += 4) {
-            DoublePack* r0 = &factor[packedIndex(i, 0)];
-            DoublePack* r1 = &factor[packedIndex(i + 1, 0)];
-            DoublePack* r2 = &factor[packedIndex(i + 2, 0)];
-            DoublePack* r3 = &factor[packedIndex(i + 3, 0)];
-            DoublePack v0 = r0[j], v1 = r1[j], v2 = r2[j], v3 = r3[j];
+            HalfPack* r0 = &factor[packedIndex(i, 0)];
+            HalfPack* r1 = &factor[packedIndex(i + 1, 0)];
+            HalfPack* r2 = &factor[packedIndex(i + 2, 0)];
+            HalfPack* r3 = &factor[packedIndex(i + 3, 0)];
+            HalfPack v0 = r0[j], v1 = r1[j], v2 = r2[j], v3 = r3[j];
             for (int p = 0; p < j; ++p) {
-                const DoublePack l = rowJ[p];
+                const HalfPack l = rowJ[p];
                 v0 = v0 - r0[p] * l;
                 v1 = v1 - r1[p] * l;
                 v2 = v2 - r2[p] * l;
@@ -455,8 +461,8 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
             r3[j] = v3 * inverseDiagonal[j];
         }
         for (; i < k; ++i) {
-            DoublePack* row = &factor[packedIndex(i, 0)];
-            DoublePack value = row[j];
+            HalfPack* row = &factor[packedIndex(i, 0)];
+            HalfPack value = row[j];
             for (int p = 0; p < j; ++p) {
                 value = value - row[p] * rowJ[p];
             }
@@ -465,12 +471,12 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
     }
 
     // Both triangular solves run the three channels side by side (independent chains).
-    DoublePack x[kChannels][kMaxCoefficients];
+    HalfPack x[kChannels][kMaxCoefficients];
     for (int i = 0; i < k; ++i) {  // L z = b
-        const DoublePack* row = &factor[packedIndex(i, 0)];
-        DoublePack v[kChannels];
+        const HalfPack* row = &factor[packedIndex(i, 0)];
+        HalfPack v[kChannels];
         for (int c = 0; c < kChannels; ++c) {
-            v[c] = DoublePack::load(sums.projection[c][i]);
+            v[c] = get(sums.projection[c][i]);
         }
         for (int p = 0; p < i; ++p) {
             for (int c = 0; c < kChannels; ++c) {
@@ -482,9 +488,9 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
         }
     }
     for (int i = k - 1; i >= 0; --i) {  // Lᵀ x = z
-        DoublePack v[kChannels] = {x[0][i], x[1][i], x[2][i]};
+        HalfPack v[kChannels] = {x[0][i], x[1][i], x[2][i]};
         for (int p = i + 1; p < k; ++p) {
-            const DoublePack l = factor[packedIndex(p, i)];
+            const HalfPack l = factor[packedIndex(p, i)];
             for (int c = 0; c < kChannels; ++c) {
                 v[c] = v[c] - l * x[c][p];
             }
@@ -494,30 +500,41 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
         }
     }
 
-    for (int lane = 0; lane < kLanes; ++lane) {
-        solution.valid[lane] = !singular[lane] && sums.count[lane] >= k - 0.5;
+    for (int lane = 0; lane < kHalfLanes; ++lane) {
+        solution.valid[first + lane] = !singular[lane] && sums.count[first + lane] >= k - 0.5;
     }
     for (int c = 0; c < kChannels; ++c) {
         // Residual from the sums: with (G + λR + δI)x = b, Σ r² = Σy² − xᵀb − xᵀ(λR + δI)x.
-        DoublePack explained(0.0), penalty(0.0);
+        HalfPack explained(0.0), penalty(0.0);
         for (int i = 0; i < k; ++i) {
-            explained = explained + x[c][i] * DoublePack::load(sums.projection[c][i]);
+            explained = explained + x[c][i] * get(sums.projection[c][i]);
             penalty = penalty +
-                      x[c][i] * x[c][i] * (DoublePack(lambda * proto::smoothnessWeight(i)) + ridge);
+                      x[c][i] * x[c][i] * (HalfPack(lambda * proto::smoothnessWeight(i)) + ridge);
         }
-        const DoublePack residual = DoublePack::load(sums.squares[c]) - explained - penalty;
-        for (int lane = 0; lane < kLanes; ++lane) {
-            const bool valid = solution.valid[lane];
+        const HalfPack residual = get(sums.squares[c]) - explained - penalty;
+        for (int lane = 0; lane < kHalfLanes; ++lane) {
+            const bool valid = solution.valid[first + lane];
             // Only the 2M + 2 coefficients of this M are written; readers never look further.
             for (int i = 0; i < k; ++i) {
-                solution.coefficients[lane][c][i] =
+                solution.coefficients[first + lane][c][i] =
                     valid ? static_cast<float>(x[c][i][lane]) : 0.0f;
             }
-            solution.rms[lane][c] = valid ? static_cast<float>(std::sqrt(
-                                                std::max(residual[lane], 0.0) / sums.count[lane]))
-                                          : 0.0f;
+            solution.rms[first + lane][c] =
+                valid ? static_cast<float>(
+                            std::sqrt(std::max(residual[lane], 0.0) / sums.count[first + lane]))
+                      : 0.0f;
         }
     }
+}
+
+}  // namespace
+
+VPE_KERNEL_CLONES
+void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double lambda,
+                          ChunkSolution& solution) {
+    harmonics = std::min(harmonics, sums.harmonics);
+    solveLanes(sums, harmonics, lambda, 0, solution);
+    solveLanes(sums, harmonics, lambda, kHalfLanes, solution);
 }
 
 }  // namespace vpe::fit
