@@ -92,6 +92,38 @@ int colourStep(int channels) {
     }
 }
 
+// Where one chunk of up to kChunkWidth pixels of a decoded row goes in the band: its three
+// channel runs, its weights and its saturation flags, and the mask row it is read with.
+struct ChunkTarget {
+    const unsigned char* row;     // the decoded row
+    const std::uint8_t* maskRow;  // the mask's row, or null
+    int x0;                       // first pixel of the chunk
+    int lanes;                    // pixels in it (the last chunk of a row may be short)
+    float* values;
+    float* weights;
+    std::uint8_t* saturated;
+};
+
+// Calls convert(target) for every chunk of the decoded rows, row by row.
+template <typename Convert>
+[[gnu::always_inline]] inline void forEachChunk(const DecodedRows& in, SampleBand& band,
+                                                Convert convert) {
+    constexpr int kLanes = SampleBand::kChunkWidth;
+    for (int r = 0; r < in.rows; ++r) {
+        ChunkTarget t{};
+        t.row = in.data + in.rowBytes * r;
+        t.maskRow =
+            in.mask ? in.mask + static_cast<std::size_t>(in.rowBegin + r) * in.width : nullptr;
+        for (t.x0 = 0; t.x0 < in.width; t.x0 += kLanes) {
+            t.lanes = std::min(kLanes, in.width - t.x0);
+            t.values = band.values.data() + band.valueIndex(in.image, 0, r, t.x0);
+            t.weights = band.weights.data() + band.sampleIndex(in.image, r, t.x0);
+            t.saturated = band.saturated.data() + band.sampleIndex(in.image, r, t.x0);
+            convert(t);
+        }
+    }
+}
+
 // Integer codes through a table, one chunk of kChunkWidth pixels at a time: the chunk's three
 // channel runs and its weights are contiguous in the band, so each is written in one pass.
 // (Converting value by value through SampleBand's index helpers took ten times as long as
@@ -102,28 +134,21 @@ template <typename Code, typename ToLinear>
     constexpr int kLanes = SampleBand::kChunkWidth;
     constexpr Code kFull = std::numeric_limits<Code>::max();
     const int step = colourStep(in.channels);
-    for (int r = 0; r < in.rows; ++r) {
-        const Code* row = reinterpret_cast<const Code*>(in.data + in.rowBytes * r);
-        const std::uint8_t* maskRow =
-            in.mask ? in.mask + static_cast<std::size_t>(in.rowBegin + r) * in.width : nullptr;
-        for (int x0 = 0; x0 < in.width; x0 += kLanes) {
-            const int lanes = std::min(kLanes, in.width - x0);
-            float* values = band.values.data() + band.valueIndex(in.image, 0, r, x0);
-            float* weights = band.weights.data() + band.sampleIndex(in.image, r, x0);
-            std::uint8_t* saturated = band.saturated.data() + band.sampleIndex(in.image, r, x0);
+    forEachChunk(
+        in, band, [&](const ChunkTarget& t) __attribute__((always_inline)) {
+            const Code* row = reinterpret_cast<const Code*>(t.row);
             alignas(16) float chunk[4][kLanes] = {};  // R, G, B runs and the weights
-            for (int lane = 0; lane < lanes; ++lane) {
-                const Code* pixel = row + static_cast<std::size_t>(x0 + lane) * in.channels;
+            for (int lane = 0; lane < t.lanes; ++lane) {
+                const Code* pixel = row + static_cast<std::size_t>(t.x0 + lane) * in.channels;
                 const Code red = pixel[0], green = pixel[step], blue = pixel[2 * step];
                 chunk[0][lane] = toLinear(red);
                 chunk[1][lane] = toLinear(green);
                 chunk[2][lane] = toLinear(blue);
-                chunk[3][lane] = maskRow == nullptr || maskRow[x0 + lane] != 0 ? 1.0f : 0.0f;
-                saturated[lane] = (red == kFull) | (green == kFull) | (blue == kFull);
+                chunk[3][lane] = t.maskRow == nullptr || t.maskRow[t.x0 + lane] != 0 ? 1.0f : 0.0f;
+                t.saturated[lane] = (red == kFull) | (green == kFull) | (blue == kFull);
             }
-            streamChunk(chunk, values, weights);
-        }
-    }
+            streamChunk(chunk, t.values, t.weights);
+        });
     _mm_sfence();
 }
 
@@ -157,18 +182,12 @@ VPE_CONVERSION_CLONES
 void convertFloats(const DecodedRows& in, bool srgb, SampleBand& band) {
     constexpr int kLanes = SampleBand::kChunkWidth;
     const int step = colourStep(in.channels);
-    for (int r = 0; r < in.rows; ++r) {
-        const float* row = reinterpret_cast<const float*>(in.data + in.rowBytes * r);
-        const std::uint8_t* maskRow =
-            in.mask ? in.mask + static_cast<std::size_t>(in.rowBegin + r) * in.width : nullptr;
-        for (int x0 = 0; x0 < in.width; x0 += kLanes) {
-            const int lanes = std::min(kLanes, in.width - x0);
-            float* values = band.values.data() + band.valueIndex(in.image, 0, r, x0);
-            float* weights = band.weights.data() + band.sampleIndex(in.image, r, x0);
-            std::uint8_t* saturated = band.saturated.data() + band.sampleIndex(in.image, r, x0);
-            for (int lane = 0; lane < lanes; ++lane) {
-                const float* pixel = row + static_cast<std::size_t>(x0 + lane) * in.channels;
-                bool usable = maskRow == nullptr || maskRow[x0 + lane] != 0;
+    forEachChunk(
+        in, band, [&](const ChunkTarget& t) __attribute__((always_inline)) {
+            const float* row = reinterpret_cast<const float*>(t.row);
+            for (int lane = 0; lane < t.lanes; ++lane) {
+                const float* pixel = row + static_cast<std::size_t>(t.x0 + lane) * in.channels;
+                bool usable = t.maskRow == nullptr || t.maskRow[t.x0 + lane] != 0;
                 for (int c = 0; c < SampleBand::kChannels; ++c) {
                     float value = pixel[c * step];
                     if (!std::isfinite(value)) {
@@ -178,13 +197,12 @@ void convertFloats(const DecodedRows& in, bool srgb, SampleBand& band) {
                         value = static_cast<float>(
                             std::copysign(proto::srgbToLinear(std::fabs(value)), value));
                     }
-                    values[c * kLanes + lane] = value;
+                    t.values[c * kLanes + lane] = value;
                 }
-                saturated[lane] = 0;
-                weights[lane] = usable ? 1.0f : 0.0f;
+                t.saturated[lane] = 0;
+                t.weights[lane] = usable ? 1.0f : 0.0f;
             }
-        }
-    }
+        });
 }
 
 }  // namespace
