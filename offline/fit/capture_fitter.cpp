@@ -52,6 +52,19 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
 }
 
 // The RTI bases: no normals, no calibration, the images' stored values fitted as they are.
+// Adds a fitted band's valid pixels to the report, and their mean RMS over the channels to
+// rmsSum (the report's mean is taken at the end).
+void countValid(const ModelRows& rows, FitReport& report, double& rmsSum) {
+    for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+        if (rows.valid[p]) {
+            ++report.validPixels;
+            for (int c = 0; c < 3; ++c) {
+                rmsSum += static_cast<double>(rows.rms[p * 3 + c]) / 3.0;
+            }
+        }
+    }
+}
+
 FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
                         const std::filesystem::path& modelPath) {
     const auto start = Clock::now();
@@ -88,14 +101,7 @@ FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
         report.decodeSeconds += secondsSince(decodeStart);
         const auto fitStart = Clock::now();
         fitter.fit(band, rows);
-        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
-            if (rows.valid[p]) {
-                ++report.validPixels;
-                for (int c = 0; c < 3; ++c) {
-                    rmsSum += static_cast<double>(rows.rms[p * 3 + c]) / 3.0;
-                }
-            }
-        }
+        countValid(rows, report, rmsSum);
         report.fitSeconds += secondsSince(fitStart);
         const auto writeStart = Clock::now();
         writer.writeRows(rowBegin, rows);
@@ -269,14 +275,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
                 detail.begin() + static_cast<std::ptrdiff_t>(first),
                 detail.begin() + static_cast<std::ptrdiff_t>(first + rows.valid.size() * 3));
         }
-        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
-            if (rows.valid[p]) {
-                ++report.validPixels;
-                for (int c = 0; c < 3; ++c) {
-                    rmsSum += static_cast<double>(rows.rms[p * 3 + c]) / 3.0;
-                }
-            }
-        }
+        countValid(rows, report, rmsSum);
         report.fitSeconds += secondsSince(fitStart);
 
         showPhase("writing");
