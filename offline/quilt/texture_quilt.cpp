@@ -41,16 +41,6 @@ nlohmann::json stretchJson(const scene::TexelStretch& s) {
             {"texel_v_mm", s.texelVMm}};
 }
 
-nlohmann::json seamJson(const texture::SeamStatistics& s) {
-    return {{"step", s.seam},
-            {"interior_mean", s.interiorMean},
-            {"interior_median", s.interiorMedian},
-            {"interior_p95", s.interiorP95},
-            {"interior_max", s.interiorMax},
-            {"rank", s.seamRank},
-            {"ratio", s.ratio()}};
-}
-
 nlohmann::json layoutJson(const QuiltTextureReport& report) {
     nlohmann::json json;
     json["width"] = report.width;
@@ -70,7 +60,7 @@ std::string quiltLayoutJson(const QuiltTextureReport& report) {
     nlohmann::json json = layoutJson(report);
     json["seams"] = nlohmann::json::array();
     for (const RegionReport& region : report.regions) {
-        json["seams"].push_back(seamJson(region.seam));
+        json["seams"].push_back(texture::seamJson(region.seam));
     }
     return json.dump();
 }
@@ -260,7 +250,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
                                           {"overlap", quilt.overlap},
                                           {"components", quilt.components},
                                           {"blocks", quilt.blocks},
-                                          {"seam", seamJson(regionReport.seam)},
+                                          {"seam", texture::seamJson(regionReport.seam)},
                                           {"seconds", regionReport.seconds}});
         regionReport.seam.columnSteps.clear();
         quilt.sourceX.clear();

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "common/parallel_for.h"
 
 namespace vpe::texture {
@@ -82,6 +84,16 @@ SeamStatistics measureSeam(std::span<const float> values, int width, int height,
                                      [&](double v) { return v < s.seam; });
     s.seamRank = static_cast<double>(below) / static_cast<double>(s.columnSteps.size());
     return s;
+}
+
+nlohmann::json seamJson(const SeamStatistics& s) {
+    return {{"step", s.seam},
+            {"interior_mean", s.interiorMean},
+            {"interior_median", s.interiorMedian},
+            {"interior_p95", s.interiorP95},
+            {"interior_max", s.interiorMax},
+            {"rank", s.seamRank},
+            {"ratio", s.ratio()}};
 }
 
 }  // namespace vpe::texture

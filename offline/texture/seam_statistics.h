@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace vpe::texture {
 
 struct SeamStatistics {
@@ -27,5 +29,8 @@ struct SeamStatistics {
 // given: one byte per texel) are left out of every pair they are part of. width ≥ 3.
 SeamStatistics measureSeam(std::span<const float> values, int width, int height, int channels,
                            std::span<const unsigned char> valid = {});
+
+// The statistics as the JSON reports name them (vpe quilt's "seams", the seam figure).
+nlohmann::json seamJson(const SeamStatistics& s);
 
 }  // namespace vpe::texture

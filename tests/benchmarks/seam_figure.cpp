@@ -37,16 +37,6 @@ vpe::texture::SeamStatistics regionSeam(const std::filesystem::path& map) {
                                      3 * rows.coefficients);
 }
 
-nlohmann::json seamJson(const vpe::texture::SeamStatistics& s) {
-    return {{"step", s.seam},
-            {"interior_mean", s.interiorMean},
-            {"interior_median", s.interiorMedian},
-            {"interior_p95", s.interiorP95},
-            {"interior_max", s.interiorMax},
-            {"rank", s.seamRank},
-            {"ratio", s.ratio()}};
-}
-
 // The interior column steps sorted, over their share (a quantile curve at 101 points), in
 // units of their mean.
 void addSorted(vpe::SvgLinePlot& plot, const std::string& name,
@@ -109,7 +99,8 @@ int run(int argc, char** argv) {
             "(rank %.2f); interior p95 / mean %.2f, max / mean %.2f: %s\n",
             r, on.ratio(), on.seamRank, off.ratio(), off.seamRank, on.interiorP95 / on.interiorMean,
             on.interiorMax / on.interiorMean, svg.c_str());
-        report["regions"].push_back({{"tiled", seamJson(on)}, {"plain", seamJson(off)}});
+        report["regions"].push_back(
+            {{"tiled", vpe::texture::seamJson(on)}, {"plain", vpe::texture::seamJson(off)}});
     }
     if (!tiledBundle.empty()) {
         using Steps = vpe::testing::FrameSeamSteps;
