@@ -53,17 +53,17 @@ int fftFriendly(int n) {
     }
 }
 
-// Σ (a − b)² over n channels: sixteen float lanes (one AVX-512 vector, two AVX2, four SSE)
-// summed in double. Scoring candidates on all 66 channels one double at a time took over a
-// quarter of the quilting. The file is compiled without FMA contraction and the lanes are fixed, so
-// every instruction-set clone returns the same bits: a quilt does not depend on the machine.
-__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double
-squaredDistance(const float* a, const float* b, int n) {
-    constexpr int kLanes = 16;
-    float lanes[kLanes] = {};
+constexpr int kDistanceLanes = 16;
+
+// Σ (a − b)² over n channels into sixteen float lanes (one AVX-512 vector, two AVX2, four
+// SSE), lane l holding channels l, l + 16, …. Inlined into each instruction-set clone below.
+// The file is compiled without FMA contraction and the lanes are fixed, so every clone
+// returns the same bits: a quilt does not depend on the machine.
+[[gnu::always_inline]] inline void laneSquares(const float* a, const float* b, int n,
+                                               float (&lanes)[kDistanceLanes]) {
     int i = 0;
-    for (; i + kLanes <= n; i += kLanes) {
-        for (int l = 0; l < kLanes; ++l) {
+    for (; i + kDistanceLanes <= n; i += kDistanceLanes) {
+        for (int l = 0; l < kDistanceLanes; ++l) {
             const float d = a[i + l] - b[i + l];
             lanes[l] += d * d;
         }
@@ -72,8 +72,16 @@ squaredDistance(const float* a, const float* b, int n) {
         const float d = a[i] - b[i];
         lanes[l] += d * d;
     }
+}
+
+// Σ (a − b)² over n channels, the lanes summed in double. Scoring candidates on all 66
+// channels one double at a time took over a quarter of the quilting.
+__attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double
+squaredDistance(const float* a, const float* b, int n) {
+    float lanes[kDistanceLanes] = {};
+    laneSquares(a, b, n, lanes);
     double sum = 0;
-    for (int l = 0; l < kLanes; ++l) {
+    for (int l = 0; l < kDistanceLanes; ++l) {
         sum += static_cast<double>(lanes[l]);
     }
     return sum;
@@ -86,29 +94,16 @@ squaredDistance(const float* a, const float* b, int n) {
 __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default"))) double overlapError(
     const float* const* placed, const std::ptrdiff_t* offsets, std::size_t pixels,
     const float* candidate, int n) {
-    constexpr int kLanes = 16;
-    double sums[kLanes] = {};
+    double sums[kDistanceLanes] = {};
     for (std::size_t p = 0; p < pixels; ++p) {
-        const float* a = placed[p];
-        const float* b = candidate + offsets[p];
-        float lanes[kLanes] = {};
-        int i = 0;
-        for (; i + kLanes <= n; i += kLanes) {
-            for (int l = 0; l < kLanes; ++l) {
-                const float d = a[i + l] - b[i + l];
-                lanes[l] += d * d;
-            }
-        }
-        for (int l = 0; i < n; ++i, ++l) {
-            const float d = a[i] - b[i];
-            lanes[l] += d * d;
-        }
-        for (int l = 0; l < kLanes; ++l) {
+        float lanes[kDistanceLanes] = {};
+        laneSquares(placed[p], candidate + offsets[p], n, lanes);
+        for (int l = 0; l < kDistanceLanes; ++l) {
             sums[l] += static_cast<double>(lanes[l]);
         }
     }
     double sum = 0;
-    for (int l = 0; l < kLanes; ++l) {
+    for (int l = 0; l < kDistanceLanes; ++l) {
         sum += sums[l];
     }
     return sum;
