@@ -79,7 +79,10 @@ constexpr float kHalfMax = 65504.0f;
 // Half floats, rounded to nearest even as Imath (OpenEXR's half) rounds; true when every
 // value stayed finite. F16C converts eight at a time where the CPU has it (the same rounding,
 // bit for bit): OpenImageIO's one-value-at-a-time conversion on the calling thread cost more
-// than writing the file.
+// than writing the file. Measured against Imath's own imath_float_to_half on 76.5 M normal
+// values (this build targets baseline x86-64, so Imath takes its scalar path): 0.41 vs
+// 2.52 ns a value, identical bits; a 2048² fit converts 306 M values, so Imath alone would
+// add ~0.4 s of wall time on two threads to a 0.8 s write phase.
 __attribute__((target("avx2,f16c"))) bool toHalfF16c(const float* in, std::uint16_t* out,
                                                      std::size_t n) {
     constexpr int kRound = _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC;
