@@ -19,7 +19,7 @@
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/principal_axes.h"
-#include "synth/procedural_noise.h"
+#include "common/random_bits.h"
 
 namespace vpe::quilt {
 
@@ -634,14 +634,13 @@ private:
     void placeBlock(int i, int j, SearchScratch* scratch) {
         const int ox = columns_.origins[static_cast<std::size_t>(i)], oy = j * step_;
         const OverlapShape shape = shapeOf(i, j);
-        std::uint64_t rng = synth::mixBits(
-            settings_.seed ^ synth::mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
-                                            static_cast<std::uint64_t>(j) * 0x10000 +
-                                            static_cast<std::uint64_t>(i)));
+        std::uint64_t rng =
+            mixBits(settings_.seed ^ mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
+                                             static_cast<std::uint64_t>(j) * 0x10000 +
+                                             static_cast<std::uint64_t>(i)));
         auto random = [&rng](std::size_t n) {
-            rng = synth::mixBits(rng);
-            return static_cast<std::size_t>(synth::uniformFromBits(rng) * static_cast<double>(n)) %
-                   n;
+            rng = mixBits(rng);
+            return static_cast<std::size_t>(uniformFromBits(rng) * static_cast<double>(n)) % n;
         };
         int px, py;
         if (!shape.any()) {

@@ -18,6 +18,7 @@
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/progress_bar.h"
+#include "common/random_bits.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
 #include "synth/light_rigs.h"

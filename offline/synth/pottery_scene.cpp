@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/random_bits.h"
+
 namespace vpe::synth {
 
 namespace {

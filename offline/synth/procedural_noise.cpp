@@ -4,18 +4,9 @@
 
 #include <cmath>
 
+#include "common/random_bits.h"
+
 namespace vpe::synth {
-
-std::uint64_t mixBits(std::uint64_t value) {
-    value += 0x9e3779b97f4a7c15ull;
-    value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ull;
-    value = (value ^ (value >> 27)) * 0x94d049bb133111ebull;
-    return value ^ (value >> 31);
-}
-
-double uniformFromBits(std::uint64_t bits) {
-    return static_cast<double>(bits >> 11) * 0x1.0p-53;
-}
 
 double GradientNoise::gradientDot(std::int64_t ix, std::int64_t iy, double dx, double dy) const {
     const std::uint64_t h = mixBits(seed_ ^ mixBits(static_cast<std::uint64_t>(ix) * 0x1f1f1f1full +

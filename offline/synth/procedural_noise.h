@@ -21,8 +21,4 @@ private:
     std::uint64_t seed_;
 };
 
-// A counter-based random stream: value(i) depends only on the seed and i.
-std::uint64_t mixBits(std::uint64_t value);
-double uniformFromBits(std::uint64_t bits);  // [0, 1)
-
 }  // namespace vpe::synth

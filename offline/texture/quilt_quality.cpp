@@ -19,8 +19,8 @@
 #include "common/input_error.h"
 #include "common/parallel_for.h"
 #include "common/principal_axes.h"
+#include "common/random_bits.h"
 #include "model/fourier_model_file.h"
-#include "synth/procedural_noise.h"
 
 namespace vpe::texture {
 
@@ -85,10 +85,10 @@ std::vector<double> randomDirection(std::uint64_t seed, int direction, int dims)
     double norm = 0;
     for (int d = 0; d < dims; ++d) {
         const std::uint64_t key =
-            synth::mixBits(seed ^ synth::mixBits(static_cast<std::uint64_t>(direction) * 4099 +
-                                                 static_cast<std::uint64_t>(d)));
-        const double u1 = 1.0 - synth::uniformFromBits(key);  // (0, 1]: log is finite
-        const double u2 = synth::uniformFromBits(synth::mixBits(key));
+            mixBits(seed ^ mixBits(static_cast<std::uint64_t>(direction) * 4099 +
+                                   static_cast<std::uint64_t>(d)));
+        const double u1 = 1.0 - uniformFromBits(key);  // (0, 1]: log is finite
+        const double u2 = uniformFromBits(mixBits(key));
         v[static_cast<std::size_t>(d)] = std::sqrt(-2 * std::log(u1)) * std::cos(2 * kPi * u2);
         norm += v[static_cast<std::size_t>(d)] * v[static_cast<std::size_t>(d)];
     }
