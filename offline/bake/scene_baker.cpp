@@ -15,9 +15,9 @@
 #include "bake/low_rank_encoder.h"
 #include "bake/theta_basis_fit.h"
 #include "common/input_error.h"
+#include "quilt/quilt_folder.h"
 #include "scene/procedural_vase.h"
 #include "scene/surface_scale.h"
-#include "texture/quilt_folder.h"
 #include "texture/region_compose.h"
 #include "texture/weight_maps.h"
 
@@ -157,7 +157,7 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         textures.push_back(readCoefficientTexture(options.texture));
         names.push_back(options.texture.stem().string());
     } else {
-        const std::vector<std::filesystem::path> maps = texture::listRegionMaps(options.quilt);
+        const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(options.quilt);
         texture::checkRegionMaps(maps);
         for (std::size_t r = 0; r < maps.size(); ++r) {
             textures.push_back(readCoefficientTexture(maps[r]));

@@ -10,7 +10,7 @@
 #include "cli/pattern_report.h"
 #include "cli/storage_option.h"
 #include "common/input_error.h"
-#include "texture/quilt_folder.h"
+#include "quilt/quilt_folder.h"
 #include "texture/region_compose.h"
 #include "texture/weight_maps.h"
 
@@ -43,7 +43,7 @@ void addComposeCommand(CLI::App& app, Action& action) {
             // The spec first: its mistakes are cheaper to report than a folder's.
             const std::vector<texture::WeightSource> sources =
                 texture::parseWeightSpec(args->weights);
-            const std::vector<std::filesystem::path> maps = texture::listRegionMaps(args->dir);
+            const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args->dir);
             if (sources.size() != maps.size()) {
                 throw InputError("--weights has " + std::to_string(sources.size()) +
                                  (sources.size() == 1 ? " entry" : " entries") + " but " +

@@ -12,9 +12,9 @@
 #include "cli/commands.h"
 #include "common/input_error.h"
 #include "common/parallel_for.h"
+#include "quilt/quilt_folder.h"
+#include "quilt/quilt_quality.h"
 #include "segment/label_map.h"
-#include "texture/quilt_folder.h"
-#include "texture/quilt_quality.h"
 
 namespace vpe::cli {
 
@@ -25,7 +25,7 @@ nlohmann::json number(double value) {
     return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
-nlohmann::json regionJson(const texture::RegionQuality& q) {
+nlohmann::json regionJson(const quilt::RegionQuality& q) {
     return {
         {"region", q.region},
         {"output_pixels", q.outputPixels},
@@ -74,7 +74,7 @@ std::string figure(double value, bool fixed = false, int digits = 4) {
     return text;
 }
 
-void printRegion(const texture::RegionQuality& q) {
+void printRegion(const quilt::RegionQuality& q) {
     std::printf("region %d: %zu output pixels, %zu with a position; %zu source pixels\n", q.region,
                 q.outputPixels, q.positionedPixels, q.sourcePixels);
     std::printf("  region correctness     %s (%zu of %zu copied from the region)\n",
@@ -134,10 +134,10 @@ void addQuiltQualityCommand(CLI::App& app, Action& action) {
     command->callback([args, &action] {
         action = [args] {
             const auto start = std::chrono::steady_clock::now();
-            const texture::CoefficientImage source = texture::readCoefficientImage(args->model);
+            const quilt::CoefficientImage source = quilt::readCoefficientImage(args->model);
             const std::vector<std::uint8_t> labels =
                 readLabelImage(args->labels, source.width, source.height).values;
-            const std::vector<std::filesystem::path> maps = texture::listRegionMaps(args->quilt);
+            const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args->quilt);
             for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
                 if (std::find(labels.begin(), labels.end(), k) == labels.end()) {
                     throw InputError(args->labels,
@@ -145,28 +145,28 @@ void addQuiltQualityCommand(CLI::App& app, Action& action) {
                                          maps[static_cast<std::size_t>(k)].string() + " exists)");
                 }
             }
-            texture::QualityOptions options;
+            quilt::QualityOptions options;
             options.threads = resolveThreadCount(args->threads);
-            std::vector<texture::PositionMap> positions;
+            std::vector<quilt::PositionMap> positions;
             nlohmann::json regions = nlohmann::json::array();
             for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-                const texture::CoefficientImage output =
-                    texture::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
+                const quilt::CoefficientImage output =
+                    quilt::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
                 if (output.harmonics != source.harmonics) {
                     throw InputError(maps[static_cast<std::size_t>(k)],
                                      std::to_string(output.harmonics) + " harmonics, but " +
                                          args->model + " has " + std::to_string(source.harmonics));
                 }
                 if (k == 0) {
-                    positions = texture::readPositionMaps(
-                        args->quilt, static_cast<int>(maps.size()), output.width, output.height,
-                        source.width, source.height);
+                    positions = quilt::readPositionMaps(args->quilt, static_cast<int>(maps.size()),
+                                                        output.width, output.height, source.width,
+                                                        source.height);
                 } else if (output.width != positions[0].width ||
                            output.height != positions[0].height) {
                     throw InputError(maps[static_cast<std::size_t>(k)],
                                      "size differs from region0.exr's");
                 }
-                const texture::RegionQuality quality = texture::measureRegionQuality(
+                const quilt::RegionQuality quality = quilt::measureRegionQuality(
                     source, labels, k, output, positions[static_cast<std::size_t>(k)], options);
                 if (!args->json) {
                     printRegion(quality);

@@ -16,10 +16,10 @@
 #include "common/progress_bar.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "quilt/quilt_folder.h"
 #include "scene/procedural_vase.h"
 #include "scene/screen_mesh.h"
 #include "segment/label_map.h"
-#include "texture/quilt_folder.h"
 
 namespace vpe::quilt {
 
@@ -60,7 +60,7 @@ std::string quiltLayoutJson(const QuiltTextureReport& report) {
     nlohmann::json json = layoutJson(report);
     json["seams"] = nlohmann::json::array();
     for (const RegionReport& region : report.regions) {
-        json["seams"].push_back(texture::seamJson(region.seam));
+        json["seams"].push_back(quilt::seamJson(region.seam));
     }
     return json.dump();
 }
@@ -192,10 +192,10 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         texture.storage = options.storage.value_or(info.storage);
         texture.capture =
             "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
-        ModelWriter writer(texture::regionMapPath(partial, region), texture,
+        ModelWriter writer(quilt::regionMapPath(partial, region), texture,
                            options.settings.threads);
         constexpr int kBand = 64;
-        texture::PositionMap positions;
+        quilt::PositionMap positions;
         positions.width = width;
         positions.height = height;
         positions.sourceX = quilt.sourceX;
@@ -237,10 +237,10 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
             writer.writeRows(y0, band);
         }
         writer.finish();
-        texture::writePositionMap(texture::positionsPath(partial, region), positions, region);
+        quilt::writePositionMap(quilt::positionsPath(partial, region), positions, region);
         report.writeSeconds += since(writeStart);
         if (width >= 3) {
-            regionReport.seam = texture::measureSeam(quilted, width, height, source.channels);
+            regionReport.seam = quilt::measureSeam(quilted, width, height, source.channels);
         }
 
         description["regions"].push_back({{"region", region},
@@ -250,7 +250,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
                                           {"overlap", quilt.overlap},
                                           {"components", quilt.components},
                                           {"blocks", quilt.blocks},
-                                          {"seam", texture::seamJson(regionReport.seam)},
+                                          {"seam", quilt::seamJson(regionReport.seam)},
                                           {"seconds", regionReport.seconds}});
         regionReport.seam.columnSteps.clear();
         quilt.sourceX.clear();

@@ -3,7 +3,7 @@
 // requested size for every region, and writes DIR/region<k>.exr (a vpe model file of the
 // synthesized coefficients, normals +z, variant "paper": a texture holds materials, never a
 // capture's light transport) and DIR/positions<k>.exr (where every output pixel was copied
-// from; the folder's format is texture/quilt_folder.h), plus DIR/quilt.json. The size is
+// from; the folder's format is quilt/quilt_folder.h), plus DIR/quilt.json. The size is
 // given, or chosen for the screen object (the physical texel size of the capture kept); the
 // texture tiles in u when the object's uv wraps, and quilt.json reports the texels' stretch
 // on the object and the step across the u seam. Label 255 marks
@@ -18,8 +18,8 @@
 
 #include "model/fourier_model_file.h"
 #include "quilt/image_quilter.h"
+#include "quilt/seam_statistics.h"
 #include "scene/surface_scale.h"
-#include "texture/seam_statistics.h"
 
 namespace vpe::quilt {
 
@@ -55,7 +55,7 @@ struct RegionReport {
     RegionQuilt quilt;  // positions dropped after writing; sizes and statistics kept
     // The step across u = 0 | 1 of the quilted coefficients against interior neighbours'
     // (column steps dropped after writing quilt.json; the summary kept).
-    texture::SeamStatistics seam;
+    quilt::SeamStatistics seam;
     double seconds = 0;
 };
 

@@ -22,25 +22,25 @@
 #include "common/input_error.h"
 #include "model/fourier_model_file.h"
 #include "plot/svg_line_plot.h"
+#include "quilt/quilt_folder.h"
+#include "quilt/seam_statistics.h"
 #include "support/frame_seam.h"
-#include "texture/quilt_folder.h"
-#include "texture/seam_statistics.h"
 
 namespace {
 
-vpe::texture::SeamStatistics regionSeam(const std::filesystem::path& map) {
+vpe::quilt::SeamStatistics regionSeam(const std::filesystem::path& map) {
     vpe::ModelReader reader(map);
     const vpe::ModelInfo info = reader.info();
     vpe::ModelRows rows;
     reader.readRows(0, info.height, rows);
-    return vpe::texture::measureSeam(rows.coefficient, info.width, info.height,
-                                     3 * rows.coefficients);
+    return vpe::quilt::measureSeam(rows.coefficient, info.width, info.height,
+                                   3 * rows.coefficients);
 }
 
 // The interior column steps sorted, over their share (a quantile curve at 101 points), in
 // units of their mean.
-void addSorted(vpe::SvgLinePlot& plot, const std::string& name,
-               const vpe::texture::SeamStatistics& s, const std::string& dash) {
+void addSorted(vpe::SvgLinePlot& plot, const std::string& name, const vpe::quilt::SeamStatistics& s,
+               const std::string& dash) {
     std::vector<double> steps = s.columnSteps;
     std::sort(steps.begin(), steps.end());
     std::vector<double> x, y;
@@ -79,11 +79,11 @@ int run(int argc, char** argv) {
     std::filesystem::create_directories(out);
     nlohmann::json report;
     report["regions"] = nlohmann::json::array();
-    const std::vector<std::filesystem::path> tiledMaps = vpe::texture::listRegionMaps(tiled);
-    const std::vector<std::filesystem::path> plainMaps = vpe::texture::listRegionMaps(plain);
+    const std::vector<std::filesystem::path> tiledMaps = vpe::quilt::listRegionMaps(tiled);
+    const std::vector<std::filesystem::path> plainMaps = vpe::quilt::listRegionMaps(plain);
     for (std::size_t r = 0; r < tiledMaps.size() && r < plainMaps.size(); ++r) {
-        const vpe::texture::SeamStatistics on = regionSeam(tiledMaps[r]);
-        const vpe::texture::SeamStatistics off = regionSeam(plainMaps[r]);
+        const vpe::quilt::SeamStatistics on = regionSeam(tiledMaps[r]);
+        const vpe::quilt::SeamStatistics off = regionSeam(plainMaps[r]);
         vpe::SvgLinePlot plot(
             "Region " + std::to_string(r) + ": the u seam against interior neighbours",
             "interior neighbour-column pairs, sorted by their step (share)",
@@ -100,7 +100,7 @@ int run(int argc, char** argv) {
             r, on.ratio(), on.seamRank, off.ratio(), off.seamRank, on.interiorP95 / on.interiorMean,
             on.interiorMax / on.interiorMean, svg.c_str());
         report["regions"].push_back(
-            {{"tiled", vpe::texture::seamJson(on)}, {"plain", vpe::texture::seamJson(off)}});
+            {{"tiled", vpe::quilt::seamJson(on)}, {"plain", vpe::quilt::seamJson(off)}});
     }
     if (!tiledBundle.empty()) {
         using Steps = vpe::testing::FrameSeamSteps;

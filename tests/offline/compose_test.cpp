@@ -18,10 +18,10 @@
 #include "common/input_error.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "quilt/quilt_folder.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/quilt_folder.h"
 #include "texture/region_compose.h"
 #include "texture/weight_maps.h"
 
@@ -358,10 +358,10 @@ TEST(Compose, BlendedCoefficientsRenderAsBlendedRenderings) {
     const testing::TemporaryFolder folder;
     const int width = 14, height = 11, harmonics = 4, regions = 3;
     for (int k = 0; k < regions; ++k) {
-        writeRegionMap(texture::regionMapPath(folder.path(), k), width, height, harmonics,
+        writeRegionMap(quilt::regionMapPath(folder.path(), k), width, height, harmonics,
                        randomCoefficients(static_cast<std::uint32_t>(k + 1)));
     }
-    const auto maps = texture::listRegionMaps(folder.path());
+    const auto maps = quilt::listRegionMaps(folder.path());
     ASSERT_EQ(maps.size(), 3u);
     const WeightMaps weights = texture::buildWeightMaps(
         parse("stripes:angle=30:period=7:sharpness=2,radial:radius=6,noise:scale=4:seed=3"), width,
@@ -444,11 +444,11 @@ TEST(Compose, BlendedCoefficientsRenderAsBlendedRenderings) {
 TEST(Compose, RmsIsTheBlendOfRmsAndInvalidPixelsStayInvalidWhereWeighted) {
     const testing::TemporaryFolder folder;
     const int width = 6, height = 4;
-    writeRegionMap(texture::regionMapPath(folder.path(), 0), width, height, 1,
+    writeRegionMap(quilt::regionMapPath(folder.path(), 0), width, height, 1,
                    [](int, int, int, int) { return 1.0f; });
     // Region 1 has a hole at x = 0.
     writeRegionMap(
-        texture::regionMapPath(folder.path(), 1), width, height, 1,
+        quilt::regionMapPath(folder.path(), 1), width, height, 1,
         [](int, int, int, int) { return 3.0f; }, [](int x, int) { return x != 0; });
     // Region 1 weighs nothing at y = 0, half elsewhere.
     const std::filesystem::path mask = folder / "mask.exr";
@@ -457,7 +457,7 @@ TEST(Compose, RmsIsTheBlendOfRmsAndInvalidPixelsStayInvalidWhereWeighted) {
     writeImage(mask, width, height, 1, pixels, PixelFormat::kFloat);
     const WeightMaps weights =
         texture::buildWeightMaps(parse("constant,image:" + mask.string()), width, height);
-    const auto report = texture::composeRegionMaps(texture::listRegionMaps(folder.path()), weights,
+    const auto report = texture::composeRegionMaps(quilt::listRegionMaps(folder.path()), weights,
                                                    folder / "composed.exr");
     EXPECT_EQ(report.invalidPixels, static_cast<std::size_t>(height - 1));
     const ModelRows composed = readModel(folder / "composed.exr");
@@ -476,19 +476,19 @@ TEST(Compose, MismatchedRegionMapsAreRefusedByName) {
     writeRegionMap(folder / "size" / "region0.exr", 6, 4, 2, one);
     writeRegionMap(folder / "size" / "region1.exr", 6, 5, 2, one);
     expectInputErrorMentioning(
-        [&] { texture::checkRegionMaps(texture::listRegionMaps(folder / "size")); },
+        [&] { texture::checkRegionMaps(quilt::listRegionMaps(folder / "size")); },
         {"region1.exr", "6 × 5", "6 × 4"});
     writeRegionMap(folder / "harmonics" / "region0.exr", 6, 4, 2, one);
     writeRegionMap(folder / "harmonics" / "region1.exr", 6, 4, 3, one);
     expectInputErrorMentioning(
-        [&] { texture::checkRegionMaps(texture::listRegionMaps(folder / "harmonics")); },
+        [&] { texture::checkRegionMaps(quilt::listRegionMaps(folder / "harmonics")); },
         {"region1.exr", "3 harmonics", "has 2"});
     writeRegionMap(folder / "gap" / "region0.exr", 6, 4, 2, one);
     writeRegionMap(folder / "gap" / "region2.exr", 6, 4, 2, one);
-    expectInputErrorMentioning([&] { texture::listRegionMaps(folder / "gap"); },
+    expectInputErrorMentioning([&] { quilt::listRegionMaps(folder / "gap"); },
                                {"region1.exr", "missing"});
     std::filesystem::create_directories(folder / "empty");
-    expectInputErrorMentioning([&] { texture::listRegionMaps(folder / "empty"); },
+    expectInputErrorMentioning([&] { quilt::listRegionMaps(folder / "empty"); },
                                {"empty", "no region0.exr"});
 }
 

@@ -2,7 +2,7 @@
 // Quilting quality metrics on hand-built position maps: a verbatim copy, a pixel shuffle, two
 // blocks, a copy from the wrong region; the sliced Wasserstein distance; the positions files;
 // `vpe quilt-quality` end to end.
-#include "texture/quilt_quality.h"
+#include "quilt/quilt_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,16 +19,16 @@
 #include "common/input_error.h"
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "quilt/quilt_folder.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/quilt_folder.h"
 
 namespace vpe {
 namespace {
 
-using texture::CoefficientImage;
-using texture::PositionMap;
-using texture::RegionQuality;
+using quilt::CoefficientImage;
+using quilt::PositionMap;
+using quilt::RegionQuality;
 
 constexpr int kHarmonics = 1;
 constexpr int kDims = 3 * proto::coefficientCount(kHarmonics);
@@ -135,8 +135,8 @@ PositionMap shuffle(int region, std::uint32_t seed) {
 
 RegionQuality measure(const PositionMap& positions, int region = 0) {
     static const CoefficientImage source = smoothSource();
-    return texture::measureRegionQuality(source, splitLabels(), region, copyOf(source, positions),
-                                         positions, texture::QualityOptions{});
+    return quilt::measureRegionQuality(source, splitLabels(), region, copyOf(source, positions),
+                                       positions, quilt::QualityOptions{});
 }
 
 TEST(QuiltQuality, VerbatimCopyIsOneComponentWithoutSeams) {
@@ -214,8 +214,8 @@ TEST(QuiltQuality, CoefficientsThatAreNotCopiesAreReported) {
     const PositionMap positions = offsetCopy(2, 8);
     CoefficientImage output = copyOf(source, positions);
     output.values[7 * kDims + 3] += 0.25f;
-    const RegionQuality q = texture::measureRegionQuality(source, splitLabels(), 0, output,
-                                                          positions, texture::QualityOptions{});
+    const RegionQuality q = quilt::measureRegionQuality(source, splitLabels(), 0, output, positions,
+                                                        quilt::QualityOptions{});
     EXPECT_NEAR(q.copyMaxDifference, 0.25, 1e-6);
 }
 
@@ -243,12 +243,12 @@ TEST(QuiltQualitySlicedWasserstein, IsZeroForIdenticalDistributions) {
         permuted.insert(permuted.end(), a.begin() + static_cast<long>(i * dims),
                         a.begin() + static_cast<long>((i + 1) * dims));
     }
-    const texture::SlicedWassersteinOptions options;
-    EXPECT_EQ(texture::slicedWasserstein(a.data(), 500, permuted.data(), 500, dims, options), 0.0);
+    const quilt::SlicedWassersteinOptions options;
+    EXPECT_EQ(quilt::slicedWasserstein(a.data(), 500, permuted.data(), 500, dims, options), 0.0);
     // Every vector twice: the same distribution from a set of another size.
     std::vector<float> doubled = a;
     doubled.insert(doubled.end(), a.begin(), a.end());
-    EXPECT_EQ(texture::slicedWasserstein(a.data(), 500, doubled.data(), 1000, dims, options), 0.0);
+    EXPECT_EQ(quilt::slicedWasserstein(a.data(), 500, doubled.data(), 1000, dims, options), 0.0);
 }
 
 TEST(QuiltQualitySlicedWasserstein, MeasuresAShift) {
@@ -258,23 +258,23 @@ TEST(QuiltQualitySlicedWasserstein, MeasuresAShift) {
     for (float& v : shifted) {
         v += 0.1f;
     }
-    texture::SlicedWassersteinOptions options;
+    quilt::SlicedWassersteinOptions options;
     const double distance =
-        texture::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options);
+        quilt::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options);
     // Along a unit direction θ the shift is θ·(0.1, ..., 0.1), whose mean square over random
     // directions is 0.1².
     EXPECT_GT(distance, 0.06);
     EXPECT_LT(distance, 0.14);
     // Another sample of the same distribution is closer than the shifted copy is.
     const std::vector<float> b = randomSet(400, dims, 3);
-    const double sampling = texture::slicedWasserstein(a.data(), 400, b.data(), 400, dims, options);
+    const double sampling = quilt::slicedWasserstein(a.data(), 400, b.data(), 400, dims, options);
     EXPECT_GT(sampling, 0);
     // Deterministic, whatever the thread count.
     options.threads = 4;
-    EXPECT_EQ(texture::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options),
+    EXPECT_EQ(quilt::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options),
               distance);
     options.seed = 2;
-    EXPECT_NE(texture::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options),
+    EXPECT_NE(quilt::slicedWasserstein(a.data(), 400, shifted.data(), 400, dims, options),
               distance);
 }
 
@@ -300,9 +300,9 @@ void writeModel(const std::filesystem::path& path, const CoefficientImage& image
 TEST(QuiltQualityPositions, PositionsRoundTripAndBadValuesAreNamed) {
     const testing::TemporaryFolder folder;
     const PositionMap copy = offsetCopy(2, 8);
-    texture::writePositionMap(texture::positionsPath(folder.path(), 1), copy, 1);
+    quilt::writePositionMap(quilt::positionsPath(folder.path(), 1), copy, 1);
     const auto maps =
-        texture::readPositionMaps(folder.path(), 2, kOutput, kOutput, kSourceWidth, kSourceHeight);
+        quilt::readPositionMaps(folder.path(), 2, kOutput, kOutput, kSourceWidth, kSourceHeight);
     ASSERT_EQ(maps.size(), 2u);
     EXPECT_EQ(maps[1].sourceX, copy.sourceX);
     EXPECT_EQ(maps[1].sourceY, copy.sourceY);
@@ -311,10 +311,10 @@ TEST(QuiltQualityPositions, PositionsRoundTripAndBadValuesAreNamed) {
     auto expectError = [&](const std::vector<float>& pixels,
                            const std::vector<std::string>& mentions) {
         const testing::TemporaryFolder bad;
-        writeImage(texture::positionsPath(bad.path(), 0), 2, 1, 3, pixels, PixelFormat::kFloat,
+        writeImage(quilt::positionsPath(bad.path(), 0), 2, 1, 3, pixels, PixelFormat::kFloat,
                    {"source.x", "source.y", "region"});
         try {
-            texture::readPositionMaps(bad.path(), 2, 2, 1, 10, 10);
+            quilt::readPositionMaps(bad.path(), 2, 2, 1, 10, 10);
             ADD_FAILURE() << "no InputError";
         } catch (const InputError& error) {
             for (const std::string& mention : mentions) {
@@ -329,12 +329,12 @@ TEST(QuiltQualityPositions, PositionsRoundTripAndBadValuesAreNamed) {
     // Two files giving one pixel of one region.
     {
         const testing::TemporaryFolder twice;
-        texture::writePositionMap(texture::positionsPath(twice.path(), 0), offsetCopy(0, 0, 4), 0);
-        texture::writePositionMap(twice.path() / "positions.exr", offsetCopy(1, 1, 4), 0);
-        EXPECT_THROW(texture::readPositionMaps(twice.path(), 1, 4, 4, 10, 10), InputError);
+        quilt::writePositionMap(quilt::positionsPath(twice.path(), 0), offsetCopy(0, 0, 4), 0);
+        quilt::writePositionMap(twice.path() / "positions.exr", offsetCopy(1, 1, 4), 0);
+        EXPECT_THROW(quilt::readPositionMaps(twice.path(), 1, 4, 4, 10, 10), InputError);
     }
     const testing::TemporaryFolder empty;
-    EXPECT_THROW(texture::readPositionMaps(empty.path(), 1, 4, 4, 10, 10), InputError);
+    EXPECT_THROW(quilt::readPositionMaps(empty.path(), 1, 4, 4, 10, 10), InputError);
 }
 
 constexpr auto& vpe = testing::vpeCommand;
@@ -348,8 +348,8 @@ void writeQuiltFolder(const testing::TemporaryFolder& folder) {
     const PositionMap shuffled = shuffle(1, 4);
     writeModel(folder / "quilt" / "region0.exr", copyOf(source, copy));
     writeModel(folder / "quilt" / "region1.exr", copyOf(source, shuffled));
-    texture::writePositionMap(texture::positionsPath(folder / "quilt", 0), copy, 0);
-    texture::writePositionMap(texture::positionsPath(folder / "quilt", 1), shuffled, 1);
+    quilt::writePositionMap(quilt::positionsPath(folder / "quilt", 0), copy, 0);
+    quilt::writePositionMap(quilt::positionsPath(folder / "quilt", 1), shuffled, 1);
 }
 
 TEST(QuiltQualityCli, ReportsEveryRegion) {
@@ -409,8 +409,8 @@ TEST(QuiltQualityCli, MissingOrMismatchedInputsExitTwo) {
     EXPECT_EQ(result.exitStatus, 2) << result.err;
     EXPECT_NE(result.err.find("region 1"), std::string::npos) << result.err;
     // No positions.
-    std::filesystem::remove(texture::positionsPath(folder / "quilt", 0));
-    std::filesystem::remove(texture::positionsPath(folder / "quilt", 1));
+    std::filesystem::remove(quilt::positionsPath(folder / "quilt", 0));
+    std::filesystem::remove(quilt::positionsPath(folder / "quilt", 1));
     result = run((folder / "labels.png").string());
     EXPECT_EQ(result.exitStatus, 2) << result.err;
     EXPECT_NE(result.err.find("positions0.exr"), std::string::npos) << result.err;

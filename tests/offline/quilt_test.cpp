@@ -11,8 +11,8 @@
 
 #include "common/input_error.h"
 #include "quilt/image_quilter.h"
+#include "quilt/seam_statistics.h"
 #include "synth/procedural_noise.h"
-#include "texture/seam_statistics.h"
 
 namespace vpe::quilt {
 namespace {
@@ -171,12 +171,12 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
         for (std::size_t i = 0; i < wrapped.sourceX.size(); ++i) {
             ASSERT_GE(wrapped.sourceX[i], 0) << "width " << width << ", pixel " << i;
         }
-        const texture::SeamStatistics on =
-            texture::measureSeam(quiltedValues(source, wrapped), width, 70, source.channels);
+        const quilt::SeamStatistics on =
+            quilt::measureSeam(quiltedValues(source, wrapped), width, 70, source.channels);
         settings.wrapU = false;
         const RegionQuilt plain = quiltRegion(source, labels, 0, width, 70, settings);
-        const texture::SeamStatistics off =
-            texture::measureSeam(quiltedValues(source, plain), width, 70, source.channels);
+        const quilt::SeamStatistics off =
+            quilt::measureSeam(quiltedValues(source, plain), width, 70, source.channels);
         std::cout << "width " << width << ": seam/interior mean " << on.ratio() << " wrapped, "
                   << off.ratio() << " not (interior p95/mean " << on.interiorP95 / on.interiorMean
                   << ")\n";

@@ -16,12 +16,12 @@
 #include "vpe/proto/bundle.h"
 
 #include "model/fourier_model_file.h"
+#include "quilt/seam_statistics.h"
 #include "scene/procedural_vase.h"
 #include "scene/screen_mesh.h"
 #include "support/command_runner.h"
 #include "support/frame_seam.h"
 #include "support/test_data.h"
-#include "texture/seam_statistics.h"
 
 namespace vpe {
 namespace {
@@ -82,7 +82,7 @@ TEST_F(SeamTest, QuiltedCoefficientMapsTileInU) {
             EXPECT_GT(info.texelMm, 0.0);
             ModelRows rows;
             reader.readRows(0, info.height, rows);
-            const texture::SeamStatistics seam = texture::measureSeam(
+            const quilt::SeamStatistics seam = quilt::measureSeam(
                 rows.coefficient, info.width, info.height, 3 * rows.coefficients);
             std::cout << "wrap " << wrap << ", region " << region << " (" << info.width << "x"
                       << info.height << "): seam step " << seam.seam << ", interior mean "

@@ -15,11 +15,11 @@
 
 #include "image/image_file.h"
 #include "model/fourier_model_file.h"
+#include "quilt/quilt_folder.h"
 #include "segment/label_map.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/quilt_folder.h"
 #include "texture/streak_statistics.h"
 #include "texture/weight_maps.h"
 
@@ -307,7 +307,7 @@ void writeUniformRegionMaps(const std::filesystem::path& folder, int regions, in
                 rows.coefficient[p * 3 * k + static_cast<std::size_t>(i)] = 0.1f * (region + 1);
             }
         }
-        ModelWriter writer(texture::regionMapPath(folder, region), info);
+        ModelWriter writer(quilt::regionMapPath(folder, region), info);
         writer.writeRows(0, rows);
         writer.finish();
     }

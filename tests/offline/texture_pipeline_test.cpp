@@ -12,13 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include "model/fourier_model_file.h"
+#include "quilt/quilt_folder.h"
 #include "segment/label_map.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/label_seeds.h"
 #include "support/test_data.h"
 #include "text/line_reader.h"
-#include "texture/quilt_folder.h"
 
 namespace vpe {
 namespace {
@@ -99,8 +99,8 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
     EXPECT_EQ(report["height"], 80);
     EXPECT_GT(report["seconds"].get<double>(), 0.0);
     for (int region = 0; region < 2; ++region) {
-        EXPECT_TRUE(std::filesystem::exists(texture::regionMapPath(quilt, region)));
-        EXPECT_TRUE(std::filesystem::exists(texture::positionsPath(quilt, region)));
+        EXPECT_TRUE(std::filesystem::exists(quilt::regionMapPath(quilt, region)));
+        EXPECT_TRUE(std::filesystem::exists(quilt::positionsPath(quilt, region)));
     }
     // The relief travels with its texels: every quilted pixel's detail normal is its source's.
     {
@@ -108,10 +108,10 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
         ASSERT_TRUE(source.info().detailNormals);
         ModelRows sourceRows;
         source.readRows(0, source.info().height, sourceRows);
-        const std::vector<texture::PositionMap> positions =
-            texture::readPositionMaps(quilt, 2, 96, 80, source.info().width, source.info().height);
+        const std::vector<quilt::PositionMap> positions =
+            quilt::readPositionMaps(quilt, 2, 96, 80, source.info().width, source.info().height);
         for (int region = 0; region < 2; ++region) {
-            ModelReader quilted(texture::regionMapPath(quilt, region));
+            ModelReader quilted(quilt::regionMapPath(quilt, region));
             ASSERT_TRUE(quilted.info().detailNormals);
             ModelRows rows;
             quilted.readRows(0, 80, rows);
@@ -240,8 +240,7 @@ TEST_F(TexturePipeline, QuiltAndComposeWriteTheirInputsStorageUnlessTold) {
         testing::CommandResult result = runCommand(vpe(arguments));
         ASSERT_EQ(result.exitStatus, 0) << result.err;
         const ModelStorage expected = *storage ? ModelStorage::kFloat : ModelStorage::kHalf;
-        EXPECT_EQ(ModelReader(texture::regionMapPath(quilt, 1)).info().storage, expected)
-            << storage;
+        EXPECT_EQ(ModelReader(quilt::regionMapPath(quilt, 1)).info().storage, expected) << storage;
         result = runCommand(
             vpe({"compose", quilt, "--out", quilt + ".exr", "--weights", "constant,constant"}));
         ASSERT_EQ(result.exitStatus, 0) << result.err;
@@ -266,8 +265,8 @@ TEST_F(TexturePipeline, QuiltIsDeterministicWhateverTheThreads) {
         ASSERT_EQ(result.exitStatus, 0) << result.err;
     }
     for (int region = 0; region < 2; ++region) {
-        EXPECT_EQ(fileBytes(texture::positionsPath(path("det1"), region)),
-                  fileBytes(texture::positionsPath(path("det2"), region)))
+        EXPECT_EQ(fileBytes(quilt::positionsPath(path("det1"), region)),
+                  fileBytes(quilt::positionsPath(path("det2"), region)))
             << "region " << region << ": position maps differ between 1 and 2 threads";
     }
 }

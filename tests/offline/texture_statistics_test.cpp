@@ -14,10 +14,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "quilt/quilt_quality.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/quilt_quality.h"
 #include "texture/streak_statistics.h"
 
 namespace vpe {
@@ -33,7 +33,7 @@ int streakRegion(const std::filesystem::path& labels) {
 }
 
 // The valid pixels' coefficient vectors, rows [first, last) of the image.
-std::vector<float> validVectors(const texture::CoefficientImage& image, int firstRow, int lastRow) {
+std::vector<float> validVectors(const quilt::CoefficientImage& image, int firstRow, int lastRow) {
     std::vector<float> vectors;
     for (int y = firstRow; y < lastRow; ++y) {
         for (int x = 0; x < image.width; ++x) {
@@ -47,8 +47,8 @@ std::vector<float> validVectors(const texture::CoefficientImage& image, int firs
 }
 
 double slicedDistance(const std::vector<float>& a, const std::vector<float>& b, int dims) {
-    return texture::slicedWasserstein(a.data(), a.size() / static_cast<std::size_t>(dims), b.data(),
-                                      b.size() / static_cast<std::size_t>(dims), dims, {});
+    return quilt::slicedWasserstein(a.data(), a.size() / static_cast<std::size_t>(dims), b.data(),
+                                    b.size() / static_cast<std::size_t>(dims), dims, {});
 }
 
 // (a) Per region: the quilt's coefficient distribution against the source region's.
@@ -149,8 +149,8 @@ TEST_F(TextureStatistics, QuiltedAndComposedMapsMeasureLikeTheSource) {
 
     // (a) The whole composed texture against the whole source, relative to the source's top
     // half against its bottom half.
-    const texture::CoefficientImage model = texture::readCoefficientImage(path("model.exr"));
-    const texture::CoefficientImage composed = texture::readCoefficientImage(path("strokes.exr"));
+    const quilt::CoefficientImage model = quilt::readCoefficientImage(path("model.exr"));
+    const quilt::CoefficientImage composed = quilt::readCoefficientImage(path("strokes.exr"));
     const double distance = slicedDistance(validVectors(composed, 0, composed.height),
                                            validVectors(model, 0, model.height), model.dims);
     const double self =

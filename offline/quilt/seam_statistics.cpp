@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Seam step against interior neighbour steps.
-#include "texture/seam_statistics.h"
+#include "quilt/seam_statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include "common/parallel_for.h"
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 namespace {
 
@@ -96,4 +96,4 @@ nlohmann::json seamJson(const SeamStatistics& s) {
             {"ratio", s.ratio()}};
 }
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Region map names and the positions file (multi-part OpenEXR through OpenImageIO).
-#include "texture/quilt_folder.h"
+#include "quilt/quilt_folder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include "common/input_error.h"
 #include "image/image_file.h"
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 namespace {
 
@@ -194,4 +194,4 @@ std::vector<PositionMap> readPositionMaps(const std::filesystem::path& dir, int 
     return maps;
 }
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt

@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 std::filesystem::path regionMapPath(const std::filesystem::path& dir, int region);
 std::filesystem::path positionsPath(const std::filesystem::path& dir, int region);
@@ -46,4 +46,4 @@ void writePositionMap(const std::filesystem::path& path, const PositionMap& map,
 std::vector<PositionMap> readPositionMaps(const std::filesystem::path& dir, int regions, int width,
                                           int height, int sourceWidth, int sourceHeight);
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt

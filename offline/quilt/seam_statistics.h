@@ -11,7 +11,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 struct SeamStatistics {
     // Per neighbour-column pair x → x + 1 (x = 0 … W − 2): the mean over rows of
@@ -33,4 +33,4 @@ SeamStatistics measureSeam(std::span<const float> values, int width, int height,
 // The statistics as the JSON reports name them (vpe quilt's "seams", the seam figure).
 nlohmann::json seamJson(const SeamStatistics& s);
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt

@@ -2,7 +2,7 @@
 // Quilting quality metrics: region correctness, sliced Wasserstein distance, radially
 // averaged power spectra (FFTW, PCA by common/principal_axes), seam statistics and verbatim-copy
 // areas.
-#include "texture/quilt_quality.h"
+#include "quilt/quilt_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +22,7 @@
 #include "common/random_bits.h"
 #include "model/fourier_model_file.h"
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 namespace {
 
@@ -607,4 +607,4 @@ RegionQuality measureRegionQuality(const CoefficientImage& source,
     return quality;
 }
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt

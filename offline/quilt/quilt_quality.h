@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "texture/quilt_folder.h"
+#include "quilt/quilt_folder.h"
 
-namespace vpe::texture {
+namespace vpe::quilt {
 
 // A model's coefficients as one vector per pixel: values[(y·width + x)·dims + c·K + k] for
 // colour channel c and coefficient k (K = 2M + 2, dims = 3K).
@@ -106,4 +106,4 @@ RegionQuality measureRegionQuality(const CoefficientImage& source,
                                    const CoefficientImage& output, const PositionMap& positions,
                                    const QualityOptions& options);
 
-}  // namespace vpe::texture
+}  // namespace vpe::quilt
