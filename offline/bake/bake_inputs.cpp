@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "bake/bake_inputs.h"
+#include "vpe/bake/bake_inputs.h"
 
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/detail_normal.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "model/fourier_model_file.h"
 
 namespace vpe::bake {
 

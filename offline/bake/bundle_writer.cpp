@@ -2,7 +2,7 @@
 // The bundle writer: checks the contents, plans the payloads, builds the FlatBuffer metadata
 // around their offsets, streams header, metadata and payloads with a running CRC-32, then
 // proves the file with the device reader before renaming it into place.
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -17,10 +17,9 @@
 #include <Eigen/Core>
 #include <unistd.h>
 
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_generated.h"
-
-#include "common/atomic_output.h"
-#include "common/input_error.h"
 
 namespace vpe::bake {
 

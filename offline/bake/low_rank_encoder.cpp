@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Principal components of a sample of the texels (common/principal_axes.h), then every texel
 // projected onto them.
-#include "bake/low_rank_encoder.h"
+#include "vpe/bake/low_rank_encoder.h"
 
 #include <algorithm>
 #include <string>
 
 #include <Eigen/Core>
 
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/principal_axes.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/principal_axes.h"
 
 namespace vpe::bake {
 

@@ -1,25 +1,24 @@
 // SPDX-License-Identifier: MIT
 // vpe bake: reads and checks the inputs, encodes the textures, fits the θs basis to what the
 // device will render, and writes the bundle.
-#include "bake/scene_baker.h"
+#include "vpe/bake/scene_baker.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "vpe/bake/bake_inputs.h"
+#include "vpe/bake/bundle_writer.h"
+#include "vpe/bake/low_rank_encoder.h"
+#include "vpe/bake/theta_basis_fit.h"
+#include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/theta_basis.h"
-
-#include "bake/bake_inputs.h"
-#include "bake/bundle_writer.h"
-#include "bake/low_rank_encoder.h"
-#include "bake/theta_basis_fit.h"
-#include "common/input_error.h"
-#include "quilt/quilt_folder.h"
-#include "scene/procedural_vase.h"
-#include "scene/surface_scale.h"
-#include "texture/region_compose.h"
-#include "texture/weight_maps.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/scene/procedural_vase.h"
+#include "vpe/scene/surface_scale.h"
+#include "vpe/texture/region_compose.h"
+#include "vpe/texture/weight_maps.h"
 
 namespace vpe::bake {
 

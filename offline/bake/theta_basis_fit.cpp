@@ -1,18 +1,17 @@
 // SPDX-License-Identifier: MIT
 // The θs basis by eigen-decompositions of two (2M + 1)-square matrices: the Gram matrix, to
 // change to coordinates in which ∫₀^π is the plain dot product, and the second moment there.
-#include "bake/theta_basis_fit.h"
+#include "vpe/bake/theta_basis_fit.h"
 
 #include <algorithm>
 #include <string>
 
 #include <Eigen/Eigenvalues>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/theta_basis.h"
-
-#include "common/input_error.h"
 
 namespace vpe::bake {
 

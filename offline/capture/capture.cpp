@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Capture helpers.
-#include "capture/capture.h"
+#include "vpe/capture/capture.h"
 
 #include <algorithm>
 #include <cmath>

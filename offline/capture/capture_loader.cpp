@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Finding and reading a capture.
-#include "capture/capture_loader.h"
+#include "vpe/capture/capture_loader.h"
 
 #include <algorithm>
 #include <vector>
 
-#include "capture/capture_manifest.h"
-#include "capture/light_file_reader.h"
-#include "common/input_error.h"
+#include "vpe/capture/capture_manifest.h"
+#include "vpe/capture/light_file_reader.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Capture manifest reader (nlohmann::json).
-#include "capture/capture_manifest.h"
+#include "vpe/capture/capture_manifest.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/input_error.h"
-#include "text/line_reader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/text/line_reader.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Applying a geometry calibration to a dome capture.
-#include "capture/geometry_calibration.h"
+#include "vpe/capture/geometry_calibration.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Streaming band decoder: OpenImageIO scanline reads, transfer function by lookup table.
-#include "capture/image_band_reader.h"
+#include "vpe/capture/image_band_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +11,9 @@
 #include <immintrin.h>
 #include <sys/resource.h>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
 #include "vpe/proto/srgb.h"
-
-#include "common/input_error.h"
-#include "common/parallel_for.h"
 
 namespace vpe {
 

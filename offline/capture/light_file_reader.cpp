@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // RTI .lp light file reader.
-#include "capture/light_file_reader.h"
+#include "vpe/capture/light_file_reader.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "common/input_error.h"
-#include "text/line_reader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/text/line_reader.h"
 
 namespace vpe {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Per-pixel capture geometry.
-#include "capture/surface_geometry.h"
+#include "vpe/capture/surface_geometry.h"
 
 #include <cmath>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 

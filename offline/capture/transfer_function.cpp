@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Transfer functions between stored image values and linear radiance.
-#include "capture/transfer_function.h"
+#include "vpe/capture/transfer_function.h"
 
 #include <cmath>
 

@@ -10,12 +10,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bake/scene_baker.h"
+#include "vpe/bake/scene_baker.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/scene/scene_settings.h"
+
 #include "cli/commands.h"
 #include "cli/size_argument.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "scene/scene_settings.h"
 
 namespace vpe::cli {
 

@@ -6,13 +6,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/texture/region_compose.h"
+#include "vpe/texture/weight_maps.h"
+
 #include "cli/commands.h"
 #include "cli/pattern_report.h"
 #include "cli/storage_option.h"
-#include "common/input_error.h"
-#include "quilt/quilt_folder.h"
-#include "texture/region_compose.h"
-#include "texture/weight_maps.h"
 
 namespace vpe::cli {
 

@@ -6,13 +6,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "capture/capture_loader.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/fit/capture_fitter.h"
+#include "vpe/model/rti_basis.h"
+
 #include "cli/commands.h"
 #include "cli/storage_option.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "fit/capture_fitter.h"
-#include "model/rti_basis.h"
 
 namespace vpe::cli {
 

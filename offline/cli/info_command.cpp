@@ -11,10 +11,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/bundle.h"
 
 #include "cli/commands.h"
-#include "common/input_error.h"
 
 namespace vpe::cli {
 

@@ -3,8 +3,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "vpe/common/input_error.h"
+
 #include "cli/commands.h"
-#include "common/input_error.h"
 
 namespace vpe::cli {
 

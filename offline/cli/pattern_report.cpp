@@ -4,9 +4,9 @@
 
 #include <cstdio>
 
-#include "texture/streak_statistics.h"
-#include "texture/stroke_pattern.h"
-#include "texture/weight_maps.h"
+#include "vpe/texture/streak_statistics.h"
+#include "vpe/texture/stroke_pattern.h"
+#include "vpe/texture/weight_maps.h"
 
 namespace vpe::cli {
 

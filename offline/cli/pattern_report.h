@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "texture/weight_maps.h"
+#include "vpe/texture/weight_maps.h"
 
 namespace vpe::cli {
 

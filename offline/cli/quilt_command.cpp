@@ -8,12 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/quilt/texture_quilt.h"
+
 #include "cli/commands.h"
 #include "cli/size_argument.h"
 #include "cli/storage_option.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "quilt/texture_quilt.h"
 
 namespace vpe::cli {
 

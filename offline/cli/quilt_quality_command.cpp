@@ -9,12 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/quilt/quilt_quality.h"
+#include "vpe/segment/label_map.h"
+
 #include "cli/commands.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "quilt/quilt_folder.h"
-#include "quilt/quilt_quality.h"
-#include "segment/label_map.h"
 
 namespace vpe::cli {
 

@@ -4,13 +4,13 @@
 #include <cstdio>
 #include <memory>
 
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
 #include "cli/commands.h"
-#include "common/input_error.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
 
 namespace vpe::cli {
 

@@ -11,6 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/image/image_file.h"
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/srgb.h"
@@ -18,13 +21,10 @@
 #include "vpe/renderer/loop_closure.h"
 #include "vpe/renderer/projector_frame.h"
 #include "vpe/renderer/visitor_view.h"
+#include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
 #include "cli/size_argument.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "image/image_file.h"
-#include "scene/scene_settings.h"
 
 namespace vpe::cli {
 

@@ -7,12 +7,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/image/image_file.h"
+#include "vpe/segment/label_comparison.h"
+#include "vpe/segment/segmentation.h"
+
 #include "cli/commands.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "image/image_file.h"
-#include "segment/label_comparison.h"
-#include "segment/segmentation.h"
 
 namespace vpe::cli {
 

@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::cli {
 

@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "model/fourier_model_file.h"
+#include "vpe/model/fourier_model_file.h"
 
 namespace vpe::cli {
 

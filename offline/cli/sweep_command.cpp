@@ -5,10 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "capture/capture_loader.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/eval/fourier_sweep.h"
+
 #include "cli/commands.h"
-#include "common/parallel_for.h"
-#include "eval/fourier_sweep.h"
 
 namespace vpe::cli {
 

@@ -5,9 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/parallel_for.h"
+#include "vpe/synth/capture_synthesizer.h"
+
 #include "cli/commands.h"
-#include "common/parallel_for.h"
-#include "synth/capture_synthesizer.h"
 
 namespace vpe::cli {
 

@@ -9,11 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/transfer/transfer_fidelity.h"
+
 #include "cli/commands.h"
 #include "cli/size_argument.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "transfer/transfer_fidelity.h"
 
 namespace vpe::cli {
 

@@ -5,10 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/texture/weight_maps.h"
+
 #include "cli/commands.h"
 #include "cli/pattern_report.h"
 #include "cli/size_argument.h"
-#include "texture/weight_maps.h"
 
 namespace vpe::cli {
 

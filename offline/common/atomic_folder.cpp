@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "common/atomic_folder.h"
+#include "vpe/common/atomic_folder.h"
 
 #include <string>
 
 #include <unistd.h>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 

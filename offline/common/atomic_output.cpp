@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // AtomicOutput: temporary file plus rename.
-#include "common/atomic_output.h"
+#include "vpe/common/atomic_output.h"
 
 #include <atomic>
 #include <fstream>
@@ -8,7 +8,7 @@
 
 #include <unistd.h>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 

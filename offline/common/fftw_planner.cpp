@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // One process-wide mutex, so that two rooms (quilting and its quality measures) planning at
 // the same time on different threads do not corrupt FFTW's planner.
-#include "common/fftw_planner.h"
+#include "vpe/common/fftw_planner.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // parallelFor: an atomic chunk counter shared by std::threads.
-#include "common/parallel_for.h"
+#include "vpe/common/parallel_for.h"
 
 #include <algorithm>
 #include <atomic>

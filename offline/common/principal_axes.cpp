@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Two passes over the samples (mean, then the centred scatter), then the eigen-decomposition
 // of the dims × dims covariance: dims is small (at most the 3(2M + 2) coefficients of a texel).
-#include "common/principal_axes.h"
+#include "vpe/common/principal_axes.h"
 
 #include <algorithm>
 

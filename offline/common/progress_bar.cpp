@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // ProgressBar: drawn with carriage returns on a TTY only.
-#include "common/progress_bar.h"
+#include "vpe/common/progress_bar.h"
 
 #include <cstdio>
 

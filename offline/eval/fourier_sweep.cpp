@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The M × λ sweep of the paper's Fig. 6.
-#include "eval/fourier_sweep.h"
+#include "vpe/eval/fourier_sweep.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,18 +10,17 @@
 #include <mutex>
 #include <sstream>
 
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/eval/model_evaluation.h"
+#include "vpe/fit/chunk_setup.h"
+#include "vpe/normals/normal_source.h"
+#include "vpe/plot/svg_line_plot.h"
 #include "vpe/proto/srgb.h"
-
-#include "capture/image_band_reader.h"
-#include "capture/surface_geometry.h"
-#include "common/atomic_output.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "eval/model_evaluation.h"
-#include "fit/chunk_setup.h"
-#include "normals/normal_source.h"
-#include "plot/svg_line_plot.h"
 
 namespace vpe {
 

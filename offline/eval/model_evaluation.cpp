@@ -1,23 +1,22 @@
 // SPDX-License-Identifier: MIT
 // Held-out evaluation of a model.
-#include "eval/model_evaluation.h"
+#include "vpe/eval/model_evaluation.h"
 
 #include <algorithm>
 #include <cmath>
 #include <mutex>
 
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/capture/transfer_function.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/model/light_transport.h"
+#include "vpe/model/rti_basis.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "capture/image_band_reader.h"
-#include "capture/surface_geometry.h"
-#include "capture/transfer_function.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "model/light_transport.h"
-#include "model/rti_basis.h"
 
 namespace vpe {
 

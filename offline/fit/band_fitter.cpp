@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Band fitting on all threads.
-#include "fit/band_fitter.h"
+#include "vpe/fit/band_fitter.h"
 
 #include <algorithm>
 
-#include "common/parallel_for.h"
-#include "fit/chunk_setup.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/fit/chunk_setup.h"
 
 namespace vpe::fit {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The `vpe fit` pipeline: decode a band, fit it on all threads, write it.
-#include "fit/capture_fitter.h"
+#include "vpe/fit/capture_fitter.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,20 +8,20 @@
 #include <cstdio>
 #include <numbers>
 
-#include "capture/image_band_reader.h"
-#include "capture/surface_geometry.h"
-#include "capture/transfer_function.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "fit/band_fitter.h"
-#include "fit/held_out_search.h"
-#include "fit/rti_band_fitter.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "normals/detail_normals.h"
-#include "normals/normal_source.h"
-#include "preview/relight_preview.h"
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/capture/transfer_function.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/fit/band_fitter.h"
+#include "vpe/fit/held_out_search.h"
+#include "vpe/fit/rti_band_fitter.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/normals/detail_normals.h"
+#include "vpe/normals/normal_source.h"
+#include "vpe/preview/relight_preview.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Kernel input setup.
-#include "fit/chunk_setup.h"
+#include "vpe/fit/chunk_setup.h"
 
 namespace vpe::fit {
 

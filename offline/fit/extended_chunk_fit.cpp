@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Alternating fit of BRDF and light transport.
-#include "fit/extended_chunk_fit.h"
+#include "vpe/fit/extended_chunk_fit.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,19 +1,18 @@
 // SPDX-License-Identifier: MIT
 // Held-out selection of geometry and regularization.
-#include "fit/held_out_search.h"
+#include "vpe/fit/held_out_search.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
 
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/fit/chunk_setup.h"
 #include "vpe/proto/srgb.h"
-
-#include "capture/image_band_reader.h"
-#include "capture/surface_geometry.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "fit/chunk_setup.h"
 
 namespace vpe {
 

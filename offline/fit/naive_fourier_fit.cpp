@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The textbook per-pixel fit with Eigen.
-#include "fit/naive_fourier_fit.h"
+#include "vpe/fit/naive_fourier_fit.h"
 
 #include <Eigen/Cholesky>
 

@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: MIT
 // Normal equations of the Fourier BRDF fit: accumulation (the hot loop, SIMD over pixels)
 // and batched Cholesky solve.
-#include "fit/normal_equations.h"
+#include "vpe/fit/normal_equations.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <new>
 
+#include "vpe/fit/simd_pack.h"
 #include "vpe/proto/reflection_geometry.h"
-
-#include "fit/simd_pack.h"
 
 // The hot loop is compiled for several x86-64 levels and picked at run time, so one binary
 // uses AVX-512 where it exists and still runs on any x86-64.

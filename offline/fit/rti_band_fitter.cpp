@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // RTI basis fitting on all threads.
-#include "fit/rti_band_fitter.h"
+#include "vpe/fit/rti_band_fitter.h"
 
 #include <cmath>
 #include <vector>
 
-#include "common/parallel_for.h"
+#include "vpe/common/parallel_for.h"
 
 namespace vpe::fit {
 

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Whole-image I/O with OpenImageIO.
-#include "image/image_file.h"
+#include "vpe/image/image_file.h"
 
 #include <OpenImageIO/imageio.h>
 
-#include "common/atomic_output.h"
-#include "common/input_error.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // PSNR and SSIM on 8-bit sRGB pictures.
-#include "image/image_metrics.h"
+#include "vpe/image/image_metrics.h"
 
 #include <algorithm>
 #include <array>

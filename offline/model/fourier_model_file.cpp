@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Model file I/O with OpenImageIO's OpenEXR plugin.
-#include "model/fourier_model_file.h"
+#include "vpe/model/fourier_model_file.h"
 
 #include <algorithm>
 #include <atomic>
@@ -14,12 +14,11 @@
 #include <cpuid.h>
 #include <immintrin.h>
 
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/model/light_transport.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "common/atomic_output.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "model/light_transport.h"
 
 namespace vpe {
 

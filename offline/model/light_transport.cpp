@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Real spherical harmonics, bands 0..3.
-#include "model/light_transport.h"
+#include "vpe/model/light_transport.h"
 
 #include <cmath>
 

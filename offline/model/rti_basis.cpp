@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // PTM and HSH basis functions.
-#include "model/rti_basis.h"
+#include "vpe/model/rti_basis.h"
 
 #include <algorithm>
 #include <cmath>

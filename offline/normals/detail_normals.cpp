@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The macro shape (local quadratic regression of the normals) and detail normal maps.
-#include "normals/detail_normals.h"
+#include "vpe/normals/detail_normals.h"
 
 #include <algorithm>
 #include <cmath>

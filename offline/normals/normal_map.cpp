@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Normal map I/O and comparison.
-#include "normals/normal_map.h"
+#include "vpe/normals/normal_map.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "common/input_error.h"
-#include "image/image_file.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 
 namespace vpe {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Normal source selection.
-#include "normals/normal_source.h"
+#include "vpe/normals/normal_source.h"
 
-#include "common/input_error.h"
-#include "normals/photometric_stereo.h"
+#include "vpe/common/input_error.h"
+#include "vpe/normals/photometric_stereo.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Robust photometric stereo: rank trimming, then Tukey IRLS, per pixel.
-#include "normals/photometric_stereo.h"
+#include "vpe/normals/photometric_stereo.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,11 +8,11 @@
 
 #include <Eigen/Dense>
 
-#include "capture/image_band_reader.h"
-#include "capture/surface_geometry.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "image/image_file.h"
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/image/image_file.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // SVG line chart.
-#include "plot/svg_line_plot.h"
+#include "vpe/plot/svg_line_plot.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <sstream>
 
-#include "common/atomic_output.h"
+#include "vpe/common/atomic_output.h"
 
 namespace vpe {
 

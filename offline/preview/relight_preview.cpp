@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Relit preview tiles.
-#include "preview/relight_preview.h"
+#include "vpe/preview/relight_preview.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "vpe/image/image_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
-
-#include "image/image_file.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Region-restricted Image Quilting with FFT overlap search.
-#include "quilt/image_quilter.h"
+#include "vpe/quilt/image_quilter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,11 +15,11 @@
 #include <Eigen/Dense>
 #include <fftw3.h>
 
-#include "common/fftw_planner.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/principal_axes.h"
-#include "common/random_bits.h"
+#include "vpe/common/fftw_planner.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/principal_axes.h"
+#include "vpe/common/random_bits.h"
 
 namespace vpe::quilt {
 

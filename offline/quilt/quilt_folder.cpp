@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Region map names and the positions file (multi-part OpenEXR through OpenImageIO).
-#include "quilt/quilt_folder.h"
+#include "vpe/quilt/quilt_folder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "common/input_error.h"
-#include "image/image_file.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 
 namespace vpe::quilt {
 

@@ -2,7 +2,7 @@
 // Quilting quality metrics: region correctness, sliced Wasserstein distance, radially
 // averaged power spectra (FFTW, PCA by common/principal_axes), seam statistics and verbatim-copy
 // areas.
-#include "quilt/quilt_quality.h"
+#include "vpe/quilt/quilt_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,14 +13,13 @@
 #include <OpenImageIO/imageio.h>
 #include <fftw3.h>
 
+#include "vpe/common/fftw_planner.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/principal_axes.h"
+#include "vpe/common/random_bits.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "common/fftw_planner.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/principal_axes.h"
-#include "common/random_bits.h"
-#include "model/fourier_model_file.h"
 
 namespace vpe::quilt {
 

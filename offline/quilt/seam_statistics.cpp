@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Seam step against interior neighbour steps.
-#include "quilt/seam_statistics.h"
+#include "vpe/quilt/seam_statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/parallel_for.h"
+#include "vpe/common/parallel_for.h"
 
 namespace vpe::quilt {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The `vpe quilt` pipeline.
-#include "quilt/texture_quilt.h"
+#include "vpe/quilt/texture_quilt.h"
 
 #include <chrono>
 #include <cmath>
@@ -9,17 +9,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/atomic_folder.h"
-#include "common/atomic_output.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "quilt/quilt_folder.h"
-#include "scene/procedural_vase.h"
-#include "scene/screen_mesh.h"
-#include "segment/label_map.h"
+#include "vpe/common/atomic_folder.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/scene/procedural_vase.h"
+#include "vpe/scene/screen_mesh.h"
+#include "vpe/segment/label_map.h"
 
 namespace vpe::quilt {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The procedural jar: a smooth profile through a few control points, swept about y.
-#include "scene/procedural_vase.h"
+#include "vpe/scene/procedural_vase.h"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::scene {
 

@@ -8,7 +8,7 @@
 // where R, T come from cv::stereoCalibrate(camera, projector): camera → projector
 // coordinates, T in the chessboard's unit; proj_kc has OpenCV's five coefficients (k3 fixed
 // at 0 by CALIB_FIX_K3). It does not write the projector's resolution.
-#include "scene/projector_calibration.h"
+#include "vpe/scene/projector_calibration.h"
 
 #include <algorithm>
 #include <array>
@@ -21,9 +21,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "common/atomic_output.h"
-#include "common/input_error.h"
-#include "text/line_reader.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/text/line_reader.h"
 
 namespace vpe::scene {
 

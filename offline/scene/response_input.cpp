@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // ResponseInput: gammas and measured curves, checked with offline-grade messages.
-#include "scene/response_input.h"
+#include "vpe/scene/response_input.h"
 
 #include <algorithm>
 #include <charconv>
@@ -8,8 +8,8 @@
 #include <optional>
 #include <string>
 
-#include "common/input_error.h"
-#include "text/line_reader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/text/line_reader.h"
 
 namespace vpe::scene {
 

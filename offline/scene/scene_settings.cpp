@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Strict parsing of scene settings.
-#include "scene/scene_settings.h"
+#include "vpe/scene/scene_settings.h"
 
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "common/input_error.h"
-#include "text/line_reader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/text/line_reader.h"
 
 namespace vpe::scene {
 

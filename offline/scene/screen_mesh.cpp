@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Screen mesh loading (assimp), validation and OBJ writing.
-#include "scene/screen_mesh.h"
+#include "vpe/scene/screen_mesh.h"
 
 #include <algorithm>
 #include <array>
@@ -16,8 +16,8 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include "common/atomic_output.h"
-#include "common/input_error.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::scene {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Surface lengths of the texture's axes, per triangle, and what follows from them.
-#include "scene/surface_scale.h"
+#include "vpe/scene/surface_scale.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <string>
 #include <tuple>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::scene {
 

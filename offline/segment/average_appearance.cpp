@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Average appearance: the model rendered under a dome and averaged; clustering features.
-#include "segment/average_appearance.h"
+#include "vpe/segment/average_appearance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,12 +8,11 @@
 
 #include <Eigen/Dense>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/principal_axes.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/principal_axes.h"
-#include "model/fourier_model_file.h"
 
 namespace vpe {
 

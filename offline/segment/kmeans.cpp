@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // k-means++ with restarts, and the silhouette choice of K.
-#include "segment/kmeans.h"
+#include "vpe/segment/kmeans.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "common/parallel_for.h"
+#include "vpe/common/parallel_for.h"
 
 namespace vpe {
 

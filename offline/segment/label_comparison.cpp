@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Label maps compared by IoU after the best one-to-one matching.
-#include "segment/label_comparison.h"
+#include "vpe/segment/label_comparison.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "common/input_error.h"
-#include "image/image_file.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 
 namespace vpe {
 

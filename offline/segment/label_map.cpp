@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Seeded labelling, island removal, label order and the label pictures.
-#include "segment/label_map.h"
+#include "vpe/segment/label_map.h"
 
 #include <algorithm>
 #include <array>
@@ -9,10 +9,9 @@
 #include <numeric>
 #include <string>
 
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 #include "vpe/proto/srgb.h"
-
-#include "common/input_error.h"
-#include "image/image_file.h"
 
 namespace vpe {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Seeded and automatic segmentation of an appearance.
-#include "segment/segmentation.h"
+#include "vpe/segment/segmentation.h"
 
 #include <cmath>
 #include <string>
 
-#include "common/input_error.h"
-#include "segment/kmeans.h"
+#include "vpe/common/input_error.h"
+#include "vpe/segment/kmeans.h"
 
 namespace vpe {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Rendering and writing the synthetic capture.
-#include "synth/capture_synthesizer.h"
+#include "vpe/synth/capture_synthesizer.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,19 +10,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/atomic_folder.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/common/random_bits.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
-
-#include "common/atomic_folder.h"
-#include "common/atomic_output.h"
-#include "common/input_error.h"
-#include "common/parallel_for.h"
-#include "common/progress_bar.h"
-#include "common/random_bits.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "synth/light_rigs.h"
-#include "synth/pottery_scene.h"
+#include "vpe/synth/light_rigs.h"
+#include "vpe/synth/pottery_scene.h"
 
 namespace vpe::synth {
 

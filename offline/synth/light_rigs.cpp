@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Light rigs.
-#include "synth/light_rigs.h"
+#include "vpe/synth/light_rigs.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // GGX + Smith + Schlick + Lambert.
-#include "synth/microfacet_brdf.h"
+#include "vpe/synth/microfacet_brdf.h"
 
 #include <algorithm>
 #include <cmath>

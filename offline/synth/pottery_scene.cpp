@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The synthetic vase: ray casting, relief, streaks, materials.
-#include "synth/pottery_scene.h"
+#include "vpe/synth/pottery_scene.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "common/random_bits.h"
+#include "vpe/common/random_bits.h"
 
 namespace vpe::synth {
 

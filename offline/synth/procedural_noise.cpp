@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Gradient noise from a hash of the lattice point (splitmix64 finalizer).
-#include "synth/procedural_noise.h"
+#include "vpe/synth/procedural_noise.h"
 
 #include <cmath>
 
-#include "common/random_bits.h"
+#include "vpe/common/random_bits.h"
 
 namespace vpe::synth {
 

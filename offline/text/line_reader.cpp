@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Line and field splitting.
-#include "text/line_reader.h"
+#include "vpe/text/line_reader.h"
 
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::text {
 

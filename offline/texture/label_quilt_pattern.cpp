@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Quilting a label map: signed distance in, Image Quilting, a soft weight out.
-#include "texture/label_quilt_pattern.h"
+#include "vpe/texture/label_quilt_pattern.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,10 +10,10 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "common/input_error.h"
-#include "quilt/image_quilter.h"
-#include "segment/label_map.h"
-#include "texture/streak_statistics.h"
+#include "vpe/common/input_error.h"
+#include "vpe/quilt/image_quilter.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/texture/streak_statistics.h"
 
 namespace vpe::texture {
 

@@ -1,15 +1,14 @@
 // SPDX-License-Identifier: MIT
 // Blends region maps band by band: K readers and one writer, never a whole map in memory.
-#include "texture/region_compose.h"
+#include "vpe/texture/region_compose.h"
 
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/fourier_brdf.h"
-
-#include "common/input_error.h"
 
 namespace vpe::texture {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Streak coverage and medial-axis widths, on OpenCV's exact Euclidean distance transform.
-#include "texture/streak_statistics.h"
+#include "vpe/texture/streak_statistics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "common/input_error.h"
-#include "segment/label_map.h"
+#include "vpe/common/input_error.h"
+#include "vpe/segment/label_map.h"
 
 namespace vpe::texture {
 

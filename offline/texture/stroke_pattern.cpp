@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Hidasuki strokes: smooth random curves swept with a varying width and a soft edge.
-#include "texture/stroke_pattern.h"
+#include "vpe/texture/stroke_pattern.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "common/input_error.h"
-#include "common/random_bits.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/random_bits.h"
 
 namespace vpe::texture {
 

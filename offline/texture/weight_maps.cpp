@@ -1,16 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Weight spec parsing, the procedural generators, image weights and normalization.
-#include "texture/weight_maps.h"
+#include "vpe/texture/weight_maps.h"
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <set>
 
-#include "common/input_error.h"
-#include "image/image_file.h"
-#include "segment/label_map.h"
-#include "synth/procedural_noise.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/synth/procedural_noise.h"
 
 namespace vpe::texture {
 

@@ -1,17 +1,16 @@
 // SPDX-License-Identifier: MIT
 // The synthetic capture's true material as a texture.
-#include "transfer/synthetic_truth.h"
+#include "vpe/transfer/synthetic_truth.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/normals/detail_normals.h"
 #include "vpe/proto/surface_horizon.h"
-
-#include "capture/capture_loader.h"
-#include "common/input_error.h"
-#include "image/image_file.h"
-#include "normals/detail_normals.h"
-#include "synth/microfacet_brdf.h"
+#include "vpe/synth/microfacet_brdf.h"
 
 namespace vpe::transfer {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Truth and pipeline rendered for each view, compared as people see them.
-#include "transfer/transfer_fidelity.h"
+#include "vpe/transfer/transfer_fidelity.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,6 +8,10 @@
 #include <limits>
 #include <numbers>
 
+#include "vpe/common/input_error.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/image/image_file.h"
+#include "vpe/image/image_metrics.h"
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/detail_normal.h"
 #include "vpe/proto/pinhole_camera.h"
@@ -16,12 +20,7 @@
 #include "vpe/renderer/ray_caster.h"
 #include "vpe/renderer/surface_point.h"
 #include "vpe/renderer/visitor_view.h"
-
-#include "common/input_error.h"
-#include "common/progress_bar.h"
-#include "image/image_file.h"
-#include "image/image_metrics.h"
-#include "transfer/synthetic_truth.h"
+#include "vpe/transfer/synthetic_truth.h"
 
 namespace vpe::transfer {
 

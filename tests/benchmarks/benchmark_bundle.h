@@ -3,7 +3,7 @@
 // grid mesh, the 1080p projector facing it, and a two-region stripes preset.
 #pragma once
 
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
 
 namespace vpe::benchmarks {
 

@@ -17,7 +17,8 @@
 
 #include <unistd.h>
 
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
+
 #include "benchmark_bundle.h"
 
 namespace {

@@ -13,11 +13,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/bake/scene_baker.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/visitor_view.h"
 
-#include "bake/scene_baker.h"
 #include "curve_texture.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "bake/scene_baker.h"
+#include "vpe/bake/scene_baker.h"
 
 namespace vpe::benchmarks {
 

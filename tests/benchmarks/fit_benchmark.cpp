@@ -12,10 +12,11 @@
 
 #include <benchmark/benchmark.h>
 
-#include "capture/surface_geometry.h"
-#include "common/parallel_for.h"
-#include "fit/band_fitter.h"
-#include "fit/naive_fourier_fit.h"
+#include "vpe/capture/surface_geometry.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/fit/band_fitter.h"
+#include "vpe/fit/naive_fourier_fit.h"
+
 #include "paper_rig.h"
 
 namespace vpe {

@@ -18,10 +18,10 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "vpe/common/parallel_for.h"
 #include "vpe/proto/srgb.h"
 
 #include "command_runs.h"
-#include "common/parallel_for.h"
 #include "paper_rig.h"
 
 namespace vpe {

@@ -27,12 +27,12 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "vpe/bake/bundle_writer.h"
+#include "vpe/bake/theta_basis_fit.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 
-#include "bake/bundle_writer.h"
-#include "bake/theta_basis_fit.h"
 #include "benchmark_bundle.h"
 #include "roofline.h"
 #include "shader_analysis.h"

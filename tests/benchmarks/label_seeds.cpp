@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <exception>
 
-#include "common/input_error.h"
-#include "segment/label_comparison.h"
+#include "vpe/common/input_error.h"
+#include "vpe/segment/label_comparison.h"
 
 int main(int argc, char** argv) {
     if (argc != 2) {

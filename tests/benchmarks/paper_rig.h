@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "capture/capture.h"
+#include "vpe/capture/capture.h"
 
 namespace vpe::benchmarks {
 

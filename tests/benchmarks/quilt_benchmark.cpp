@@ -13,9 +13,9 @@
 #include <cstring>
 #include <vector>
 
-#include "common/parallel_for.h"
-#include "quilt/image_quilter.h"
-#include "synth/procedural_noise.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/quilt/image_quilter.h"
+#include "vpe/synth/procedural_noise.h"
 
 namespace {
 

@@ -24,13 +24,13 @@
 #include <fnmatch.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/capture/capture_loader.h"
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/eval/model_evaluation.h"
+#include "vpe/model/rti_basis.h"
 #include "vpe/proto/srgb.h"
 
-#include "capture/capture_loader.h"
-#include "capture/image_band_reader.h"
-#include "common/parallel_for.h"
-#include "eval/model_evaluation.h"
-#include "model/rti_basis.h"
 #include "support/test_data.h"
 
 namespace vpe {

@@ -17,13 +17,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/plot/svg_line_plot.h"
 #include "vpe/proto/bundle.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/quilt/seam_statistics.h"
 
-#include "common/input_error.h"
-#include "model/fourier_model_file.h"
-#include "plot/svg_line_plot.h"
-#include "quilt/quilt_folder.h"
-#include "quilt/seam_statistics.h"
 #include "support/frame_seam.h"
 
 namespace {

@@ -16,8 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/input_error.h"
-#include "image/image_file.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 
 namespace {
 

@@ -17,12 +17,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/bake/scene_baker.h"
+#include "vpe/bake/theta_basis_fit.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/projector_frame.h"
 
-#include "bake/scene_baker.h"
-#include "bake/theta_basis_fit.h"
 #include "curve_texture.h"
 #include "support/reference_lights.h"
 

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <variant>
 
-#include "capture/capture_manifest.h"
-#include "common/input_error.h"
+#include "vpe/capture/capture_manifest.h"
+#include "vpe/common/input_error.h"
 
 namespace {
 

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "capture/light_file_reader.h"
-#include "common/input_error.h"
+#include "vpe/capture/light_file_reader.h"
+#include "vpe/common/input_error.h"
 
 namespace {
 

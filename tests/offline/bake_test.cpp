@@ -12,13 +12,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/bake/bake_inputs.h"
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/theta_basis.h"
+#include "vpe/scene/procedural_vase.h"
+#include "vpe/scene/projector_calibration.h"
 
-#include "bake/bake_inputs.h"
-#include "scene/procedural_vase.h"
-#include "scene/projector_calibration.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
 
 namespace vpe::testing {
 

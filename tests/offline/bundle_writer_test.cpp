@@ -2,7 +2,7 @@
 // The bundle writer: everything it is given comes back through the device reader, encoded as
 // documented (half floats, packed layers, 8-bit weights adding up to 255); contents a device
 // would refuse are refused before anything is left on disk.
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
 
 #include <cmath>
 #include <fstream>
@@ -10,10 +10,10 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/half_float.h"
 
 #include "bundle_sample.h"
-#include "common/input_error.h"
 #include "support/test_data.h"
 
 namespace vpe {

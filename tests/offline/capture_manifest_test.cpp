@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The capture manifest reader: every field it understands, its defaults, and an error naming
 // the file and the key for every way a manifest can be wrong.
-#include "capture/capture_manifest.h"
+#include "vpe/capture/capture_manifest.h"
 
 #include <cmath>
 #include <string>
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe {
 namespace {

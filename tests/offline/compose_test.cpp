@@ -12,18 +12,18 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/reflection_geometry.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/texture/region_compose.h"
+#include "vpe/texture/weight_maps.h"
 
-#include "common/input_error.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "quilt/quilt_folder.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/region_compose.h"
-#include "texture/weight_maps.h"
 
 namespace vpe {
 namespace {

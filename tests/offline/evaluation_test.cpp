@@ -11,12 +11,12 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "vpe/capture/capture_loader.h"
+#include "vpe/eval/model_evaluation.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
-#include "capture/capture_loader.h"
-#include "eval/model_evaluation.h"
-#include "model/fourier_model_file.h"
 #include "support/test_data.h"
 
 namespace vpe {

@@ -4,12 +4,13 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/capture_loader.h"
-#include "eval/model_evaluation.h"
-#include "fit/capture_fitter.h"
-#include "fit/held_out_search.h"
-#include "model/fourier_model_file.h"
-#include "model/light_transport.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/eval/model_evaluation.h"
+#include "vpe/fit/capture_fitter.h"
+#include "vpe/fit/held_out_search.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/model/light_transport.h"
+
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
 

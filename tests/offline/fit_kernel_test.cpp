@@ -7,8 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "fit/naive_fourier_fit.h"
-#include "fit/normal_equations.h"
+#include "vpe/fit/naive_fourier_fit.h"
+#include "vpe/fit/normal_equations.h"
+
 #include "support/synthetic_capture.h"
 
 namespace vpe::fit {

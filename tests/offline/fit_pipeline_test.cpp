@@ -4,9 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/capture_loader.h"
-#include "fit/capture_fitter.h"
-#include "model/fourier_model_file.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/fit/capture_fitter.h"
+#include "vpe/model/fourier_model_file.h"
+
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
 

@@ -3,7 +3,7 @@
 // exactly the reference decoding (the whole image through OpenImageIO, then the transfer
 // function value by value), for every pixel format, grey and alpha images, masks, and bands
 // of any height over widths that are not a multiple of the chunk.
-#include "capture/image_band_reader.h"
+#include "vpe/capture/image_band_reader.h"
 
 #include <cmath>
 #include <cstring>
@@ -17,9 +17,9 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/srgb.h"
 
-#include "common/input_error.h"
 #include "support/test_data.h"
 
 namespace vpe {

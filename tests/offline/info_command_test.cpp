@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "bake/bundle_writer.h"
+#include "vpe/bake/bundle_writer.h"
+
 #include "bundle_sample.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The `quilted` weight kind: a label map quilted keeps its bands' widths and roughly its
 // coverage, deterministically, and refuses what cannot be quilted.
-#include "texture/label_quilt_pattern.h"
+#include "vpe/texture/label_quilt_pattern.h"
 
 #include <algorithm>
 #include <string>
@@ -9,11 +9,12 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
-#include "segment/label_map.h"
+#include "vpe/common/input_error.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/texture/streak_statistics.h"
+#include "vpe/texture/weight_maps.h"
+
 #include "support/test_data.h"
-#include "texture/streak_statistics.h"
-#include "texture/weight_maps.h"
 
 namespace vpe {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The .lp light file reader and openCapture: what users' files look like, and how errors name them.
-#include "capture/light_file_reader.h"
+#include "vpe/capture/light_file_reader.h"
 
 #include <cmath>
 #include <fstream>
@@ -9,8 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/capture_loader.h"
-#include "common/input_error.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/input_error.h"
+
 #include "support/test_data.h"
 
 namespace vpe {

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "bake/low_rank_encoder.h"
-#include "common/input_error.h"
+#include "vpe/bake/low_rank_encoder.h"
+#include "vpe/common/input_error.h"
 
 namespace vpe::bake {
 namespace {

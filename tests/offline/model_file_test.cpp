@@ -15,10 +15,10 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "vpe/common/input_error.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 
-#include "common/input_error.h"
-#include "model/fourier_model_file.h"
 #include "support/test_data.h"
 
 namespace vpe {

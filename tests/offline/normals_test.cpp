@@ -11,11 +11,11 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "vpe/capture/capture_loader.h"
+#include "vpe/normals/normal_map.h"
+#include "vpe/normals/photometric_stereo.h"
 #include "vpe/proto/fourier_brdf.h"
 
-#include "capture/capture_loader.h"
-#include "normals/normal_map.h"
-#include "normals/photometric_stereo.h"
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // principalAxes: order, sign, selection and degenerate sets, on samples whose axes are known.
-#include "common/principal_axes.h"
+#include "vpe/common/principal_axes.h"
 
 #include <cmath>
 #include <random>

@@ -2,7 +2,7 @@
 // Quilting quality metrics on hand-built position maps: a verbatim copy, a pixel shuffle, two
 // blocks, a copy from the wrong region; the sliced Wasserstein distance; the positions files;
 // `vpe quilt-quality` end to end.
-#include "quilt/quilt_quality.h"
+#include "vpe/quilt/quilt_quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,12 +14,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/quilt/quilt_folder.h"
 
-#include "common/input_error.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "quilt/quilt_folder.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
 

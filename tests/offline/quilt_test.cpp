@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
-#include "quilt/image_quilter.h"
-#include "quilt/seam_statistics.h"
-#include "synth/procedural_noise.h"
+#include "vpe/common/input_error.h"
+#include "vpe/quilt/image_quilter.h"
+#include "vpe/quilt/seam_statistics.h"
+#include "vpe/synth/procedural_noise.h"
 
 namespace vpe::quilt {
 namespace {

@@ -2,7 +2,7 @@
 // The classic RTI bases in `vpe fit --model ptm6|hsh16` and `vpe eval`: a capture made from a
 // known PTM or HSH is recovered, the held-out protocol scores it, bad names are refused, and
 // on a real capture the figures of the RTI literature's protocol come back.
-#include "model/rti_basis.h"
+#include "vpe/model/rti_basis.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "model/fourier_model_file.h"
+#include "vpe/model/fourier_model_file.h"
+
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/synthetic_capture.h"

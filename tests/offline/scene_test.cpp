@@ -13,12 +13,13 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
-#include "scene/procedural_vase.h"
-#include "scene/projector_calibration.h"
-#include "scene/response_input.h"
-#include "scene/scene_settings.h"
-#include "scene/screen_mesh.h"
+#include "vpe/common/input_error.h"
+#include "vpe/scene/procedural_vase.h"
+#include "vpe/scene/projector_calibration.h"
+#include "vpe/scene/response_input.h"
+#include "vpe/scene/scene_settings.h"
+#include "vpe/scene/screen_mesh.h"
+
 #include "support/test_data.h"
 
 namespace vpe::scene {

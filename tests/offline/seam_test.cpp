@@ -13,12 +13,12 @@
 
 #include <gtest/gtest.h>
 
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/bundle.h"
+#include "vpe/quilt/seam_statistics.h"
+#include "vpe/scene/procedural_vase.h"
+#include "vpe/scene/screen_mesh.h"
 
-#include "model/fourier_model_file.h"
-#include "quilt/seam_statistics.h"
-#include "scene/procedural_vase.h"
-#include "scene/screen_mesh.h"
 #include "support/command_runner.h"
 #include "support/frame_seam.h"
 #include "support/test_data.h"

@@ -10,11 +10,12 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
-#include "segment/kmeans.h"
-#include "segment/label_comparison.h"
-#include "segment/label_map.h"
-#include "segment/segmentation.h"
+#include "vpe/common/input_error.h"
+#include "vpe/segment/kmeans.h"
+#include "vpe/segment/label_comparison.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/segment/segmentation.h"
+
 #include "support/label_seeds.h"
 #include "support/test_data.h"
 

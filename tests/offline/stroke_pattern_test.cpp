@@ -2,7 +2,7 @@
 // The hidasuki stroke generator and the streak statistics it is judged by: widths of known
 // bands, determinism, coverage and width as requested, no seam across u = 0 | 1 when the map
 // wraps, defaults measured from a label map, and the spec's errors through `vpe compose`.
-#include "texture/stroke_pattern.h"
+#include "vpe/texture/stroke_pattern.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,17 +11,17 @@
 
 #include <gtest/gtest.h>
 
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/texture/streak_statistics.h"
+#include "vpe/texture/weight_maps.h"
 
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
-#include "quilt/quilt_folder.h"
-#include "segment/label_map.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/streak_statistics.h"
-#include "texture/weight_maps.h"
 
 namespace vpe {
 namespace {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // SurfaceScale: surface lengths of u and v per triangle, the seam test, the stretch of a
 // texture size on a mesh and the size that makes a texel a given length.
-#include "scene/surface_scale.h"
+#include "vpe/scene/surface_scale.h"
 
 #include <cmath>
 #include <iostream>
@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "common/input_error.h"
-#include "scene/procedural_vase.h"
+#include "vpe/common/input_error.h"
+#include "vpe/scene/procedural_vase.h"
 
 namespace vpe::scene {
 namespace {

@@ -7,16 +7,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "capture/capture_loader.h"
-#include "common/input_error.h"
-#include "eval/model_evaluation.h"
-#include "fit/capture_fitter.h"
-#include "image/image_file.h"
-#include "model/fourier_model_file.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/eval/model_evaluation.h"
+#include "vpe/fit/capture_fitter.h"
+#include "vpe/image/image_file.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/synth/capture_synthesizer.h"
+#include "vpe/synth/microfacet_brdf.h"
+#include "vpe/text/line_reader.h"
+
 #include "support/test_data.h"
-#include "synth/capture_synthesizer.h"
-#include "synth/microfacet_brdf.h"
-#include "text/line_reader.h"
 
 namespace vpe::synth {
 namespace {

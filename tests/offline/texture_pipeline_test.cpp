@@ -11,14 +11,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "model/fourier_model_file.h"
-#include "quilt/quilt_folder.h"
-#include "segment/label_map.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/quilt/quilt_folder.h"
+#include "vpe/segment/label_map.h"
+#include "vpe/text/line_reader.h"
+
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/label_seeds.h"
 #include "support/test_data.h"
-#include "text/line_reader.h"
 
 namespace vpe {
 namespace {

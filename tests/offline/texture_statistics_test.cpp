@@ -14,11 +14,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "quilt/quilt_quality.h"
+#include "vpe/quilt/quilt_quality.h"
+#include "vpe/texture/streak_statistics.h"
+
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
-#include "texture/streak_statistics.h"
 
 namespace vpe {
 namespace {

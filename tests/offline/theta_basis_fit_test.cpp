@@ -3,7 +3,7 @@
 // orthonormal over [0, π] once rounded to floats, spanning the textures' θs parts when they
 // lie in K dimensions, ordered by the energy they keep, signed deterministically — and the
 // sizes it refuses.
-#include "bake/theta_basis_fit.h"
+#include "vpe/bake/theta_basis_fit.h"
 
 #include <cmath>
 #include <random>
@@ -11,9 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/theta_basis.h"
-
-#include "common/input_error.h"
 
 namespace vpe {
 namespace {

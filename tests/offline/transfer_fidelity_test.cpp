@@ -11,7 +11,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "image/image_metrics.h"
+#include "vpe/image/image_metrics.h"
+
 #include "support/command_runner.h"
 #include "support/test_data.h"
 

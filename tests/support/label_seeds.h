@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "segment/label_map.h"
+#include "vpe/segment/label_map.h"
 
 namespace vpe::testing {
 

@@ -9,10 +9,9 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "vpe/capture/surface_geometry.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
-
-#include "capture/surface_geometry.h"
 
 namespace vpe::testing {
 

@@ -8,8 +8,8 @@
 #include <functional>
 #include <vector>
 
-#include "capture/capture.h"
-#include "capture/geometry_calibration.h"
+#include "vpe/capture/capture.h"
+#include "vpe/capture/geometry_calibration.h"
 
 namespace vpe::testing {
 

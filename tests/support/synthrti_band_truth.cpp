@@ -6,9 +6,9 @@
 #include <cmath>
 #include <string>
 
-#include "capture/capture_loader.h"
-#include "common/input_error.h"
-#include "image/image_file.h"
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
 
 namespace vpe::testing {
 

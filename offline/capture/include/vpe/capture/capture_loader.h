@@ -1,0 +1,14 @@
+// SPDX-License-Identifier: MIT
+// openCapture: accepts what users type for CAPTURE — a folder holding one .lp file or a
+// capture.json, or the path of either file — and reads it.
+#pragma once
+
+#include <filesystem>
+
+#include "vpe/capture/capture.h"
+
+namespace vpe {
+
+Capture openCapture(const std::filesystem::path& path);
+
+}  // namespace vpe

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+// fitCapture: the `vpe fit` pipeline. Streams the capture in bands of rows, fits every
+// pixel's Fourier BRDF (paper eq. 16–19) on all threads and writes the model file band by
+// band, so memory stays bounded whatever the number and size of the images.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "vpe/capture/capture.h"
+#include "vpe/capture/geometry_calibration.h"
+#include "vpe/fit/normal_equations.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/model/rti_basis.h"
+#include "vpe/proto/fourier_brdf.h"
+
+namespace vpe {
+
+enum class FitPrecision {
+    kAuto,   // exact for unregularized fits (λ < 1e-3), fast otherwise
+    kFast,   // float accumulation blocks
+    kExact,  // double accumulation
+};
+
+enum class ModelVariant {
+    kPaper,     // the paper's fit, exactly (eq. 16–19) under the capture's stated geometry
+    kExtended,  // also calibrates the capture geometry (see docs/extended-model.md)
+    kRti,       // a classic RTI basis (FitOptions::rtiBasis), for comparison; not a BRDF
+};
+
+// What becomes of the relief — the part of the normals the macro shape (the normals
+// low-passed) does not explain (docs/transfer-fidelity.md compares the two).
+enum class ReliefMode {
+    // Fit against the per-pixel normals and write the relief as a detail normal map
+    // (detail.X/Y/Z) that travels with the texels and tilts the screen object's normals.
+    kDetailMap,
+    // Fit against the macro normals: the coefficients absorb the relief's shading as far as a
+    // function of (θd, θs) can; no detail map.
+    kInCoefficients,
+};
+
+struct FitOptions {
+    ModelVariant variant = ModelVariant::kPaper;
+    RtiBasis rtiBasis;  // kRti only
+    // Choose M and λ by held-out validation on the training lights instead of using the
+    // values below (the CLI does so for the extended model unless they are given).
+    bool selectRegularization = false;
+    int harmonics = proto::kDefaultHarmonics;
+    double lambda = proto::kDefaultLambda;
+    unsigned threads = 1;
+    FitPrecision precision = FitPrecision::kAuto;
+    std::optional<std::filesystem::path> normals;
+    ReliefMode relief = ReliefMode::kDetailMap;
+    // σ of the low-pass that gives the macro shape, pixels; unset: defaultMacroSigma.
+    std::optional<double> macroSigma;
+    std::size_t bandBudgetBytes = std::size_t{192} << 20;  // decoded samples held at once
+    bool writePreview = true;
+    ModelStorage storage = ModelStorage::kFloat;  // the model file's channels
+};
+
+struct FitReport {
+    std::size_t pixels = 0;
+    std::size_t validPixels = 0;
+    int images = 0;
+    int width = 0;
+    int height = 0;
+    std::string normalsSource;
+    double macroSigma = 0;         // pixels
+    double meanReliefDegrees = 0;  // mean tilt of the per-pixel normals off the macro shape
+    double normalsSeconds = 0;
+    double decodeSeconds = 0;
+    double fitSeconds = 0;
+    double writeSeconds = 0;
+    double totalSeconds = 0;
+    double meanRms = 0;  // residual RMS over valid pixels, linear, unit irradiance
+    int harmonics = 0;   // as fitted (selected, or as given)
+    double lambda = 0;
+    std::filesystem::path preview;
+    // Held-out search (extended variant): the calibration and regularization found, and
+    // the held-out RMS against that of the stated geometry with the given M and λ.
+    GeometryCalibration calibration;
+    double calibrationSeconds = 0;
+    double calibratedRms = 0;
+    double uncalibratedRms = 0;
+};
+
+fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);
+
+FitReport fitCapture(const Capture& capture, const FitOptions& options,
+                     const std::filesystem::path& modelPath);
+
+}  // namespace vpe

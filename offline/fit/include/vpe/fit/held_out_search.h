@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// Held-out selection of what a capture cannot state: the extended model picks the camera's
+// field of view, the lights' distance, and the harmonics M and smoothness λ that let the
+// Fourier BRDF predict the capture best. Only the capture's own training images are used:
+// a grid of pixels is fitted on three quarters of the lights and scored on the held-out
+// quarter, in the metric of `vpe eval`. A few global numbers cannot overfit thousands of
+// pixels.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "vpe/capture/capture.h"
+#include "vpe/capture/geometry_calibration.h"
+#include "vpe/normals/normal_map.h"
+
+namespace vpe {
+
+// Scores hypotheses on a fixed grid of pixels, decoded once.
+class HeldOutValidator {
+public:
+    HeldOutValidator(const Capture& capture, const NormalMap& normals, int samplePixels,
+                     int holdOutEvery, unsigned threads);
+    ~HeldOutValidator();
+    HeldOutValidator(const HeldOutValidator&) = delete;
+    HeldOutValidator& operator=(const HeldOutValidator&) = delete;
+
+    // Held-out RMS in 8-bit sRGB levels of a fit under this geometry, M and λ.
+    double score(const GeometryCalibration& calibration, int harmonics, double lambda) const;
+
+    struct Samples;  // the decoded pixel grid (defined in the .cpp)
+
+private:
+    const Capture& capture_;
+    const NormalMap& normals_;
+    int holdOutEvery_;
+    unsigned threads_;
+    std::unique_ptr<Samples> samples_;
+};
+
+struct HeldOutSearchOptions {
+    bool calibrateGeometry = true;
+    bool selectRegularization = true;
+    int harmonics = 10;  // used as given when not selecting
+    double lambda = 3.14;
+    unsigned threads = 1;
+    int samplePixels = 4096;
+    int holdOutEvery = 4;
+};
+
+struct HeldOutTrial {
+    GeometryCalibration calibration;
+    int harmonics = 0;
+    double lambda = 0;
+    double rms = 0;  // held-out RMS, 8-bit sRGB levels
+};
+
+struct HeldOutSearchResult {
+    GeometryCalibration calibration;
+    int harmonics = 0;
+    double lambda = 0;
+    double rms = 0;
+    double baselineRms = 0;  // stated geometry with the given M and λ
+    std::vector<HeldOutTrial> trials;
+};
+
+HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
+                                  const HeldOutSearchOptions& options);
+
+}  // namespace vpe

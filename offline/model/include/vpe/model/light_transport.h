@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+// The capture-specific light-transport factor of the extended model: per texel, a smooth
+// function T(l) of the rig's light direction that multiplies the Fourier BRDF to explain
+// what the BRDF of (θd, θs) cannot — cast shadows (T < 1) and interreflection (T > 1).
+// T belongs to the captured object, not its material: rendering on another shape drops it.
+// Basis: real spherical harmonics up to band 3 (16 functions) of the light direction.
+#pragma once
+
+#include "vpe/capture/capture.h"
+
+namespace vpe {
+
+inline constexpr int kTransportTerms = 16;
+
+// Writes the 16 basis values for a unit light direction.
+void lightTransportBasis(const Vec3d& direction, double* basis);
+
+// Coefficients of T ≡ 1 (no shadowing, no interreflection).
+void identityTransport(double* coefficients);
+
+double evaluateLightTransport(const float* coefficients, const Vec3d& direction);
+
+// The direction a light's transport is indexed by: directional lights as given; point
+// lights by their direction from the rig's origin (the object's centre), so that T is a
+// function over the dome, independent of where on the object the texel is.
+Vec3d transportDirection(const Capture& capture, const CaptureImage& image);
+
+}  // namespace vpe
