@@ -14,12 +14,12 @@
 #include <set>
 #include <stdexcept>
 
-#include <Eigen/Core>
 #include <unistd.h>
 
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/half_float.h"
 
 namespace vpe::bake {
 
@@ -35,10 +35,6 @@ constexpr double kAlphaSumTolerance = 1e-3;
 std::uint64_t alignUp(std::uint64_t offset) {
     const std::uint64_t a = proto::kBundlePayloadAlignment;
     return (offset + a - 1) / a * a;
-}
-
-std::uint16_t toHalf(float value) {
-    return Eigen::numext::bit_cast<std::uint16_t>(Eigen::half(value));
 }
 
 std::size_t texels(const BundleContents& c) {
@@ -317,7 +313,7 @@ void writeHalfLayers(BundleOutput& out, const std::vector<float>& values, std::s
             for (std::uint32_t x = 0; x < width; ++x, texel += perTexel) {
                 for (std::uint32_t j = 0; j < 4; ++j) {
                     const std::size_t i = 4 * layer + j;
-                    row[4 * x + j] = toHalf(i < perTexel ? texel[i] : 0.0f);
+                    row[4 * x + j] = proto::floatToHalf(i < perTexel ? texel[i] : 0.0f);
                 }
             }
             out.write(row);
@@ -385,7 +381,7 @@ std::vector<std::uint16_t> halfAlpha(const std::vector<float>& alpha, std::size_
                                      std::size_t texelCount) {
     const std::vector<float> normalized = normalizedAlpha(alpha, regions, texelCount);
     std::vector<std::uint16_t> halves(normalized.size());
-    std::transform(normalized.begin(), normalized.end(), halves.begin(), toHalf);
+    std::transform(normalized.begin(), normalized.end(), halves.begin(), proto::floatToHalf);
     return halves;
 }
 
@@ -447,7 +443,7 @@ PayloadIndex planPayloads(const BundleContents& c, std::vector<Payload>& payload
                            [&map](BundleOutput& out) {
                                std::vector<std::uint16_t> halves(map.detailNormals.size());
                                std::transform(map.detailNormals.begin(), map.detailNormals.end(),
-                                              halves.begin(), toHalf);
+                                              halves.begin(), proto::floatToHalf);
                                out.write(halves);
                            });
         }

@@ -4,11 +4,13 @@
 // top, low-rank textures decoding to the model within the stated error, presets summing to
 // one, the θs basis the device renders in); and the bad-input contract. Also the half-float
 // decoder against Eigen's encoder.
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <string>
 
 #include <Eigen/Core>
+#include <Imath/half.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -42,6 +44,42 @@ TEST(HalfFloat, DecodesEveryHalfAsEigenEncodesIt) {
         const Eigen::half half =
             Eigen::numext::bit_cast<Eigen::half>(static_cast<std::uint16_t>(bits));
         EXPECT_EQ(proto::halfToFloat(static_cast<std::uint16_t>(bits)), static_cast<float>(half));
+    }
+}
+
+// The one float → half encoder (proto::floatToHalf: the bake, the test bundles) against
+// OpenEXR's Imath, which the model files use: every float bit pattern in steps of 61 (70 M
+// values across every exponent, both signs), and each half's exact midpoints to its
+// neighbours and the floats beside them, where ties go to even.
+TEST(HalfFloat, EncodesEveryFloatAsImathDoes) {
+    const auto check = [](std::uint32_t bits) {
+        const float value = std::bit_cast<float>(bits);
+        if (std::isnan(value)) {
+            const std::uint16_t half = proto::floatToHalf(value);
+            EXPECT_TRUE((half & 0x7c00u) == 0x7c00u && (half & 0x3ffu) != 0) << bits;
+            return true;
+        }
+        const std::uint16_t expected = imath_float_to_half(value);
+        const std::uint16_t got = proto::floatToHalf(value);
+        EXPECT_EQ(got, expected) << "float bits 0x" << std::hex << bits;
+        return got == expected;
+    };
+    for (std::uint64_t bits = 0; bits <= 0xffffffffull; bits += 61) {
+        if (!check(static_cast<std::uint32_t>(bits))) {
+            return;  // one report, not millions
+        }
+    }
+    for (std::uint32_t h = 0; h < 0x7bffu; ++h) {
+        const double midpoint =
+            (static_cast<double>(proto::halfToFloat(static_cast<std::uint16_t>(h))) +
+             static_cast<double>(proto::halfToFloat(static_cast<std::uint16_t>(h + 1)))) /
+            2.0;
+        const auto mid = std::bit_cast<std::uint32_t>(static_cast<float>(midpoint));
+        for (const std::uint32_t bits : {mid - 1, mid, mid + 1, mid | 0x80000000u}) {
+            if (!check(bits)) {
+                return;
+            }
+        }
     }
 }
 

@@ -15,6 +15,7 @@
 
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 
 #include "test_scenes.h"
@@ -24,25 +25,6 @@ namespace vpe::renderer::testing {
 namespace fb = proto::fb;
 
 namespace {
-
-std::uint16_t floatToHalf(float value) {
-    const auto bits = std::bit_cast<std::uint32_t>(value);
-    const auto sign = static_cast<std::uint32_t>((bits >> 16) & 0x8000u);
-    const int exponent = static_cast<int>((bits >> 23) & 0xffu) - 127 + 15;
-    const std::uint32_t mantissa = bits & 0x7fffffu;
-    if (exponent <= 0) {
-        return static_cast<std::uint16_t>(sign);  // tiny values flush to zero (tests avoid them)
-    }
-    if (exponent >= 31) {
-        throw std::invalid_argument("test value does not fit a half float");
-    }
-    std::uint32_t half = sign | (static_cast<std::uint32_t>(exponent) << 10) | (mantissa >> 13);
-    const std::uint32_t rest = mantissa & 0x1fffu;
-    if (rest > 0x1000u || (rest == 0x1000u && (half & 1u) != 0)) {
-        ++half;
-    }
-    return static_cast<std::uint16_t>(half);
-}
 
 struct Planned {
     fb::ElementType type;
@@ -103,7 +85,7 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             for (int i = 0; i < c; ++i) {
                 full[(static_cast<std::size_t>(i / 4) * texels + t) * 4 +
                      static_cast<std::size_t>(i % 4)] =
-                    floatToHalf(static_cast<float>(base(x, y, i / 3, i % 3)));
+                    proto::floatToHalf(static_cast<float>(base(x, y, i / 3, i % 3)));
             }
         }
     }
@@ -129,7 +111,8 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             for (int r = 0; r < rank; ++r) {
                 const double value = std::cos(0.3 * x * (r + 1) - 0.4 * y + r);
                 codes[(static_cast<std::size_t>(r / 4) * texels + t) * 4 +
-                      static_cast<std::size_t>(r % 4)] = floatToHalf(static_cast<float>(value));
+                      static_cast<std::size_t>(r % 4)] =
+                    proto::floatToHalf(static_cast<float>(value));
             }
         }
     }
@@ -145,8 +128,8 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             stripes[texels + t] = static_cast<std::uint8_t>(255 - a);
             const double d = std::hypot(x - 0.5 * w, y - 0.5 * h) / (0.5 * w);
             const float alpha = static_cast<float>(std::clamp(1.0 - d, 0.0, 1.0));
-            radial[t] = floatToHalf(alpha);
-            radial[texels + t] = floatToHalf(1.0f - alpha);
+            radial[t] = proto::floatToHalf(alpha);
+            radial[texels + t] = proto::floatToHalf(1.0f - alpha);
         }
     }
 
@@ -169,9 +152,10 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             for (int x = 0; x < w; ++x) {
                 const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                       static_cast<std::size_t>(x);
-                detail[2 * t] = floatToHalf(static_cast<float>(0.35 * std::sin(0.9 * x + 0.4 * y)));
+                detail[2 * t] =
+                    proto::floatToHalf(static_cast<float>(0.35 * std::sin(0.9 * x + 0.4 * y)));
                 detail[2 * t + 1] =
-                    floatToHalf(static_cast<float>(0.35 * std::cos(0.7 * y - 0.5 * x)));
+                    proto::floatToHalf(static_cast<float>(0.35 * std::cos(0.7 * y - 0.5 * x)));
             }
         }
         payloads.push_back(plan(fb::ElementType::Float16, {uh, uw, 2}, detail));
