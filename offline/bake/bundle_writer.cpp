@@ -19,6 +19,7 @@
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/bundle_layout.h"
 #include "vpe/proto/half_float.h"
 
 namespace vpe::bake {
@@ -31,11 +32,6 @@ namespace fb = proto::fb;
 constexpr float kHalfMax = 65504.0f;
 // How far a preset's Σα may be from 1 before it is refused rather than normalized.
 constexpr double kAlphaSumTolerance = 1e-3;
-
-std::uint64_t alignUp(std::uint64_t offset) {
-    const std::uint64_t a = proto::kBundlePayloadAlignment;
-    return (offset + a - 1) / a * a;
-}
 
 std::size_t texels(const BundleContents& c) {
     return static_cast<std::size_t>(c.textureWidth) * static_cast<std::size_t>(c.textureHeight);
@@ -275,31 +271,17 @@ private:
     std::uint32_t checksum_ = 0;
 };
 
-// One block after the metadata, and how to stream it.
-struct Payload {
-    fb::ElementType type = fb::ElementType::Float32;
-    std::vector<std::uint32_t> shape;
-    std::uint64_t size = 0;
-    std::uint64_t offset = 0;
-    std::function<void(BundleOutput&)> write;
+// The payloads in file order: where each goes (proto's bundle layout, shared with the test
+// bundles) and how to stream it.
+struct PayloadPlan {
+    proto::BundleLayout layout;
+    std::vector<std::function<void(BundleOutput&)>> writers;
 };
 
-std::uint64_t elementBytes(fb::ElementType type) {
-    return type == fb::ElementType::UInt8 ? 1 : type == fb::ElementType::Float16 ? 2 : 4;
-}
-
-std::size_t addPayload(std::vector<Payload>& payloads, fb::ElementType type,
+std::size_t addPayload(PayloadPlan& payloads, fb::ElementType type,
                        std::vector<std::uint32_t> shape, std::function<void(BundleOutput&)> write) {
-    Payload payload;
-    payload.type = type;
-    payload.size = elementBytes(type);
-    for (std::uint32_t dim : shape) {
-        payload.size *= dim;
-    }
-    payload.shape = std::move(shape);
-    payload.write = std::move(write);
-    payloads.push_back(std::move(payload));
-    return payloads.size() - 1;
+    payloads.writers.push_back(std::move(write));
+    return payloads.layout.add(type, std::move(shape));
 }
 
 // `values` per texel (C coefficients or R weights), packed four to an RGBA16F layer:
@@ -321,8 +303,8 @@ void writeHalfLayers(BundleOutput& out, const std::vector<float>& values, std::s
     }
 }
 
-std::size_t addHalfLayers(std::vector<Payload>& payloads, const std::vector<float>& values,
-                          int perTexel, int width, int height) {
+std::size_t addHalfLayers(PayloadPlan& payloads, const std::vector<float>& values, int perTexel,
+                          int width, int height) {
     const auto layers = static_cast<std::uint32_t>((perTexel + 3) / 4);
     const auto w = static_cast<std::uint32_t>(width);
     const auto h = static_cast<std::uint32_t>(height);
@@ -385,8 +367,8 @@ std::vector<std::uint16_t> halfAlpha(const std::vector<float>& alpha, std::size_
     return halves;
 }
 
-std::size_t addAlpha(std::vector<Payload>& payloads, const WeightPreset& preset,
-                     std::size_t regions, int width, int height) {
+std::size_t addAlpha(PayloadPlan& payloads, const WeightPreset& preset, std::size_t regions,
+                     int width, int height) {
     const std::vector<std::uint32_t> shape{static_cast<std::uint32_t>(regions),
                                            static_cast<std::uint32_t>(height),
                                            static_cast<std::uint32_t>(width)};
@@ -415,7 +397,7 @@ struct PayloadIndex {
     std::vector<std::size_t> presets;
 };
 
-PayloadIndex planPayloads(const BundleContents& c, std::vector<Payload>& payloads) {
+PayloadIndex planPayloads(const BundleContents& c, PayloadPlan& payloads) {
     PayloadIndex index;
     const auto vertices = static_cast<std::uint32_t>(c.mesh.positions.size() / 3);
     const auto triangles = static_cast<std::uint32_t>(c.mesh.indices.size() / 3);
@@ -466,7 +448,7 @@ PayloadIndex planPayloads(const BundleContents& c, std::vector<Payload>& payload
 
 class MetadataBuilder {
 public:
-    MetadataBuilder(const BundleContents& c, const std::vector<Payload>& payloads,
+    MetadataBuilder(const BundleContents& c, const std::vector<proto::PayloadPlacement>& payloads,
                     const PayloadIndex& index)
         : c_(c), payloads_(payloads), index_(index) {}
 
@@ -513,8 +495,7 @@ public:
 
 private:
     flatbuffers::Offset<fb::Payload> ref(flatbuffers::FlatBufferBuilder& b, std::size_t i) {
-        const Payload& p = payloads_[i];
-        return fb::CreatePayloadDirect(b, p.offset, p.size, p.type, &p.shape);
+        return proto::payloadReference(b, payloads_[i]);
     }
 
     flatbuffers::Offset<fb::RenderSettings> buildSettings(flatbuffers::FlatBufferBuilder& b) {
@@ -559,7 +540,7 @@ private:
     }
 
     const BundleContents& c_;
-    const std::vector<Payload>& payloads_;
+    const std::vector<proto::PayloadPlacement>& payloads_;
     const PayloadIndex& index_;
 };
 
@@ -568,45 +549,31 @@ private:
 BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleContents& contents) {
     ContentsCheck(path, contents).run();
 
-    std::vector<Payload> payloads;
+    PayloadPlan payloads;
     const PayloadIndex index = planPayloads(contents, payloads);
-    // The metadata holds the payloads' offsets, which start after the metadata: lay out,
-    // build, and repeat until its size is stable (the second pass: offsets change values,
-    // never the metadata's shape).
-    std::vector<std::uint8_t> metadata;
-    for (std::size_t size = 0, pass = 0;; size = metadata.size(), ++pass) {
-        std::uint64_t offset = alignUp(proto::kBundleHeaderSize + size);
-        for (Payload& payload : payloads) {
-            payload.offset = offset;
-            offset = alignUp(offset + payload.size);
-        }
-        metadata = MetadataBuilder(contents, payloads, index).build();
-        if (metadata.size() == size) {
-            break;
-        }
-        if (pass > 4) {
-            throw std::logic_error("bundle writer: metadata size does not settle");
-        }
-    }
+    const std::vector<std::uint8_t> metadata =
+        payloads.layout.settle([&](const std::vector<proto::PayloadPlacement>& placed) {
+            return MetadataBuilder(contents, placed, index).build();
+        });
 
     AtomicOutput output(path);
-    proto::BundleHeader header;
+    proto::BundleHeader header = payloads.layout.header();
     {
         BundleOutput out(output.temporaryPath(), path);
         const proto::BundleHeaderBytes placeholder{};
         out.write(placeholder.data(), placeholder.size(), /*checksummed=*/false);
-        header.metadataOffset = out.offset();
-        header.metadataSize = metadata.size();
         out.write(metadata);
-        for (const Payload& payload : payloads) {
-            out.padTo(payload.offset);
-            const std::uint64_t start = out.offset();
-            payload.write(out);
-            if (out.offset() - start != payload.size) {
+        const std::vector<proto::PayloadPlacement>& placed = payloads.layout.payloads();
+        for (std::size_t i = 0; i < placed.size(); ++i) {
+            out.padTo(placed[i].offset);
+            payloads.writers[i](out);
+            if (out.offset() != placed[i].offset + placed[i].size) {
                 throw std::logic_error("bundle writer: payload size differs from its plan");
             }
         }
-        header.fileSize = out.offset();
+        if (out.offset() != header.fileSize) {
+            throw std::logic_error("bundle writer: file size differs from its layout");
+        }
         header.checksum = out.checksum();
         out.finish(proto::encodeBundleHeader(header));
     }

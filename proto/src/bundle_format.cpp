@@ -34,7 +34,7 @@ BundleHeaderBytes encodeBundleHeader(const BundleHeader& header) {
     store(bytes, 4, header.majorVersion);
     store(bytes, 6, header.minorVersion);
     store(bytes, 8, header.flags);
-    store(bytes, 12, header.checksum);
+    store(bytes, kBundleChecksumOffset, header.checksum);
     store(bytes, 16, header.metadataOffset);
     store(bytes, 24, header.metadataSize);
     store(bytes, 32, header.fileSize);
@@ -74,7 +74,7 @@ BundleHeader decodeBundleHeader(std::span<const std::byte> file, const std::stri
     header.majorVersion = load<std::uint16_t>(file, 4);
     header.minorVersion = load<std::uint16_t>(file, 6);
     header.flags = load<std::uint32_t>(file, 8);
-    header.checksum = load<std::uint32_t>(file, 12);
+    header.checksum = load<std::uint32_t>(file, kBundleChecksumOffset);
     header.metadataOffset = load<std::uint64_t>(file, 16);
     header.metadataSize = load<std::uint64_t>(file, 24);
     header.fileSize = load<std::uint64_t>(file, 32);

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "vpe/proto/bundle_format.h"
+#include "vpe/proto/bundle_layout.h"
 
 namespace vpe::proto::testing {
 
@@ -45,11 +46,6 @@ PlannedPayload halfLayers(std::string name, std::uint32_t layers, std::uint32_t 
     }
     return payload(std::move(name), fb::ElementType::Float16, {layers, height, width, 4},
                    bytesOf(halves));
-}
-
-std::uint64_t alignUp(std::uint64_t offset) {
-    return (offset + kBundlePayloadAlignment - 1) / kBundlePayloadAlignment *
-           kBundlePayloadAlignment;
 }
 
 flatbuffers::Offset<fb::Payload> reference(flatbuffers::FlatBufferBuilder& b,
@@ -180,51 +176,30 @@ std::vector<std::byte> buildRawBundle(const RawBundleSpec& spec) {
             payload("region 0 detail", fb::ElementType::Float16, {h, w, 2}, bytesOf(detail)));
     }
 
-    // Lay out until the metadata's size settles (offsets are in it).
-    std::vector<std::uint8_t> meta;
-    std::vector<std::uint64_t> offsets(payloads.size());
-    std::uint64_t end = 0;
-    for (std::size_t size = 0;; size = meta.size()) {
-        std::uint64_t offset = alignUp(kBundleHeaderSize + size);
-        for (std::size_t i = 0; i < payloads.size(); ++i) {
-            offsets[i] = offset;
-            payloads[i].record.offset = offset;
-            payloads[i].record.size = payloads[i].bytes.size();
-            end = offset + payloads[i].bytes.size();
-            offset = alignUp(end);
-        }
-        std::vector<PlannedPayload> edited = payloads;
-        if (spec.editPayload) {
-            for (PlannedPayload& p : edited) {
-                spec.editPayload(p.name, p.record);
+    BundleLayout layout;
+    std::vector<std::span<const std::byte>> bytes;
+    for (const PlannedPayload& p : payloads) {
+        layout.add(p.record.type, p.record.shape);
+        bytes.emplace_back(p.bytes);
+    }
+    // Every payload reference goes through the spec's hook, after layout, before the metadata.
+    const std::vector<std::uint8_t> meta =
+        layout.settle([&](const std::vector<PayloadPlacement>& placed) {
+            std::vector<PlannedPayload> edited = payloads;
+            for (std::size_t i = 0; i < edited.size(); ++i) {
+                edited[i].record.offset = placed[i].offset;
+                edited[i].record.size = placed[i].size;
+                if (spec.editPayload) {
+                    spec.editPayload(edited[i].name, edited[i].record);
+                }
             }
-        }
-        meta = metadata(spec, edited, coefficients);
-        if (meta.size() == size) {
-            break;
-        }
-    }
-
-    std::vector<std::byte> bytes(end);
-    std::memcpy(bytes.data() + kBundleHeaderSize, meta.data(), meta.size());
-    for (std::size_t i = 0; i < payloads.size(); ++i) {
-        std::memcpy(bytes.data() + offsets[i], payloads[i].bytes.data(), payloads[i].bytes.size());
-    }
-    BundleHeader header;
-    header.minorVersion = spec.minorVersion;
-    header.metadataOffset = kBundleHeaderSize;
-    header.metadataSize = meta.size();
-    header.fileSize = bytes.size();
-    const BundleHeaderBytes encoded = encodeBundleHeader(header);
-    std::memcpy(bytes.data(), encoded.data(), encoded.size());
-    resealChecksum(bytes);
-    return bytes;
+            return metadata(spec, edited, coefficients);
+        });
+    return assembleBundle(layout, meta, bytes, spec.minorVersion);
 }
 
 void resealChecksum(std::vector<std::byte>& bytes) {
-    const std::uint32_t crc =
-        bundleChecksum(std::span<const std::byte>(bytes).subspan(kBundleHeaderSize));
-    std::memcpy(bytes.data() + 12, &crc, sizeof crc);
+    sealBundleChecksum(bytes);
 }
 
 ScratchFolder::ScratchFolder() {

@@ -15,6 +15,7 @@
 
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/bundle_layout.h"
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 
@@ -30,19 +31,13 @@ struct Planned {
     fb::ElementType type;
     std::vector<std::uint32_t> shape;
     std::vector<std::byte> bytes;
-    std::uint64_t offset = 0;
 };
 
 template <typename T>
 Planned plan(fb::ElementType type, std::vector<std::uint32_t> shape, const std::vector<T>& values) {
-    Planned p{type, std::move(shape), std::vector<std::byte>(values.size() * sizeof(T)), 0};
+    Planned p{type, std::move(shape), std::vector<std::byte>(values.size() * sizeof(T))};
     std::memcpy(p.bytes.data(), values.data(), p.bytes.size());
     return p;
-}
-
-std::uint64_t alignUp(std::uint64_t offset) {
-    return (offset + proto::kBundlePayloadAlignment - 1) / proto::kBundlePayloadAlignment *
-           proto::kBundlePayloadAlignment;
 }
 
 }  // namespace
@@ -167,90 +162,69 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
         camera.distortion = spec.distortionCoefficients;
     }
 
-    std::vector<std::uint8_t> meta;
-    std::uint64_t end = 0;
-    for (std::size_t size = 0;; size = meta.size()) {
-        std::uint64_t offset = alignUp(proto::kBundleHeaderSize + size);
-        for (Planned& p : payloads) {
-            p.offset = offset;
-            end = offset + p.bytes.size();
-            offset = alignUp(end);
-        }
-        flatbuffers::FlatBufferBuilder b;
-        const auto ref = [&](std::size_t i) {
-            return fb::CreatePayloadDirect(b, payloads[i].offset, payloads[i].bytes.size(),
-                                           payloads[i].type, &payloads[i].shape);
-        };
-        const auto mesh = fb::CreateMesh(b, ref(0), ref(1), ref(2), ref(3));
-        const fb::Mat3d intrinsics(flatbuffers::make_span(camera.K));
-        const fb::Mat3d rotation(flatbuffers::make_span(camera.R));
-        const fb::Distortion distortion(camera.distortion[0], camera.distortion[1],
-                                        camera.distortion[2], camera.distortion[3],
-                                        camera.distortion[4]);
-        const fb::Vec3d translation(camera.T[0], camera.T[1], camera.T[2]);
-        const auto projector =
-            fb::CreateProjector(b, static_cast<std::uint32_t>(spec.projectorWidth),
-                                static_cast<std::uint32_t>(spec.projectorHeight), &intrinsics,
-                                &distortion, &rotation, &translation);
-        flatbuffers::Offset<void> response;
-        fb::ProjectorResponse kind = fb::ProjectorResponse::GammaResponse;
-        if (spec.curveResponse) {
-            kind = fb::ProjectorResponse::CurveResponse;
-            const std::vector<float> red{0.02f, 0.1f, 0.3f, 0.6f, 1.0f};
-            const std::vector<float> green{0.0f, 0.2f, 0.45f, 0.7f, 0.9f, 1.1f};
-            const std::vector<float> blue{0.01f, 0.5f, 1.0f};
-            response = fb::CreateCurveResponseDirect(b, &red, &green, &blue).Union();
-        } else {
-            const fb::Rgb gamma(2.2f, 2.3f, 2.4f);
-            response = fb::CreateGammaResponse(b, &gamma).Union();
-        }
-        const fb::Vec3f viewer(0.3f, 0.2f, 0.6f);
-        const fb::Rgb albedo(0.85f, 0.8f, 0.75f);
-        const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
-        const auto settings =
-            fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 0.8f, 1.0f);
-        const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
-                                                 3.14, "fourier_brdf:k_major_rgb");
-        const auto detail = spec.relief ? ref(8) : flatbuffers::Offset<fb::Payload>();
-        const auto fullMap =
-            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
-                                     fb::CreateFullCoefficients(b, ref(4)).Union(), detail);
-        const auto lowRankMap =
-            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
-                                     fb::CreateLowRankCoefficientsDirect(
-                                         b, static_cast<std::uint16_t>(rank), &mean, &basis, ref(5))
-                                         .Union());
-        std::vector<flatbuffers::Offset<fb::Region>> regions{
-            fb::CreateRegionDirect(b, "base", fullMap),
-            fb::CreateRegionDirect(b, "glaze", lowRankMap)};
-        std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
-            fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
-            fb::CreateWeightPresetDirect(b, "radial", ref(7))};
-        const auto textures =
-            fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
-        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
-        std::vector<std::uint8_t> built(b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize());
-        const bool settled = built.size() == size;
-        meta = std::move(built);
-        if (settled) {
-            break;
-        }
-    }
-    std::vector<std::byte> bytes(end);
-    std::memcpy(bytes.data() + proto::kBundleHeaderSize, meta.data(), meta.size());
+    proto::BundleLayout layout;
+    std::vector<std::span<const std::byte>> payloadBytes;
     for (const Planned& p : payloads) {
-        std::memcpy(bytes.data() + p.offset, p.bytes.data(), p.bytes.size());
+        layout.add(p.type, p.shape);
+        payloadBytes.emplace_back(p.bytes);
     }
-    proto::BundleHeader header;
-    header.metadataOffset = proto::kBundleHeaderSize;
-    header.metadataSize = meta.size();
-    header.fileSize = bytes.size();
-    const proto::BundleHeaderBytes encoded = proto::encodeBundleHeader(header);
-    std::memcpy(bytes.data(), encoded.data(), encoded.size());
-    const std::uint32_t crc =
-        proto::bundleChecksum(std::span<const std::byte>(bytes).subspan(proto::kBundleHeaderSize));
-    std::memcpy(bytes.data() + 12, &crc, sizeof crc);
-    return bytes;
+    const std::vector<std::uint8_t> meta =
+        layout.settle([&](const std::vector<proto::PayloadPlacement>& placed) {
+            flatbuffers::FlatBufferBuilder b;
+            const auto ref = [&](std::size_t i) { return proto::payloadReference(b, placed[i]); };
+            const auto mesh = fb::CreateMesh(b, ref(0), ref(1), ref(2), ref(3));
+            const fb::Mat3d intrinsics(flatbuffers::make_span(camera.K));
+            const fb::Mat3d rotation(flatbuffers::make_span(camera.R));
+            const fb::Distortion distortion(camera.distortion[0], camera.distortion[1],
+                                            camera.distortion[2], camera.distortion[3],
+                                            camera.distortion[4]);
+            const fb::Vec3d translation(camera.T[0], camera.T[1], camera.T[2]);
+            const auto projector =
+                fb::CreateProjector(b, static_cast<std::uint32_t>(spec.projectorWidth),
+                                    static_cast<std::uint32_t>(spec.projectorHeight), &intrinsics,
+                                    &distortion, &rotation, &translation);
+            flatbuffers::Offset<void> response;
+            fb::ProjectorResponse kind = fb::ProjectorResponse::GammaResponse;
+            if (spec.curveResponse) {
+                kind = fb::ProjectorResponse::CurveResponse;
+                const std::vector<float> red{0.02f, 0.1f, 0.3f, 0.6f, 1.0f};
+                const std::vector<float> green{0.0f, 0.2f, 0.45f, 0.7f, 0.9f, 1.1f};
+                const std::vector<float> blue{0.01f, 0.5f, 1.0f};
+                response = fb::CreateCurveResponseDirect(b, &red, &green, &blue).Union();
+            } else {
+                const fb::Rgb gamma(2.2f, 2.3f, 2.4f);
+                response = fb::CreateGammaResponse(b, &gamma).Union();
+            }
+            const fb::Vec3f viewer(0.3f, 0.2f, 0.6f);
+            const fb::Rgb albedo(0.85f, 0.8f, 0.75f);
+            const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
+            const auto settings =
+                fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 0.8f, 1.0f);
+            const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
+                                                     3.14, "fourier_brdf:k_major_rgb");
+            const auto detail = spec.relief ? ref(8) : flatbuffers::Offset<fb::Payload>();
+            const auto fullMap =
+                fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
+                                         fb::CreateFullCoefficients(b, ref(4)).Union(), detail);
+            const auto lowRankMap = fb::CreateCoefficientMap(
+                b, fb::CoefficientEncoding::LowRankCoefficients,
+                fb::CreateLowRankCoefficientsDirect(b, static_cast<std::uint16_t>(rank), &mean,
+                                                    &basis, ref(5))
+                    .Union());
+            std::vector<flatbuffers::Offset<fb::Region>> regions{
+                fb::CreateRegionDirect(b, "base", fullMap),
+                fb::CreateRegionDirect(b, "glaze", lowRankMap)};
+            std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
+                fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
+                fb::CreateWeightPresetDirect(b, "radial", ref(7))};
+            const auto textures =
+                fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
+            fb::FinishBundleBuffer(b,
+                                   fb::CreateBundle(b, mesh, projector, settings, model, textures));
+            return std::vector<std::uint8_t>(b.GetBufferPointer(),
+                                             b.GetBufferPointer() + b.GetSize());
+        });
+    return proto::assembleBundle(layout, meta, payloadBytes);
 }
 
 std::filesystem::path MappedTestBundle::write(const GlesBundleSpec& spec) {

@@ -24,6 +24,8 @@ inline constexpr std::uint16_t kBundleMajorVersion = 1;
 inline constexpr std::uint16_t kBundleMinorVersion = 2;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
+// Where the header keeps the checksum (a little-endian uint32, like every header field).
+inline constexpr std::size_t kBundleChecksumOffset = 12;
 // Payloads start on 64-byte boundaries: a cache line, and more than any GL upload needs.
 inline constexpr std::uint64_t kBundlePayloadAlignment = 64;
 // GLES 3.1's guaranteed MAX_TEXTURE_SIZE on the Raspberry Pi 4 and 5 (VideoCore VI / VII).
