@@ -102,10 +102,7 @@ void writeManifest(const std::filesystem::path& folder, const PotteryScene& scen
     writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
 }
 
-}  // namespace
-
-SynthReport synthesizeCapture(const SynthOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
+void checkOptions(const SynthOptions& options) {
     if (options.size < 8 || options.size > 4096) {
         throw InputError("--size " + std::to_string(options.size) + " is out of range (8..4096)");
     }
@@ -116,130 +113,165 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
         throw InputError("--fourier-harmonics is out of range (0.." +
                          std::to_string(proto::kMaxHarmonics) + ")");
     }
-    const std::filesystem::path out = options.out;
-    // Everything is written beside DIR and swapped in at the end.
-    AtomicFolder output(out, std::filesystem::path("truth") / "synth.json", "vpe synth");
-    const std::filesystem::path& partial = output.temporaryPath();
-    for (const char* folder : {"train", "test", "truth"}) {
-        std::filesystem::create_directories(partial / folder);
-    }
+}
 
-    const PotteryScene scene(options.size, options.seed);
-    const LightRig rig = options.rig == "paper" ? paperRig() : domeRig();
-    const int n = options.size;
-    const std::size_t pixels = static_cast<std::size_t>(n) * n;
-    std::vector<SurfacePoint> surface(pixels, SurfacePoint{});
-    parallelFor(static_cast<std::size_t>(n), 4, options.threads,
-                [&](std::size_t begin, std::size_t end) {
-                    for (std::size_t y = begin; y < end; ++y) {
-                        for (int x = 0; x < n; ++x) {
-                            surface[y * n + static_cast<std::size_t>(x)] =
-                                scene.surfaceAt(x, static_cast<int>(y));
-                        }
-                    }
-                });
-    const int harmonics = options.fourierHarmonics;
-    const int k = proto::coefficientCount(harmonics);
-    std::vector<double> fourier;
-    if (options.reflectance == SynthReflectance::kFourier) {
-        fourier.assign(pixels * 3 * static_cast<std::size_t>(k), 0.0);
-        for (std::size_t p = 0; p < pixels; ++p) {
-            for (int c = 0; c < 3; ++c) {
-                fourierCoefficients(surface[p].material, harmonics, c,
-                                    &fourier[(p * 3 + static_cast<std::size_t>(c)) * k]);
+// The scene's surface under every pixel, traced once for all lights.
+std::vector<SurfacePoint> traceSurface(const PotteryScene& scene, int n, unsigned threads) {
+    std::vector<SurfacePoint> surface(static_cast<std::size_t>(n) * n, SurfacePoint{});
+    parallelFor(static_cast<std::size_t>(n), 4, threads, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t y = begin; y < end; ++y) {
+            for (int x = 0; x < n; ++x) {
+                surface[y * n + static_cast<std::size_t>(x)] =
+                    scene.surfaceAt(x, static_cast<int>(y));
             }
         }
-    }
+    });
+    return surface;
+}
 
-    SynthReport report;
-    report.size = n;
-    report.trainImages = static_cast<int>(rig.train.size());
-    report.testImages = static_cast<int>(rig.test.size());
-    std::atomic<std::uint64_t> shadowed{0}, lit{0}, clipped{0}, samples{0};
-    const Vec3d camera = scene.cameraCenter();
-    const std::string extension = extensionOf(options.encoding);
-    ProgressBar progress("synth", rig.train.size() + rig.test.size());
-    auto renderSet = [&](const std::vector<Vec3d>& lights, const std::string& folder,
-                         std::uint64_t setKey) {
+// The Fourier-family truth per pixel and channel (k coefficients each), or empty for the
+// microfacet reflectance.
+std::vector<double> fourierTruth(const SynthOptions& options,
+                                 const std::vector<SurfacePoint>& surface) {
+    if (options.reflectance != SynthReflectance::kFourier) {
+        return {};
+    }
+    const int k = proto::coefficientCount(options.fourierHarmonics);
+    std::vector<double> fourier(surface.size() * 3 * static_cast<std::size_t>(k), 0.0);
+    for (std::size_t p = 0; p < surface.size(); ++p) {
+        for (int c = 0; c < 3; ++c) {
+            fourierCoefficients(surface[p].material, options.fourierHarmonics, c,
+                                &fourier[(p * 3 + static_cast<std::size_t>(c)) * k]);
+        }
+    }
+    return fourier;
+}
+
+// Renders the capture's images, light by light, and counts what the report states.
+class CaptureRenderer {
+public:
+    CaptureRenderer(const SynthOptions& options, const PotteryScene& scene, const LightRig& rig,
+                    const std::vector<SurfacePoint>& surface, const std::vector<double>& fourier,
+                    ProgressBar& progress)
+        : options_(options),
+          scene_(scene),
+          rig_(rig),
+          surface_(surface),
+          fourier_(fourier),
+          progress_(progress),
+          camera_(scene.cameraCenter()),
+          n_(options.size),
+          k_(proto::coefficientCount(options.fourierHarmonics)) {}
+
+    // Writes one image per light into `folder` and its capture.json; setKey seeds its noise.
+    void renderSet(const std::vector<Vec3d>& lights, const std::filesystem::path& folder,
+                   std::uint64_t setKey) {
+        const std::size_t pixels = surface_.size();
+        const std::string extension = extensionOf(options_.encoding);
         std::vector<std::string> files(lights.size());
-        parallelFor(lights.size(), 1, options.threads, [&](std::size_t begin, std::size_t end) {
+        parallelFor(lights.size(), 1, options_.threads, [&](std::size_t begin, std::size_t end) {
             std::vector<float> image(pixels * 3);
             for (std::size_t i = begin; i < end; ++i) {
-                std::uint64_t localShadowed = 0, localLit = 0, localClipped = 0;
+                Counts counts;
+                const std::uint64_t imageKey = mixBits(options_.seed ^ mixBits(setKey + i));
                 for (std::size_t p = 0; p < pixels; ++p) {
-                    const SurfacePoint& s = surface[p];
-                    float* rgb = &image[p * 3];
-                    rgb[0] = rgb[1] = rgb[2] = 0.0f;
-                    if (!s.hit) {
-                        continue;
-                    }
-                    Vec3d toLight = lights[i];
-                    double irradiance = 1.0;
-                    if (rig.kind == LightKind::kPoint) {
-                        const Vec3d d{toLight.x - s.position.x, toLight.y - s.position.y,
-                                      toLight.z - s.position.z};
-                        irradiance =
-                            rig.referenceDistance * rig.referenceDistance / proto::dot(d, d);
-                        toLight = proto::normalized(d);
-                    }
-                    const Vec3d toViewer = proto::normalized(Vec3d{
-                        camera.x - s.position.x, camera.y - s.position.y, camera.z - s.position.z});
-                    const bool facing = proto::dot(s.normal, toLight) > 0;
-                    localLit += facing ? 1 : 0;
-                    // Shadowed: black, as in a dark capture room (noise still applies).
-                    const bool inShadow =
-                        options.shadows && facing && scene.reliefShadows(s, toLight);
-                    localShadowed += inShadow ? 1 : 0;
-                    double value[3] = {0, 0, 0};
-                    if (inShadow) {
-                        // no direct light
-                    } else if (fourier.empty()) {
-                        const Vec3d radiance =
-                            microfacetRadiance(s.material, s.normal, toLight, toViewer);
-                        value[0] = radiance.x;
-                        value[1] = radiance.y;
-                        value[2] = radiance.z;
-                    } else {
-                        const auto angles = proto::reflectionAngles(s.normal, toLight, toViewer);
-                        for (int c = 0; c < 3; ++c) {
-                            value[c] = proto::evaluateFourierBrdf(
-                                &fourier[(p * 3 + static_cast<std::size_t>(c)) * k], harmonics,
-                                angles.cosThetaD, angles.cosThetaS);
-                        }
-                    }
-                    for (int c = 0; c < 3; ++c) {
-                        double y = irradiance * value[c];
-                        if (options.noise == SynthNoise::kCamera) {
-                            const std::uint64_t key = mixBits(options.seed ^ mixBits(setKey + i)) ^
-                                                      mixBits(p * 3 + static_cast<std::size_t>(c));
-                            y += std::sqrt(std::max(y, 0.0) / kFullWell + kReadNoise * kReadNoise) *
-                                 gaussian(key);
-                        }
-                        if (options.encoding == SynthEncoding::kSrgb8) {
-                            y = proto::linearToSrgb(std::clamp(y, 0.0, 1.0));
-                        }
-                        localClipped += y >= 1.0 ? 1 : 0;
-                        rgb[c] = static_cast<float>(y);
-                    }
+                    shade(p, lights[i], imageKey, counts, &image[p * 3]);
                 }
                 char name[32];
                 std::snprintf(name, sizeof name, "light%03zu", i);
                 files[i] = std::string(name) + extension;
-                writeImage(partial / folder / files[i], n, n, 3, image, formatOf(options.encoding));
-                shadowed += localShadowed;
-                lit += localLit;
-                clipped += localClipped;
-                samples += pixels * 3;
-                progress.advance();
+                writeImage(folder / files[i], n_, n_, 3, image, formatOf(options_.encoding));
+                shadowed_ += counts.shadowed;
+                lit_ += counts.lit;
+                clipped_ += counts.clipped;
+                samples_ += pixels * 3;
+                progress_.advance();
             }
         });
-        writeManifest(partial / folder, scene, rig, lights, files, options.encoding);
-    };
-    renderSet(rig.train, "train", 1);
-    renderSet(rig.test, "test", 1000000);
-    progress.finish();
+        writeManifest(folder, scene_, rig_, lights, files, options_.encoding);
+    }
 
-    // Truth: geometry, labels, parameters, lights.
+    double shadowedFraction() const {
+        return lit_ ? static_cast<double>(shadowed_) / static_cast<double>(lit_) : 0.0;
+    }
+    double clippedFraction() const {
+        return samples_ ? static_cast<double>(clipped_) / static_cast<double>(samples_) : 0.0;
+    }
+
+private:
+    struct Counts {
+        std::uint64_t shadowed = 0, lit = 0, clipped = 0;
+    };
+
+    // Pixel p's encoded RGB under one light (black off the object and in the relief's
+    // shadows, as in a dark capture room; camera noise still applies).
+    void shade(std::size_t p, Vec3d toLight, std::uint64_t imageKey, Counts& counts,
+               float* rgb) const {
+        const SurfacePoint& s = surface_[p];
+        rgb[0] = rgb[1] = rgb[2] = 0.0f;
+        if (!s.hit) {
+            return;
+        }
+        double irradiance = 1.0;
+        if (rig_.kind == LightKind::kPoint) {
+            const Vec3d d{toLight.x - s.position.x, toLight.y - s.position.y,
+                          toLight.z - s.position.z};
+            irradiance = rig_.referenceDistance * rig_.referenceDistance / proto::dot(d, d);
+            toLight = proto::normalized(d);
+        }
+        const Vec3d toViewer = proto::normalized(
+            Vec3d{camera_.x - s.position.x, camera_.y - s.position.y, camera_.z - s.position.z});
+        const bool facing = proto::dot(s.normal, toLight) > 0;
+        counts.lit += facing ? 1 : 0;
+        const bool inShadow = options_.shadows && facing && scene_.reliefShadows(s, toLight);
+        counts.shadowed += inShadow ? 1 : 0;
+        double value[3] = {0, 0, 0};
+        if (inShadow) {
+            // no direct light
+        } else if (fourier_.empty()) {
+            const Vec3d radiance = microfacetRadiance(s.material, s.normal, toLight, toViewer);
+            value[0] = radiance.x;
+            value[1] = radiance.y;
+            value[2] = radiance.z;
+        } else {
+            const auto angles = proto::reflectionAngles(s.normal, toLight, toViewer);
+            for (int c = 0; c < 3; ++c) {
+                value[c] = proto::evaluateFourierBrdf(
+                    &fourier_[(p * 3 + static_cast<std::size_t>(c)) * k_],
+                    options_.fourierHarmonics, angles.cosThetaD, angles.cosThetaS);
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            double y = irradiance * value[c];
+            if (options_.noise == SynthNoise::kCamera) {
+                const std::uint64_t key = imageKey ^ mixBits(p * 3 + static_cast<std::size_t>(c));
+                y += std::sqrt(std::max(y, 0.0) / kFullWell + kReadNoise * kReadNoise) *
+                     gaussian(key);
+            }
+            if (options_.encoding == SynthEncoding::kSrgb8) {
+                y = proto::linearToSrgb(std::clamp(y, 0.0, 1.0));
+            }
+            counts.clipped += y >= 1.0 ? 1 : 0;
+            rgb[c] = static_cast<float>(y);
+        }
+    }
+
+    const SynthOptions& options_;
+    const PotteryScene& scene_;
+    const LightRig& rig_;
+    const std::vector<SurfacePoint>& surface_;
+    const std::vector<double>& fourier_;
+    ProgressBar& progress_;
+    Vec3d camera_;
+    int n_, k_;
+    std::atomic<std::uint64_t> shadowed_{0}, lit_{0}, clipped_{0}, samples_{0};
+};
+
+// Writes truth/: geometry, labels, the material parameters and a mask; returns the share of
+// the object's pixels labelled streak.
+double writeTruthImages(const std::filesystem::path& truth,
+                        const std::vector<SurfacePoint>& surface, int n) {
+    const std::size_t pixels = surface.size();
     std::vector<float> normals(pixels * 3), normalsPreview(pixels * 3), positions(pixels * 3),
         macroNormals(pixels * 3), parameters(pixels * 8), labels(pixels), labelsPreview(pixels * 3),
         mask(pixels);
@@ -275,7 +307,6 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
         streakPixels += s.hit && s.label ? 1 : 0;
         hitPixels += s.hit ? 1 : 0;
     }
-    const std::filesystem::path truth = partial / "truth";
     writeImage(truth / "normals.exr", n, n, 3, normals, PixelFormat::kFloat);
     writeImage(truth / "normals.png", n, n, 3, normalsPreview, PixelFormat::kUint8);
     // The smooth surface of revolution's normals: the macro shape the relief tilts.
@@ -285,33 +316,43 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     writeImage(truth / "labels.png", n, n, 1, labels, PixelFormat::kUint8);
     writeImage(truth / "labels-preview.png", n, n, 3, labelsPreview, PixelFormat::kUint8);
     writeImage(truth / "mask.png", n, n, 1, mask, PixelFormat::kUint8);
-    if (!fourier.empty()) {
-        ModelInfo info;
-        info.width = info.height = n;
-        info.harmonics = harmonics;
-        info.samples = 0;
-        info.capture = "vpe synth --reflectance fourier (the truth)";
-        info.texelMm = scene.texelMillimetres();
-        ModelWriter writer(truth / "fourier.exr", info);
-        ModelRows rows;
-        rows.resize(n, n, k);
-        for (std::size_t p = 0; p < pixels; ++p) {
-            rows.valid[p] = surface[p].hit ? 1 : 0;
-            const double n3[3] = {surface[p].normal.x, surface[p].normal.y, surface[p].normal.z};
-            for (int c = 0; c < 3; ++c) {
-                rows.normal[p * 3 + c] = static_cast<float>(n3[c]);
-            }
-            for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(k); ++i) {
-                rows.coefficient[p * 3 * k + i] = static_cast<float>(fourier[p * 3 * k + i]);
-            }
+    return hitPixels ? static_cast<double>(streakPixels) / hitPixels : 0.0;
+}
+
+// truth/fourier.exr: the Fourier-family truth as a model file.
+void writeFourierTruth(const std::filesystem::path& truth, const std::vector<SurfacePoint>& surface,
+                       const std::vector<double>& fourier, int harmonics, int n, double texelMm) {
+    const int k = proto::coefficientCount(harmonics);
+    ModelInfo info;
+    info.width = info.height = n;
+    info.harmonics = harmonics;
+    info.samples = 0;
+    info.capture = "vpe synth --reflectance fourier (the truth)";
+    info.texelMm = texelMm;
+    ModelWriter writer(truth / "fourier.exr", info);
+    ModelRows rows;
+    rows.resize(n, n, k);
+    for (std::size_t p = 0; p < surface.size(); ++p) {
+        rows.valid[p] = surface[p].hit ? 1 : 0;
+        const double n3[3] = {surface[p].normal.x, surface[p].normal.y, surface[p].normal.z};
+        for (int c = 0; c < 3; ++c) {
+            rows.normal[p * 3 + c] = static_cast<float>(n3[c]);
         }
-        writer.writeRows(0, rows);
-        writer.finish();
+        for (std::size_t i = 0; i < 3 * static_cast<std::size_t>(k); ++i) {
+            rows.coefficient[p * 3 * k + i] = static_cast<float>(fourier[p * 3 * k + i]);
+        }
     }
+    writer.writeRows(0, rows);
+    writer.finish();
+}
+
+// truth/synth.json: how the capture was made.
+nlohmann::json describeCapture(const SynthOptions& options, const PotteryScene& scene,
+                               const LightRig& rig, bool fourier) {
     nlohmann::json description;
     description["generator"] = "vpe synth";
     description["seed"] = options.seed;
-    description["size"] = n;
+    description["size"] = options.size;
     description["millimetres_per_unit"] = PotteryScene::kMillimetresPerUnit;
     description["texel_mm"] = scene.texelMillimetres();
     description["rig"] = rig.name;
@@ -320,7 +361,7 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     description["encoding"] = options.encoding == SynthEncoding::kExr     ? "exr"
                               : options.encoding == SynthEncoding::kSrgb8 ? "srgb8"
                                                                           : "linear16";
-    description["reflectance"] = fourier.empty() ? "microfacet" : "fourier";
+    description["reflectance"] = fourier ? "fourier" : "microfacet";
     description["parameters_channels"] = {"albedo.R", "albedo.G", "albedo.B", "roughness",
                                           "f0",       "label",    "relief",   "streak"};
     description["labels"] = {"ground", "streak"};
@@ -334,15 +375,49 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     for (const Vec3d& l : rig.test) {
         description["lights"]["test"].push_back(vectorJson(l));
     }
-    writeTextFileAtomically(truth / "synth.json", description.dump(1) + "\n");
+    return description;
+}
 
+}  // namespace
+
+SynthReport synthesizeCapture(const SynthOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    checkOptions(options);
+    // Everything is written beside DIR and swapped in at the end.
+    AtomicFolder output(options.out, std::filesystem::path("truth") / "synth.json", "vpe synth");
+    const std::filesystem::path& partial = output.temporaryPath();
+    for (const char* folder : {"train", "test", "truth"}) {
+        std::filesystem::create_directories(partial / folder);
+    }
+
+    const PotteryScene scene(options.size, options.seed);
+    const LightRig rig = options.rig == "paper" ? paperRig() : domeRig();
+    const std::vector<SurfacePoint> surface = traceSurface(scene, options.size, options.threads);
+    const std::vector<double> fourier = fourierTruth(options, surface);
+
+    ProgressBar progress("synth", rig.train.size() + rig.test.size());
+    CaptureRenderer renderer(options, scene, rig, surface, fourier, progress);
+    renderer.renderSet(rig.train, partial / "train", 1);
+    renderer.renderSet(rig.test, partial / "test", 1000000);
+    progress.finish();
+
+    const std::filesystem::path truth = partial / "truth";
+    SynthReport report;
+    report.size = options.size;
+    report.trainImages = static_cast<int>(rig.train.size());
+    report.testImages = static_cast<int>(rig.test.size());
+    report.streakFraction = writeTruthImages(truth, surface, options.size);
+    if (!fourier.empty()) {
+        writeFourierTruth(truth, surface, fourier, options.fourierHarmonics, options.size,
+                          scene.texelMillimetres());
+    }
+    writeTextFileAtomically(truth / "synth.json",
+                            describeCapture(options, scene, rig, !fourier.empty()).dump(1) + "\n");
     // Swap the finished capture into place.
     output.commit();
 
-    report.streakFraction = hitPixels ? static_cast<double>(streakPixels) / hitPixels : 0.0;
-    report.shadowedFraction = lit ? static_cast<double>(shadowed) / static_cast<double>(lit) : 0.0;
-    report.clippedFraction =
-        samples ? static_cast<double>(clipped) / static_cast<double>(samples) : 0.0;
+    report.shadowedFraction = renderer.shadowedFraction();
+    report.clippedFraction = renderer.clippedFraction();
     report.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
