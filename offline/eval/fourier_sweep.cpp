@@ -40,6 +40,9 @@ struct ErrorTable {
     double& at(int l, int m, int i) {
         return squared[(static_cast<std::size_t>(l) * harmonics + m) * images + i];
     }
+    double at(int l, int m, int i) const {
+        return squared[(static_cast<std::size_t>(l) * harmonics + m) * images + i];
+    }
     void add(const ErrorTable& other) {
         for (std::size_t i = 0; i < squared.size(); ++i) {
             squared[i] += other.squared[i];
@@ -50,141 +53,114 @@ struct ErrorTable {
     }
 };
 
-}  // namespace
+// What every chunk of the sweep reads.
+struct SweepInputs {
+    const Capture& test;
+    const SurfaceGeometry& trainGeometry;
+    const SurfaceGeometry& testGeometry;
+    const NormalMap& normals;
+    const fit::KernelLightSet& trainSet;
+    const SweepOptions& options;
+    int width;
+    int testCount;
+};
 
-SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
-    if (options.maxHarmonics < 1 || options.maxHarmonics > proto::kMaxHarmonics) {
-        throw InputError("--max-harmonics must be in 1.." + std::to_string(proto::kMaxHarmonics));
+// The chunk's per-thread working memory.
+struct ChunkScratch {
+    std::unique_ptr<fit::NormalEquationSums> sums = std::make_unique<fit::NormalEquationSums>();
+    std::unique_ptr<fit::ChunkSolution> solution = std::make_unique<fit::ChunkSolution>();
+    fit::ChunkGeometry chunk;
+    // Per lane and test light, [lane · testCount + s]: the angles and irradiance.
+    std::vector<proto::ReflectionAngles<double>> angles;
+    std::vector<double> irradiance;
+};
+
+// The test lights' angles and irradiance at each valid lane of the chunk at (x0, y); returns
+// the chunk's lane count (short at the right edge).
+int testLightGeometry(const SweepInputs& in, int x0, int y, const bool* laneValid,
+                      ChunkScratch& scratch) {
+    scratch.angles.assign(static_cast<std::size_t>(fit::kLanes * in.testCount), {});
+    scratch.irradiance.assign(scratch.angles.size(), 1.0);
+    int lanes = 0;
+    for (int lane = 0; lane < fit::kLanes && x0 + lane < in.width; ++lane) {
+        lanes = lane + 1;
+        if (!laneValid[lane]) {
+            continue;
+        }
+        const int x = x0 + lane;
+        const Vec3d n = in.normals.at(x, y);
+        const Vec3d v = in.testGeometry.toViewer(x, y);
+        const Vec3d p = in.testGeometry.position(x, y);
+        for (int s = 0; s < in.testCount; ++s) {
+            const IncidentLight light =
+                incidentLight(in.test, in.test.images[static_cast<std::size_t>(s)], p);
+            const std::size_t at = static_cast<std::size_t>(lane * in.testCount + s);
+            scratch.angles[at] = proto::reflectionAngles(n, light.direction, v);
+            scratch.irradiance[at] = light.irradiance;
+        }
     }
-    ImageBandReader trainReader(train, options.threads);
-    ImageBandReader testReader(test, options.threads);
-    const int width = trainReader.width();
-    const int height = trainReader.height();
-    if (testReader.width() != width || testReader.height() != height) {
-        throw InputError(test.source, "images are " + std::to_string(testReader.width()) + "x" +
-                                          std::to_string(testReader.height()) +
-                                          " but the training images are " + std::to_string(width) +
-                                          "x" + std::to_string(height));
-    }
-    NormalsResult normals = acquireNormals(train, options.normals, width, height, options.threads);
-    const SurfaceGeometry trainGeometry(train, width, height);
-    const SurfaceGeometry testGeometry(test, width, height);
+    return lanes;
+}
 
-    const std::vector<fit::KernelLight> trainLights = fit::kernelLights(train);
-    const fit::KernelLightSet trainSet = fit::kernelLightSet(train, trainLights);
-
-    const int lambdaCount = static_cast<int>(options.lambdas.size());
-    const int harmonicCount = options.maxHarmonics;
-    const int testCount = testReader.imageCount();
-    ErrorTable total(lambdaCount, harmonicCount, testCount);
-    std::size_t scored = 0;
-    std::mutex mergeMutex;
-
-    const int bandRows = std::min(trainReader.rowsForBudget(std::size_t{96} << 20),
-                                  testReader.rowsForBudget(std::size_t{32} << 20));
-    const int chunksPerRow = (width + fit::kLanes - 1) / fit::kLanes;
-    SampleBand trainBand, testBand;
-    ProgressBar progress("sweep", static_cast<std::size_t>(height));
-    for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
-        const int rows = std::min(bandRows, height - rowBegin);
-        trainReader.readBand(rowBegin, rows, nullptr, trainBand);
-        testReader.readBand(rowBegin, rows, nullptr, testBand);
-        parallelFor(
-            static_cast<std::size_t>(rows) * chunksPerRow, 2, options.threads,
-            [&](std::size_t begin, std::size_t end) {
-                ErrorTable local(lambdaCount, harmonicCount, testCount);
-                std::size_t localScored = 0;
-                auto sums = std::make_unique<fit::NormalEquationSums>();
-                auto solution = std::make_unique<fit::ChunkSolution>();
-                fit::ChunkGeometry chunk;
-                for (std::size_t index = begin; index < end; ++index) {
-                    const int r = static_cast<int>(index / chunksPerRow);
-                    const int x0 = static_cast<int>(index % chunksPerRow) * fit::kLanes;
-                    const int y = rowBegin + r;
-                    bool laneValid[fit::kLanes];
-                    fit::fillChunkGeometry(trainGeometry, normals.normals, x0, y, chunk, laneValid);
-                    // A research figure: always the exact accumulation (λ = 0 is in it).
-                    fit::accumulateNormalEquations(
-                        chunk, trainSet, fit::chunkObservations(trainBand, r, x0),
-                        options.maxHarmonics, fit::AccumulationPrecision::kDouble, *sums);
-                    // Per-lane test geometry: the angles of every test light.
-                    std::vector<proto::ReflectionAngles<double>> angles(
-                        static_cast<std::size_t>(fit::kLanes * testCount));
-                    std::vector<double> irradiance(angles.size(), 1.0);
-                    int lanes = 0;
-                    for (int lane = 0; lane < fit::kLanes && x0 + lane < width; ++lane) {
-                        lanes = lane + 1;
-                        if (!laneValid[lane]) {
-                            continue;
-                        }
-                        const int x = x0 + lane;
-                        const Vec3d n = normals.normals.at(x, y);
-                        const Vec3d v = testGeometry.toViewer(x, y);
-                        const Vec3d p = testGeometry.position(x, y);
-                        for (int s = 0; s < testCount; ++s) {
-                            const IncidentLight light =
-                                incidentLight(test, test.images[static_cast<std::size_t>(s)], p);
-                            const std::size_t at = static_cast<std::size_t>(lane * testCount + s);
-                            angles[at] = proto::reflectionAngles(n, light.direction, v);
-                            irradiance[at] = light.irradiance;
-                        }
-                    }
-                    for (int m = 1; m <= harmonicCount; ++m) {
-                        for (int l = 0; l < lambdaCount; ++l) {
-                            fit::solveNormalEquations(
-                                *sums, m, options.lambdas[static_cast<std::size_t>(l)], *solution);
-                            for (int lane = 0; lane < lanes; ++lane) {
-                                if (!laneValid[lane]) {
-                                    continue;
-                                }
-                                // An unsolvable system predicts black: the sweep shows
-                                // what the fit would deliver, failures included.
-                                local.validLanes[static_cast<std::size_t>(l) * harmonicCount + m -
-                                                 1] += solution->valid[lane] ? 1.0 : 0.0;
-                                for (int s = 0; s < testCount; ++s) {
-                                    const std::size_t at =
-                                        static_cast<std::size_t>(lane * testCount + s);
-                                    double error = 0;
-                                    for (int c = 0; c < 3; ++c) {
-                                        const double predicted =
-                                            irradiance[at] * proto::evaluateFourierBrdf(
-                                                                 solution->coefficients[lane][c], m,
-                                                                 angles[at].cosThetaD,
-                                                                 angles[at].cosThetaS);
-                                        const double p8 =
-                                            proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0));
-                                        const double t8 = proto::linearToSrgb(std::clamp(
-                                            static_cast<double>(testBand.value(s, c, r, x0 + lane)),
-                                            0.0, 1.0));
-                                        error += (p8 - t8) * (p8 - t8);
-                                    }
-                                    local.at(l, m - 1, s) += error;
-                                }
-                            }
-                        }
-                    }
-                    for (int lane = 0; lane < lanes; ++lane) {
-                        localScored += laneValid[lane] ? 1 : 0;
-                    }
+// Fits the chunk at band row r, column x0 for every (M, λ) and adds its held-out squared
+// errors (8-bit sRGB) to `table`; returns the pixels it scored.
+std::size_t scoreChunk(const SweepInputs& in, const SampleBand& trainBand,
+                       const SampleBand& testBand, int rowBegin, int r, int x0,
+                       ChunkScratch& scratch, ErrorTable& table) {
+    const int y = rowBegin + r;
+    bool laneValid[fit::kLanes];
+    fit::fillChunkGeometry(in.trainGeometry, in.normals, x0, y, scratch.chunk, laneValid);
+    // A research figure: always the exact accumulation (λ = 0 is in it).
+    fit::accumulateNormalEquations(
+        scratch.chunk, in.trainSet, fit::chunkObservations(trainBand, r, x0),
+        in.options.maxHarmonics, fit::AccumulationPrecision::kDouble, *scratch.sums);
+    const int lanes = testLightGeometry(in, x0, y, laneValid, scratch);
+    const int lambdaCount = static_cast<int>(in.options.lambdas.size());
+    const fit::ChunkSolution& solution = *scratch.solution;
+    for (int m = 1; m <= in.options.maxHarmonics; ++m) {
+        for (int l = 0; l < lambdaCount; ++l) {
+            fit::solveNormalEquations(*scratch.sums, m,
+                                      in.options.lambdas[static_cast<std::size_t>(l)],
+                                      *scratch.solution);
+            for (int lane = 0; lane < lanes; ++lane) {
+                if (!laneValid[lane]) {
+                    continue;
                 }
-                std::lock_guard lock(mergeMutex);
-                total.add(local);
-                scored += localScored;
-            });
-        progress.advance(static_cast<std::size_t>(rows));
+                // An unsolvable system predicts black: the sweep shows what the fit would
+                // deliver, failures included.
+                table.validLanes[static_cast<std::size_t>(l) * in.options.maxHarmonics + m - 1] +=
+                    solution.valid[lane] ? 1.0 : 0.0;
+                for (int s = 0; s < in.testCount; ++s) {
+                    const std::size_t at = static_cast<std::size_t>(lane * in.testCount + s);
+                    double error = 0;
+                    for (int c = 0; c < 3; ++c) {
+                        const double predicted =
+                            scratch.irradiance[at] *
+                            proto::evaluateFourierBrdf(solution.coefficients[lane][c], m,
+                                                       scratch.angles[at].cosThetaD,
+                                                       scratch.angles[at].cosThetaS);
+                        const double p8 = proto::linearToSrgb(std::clamp(predicted, 0.0, 1.0));
+                        const double t8 = proto::linearToSrgb(std::clamp(
+                            static_cast<double>(testBand.value(s, c, r, x0 + lane)), 0.0, 1.0));
+                        error += (p8 - t8) * (p8 - t8);
+                    }
+                    table.at(l, m - 1, s) += error;
+                }
+            }
+        }
     }
-    progress.finish();
-    if (scored == 0) {
-        throw InputError(train.source, "no pixel has a usable normal: nothing to sweep");
+    std::size_t scored = 0;
+    for (int lane = 0; lane < lanes; ++lane) {
+        scored += laneValid[lane] ? 1 : 0;
     }
+    return scored;
+}
 
-    SweepResult result;
-    result.lambdas = options.lambdas;
-    result.trainImages = trainReader.imageCount();
-    result.testImages = testCount;
+// The figures per (λ, M) from the pooled squared errors of `scored` pixels.
+void summarize(const ErrorTable& total, std::size_t scored, SweepResult& result) {
+    const int lambdaCount = total.lambdas, harmonicCount = total.harmonics;
+    const int testCount = total.images;
     result.pixels = scored;
-    result.normalsSource = normals.source;
     for (int m = 1; m <= harmonicCount; ++m) {
         result.harmonics.push_back(m);
     }
@@ -209,6 +185,75 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
                 static_cast<double>(scored);
         }
     }
+}
+
+}  // namespace
+
+SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (options.maxHarmonics < 1 || options.maxHarmonics > proto::kMaxHarmonics) {
+        throw InputError("--max-harmonics must be in 1.." + std::to_string(proto::kMaxHarmonics));
+    }
+    ImageBandReader trainReader(train, options.threads);
+    ImageBandReader testReader(test, options.threads);
+    const int width = trainReader.width();
+    const int height = trainReader.height();
+    if (testReader.width() != width || testReader.height() != height) {
+        throw InputError(test.source, "images are " + std::to_string(testReader.width()) + "x" +
+                                          std::to_string(testReader.height()) +
+                                          " but the training images are " + std::to_string(width) +
+                                          "x" + std::to_string(height));
+    }
+    NormalsResult normals = acquireNormals(train, options.normals, width, height, options.threads);
+    const SurfaceGeometry trainGeometry(train, width, height);
+    const SurfaceGeometry testGeometry(test, width, height);
+    const std::vector<fit::KernelLight> trainLights = fit::kernelLights(train);
+    const fit::KernelLightSet trainSet = fit::kernelLightSet(train, trainLights);
+    const SweepInputs inputs{test,     trainGeometry, testGeometry, normals.normals,
+                             trainSet, options,       width,        testReader.imageCount()};
+
+    const int lambdaCount = static_cast<int>(options.lambdas.size());
+    ErrorTable total(lambdaCount, options.maxHarmonics, inputs.testCount);
+    std::size_t scored = 0;
+    std::mutex mergeMutex;
+    const int bandRows = std::min(trainReader.rowsForBudget(std::size_t{96} << 20),
+                                  testReader.rowsForBudget(std::size_t{32} << 20));
+    const int chunksPerRow = (width + fit::kLanes - 1) / fit::kLanes;
+    SampleBand trainBand, testBand;
+    ProgressBar progress("sweep", static_cast<std::size_t>(height));
+    for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
+        const int rows = std::min(bandRows, height - rowBegin);
+        trainReader.readBand(rowBegin, rows, nullptr, trainBand);
+        testReader.readBand(rowBegin, rows, nullptr, testBand);
+        parallelFor(static_cast<std::size_t>(rows) * chunksPerRow, 2, options.threads,
+                    [&](std::size_t begin, std::size_t end) {
+                        ErrorTable local(lambdaCount, options.maxHarmonics, inputs.testCount);
+                        std::size_t localScored = 0;
+                        ChunkScratch scratch;
+                        for (std::size_t index = begin; index < end; ++index) {
+                            localScored +=
+                                scoreChunk(inputs, trainBand, testBand, rowBegin,
+                                           static_cast<int>(index / chunksPerRow),
+                                           static_cast<int>(index % chunksPerRow) * fit::kLanes,
+                                           scratch, local);
+                        }
+                        std::lock_guard lock(mergeMutex);
+                        total.add(local);
+                        scored += localScored;
+                    });
+        progress.advance(static_cast<std::size_t>(rows));
+    }
+    progress.finish();
+    if (scored == 0) {
+        throw InputError(train.source, "no pixel has a usable normal: nothing to sweep");
+    }
+
+    SweepResult result;
+    result.lambdas = options.lambdas;
+    result.trainImages = trainReader.imageCount();
+    result.testImages = inputs.testCount;
+    result.normalsSource = normals.source;
+    summarize(total, scored, result);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
