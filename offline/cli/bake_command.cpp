@@ -16,6 +16,7 @@
 #include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "cli/size_argument.h"
 
 namespace vpe::cli {
@@ -52,18 +53,97 @@ std::string thetaBasisText(const bake::BakeReport& report) {
 
 }  // namespace
 
+namespace {
+
+struct Arguments {
+    bake::BakeOptions options;
+    std::string texture, quilt, mesh, projector, projectorSize, out;
+    std::vector<std::string> presets;
+    std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
+    std::string encoding = "low-rank";
+    std::string relief = "on";
+    std::string thetaBasis;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe bake` does once its options are parsed.
+void runBake(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    bake::BakeOptions options = args.options;
+    options.texture = args.texture;
+    options.quilt = args.quilt;
+    options.mesh = args.mesh;
+    options.projector = args.projector;
+    if (!args.projectorSize.empty()) {
+        const SizeArgument size = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
+        options.projectorWidth = size.width;
+        options.projectorHeight = size.height;
+    }
+    for (const std::string& preset : args.presets) {
+        const std::size_t equals = preset.find('=');
+        if (equals == std::string::npos || equals == 0 || equals + 1 == preset.size()) {
+            throw InputError("--preset '" + preset + "': expected NAME=WEIGHTS");
+        }
+        options.presets.push_back({preset.substr(0, equals), preset.substr(equals + 1)});
+    }
+    const auto viewer = scene::parsePosition(args.viewer, "--viewer");
+    options.settings.viewerPosition = {static_cast<float>(viewer.x), static_cast<float>(viewer.y),
+                                       static_cast<float>(viewer.z)};
+    options.settings.screenAlbedo = toFloats(scene::parseAlbedo(args.albedo, "--albedo"));
+    options.settings.ambientIrradiance = toFloats(scene::parseAmbient(args.ambient, "--ambient"));
+    options.lowRank = args.encoding == "low-rank";
+    options.relief = args.relief == "on";
+    if (!args.thetaBasis.empty()) {
+        options.thetaBasis = parseThetaBasis(args.thetaBasis);
+    }
+    options.threads = resolveThreadCount(args.threads);
+
+    const bake::BakeReport report = bake::bakeScene(options, args.out);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel%s, %s), mesh %zu "
+                 "vertices / %zu triangles, %.1f MiB in %.2f s\n",
+                 args.out.c_str(), report.regions, report.regions == 1 ? "" : "s",
+                 report.textureWidth, report.textureHeight, report.harmonics, args.encoding.c_str(),
+                 report.bytesPerTexel, report.relief ? " + 4 of relief" : "",
+                 thetaBasisText(report).c_str(), report.vertices, report.triangles,
+                 static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
+    std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
+                 report.meshWrapsU && !report.wrapU
+                     ? ": the mesh's u wraps but the textures do not tile, so u = 0 | 1 "
+                       "shows as a seam (vpe quilt --wrap auto makes them tile)"
+                     : "");
+    if (args.json) {
+        nlohmann::json json;
+        json["out"] = args.out;
+        json["regions"] = report.regions;
+        json["texture_width"] = report.textureWidth;
+        json["texture_height"] = report.textureHeight;
+        json["harmonics"] = report.harmonics;
+        json["encoding"] = args.encoding;
+        json["bytes_per_texel"] = report.bytesPerTexel;
+        json["relief"] = report.relief;
+        json["explained_variance"] = report.explainedVariance;
+        json["coefficient_rms"] = report.coefficientRms;
+        json["theta_basis"] =
+            report.thetaBasis > 0 ? nlohmann::json(report.thetaBasis) : nlohmann::json("full");
+        json["theta_energy_kept"] = report.thetaEnergyKept;
+        json["vertices"] = report.vertices;
+        json["triangles"] = report.triangles;
+        json["wrap_u"] = report.wrapU;
+        json["mesh_wraps_u"] = report.meshWrapsU;
+        json["bytes"] = report.bytes;
+        json["checksum"] = report.checksum;
+        json["seconds"] = seconds;
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addBakeCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        bake::BakeOptions options;
-        std::string texture, quilt, mesh, projector, projectorSize, out;
-        std::vector<std::string> presets;
-        std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
-        std::string encoding = "low-rank";
-        std::string relief = "on";
-        std::string thetaBasis;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "bake", "Combine texture, screen mesh and projector calibration into a device bundle");
@@ -122,87 +202,10 @@ void addBakeCommand(CLI::App& app, Action& action) {
     command->add_option("--theta-basis", args->thetaBasis,
                         "θs functions the device renders in, fitted to the textures "
                         "(proto/MODEL.md); full or 0: none, rendered exactly [default: 4]");
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    addThreadsOption(command, args->threads);
     command->add_option("--out", args->out, "Bundle to write (.vpeb)")->required();
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const auto start = std::chrono::steady_clock::now();
-            bake::BakeOptions options = args->options;
-            options.texture = args->texture;
-            options.quilt = args->quilt;
-            options.mesh = args->mesh;
-            options.projector = args->projector;
-            if (!args->projectorSize.empty()) {
-                const SizeArgument size =
-                    parseSizeArgument(args->projectorSize, "--projector-size", 8192);
-                options.projectorWidth = size.width;
-                options.projectorHeight = size.height;
-            }
-            for (const std::string& preset : args->presets) {
-                const std::size_t equals = preset.find('=');
-                if (equals == std::string::npos || equals == 0 || equals + 1 == preset.size()) {
-                    throw InputError("--preset '" + preset + "': expected NAME=WEIGHTS");
-                }
-                options.presets.push_back({preset.substr(0, equals), preset.substr(equals + 1)});
-            }
-            const auto viewer = scene::parsePosition(args->viewer, "--viewer");
-            options.settings.viewerPosition = {static_cast<float>(viewer.x),
-                                               static_cast<float>(viewer.y),
-                                               static_cast<float>(viewer.z)};
-            options.settings.screenAlbedo = toFloats(scene::parseAlbedo(args->albedo, "--albedo"));
-            options.settings.ambientIrradiance =
-                toFloats(scene::parseAmbient(args->ambient, "--ambient"));
-            options.lowRank = args->encoding == "low-rank";
-            options.relief = args->relief == "on";
-            if (!args->thetaBasis.empty()) {
-                options.thetaBasis = parseThetaBasis(args->thetaBasis);
-            }
-            options.threads = resolveThreadCount(args->threads);
-
-            const bake::BakeReport report = bake::bakeScene(options, args->out);
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            std::fprintf(stderr,
-                         "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel%s, %s), mesh %zu "
-                         "vertices / %zu triangles, %.1f MiB in %.2f s\n",
-                         args->out.c_str(), report.regions, report.regions == 1 ? "" : "s",
-                         report.textureWidth, report.textureHeight, report.harmonics,
-                         args->encoding.c_str(), report.bytesPerTexel,
-                         report.relief ? " + 4 of relief" : "", thetaBasisText(report).c_str(),
-                         report.vertices, report.triangles,
-                         static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
-            std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
-                         report.meshWrapsU && !report.wrapU
-                             ? ": the mesh's u wraps but the textures do not tile, so u = 0 | 1 "
-                               "shows as a seam (vpe quilt --wrap auto makes them tile)"
-                             : "");
-            if (args->json) {
-                nlohmann::json json;
-                json["out"] = args->out;
-                json["regions"] = report.regions;
-                json["texture_width"] = report.textureWidth;
-                json["texture_height"] = report.textureHeight;
-                json["harmonics"] = report.harmonics;
-                json["encoding"] = args->encoding;
-                json["bytes_per_texel"] = report.bytesPerTexel;
-                json["relief"] = report.relief;
-                json["explained_variance"] = report.explainedVariance;
-                json["coefficient_rms"] = report.coefficientRms;
-                json["theta_basis"] = report.thetaBasis > 0 ? nlohmann::json(report.thetaBasis)
-                                                            : nlohmann::json("full");
-                json["theta_energy_kept"] = report.thetaEnergyKept;
-                json["vertices"] = report.vertices;
-                json["triangles"] = report.triangles;
-                json["wrap_u"] = report.wrapU;
-                json["mesh_wraps_u"] = report.meshWrapsU;
-                json["bytes"] = report.bytes;
-                json["checksum"] = report.checksum;
-                json["seconds"] = seconds;
-                printJson(json.dump());
-            }
-        };
-    });
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runBake(*args); }; });
 }
 
 }  // namespace vpe::cli

@@ -13,28 +13,133 @@
 #include "vpe/model/rti_basis.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "cli/storage_option.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string capture;
+    std::string out;
+    int harmonics = proto::kDefaultHarmonics;
+    double lambda = proto::kDefaultLambda;
+    std::string normals;
+    int threads = 0;
+    std::string precision = "auto";
+    std::string model = "paper";
+    int heldOut = 0;
+    std::string storage;
+    std::string relief = "detail";
+    double macroSigma = 0;
+    bool regularizationGiven = false;
+    bool json = false;
+    bool noPreview = false;
+};
+
+// What `vpe fit` does once its options are parsed.
+void runFit(const Arguments& args) {
+    FitOptions options;
+    options.harmonics = args.harmonics;
+    options.lambda = args.lambda;
+    options.threads = resolveThreadCount(args.threads);
+    options.precision = args.precision == "fast"    ? FitPrecision::kFast
+                        : args.precision == "exact" ? FitPrecision::kExact
+                                                    : FitPrecision::kAuto;
+    if (!args.normals.empty()) {
+        options.normals = args.normals;
+    }
+    options.writePreview = !args.noPreview;
+    options.storage = parseStorage(args.storage).value_or(ModelStorage::kHalf);
+    options.relief =
+        args.relief == "coefficients" ? ReliefMode::kInCoefficients : ReliefMode::kDetailMap;
+    if (!(args.macroSigma >= 0) || !std::isfinite(args.macroSigma)) {
+        throw InputError("--macro-sigma must be a number of pixels ≥ 0");
+    }
+    if (args.macroSigma > 0) {
+        options.macroSigma = args.macroSigma;
+    }
+    options.variant = args.model == "extended" ? ModelVariant::kExtended
+                      : args.model == "paper"  ? ModelVariant::kPaper
+                                               : ModelVariant::kRti;
+    if (options.variant == ModelVariant::kRti) {
+        options.rtiBasis = *RtiBasis::parse(args.model);
+        options.writePreview = false;  // the preview relights a BRDF
+    }
+    // The extended model picks M and λ by held-out validation unless they are given.
+    options.selectRegularization =
+        options.variant == ModelVariant::kExtended && !args.regularizationGiven;
+    Capture capture = openCapture(args.capture);
+    if (args.heldOut > 0) {
+        capture = selectHeldOutLights(capture, args.heldOut, false);
+    }
+    const FitReport report = fitCapture(capture, options, args.out);
+    if (options.variant == ModelVariant::kRti) {
+        std::fprintf(stderr,
+                     "fitted %zu of %zu pixels from %d images (%s on stored values) in "
+                     "%.2f s; mean residual RMS %.4f\n",
+                     report.validPixels, report.pixels, report.images,
+                     options.rtiBasis.name().c_str(), report.totalSeconds, report.meanRms);
+    } else {
+        std::fprintf(stderr,
+                     "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: "
+                     "%s) in %.2f s; mean residual RMS %.4f\n",
+                     report.validPixels, report.pixels, report.images, report.harmonics,
+                     report.lambda, report.normalsSource.c_str(), report.totalSeconds,
+                     report.meanRms);
+    }
+    if (options.variant == ModelVariant::kExtended) {
+        std::fprintf(stderr,
+                     "selected: field of view %.1f°, light distance %.2f half-widths, "
+                     "M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
+                     report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
+                     report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
+                     report.calibrationSeconds);
+    }
+    if (args.json) {
+        nlohmann::json json;
+        json["model_variant"] = args.model;
+        if (options.variant == ModelVariant::kExtended) {
+            json["calibration"] = {{"field_of_view_degrees", report.calibration.fieldOfViewDegrees},
+                                   {"light_distance", report.calibration.lightDistance},
+                                   {"heldout_rms", report.calibratedRms},
+                                   {"uncalibrated_heldout_rms", report.uncalibratedRms},
+                                   {"seconds", report.calibrationSeconds}};
+        }
+        json["pixels"] = report.pixels;
+        json["valid_pixels"] = report.validPixels;
+        json["images"] = report.images;
+        json["width"] = report.width;
+        json["height"] = report.height;
+        if (options.variant == ModelVariant::kRti) {
+            json["basis"] = options.rtiBasis.name();
+        } else {
+            json["harmonics"] = report.harmonics;
+            json["lambda"] = report.lambda;
+            // An RTI fit is on the stored values: no relief is measured or written.
+            json["relief"] = args.relief;
+            json["macro_sigma"] = report.macroSigma;
+            json["mean_relief_degrees"] = report.meanReliefDegrees;
+        }
+        json["normals"] = report.normalsSource;
+        json["mean_rms"] = report.meanRms;
+        json["model"] = args.out;
+        if (!report.preview.empty()) {
+            json["preview"] = report.preview.string();
+        }
+        json["seconds"] = {{"decode", report.decodeSeconds},
+                           {"normals", report.normalsSeconds},
+                           {"fit", report.fitSeconds},
+                           {"write", report.writeSeconds},
+                           {"total", report.totalSeconds}};
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addFitCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string capture;
-        std::string out;
-        int harmonics = proto::kDefaultHarmonics;
-        double lambda = proto::kDefaultLambda;
-        std::string normals;
-        int threads = 0;
-        std::string precision = "auto";
-        std::string model = "paper";
-        int heldOut = 0;
-        std::string storage;
-        std::string relief = "detail";
-        double macroSigma = 0;
-        bool regularizationGiven = false;
-        bool json = false;
-        bool noPreview = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "fit", "Fit a per-pixel Fourier BRDF to a capture and write the model (OpenEXR)");
@@ -54,8 +159,7 @@ void addFitCommand(CLI::App& app, Action& action) {
             ->capture_default_str();
     command->add_option("--normals", args->normals,
                         "Normal map to use instead of the capture's own or photometric stereo");
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)")
-        ->capture_default_str();
+    addThreadsOption(command, args->threads);
     command
         ->add_option("--precision", args->precision,
                      "auto (exact when λ < 1e-3), fast (float sums) or exact (double sums)")
@@ -92,108 +196,10 @@ void addFitCommand(CLI::App& app, Action& action) {
                         "σ (pixels) of the regression window giving the macro shape (0: 1/8 of the "
                         "larger side)");
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
+    addJsonFlag(command, args->json);
     command->callback([args, &action, harmonicsOption, lambdaOption] {
         args->regularizationGiven = harmonicsOption->count() > 0 || lambdaOption->count() > 0;
-        action = [args] {
-            FitOptions options;
-            options.harmonics = args->harmonics;
-            options.lambda = args->lambda;
-            options.threads = resolveThreadCount(args->threads);
-            options.precision = args->precision == "fast"    ? FitPrecision::kFast
-                                : args->precision == "exact" ? FitPrecision::kExact
-                                                             : FitPrecision::kAuto;
-            if (!args->normals.empty()) {
-                options.normals = args->normals;
-            }
-            options.writePreview = !args->noPreview;
-            options.storage = parseStorage(args->storage).value_or(ModelStorage::kHalf);
-            options.relief = args->relief == "coefficients" ? ReliefMode::kInCoefficients
-                                                            : ReliefMode::kDetailMap;
-            if (!(args->macroSigma >= 0) || !std::isfinite(args->macroSigma)) {
-                throw InputError("--macro-sigma must be a number of pixels ≥ 0");
-            }
-            if (args->macroSigma > 0) {
-                options.macroSigma = args->macroSigma;
-            }
-            options.variant = args->model == "extended" ? ModelVariant::kExtended
-                              : args->model == "paper"  ? ModelVariant::kPaper
-                                                        : ModelVariant::kRti;
-            if (options.variant == ModelVariant::kRti) {
-                options.rtiBasis = *RtiBasis::parse(args->model);
-                options.writePreview = false;  // the preview relights a BRDF
-            }
-            // The extended model picks M and λ by held-out validation unless they are given.
-            options.selectRegularization =
-                options.variant == ModelVariant::kExtended && !args->regularizationGiven;
-            Capture capture = openCapture(args->capture);
-            if (args->heldOut > 0) {
-                capture = selectHeldOutLights(capture, args->heldOut, false);
-            }
-            const FitReport report = fitCapture(capture, options, args->out);
-            if (options.variant == ModelVariant::kRti) {
-                std::fprintf(stderr,
-                             "fitted %zu of %zu pixels from %d images (%s on stored values) in "
-                             "%.2f s; mean residual RMS %.4f\n",
-                             report.validPixels, report.pixels, report.images,
-                             options.rtiBasis.name().c_str(), report.totalSeconds, report.meanRms);
-            } else {
-                std::fprintf(stderr,
-                             "fitted %zu of %zu pixels from %d images (M = %d, λ = %g, normals: "
-                             "%s) in %.2f s; mean residual RMS %.4f\n",
-                             report.validPixels, report.pixels, report.images, report.harmonics,
-                             report.lambda, report.normalsSource.c_str(), report.totalSeconds,
-                             report.meanRms);
-            }
-            if (options.variant == ModelVariant::kExtended) {
-                std::fprintf(stderr,
-                             "selected: field of view %.1f°, light distance %.2f half-widths, "
-                             "M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
-                             report.calibration.fieldOfViewDegrees,
-                             report.calibration.lightDistance, report.harmonics, report.lambda,
-                             report.calibratedRms, report.uncalibratedRms,
-                             report.calibrationSeconds);
-            }
-            if (args->json) {
-                nlohmann::json json;
-                json["model_variant"] = args->model;
-                if (options.variant == ModelVariant::kExtended) {
-                    json["calibration"] = {
-                        {"field_of_view_degrees", report.calibration.fieldOfViewDegrees},
-                        {"light_distance", report.calibration.lightDistance},
-                        {"heldout_rms", report.calibratedRms},
-                        {"uncalibrated_heldout_rms", report.uncalibratedRms},
-                        {"seconds", report.calibrationSeconds}};
-                }
-                json["pixels"] = report.pixels;
-                json["valid_pixels"] = report.validPixels;
-                json["images"] = report.images;
-                json["width"] = report.width;
-                json["height"] = report.height;
-                if (options.variant == ModelVariant::kRti) {
-                    json["basis"] = options.rtiBasis.name();
-                } else {
-                    json["harmonics"] = report.harmonics;
-                    json["lambda"] = report.lambda;
-                    // An RTI fit is on the stored values: no relief is measured or written.
-                    json["relief"] = args->relief;
-                    json["macro_sigma"] = report.macroSigma;
-                    json["mean_relief_degrees"] = report.meanReliefDegrees;
-                }
-                json["normals"] = report.normalsSource;
-                json["mean_rms"] = report.meanRms;
-                json["model"] = args->out;
-                if (!report.preview.empty()) {
-                    json["preview"] = report.preview.string();
-                }
-                json["seconds"] = {{"decode", report.decodeSeconds},
-                                   {"normals", report.normalsSeconds},
-                                   {"fit", report.fitSeconds},
-                                   {"write", report.writeSeconds},
-                                   {"total", report.totalSeconds}};
-                printJson(json.dump());
-            }
-        };
+        action = [args] { runFit(*args); };
     });
 }
 

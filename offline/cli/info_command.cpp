@@ -213,30 +213,36 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
 
 }  // namespace
 
+namespace {
+
+struct Arguments {
+    std::string bundle;
+    bool json = false;
+};
+
+// What `vpe info` does once its options are parsed.
+void runInfo(const Arguments& args) {
+    try {
+        const proto::BundleFile bundle = proto::BundleFile::open(args.bundle);
+        if (args.json) {
+            printJson(infoJson(args.bundle, bundle.view()).dump());
+        } else {
+            printInfo(args.bundle, bundle.view());
+        }
+    } catch (const proto::BundleError& error) {
+        throw InputError(error.what());  // a bad bundle is bad input: exit status 2
+    }
+}
+
+}  // namespace
+
 void addInfoCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string bundle;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "info", "Show what a device bundle holds, after the device's own checks");
     command->add_option("BUNDLE", args->bundle, "Bundle file (.vpeb)")->required();
     command->add_flag("--json", args->json, "Print a JSON report instead of text");
-    command->callback([args, &action] {
-        action = [args] {
-            try {
-                const proto::BundleFile bundle = proto::BundleFile::open(args->bundle);
-                if (args->json) {
-                    printJson(infoJson(args->bundle, bundle.view()).dump());
-                } else {
-                    printInfo(args->bundle, bundle.view());
-                }
-            } catch (const proto::BundleError& error) {
-                throw InputError(error.what());  // a bad bundle is bad input: exit status 2
-            }
-        };
-    });
+    command->callback([args, &action] { action = [args] { runInfo(*args); }; });
 }
 
 }  // namespace vpe::cli

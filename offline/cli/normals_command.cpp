@@ -10,17 +10,59 @@
 #include "vpe/normals/photometric_stereo.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string capture;
+    std::string out;
+    std::string truth;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe normals` does once its options are parsed.
+void runNormals(const Arguments& args) {
+    const Capture capture = openCapture(args.capture);
+    PhotometricStereoOptions options;
+    options.threads = resolveThreadCount(args.threads);
+    const NormalMap estimate = estimateNormals(capture, options);
+    writeNormalMapPng(args.out, estimate);
+    nlohmann::json json;
+    std::size_t valid = 0;
+    for (std::uint8_t v : estimate.valid) {
+        valid += v;
+    }
+    json["pixels"] = estimate.valid.size();
+    json["valid_pixels"] = valid;
+    std::optional<std::filesystem::path> truthPath;
+    if (!args.truth.empty()) {
+        truthPath = args.truth;
+    } else if (capture.normalMap) {
+        truthPath = capture.normalMap;
+    }
+    if (truthPath) {
+        const NormalMap truth = readNormalMap(
+            *truthPath, args.truth.empty() ? capture.normalEncoding : NormalEncoding::kAuto);
+        const AngularError error = compareNormalMaps(estimate, truth);
+        std::fprintf(stderr, "normals vs %s: mean %.3f°, median %.3f° over %zu pixels\n",
+                     truthPath->c_str(), error.meanDegrees, error.medianDegrees, error.pixels);
+        json["truth"] = truthPath->string();
+        json["mean_error_degrees"] = error.meanDegrees;
+        json["median_error_degrees"] = error.medianDegrees;
+        json["compared_pixels"] = error.pixels;
+    }
+    if (args.json) {
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addNormalsCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string capture;
-        std::string out;
-        std::string truth;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "normals", "Estimate normals by robust photometric stereo; compare with a reference");
@@ -31,46 +73,9 @@ void addNormalsCommand(CLI::App& app, Action& action) {
     command->add_option("--truth", args->truth,
                         "Reference normal map: report the angular error (default: the "
                         "capture's own normal map, if it has one)");
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const Capture capture = openCapture(args->capture);
-            PhotometricStereoOptions options;
-            options.threads = resolveThreadCount(args->threads);
-            const NormalMap estimate = estimateNormals(capture, options);
-            writeNormalMapPng(args->out, estimate);
-            nlohmann::json json;
-            std::size_t valid = 0;
-            for (std::uint8_t v : estimate.valid) {
-                valid += v;
-            }
-            json["pixels"] = estimate.valid.size();
-            json["valid_pixels"] = valid;
-            std::optional<std::filesystem::path> truthPath;
-            if (!args->truth.empty()) {
-                truthPath = args->truth;
-            } else if (capture.normalMap) {
-                truthPath = capture.normalMap;
-            }
-            if (truthPath) {
-                const NormalMap truth =
-                    readNormalMap(*truthPath, args->truth.empty() ? capture.normalEncoding
-                                                                  : NormalEncoding::kAuto);
-                const AngularError error = compareNormalMaps(estimate, truth);
-                std::fprintf(stderr, "normals vs %s: mean %.3f°, median %.3f° over %zu pixels\n",
-                             truthPath->c_str(), error.meanDegrees, error.medianDegrees,
-                             error.pixels);
-                json["truth"] = truthPath->string();
-                json["mean_error_degrees"] = error.meanDegrees;
-                json["median_error_degrees"] = error.medianDegrees;
-                json["compared_pixels"] = error.pixels;
-            }
-            if (args->json) {
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runNormals(*args); }; });
 }
 
 }  // namespace vpe::cli

@@ -13,30 +13,114 @@
 #include "vpe/quilt/texture_quilt.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "cli/size_argument.h"
 #include "cli/storage_option.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string model;
+    std::string labels;
+    std::string size;
+    std::string out;
+    std::string mesh;
+    double meshScale = 1.0;
+    std::optional<double> texelMm;
+    std::string wrap = "auto";
+    int block = 64;
+    int overlap = 12;
+    double tolerance = 0.1;
+    std::uint64_t seed = 1;
+    std::string search = "fft";
+    int threads = 0;
+    std::string storage;
+    bool json = false;
+};
+
+// What `vpe quilt` does once its options are parsed.
+void runQuilt(const Arguments& args) {
+    quilt::QuiltTextureOptions options;
+    options.model = args.model;
+    options.labels = args.labels;
+    options.out = args.out;
+    if (args.size != "auto") {
+        const SizeArgument size = parseSizeArgument(args.size, "--size");
+        options.width = size.width;
+        options.height = size.height;
+    }
+    options.mesh = args.mesh;
+    if (!(args.meshScale > 0) || !std::isfinite(args.meshScale)) {
+        throw InputError("--mesh-scale must be a positive number of metres per unit");
+    }
+    options.meshMetresPerUnit = args.meshScale;
+    options.texelMm = args.texelMm;
+    options.wrap = args.wrap == "on"    ? quilt::WrapMode::kOn
+                   : args.wrap == "off" ? quilt::WrapMode::kOff
+                                        : quilt::WrapMode::kAuto;
+    options.settings.block = args.block;
+    options.settings.overlap = args.overlap;
+    options.settings.tolerance = args.tolerance;
+    options.settings.seed = args.seed;
+    options.settings.threads = resolveThreadCount(args.threads);
+    options.storage = parseStorage(args.storage);
+    options.settings.search = args.search == "exhaustive"
+                                  ? quilt::QuiltSettings::Search::kExhaustive
+                                  : quilt::QuiltSettings::Search::kFft;
+    if (!(args.tolerance >= 0)) {
+        throw InputError("--tolerance must be >= 0");
+    }
+    const quilt::QuiltTextureReport report = quilt::quiltTexture(options);
+    const scene::TexelStretch& stretch = report.stretch;
+    std::fprintf(stderr, "layout: %dx%d%s for %s%s; ", report.width, report.height,
+                 report.autoSize ? " (auto)" : "", report.mesh.c_str(),
+                 report.meshWrapsU ? " (u wraps)" : "");
+    if (report.texelMm > 0) {
+        std::fprintf(stderr, "capture texel %.3g mm, ", report.texelMm);
+    }
+    std::fprintf(stderr,
+                 "texel on the object %.3g x %.3g mm (u x v, geometric means)\n"
+                 "stretch (longer / shorter side of a texel on the object): area-weighted "
+                 "mean %.2f, median %.2f, p95 %.2f; worst %.2f at uv (%.2f, %.2f)\n",
+                 stretch.texelUMm, stretch.texelVMm, stretch.mean, stretch.median, stretch.p95,
+                 stretch.worst, static_cast<double>(stretch.worstU),
+                 static_cast<double>(stretch.worstV));
+    for (const quilt::RegionReport& region : report.regions) {
+        std::fprintf(stderr,
+                     "region %d: %zu source pixels, %zu candidate blocks of %d (overlap %d, "
+                     "%d PCA components of %d channels), %d blocks in %.2f s\n",
+                     region.region, region.sourcePixels, region.quilt.candidates,
+                     region.quilt.block, region.quilt.overlap, region.quilt.components,
+                     report.channels, region.quilt.blocks, region.seconds);
+        std::fprintf(stderr,
+                     "  u seam (%s): step %.4g, interior neighbours mean %.4g, p95 %.4g, "
+                     "max %.4g (%.2fx the mean)\n",
+                     report.wrapU ? "tiled" : "not tiled", region.seam.seam,
+                     region.seam.interiorMean, region.seam.interiorP95, region.seam.interiorMax,
+                     region.seam.ratio());
+    }
+    std::fprintf(stderr,
+                 "quilted %zu regions to %dx%d in %.2f s (load %.2f, quilt %.2f, write %.2f): %s\n",
+                 report.regions.size(), report.width, report.height, report.seconds,
+                 report.loadSeconds, report.quiltSeconds, report.writeSeconds, args.out.c_str());
+    if (args.json) {
+        nlohmann::json json = nlohmann::json::parse(quilt::quiltLayoutJson(report));
+        json["regions"] = report.regions.size();
+        json["channels"] = report.channels;
+        json["seconds"] = report.seconds;
+        json["load_seconds"] = report.loadSeconds;
+        json["quilt_seconds"] = report.quiltSeconds;
+        json["write_seconds"] = report.writeSeconds;
+        json["out"] = args.out;
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addQuiltCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string model;
-        std::string labels;
-        std::string size;
-        std::string out;
-        std::string mesh;
-        double meshScale = 1.0;
-        std::optional<double> texelMm;
-        std::string wrap = "auto";
-        int block = 64;
-        int overlap = 12;
-        double tolerance = 0.1;
-        std::uint64_t seed = 1;
-        std::string search = "fft";
-        int threads = 0;
-        std::string storage;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "quilt", "Image Quilting of a model's coefficient maps, one texture per region");
@@ -76,89 +160,10 @@ void addQuiltCommand(CLI::App& app, Action& action) {
                      "fft (PCA + FFT overlap search) or exhaustive (all channels, slow)")
         ->check(CLI::IsMember({"fft", "exhaustive"}))
         ->capture_default_str();
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
+    addThreadsOption(command, args->threads);
     addStorageOption(command, args->storage, "as MODEL");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            quilt::QuiltTextureOptions options;
-            options.model = args->model;
-            options.labels = args->labels;
-            options.out = args->out;
-            if (args->size != "auto") {
-                const SizeArgument size = parseSizeArgument(args->size, "--size");
-                options.width = size.width;
-                options.height = size.height;
-            }
-            options.mesh = args->mesh;
-            if (!(args->meshScale > 0) || !std::isfinite(args->meshScale)) {
-                throw InputError("--mesh-scale must be a positive number of metres per unit");
-            }
-            options.meshMetresPerUnit = args->meshScale;
-            options.texelMm = args->texelMm;
-            options.wrap = args->wrap == "on"    ? quilt::WrapMode::kOn
-                           : args->wrap == "off" ? quilt::WrapMode::kOff
-                                                 : quilt::WrapMode::kAuto;
-            options.settings.block = args->block;
-            options.settings.overlap = args->overlap;
-            options.settings.tolerance = args->tolerance;
-            options.settings.seed = args->seed;
-            options.settings.threads = resolveThreadCount(args->threads);
-            options.storage = parseStorage(args->storage);
-            options.settings.search = args->search == "exhaustive"
-                                          ? quilt::QuiltSettings::Search::kExhaustive
-                                          : quilt::QuiltSettings::Search::kFft;
-            if (!(args->tolerance >= 0)) {
-                throw InputError("--tolerance must be >= 0");
-            }
-            const quilt::QuiltTextureReport report = quilt::quiltTexture(options);
-            const scene::TexelStretch& stretch = report.stretch;
-            std::fprintf(stderr, "layout: %dx%d%s for %s%s; ", report.width, report.height,
-                         report.autoSize ? " (auto)" : "", report.mesh.c_str(),
-                         report.meshWrapsU ? " (u wraps)" : "");
-            if (report.texelMm > 0) {
-                std::fprintf(stderr, "capture texel %.3g mm, ", report.texelMm);
-            }
-            std::fprintf(stderr,
-                         "texel on the object %.3g x %.3g mm (u x v, geometric means)\n"
-                         "stretch (longer / shorter side of a texel on the object): area-weighted "
-                         "mean %.2f, median %.2f, p95 %.2f; worst %.2f at uv (%.2f, %.2f)\n",
-                         stretch.texelUMm, stretch.texelVMm, stretch.mean, stretch.median,
-                         stretch.p95, stretch.worst, static_cast<double>(stretch.worstU),
-                         static_cast<double>(stretch.worstV));
-            for (const quilt::RegionReport& region : report.regions) {
-                std::fprintf(
-                    stderr,
-                    "region %d: %zu source pixels, %zu candidate blocks of %d (overlap %d, "
-                    "%d PCA components of %d channels), %d blocks in %.2f s\n",
-                    region.region, region.sourcePixels, region.quilt.candidates, region.quilt.block,
-                    region.quilt.overlap, region.quilt.components, report.channels,
-                    region.quilt.blocks, region.seconds);
-                std::fprintf(stderr,
-                             "  u seam (%s): step %.4g, interior neighbours mean %.4g, p95 %.4g, "
-                             "max %.4g (%.2fx the mean)\n",
-                             report.wrapU ? "tiled" : "not tiled", region.seam.seam,
-                             region.seam.interiorMean, region.seam.interiorP95,
-                             region.seam.interiorMax, region.seam.ratio());
-            }
-            std::fprintf(
-                stderr,
-                "quilted %zu regions to %dx%d in %.2f s (load %.2f, quilt %.2f, write %.2f): %s\n",
-                report.regions.size(), report.width, report.height, report.seconds,
-                report.loadSeconds, report.quiltSeconds, report.writeSeconds, args->out.c_str());
-            if (args->json) {
-                nlohmann::json json = nlohmann::json::parse(quilt::quiltLayoutJson(report));
-                json["regions"] = report.regions.size();
-                json["channels"] = report.channels;
-                json["seconds"] = report.seconds;
-                json["load_seconds"] = report.loadSeconds;
-                json["quilt_seconds"] = report.quiltSeconds;
-                json["write_seconds"] = report.writeSeconds;
-                json["out"] = args->out;
-                printJson(json.dump());
-            }
-        };
-    });
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runQuilt(*args); }; });
 }
 
 }  // namespace vpe::cli

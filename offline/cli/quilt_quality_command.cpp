@@ -16,6 +16,7 @@
 #include "vpe/segment/label_map.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 
 namespace vpe::cli {
 
@@ -109,14 +110,73 @@ void printRegion(const quilt::RegionQuality& q) {
 
 }  // namespace
 
+namespace {
+
+struct Arguments {
+    std::string model;
+    std::string labels;
+    std::string quilt;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe quilt-quality` does once its options are parsed.
+void runQuiltQuality(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    const quilt::CoefficientImage source = quilt::readCoefficientImage(args.model);
+    const std::vector<std::uint8_t> labels =
+        readLabelImage(args.labels, source.width, source.height).values;
+    const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args.quilt);
+    for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
+        if (std::find(labels.begin(), labels.end(), k) == labels.end()) {
+            throw InputError(args.labels, "no pixel of region " + std::to_string(k) + " (" +
+                                              maps[static_cast<std::size_t>(k)].string() +
+                                              " exists)");
+        }
+    }
+    quilt::QualityOptions options;
+    options.threads = resolveThreadCount(args.threads);
+    std::vector<quilt::PositionMap> positions;
+    nlohmann::json regions = nlohmann::json::array();
+    for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
+        const quilt::CoefficientImage output =
+            quilt::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
+        if (output.harmonics != source.harmonics) {
+            throw InputError(maps[static_cast<std::size_t>(k)],
+                             std::to_string(output.harmonics) + " harmonics, but " + args.model +
+                                 " has " + std::to_string(source.harmonics));
+        }
+        if (k == 0) {
+            positions =
+                quilt::readPositionMaps(args.quilt, static_cast<int>(maps.size()), output.width,
+                                        output.height, source.width, source.height);
+        } else if (output.width != positions[0].width || output.height != positions[0].height) {
+            throw InputError(maps[static_cast<std::size_t>(k)], "size differs from region0.exr's");
+        }
+        const quilt::RegionQuality quality = quilt::measureRegionQuality(
+            source, labels, k, output, positions[static_cast<std::size_t>(k)], options);
+        if (!args.json) {
+            printRegion(quality);
+        }
+        regions.push_back(regionJson(quality));
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "measured %zu region maps in %.2f s\n", maps.size(), seconds);
+    if (args.json) {
+        nlohmann::json json;
+        json["model"] = args.model;
+        json["labels"] = args.labels;
+        json["quilt"] = args.quilt;
+        json["regions"] = regions;
+        json["seconds"] = seconds;
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addQuiltQualityCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string model;
-        std::string labels;
-        std::string quilt;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "quilt-quality",
@@ -130,64 +190,9 @@ void addQuiltQualityCommand(CLI::App& app, Action& action) {
                      "Folder vpe quilt wrote (region<k>.exr, "
                      "positions.exr)")
         ->required();
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const auto start = std::chrono::steady_clock::now();
-            const quilt::CoefficientImage source = quilt::readCoefficientImage(args->model);
-            const std::vector<std::uint8_t> labels =
-                readLabelImage(args->labels, source.width, source.height).values;
-            const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args->quilt);
-            for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-                if (std::find(labels.begin(), labels.end(), k) == labels.end()) {
-                    throw InputError(args->labels,
-                                     "no pixel of region " + std::to_string(k) + " (" +
-                                         maps[static_cast<std::size_t>(k)].string() + " exists)");
-                }
-            }
-            quilt::QualityOptions options;
-            options.threads = resolveThreadCount(args->threads);
-            std::vector<quilt::PositionMap> positions;
-            nlohmann::json regions = nlohmann::json::array();
-            for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-                const quilt::CoefficientImage output =
-                    quilt::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
-                if (output.harmonics != source.harmonics) {
-                    throw InputError(maps[static_cast<std::size_t>(k)],
-                                     std::to_string(output.harmonics) + " harmonics, but " +
-                                         args->model + " has " + std::to_string(source.harmonics));
-                }
-                if (k == 0) {
-                    positions = quilt::readPositionMaps(args->quilt, static_cast<int>(maps.size()),
-                                                        output.width, output.height, source.width,
-                                                        source.height);
-                } else if (output.width != positions[0].width ||
-                           output.height != positions[0].height) {
-                    throw InputError(maps[static_cast<std::size_t>(k)],
-                                     "size differs from region0.exr's");
-                }
-                const quilt::RegionQuality quality = quilt::measureRegionQuality(
-                    source, labels, k, output, positions[static_cast<std::size_t>(k)], options);
-                if (!args->json) {
-                    printRegion(quality);
-                }
-                regions.push_back(regionJson(quality));
-            }
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            std::fprintf(stderr, "measured %zu region maps in %.2f s\n", maps.size(), seconds);
-            if (args->json) {
-                nlohmann::json json;
-                json["model"] = args->model;
-                json["labels"] = args->labels;
-                json["quilt"] = args->quilt;
-                json["regions"] = regions;
-                json["seconds"] = seconds;
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runQuiltQuality(*args); }; });
 }
 
 }  // namespace vpe::cli

@@ -14,13 +14,51 @@
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string model;
+    std::string out;
+    std::vector<double> light{0.5, 0.5, 0.707};
+    double exposure = 1.0;
+};
+
+// What `vpe relight` does once its options are parsed.
+void runRelight(const Arguments& args) {
+    const Vec3d light{args.light[0], args.light[1], args.light[2]};
+    const double length = std::sqrt(proto::dot(light, light));
+    if (!(length > 1e-9) || !std::isfinite(length)) {
+        throw InputError("--light must be a non-zero direction");
+    }
+    const Vec3d toLight{light.x / length, light.y / length, light.z / length};
+    ModelReader reader(args.model);
+    const ModelInfo& info = reader.info();
+    ModelRows rows;
+    reader.readRows(0, info.height, rows);
+    std::vector<float> pixels(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f);
+    for (int y = 0; y < info.height; ++y) {
+        for (int x = 0; x < info.width; ++x) {
+            const std::size_t p = rows.pixel(y, x);
+            if (!rows.valid[p]) {
+                continue;
+            }
+            const Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]};
+            const auto angles = proto::reflectionAngles(n, toLight, Vec3d{0, 0, 1});
+            for (int c = 0; c < 3; ++c) {
+                const double v = args.exposure * proto::evaluateFourierBrdf(
+                                                     rows.coefficientsAt(y, x, c), info.harmonics,
+                                                     angles.cosThetaD, angles.cosThetaS);
+                pixels[p * 3 + static_cast<std::size_t>(c)] =
+                    static_cast<float>(proto::linearToSrgb(std::clamp(v, 0.0, 1.0)));
+            }
+        }
+    }
+    writeImage(args.out, info.width, info.height, 3, pixels, PixelFormat::kUint8);
+}
+
+}  // namespace
+
 void addRelightCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string model;
-        std::string out;
-        std::vector<double> light{0.5, 0.5, 0.707};
-        double exposure = 1.0;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "relight",
@@ -32,41 +70,7 @@ void addRelightCommand(CLI::App& app, Action& action) {
         ->expected(3);
     command->add_option("--exposure", args->exposure, "Multiplier before sRGB encoding")
         ->capture_default_str();
-    command->callback([args, &action] {
-        action = [args] {
-            const Vec3d light{args->light[0], args->light[1], args->light[2]};
-            const double length = std::sqrt(proto::dot(light, light));
-            if (!(length > 1e-9) || !std::isfinite(length)) {
-                throw InputError("--light must be a non-zero direction");
-            }
-            const Vec3d toLight{light.x / length, light.y / length, light.z / length};
-            ModelReader reader(args->model);
-            const ModelInfo& info = reader.info();
-            ModelRows rows;
-            reader.readRows(0, info.height, rows);
-            std::vector<float> pixels(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f);
-            for (int y = 0; y < info.height; ++y) {
-                for (int x = 0; x < info.width; ++x) {
-                    const std::size_t p = rows.pixel(y, x);
-                    if (!rows.valid[p]) {
-                        continue;
-                    }
-                    const Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1],
-                                  rows.normal[p * 3 + 2]};
-                    const auto angles = proto::reflectionAngles(n, toLight, Vec3d{0, 0, 1});
-                    for (int c = 0; c < 3; ++c) {
-                        const double v =
-                            args->exposure *
-                            proto::evaluateFourierBrdf(rows.coefficientsAt(y, x, c), info.harmonics,
-                                                       angles.cosThetaD, angles.cosThetaS);
-                        pixels[p * 3 + static_cast<std::size_t>(c)] =
-                            static_cast<float>(proto::linearToSrgb(std::clamp(v, 0.0, 1.0)));
-                    }
-                }
-            }
-            writeImage(args->out, info.width, info.height, 3, pixels, PixelFormat::kUint8);
-        };
-    });
+    command->callback([args, &action] { action = [args] { runRelight(*args); }; });
 }
 
 }  // namespace vpe::cli

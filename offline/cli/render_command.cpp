@@ -24,6 +24,7 @@
 #include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "cli/size_argument.h"
 
 namespace vpe::cli {
@@ -85,14 +86,119 @@ Vec3d meshCentre(const proto::MeshView& mesh) {
 
 }  // namespace
 
+namespace {
+
+struct Arguments {
+    std::string bundle, out, simulate, direct, exr, weights, gain;
+    std::string light, viewer, viewSize = "480x360";
+    double intensity = 1.0, exposure = 0.0, fov = 30.0, clipTarget = 0.005;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe render` does once its options are parsed.
+void runRender(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto light = scene::parsePosition(args.light, "--light");
+    const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
+    const int viewWidth = viewSize.width, viewHeight = viewSize.height;
+    if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
+        throw InputError("--intensity must be a positive number");
+    }
+    proto::BundleFile file = [&] {
+        try {
+            return proto::BundleFile::open(args.bundle);
+        } catch (const proto::BundleError& error) {
+            throw InputError(error.what());
+        }
+    }();
+    const renderer::BundleScene bundleScene = [&] {
+        try {
+            return renderer::BundleScene(file.view(), args.weights);
+        } catch (const std::invalid_argument& error) {
+            throw InputError(std::string("--weights: ") + error.what());
+        }
+    }();
+    Vec3d viewer = bundleScene.bundleViewer();
+    if (!args.viewer.empty()) {
+        const auto v = scene::parsePosition(args.viewer, "--viewer");
+        viewer = {v.x, v.y, v.z};
+    }
+    renderer::VirtualLight virtualLight;
+    virtualLight.position = {light.x, light.y, light.z};
+    virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
+    const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
+    renderer::RenderOptions options;
+    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.gain = static_cast<double>(file.view().settings().gain);
+    if (!args.gain.empty() && args.gain != "auto") {
+        char* end = nullptr;
+        options.gain = std::strtod(args.gain.c_str(), &end);
+        if (end == args.gain.c_str() || *end != '\0' || !(options.gain > 0) ||
+            !std::isfinite(options.gain)) {
+            throw InputError("--gain: '" + args.gain + "' is not a positive number or 'auto'");
+        }
+    }
+    renderer::ProjectorFrame frame = renderer::renderProjectorFrame(scene, options);
+    if (args.gain == "auto") {
+        options.gain = renderer::gainForClippedFraction(frame, args.clipTarget);
+        frame = renderer::renderProjectorFrame(scene, options);
+    }
+    const int w = frame.level.width, h = frame.level.height;
+    writeImage8(args.out, w, h, 3, levelPicture(frame.level));
+    if (!args.exr.empty()) {
+        writeImage(args.exr, w, h, 3, frame.level.values, PixelFormat::kFloat);
+    }
+    nlohmann::json json;
+    json["bundle"] = args.bundle;
+    json["preset"] = bundleScene.presetName();
+    json["width"] = w;
+    json["height"] = h;
+    json["gain"] = frame.stats.gain;
+    json["covered_pixels"] = frame.stats.coveredPixels;
+    json["clipped_fraction"] = frame.stats.clippedFraction;
+    json["clipped_high_pixels"] = frame.stats.clippedHighPixels;
+    json["clipped_low_pixels"] = frame.stats.clippedLowPixels;
+    if (!args.simulate.empty() || !args.direct.empty()) {
+        const proto::PinholeCamera camera = proto::cameraLookingAt(
+            viewWidth, viewHeight, args.fov, viewer, meshCentre(file.view().mesh()));
+        const renderer::DirectView direct = renderer::renderDirectView(scene, camera, options);
+        const renderer::SimulatedView simulated =
+            renderer::simulateVisitorView(scene, frame.level, camera, options);
+        const double exposure = args.exposure > 0 ? args.exposure : autoExposure(direct);
+        if (!args.simulate.empty()) {
+            writeImage8(args.simulate, viewWidth, viewHeight, 3,
+                        srgbPicture(simulated.radiance, exposure));
+        }
+        if (!args.direct.empty()) {
+            writeImage8(args.direct, viewWidth, viewHeight, 3,
+                        srgbPicture(direct.radiance, exposure));
+        }
+        const renderer::LoopClosure loop = renderer::compareVisitorViews(frame, simulated, direct);
+        json["exposure"] = exposure;
+        json["loop"] = {{"seen_pixels", loop.seenPixels},
+                        {"compared_pixels", loop.comparedPixels},
+                        {"shadowed_pixels", loop.shadowedPixels},
+                        {"mean_relative_error", loop.meanRelativeError},
+                        {"p99_relative_error", loop.p99RelativeError},
+                        {"max_relative_error", loop.maxRelativeError},
+                        {"psnr", loop.psnr}};
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    json["seconds"] = seconds;
+    std::fprintf(stderr,
+                 "%s: %dx%d frame, gain %.3g, %.2f%% of %zu object pixels clipped, %.2f s\n",
+                 args.out.c_str(), w, h, frame.stats.gain, 100.0 * frame.stats.clippedFraction,
+                 frame.stats.coveredPixels, seconds);
+    if (args.json) {
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addRenderCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string bundle, out, simulate, direct, exr, weights, gain;
-        std::string light, viewer, viewSize = "480x360";
-        double intensity = 1.0, exposure = 0.0, fov = 30.0, clipTarget = 0.005;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "render",
@@ -121,111 +227,9 @@ void addRenderCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_option("--exposure", args->exposure,
                         "Preview exposure (0: automatic, from the direct view)");
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const auto start = std::chrono::steady_clock::now();
-            const auto light = scene::parsePosition(args->light, "--light");
-            const SizeArgument viewSize = parseSizeArgument(args->viewSize, "--view-size", 8192);
-            const int viewWidth = viewSize.width, viewHeight = viewSize.height;
-            if (!(args->intensity > 0) || !std::isfinite(args->intensity)) {
-                throw InputError("--intensity must be a positive number");
-            }
-            proto::BundleFile file = [&] {
-                try {
-                    return proto::BundleFile::open(args->bundle);
-                } catch (const proto::BundleError& error) {
-                    throw InputError(error.what());
-                }
-            }();
-            const renderer::BundleScene bundleScene = [&] {
-                try {
-                    return renderer::BundleScene(file.view(), args->weights);
-                } catch (const std::invalid_argument& error) {
-                    throw InputError(std::string("--weights: ") + error.what());
-                }
-            }();
-            Vec3d viewer = bundleScene.bundleViewer();
-            if (!args->viewer.empty()) {
-                const auto v = scene::parsePosition(args->viewer, "--viewer");
-                viewer = {v.x, v.y, v.z};
-            }
-            renderer::VirtualLight virtualLight;
-            virtualLight.position = {light.x, light.y, light.z};
-            virtualLight.intensity = {args->intensity, args->intensity, args->intensity};
-            const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
-            renderer::RenderOptions options;
-            options.threads = static_cast<int>(resolveThreadCount(args->threads));
-            options.gain = static_cast<double>(file.view().settings().gain);
-            if (!args->gain.empty() && args->gain != "auto") {
-                char* end = nullptr;
-                options.gain = std::strtod(args->gain.c_str(), &end);
-                if (end == args->gain.c_str() || *end != '\0' || !(options.gain > 0) ||
-                    !std::isfinite(options.gain)) {
-                    throw InputError("--gain: '" + args->gain +
-                                     "' is not a positive number or 'auto'");
-                }
-            }
-            renderer::ProjectorFrame frame = renderer::renderProjectorFrame(scene, options);
-            if (args->gain == "auto") {
-                options.gain = renderer::gainForClippedFraction(frame, args->clipTarget);
-                frame = renderer::renderProjectorFrame(scene, options);
-            }
-            const int w = frame.level.width, h = frame.level.height;
-            writeImage8(args->out, w, h, 3, levelPicture(frame.level));
-            if (!args->exr.empty()) {
-                writeImage(args->exr, w, h, 3, frame.level.values, PixelFormat::kFloat);
-            }
-            nlohmann::json json;
-            json["bundle"] = args->bundle;
-            json["preset"] = bundleScene.presetName();
-            json["width"] = w;
-            json["height"] = h;
-            json["gain"] = frame.stats.gain;
-            json["covered_pixels"] = frame.stats.coveredPixels;
-            json["clipped_fraction"] = frame.stats.clippedFraction;
-            json["clipped_high_pixels"] = frame.stats.clippedHighPixels;
-            json["clipped_low_pixels"] = frame.stats.clippedLowPixels;
-            if (!args->simulate.empty() || !args->direct.empty()) {
-                const proto::PinholeCamera camera = proto::cameraLookingAt(
-                    viewWidth, viewHeight, args->fov, viewer, meshCentre(file.view().mesh()));
-                const renderer::DirectView direct =
-                    renderer::renderDirectView(scene, camera, options);
-                const renderer::SimulatedView simulated =
-                    renderer::simulateVisitorView(scene, frame.level, camera, options);
-                const double exposure = args->exposure > 0 ? args->exposure : autoExposure(direct);
-                if (!args->simulate.empty()) {
-                    writeImage8(args->simulate, viewWidth, viewHeight, 3,
-                                srgbPicture(simulated.radiance, exposure));
-                }
-                if (!args->direct.empty()) {
-                    writeImage8(args->direct, viewWidth, viewHeight, 3,
-                                srgbPicture(direct.radiance, exposure));
-                }
-                const renderer::LoopClosure loop =
-                    renderer::compareVisitorViews(frame, simulated, direct);
-                json["exposure"] = exposure;
-                json["loop"] = {{"seen_pixels", loop.seenPixels},
-                                {"compared_pixels", loop.comparedPixels},
-                                {"shadowed_pixels", loop.shadowedPixels},
-                                {"mean_relative_error", loop.meanRelativeError},
-                                {"p99_relative_error", loop.p99RelativeError},
-                                {"max_relative_error", loop.maxRelativeError},
-                                {"psnr", loop.psnr}};
-            }
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            json["seconds"] = seconds;
-            std::fprintf(
-                stderr, "%s: %dx%d frame, gain %.3g, %.2f%% of %zu object pixels clipped, %.2f s\n",
-                args->out.c_str(), w, h, frame.stats.gain, 100.0 * frame.stats.clippedFraction,
-                frame.stats.coveredPixels, seconds);
-            if (args->json) {
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runRender(*args); }; });
 }
 
 }  // namespace vpe::cli

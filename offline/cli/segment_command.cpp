@@ -14,6 +14,7 @@
 #include "vpe/segment/segmentation.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 
 namespace vpe::cli {
 
@@ -69,20 +70,121 @@ int parseClusters(const std::string& text) {
 
 }  // namespace
 
+namespace {
+
+struct Arguments {
+    std::string model;
+    std::string out;
+    std::string seeds;
+    std::string autoClusters;
+    std::string truth;
+    std::string space = "appearance";
+    std::string average;
+    long minIsland = -1;
+    std::uint64_t seed = 1;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe segment` does once its options are parsed.
+void runSegment(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    if (args.seeds.empty() == args.autoClusters.empty()) {
+        throw InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
+    }
+    SegmentOptions options;
+    if (!args.seeds.empty()) {
+        options.seeds = parseSeeds(args.seeds);
+        options.seedSpace = args.space == "colour" ? SeedSpace::kColour : SeedSpace::kAppearance;
+    } else {
+        options.clusters = parseClusters(args.autoClusters);
+    }
+    options.minIsland = args.minIsland;
+    options.seed = args.seed;
+    options.threads = resolveThreadCount(args.threads);
+    // The truth is read first, so a bad one stops the command before any work.
+    std::optional<LabelMap> truth;
+    if (!args.truth.empty()) {
+        truth = readLabelImage(args.truth);
+    }
+    AppearanceOptions appearanceOptions;
+    appearanceOptions.threads = options.threads;
+    const Appearance appearance = computeAppearance(args.model, appearanceOptions);
+    if (truth && (truth->width != appearance.width || truth->height != appearance.height)) {
+        throw InputError(args.truth, "is " + std::to_string(truth->width) + "x" +
+                                         std::to_string(truth->height) + ", the model " +
+                                         std::to_string(appearance.width) + "x" +
+                                         std::to_string(appearance.height));
+    }
+    const SegmentResult result = segmentAppearance(appearance, options);
+    const std::filesystem::path overlay = overlayPathFor(args.out);
+    writeLabelImage(args.out, result.map);
+    writeLabelOverlay(overlay, result.map, appearance);
+    if (!args.average.empty()) {
+        writeImage8(args.average, appearance.width, appearance.height, 3,
+                    averagePicture(appearance));
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    nlohmann::json json;
+    json["model"] = args.model;
+    json["out"] = args.out;
+    json["overlay"] = overlay.string();
+    json["mode"] = options.seeds.empty() ? "auto" : "seeds";
+    if (!options.seeds.empty()) {
+        json["space"] = args.space;
+    }
+    json["labels"] = result.map.labels;
+    json["label_pixels"] = labelAreas(result.map);
+    json["pixels"] = result.map.values.size();
+    json["valid_pixels"] = appearance.validPixels;
+    json["min_island"] = result.minIsland;
+    json["islands_merged"] = result.islandsMerged;
+    json["explained_variance"] = appearance.explainedVariance;
+    if (options.seeds.empty()) {
+        json["clusters"] = result.clusters;
+        json["seed"] = args.seed;
+        if (!result.candidates.empty()) {
+            nlohmann::json silhouettes;
+            for (std::size_t i = 0; i < result.candidates.size(); ++i) {
+                silhouettes[std::to_string(result.candidates[i])] = result.silhouettes[i];
+            }
+            json["silhouettes"] = silhouettes;
+        }
+    }
+    std::string chosen;
+    if (!result.candidates.empty()) {
+        chosen = " (K chosen by silhouette)";
+    }
+    std::fprintf(stderr, "%s: %d labels%s, %zu islands merged (< %zu px), %.2f s\n",
+                 args.out.c_str(), result.map.labels, chosen.c_str(), result.islandsMerged,
+                 result.minIsland, seconds);
+    if (truth) {
+        const LabelComparison comparison = compareLabels(result.map, *truth);
+        json["truth"] = args.truth;
+        json["truth_labels"] = comparison.truthLabels;
+        json["matched_labels"] = comparison.matchedLabels;
+        json["iou"] = comparison.iou;
+        json["mean_iou"] = comparison.meanIou;
+        json["compared_pixels"] = comparison.comparedPixels;
+        std::fprintf(stderr, "vs %s: mean IoU %.4f over %zu labels (", args.truth.c_str(),
+                     comparison.meanIou, comparison.truthLabels.size());
+        for (std::size_t i = 0; i < comparison.iou.size() && i < 16; ++i) {
+            std::fprintf(stderr, "%s%d: %.3f", i ? ", " : "", comparison.truthLabels[i],
+                         comparison.iou[i]);
+        }
+        std::fprintf(stderr, "%s)\n", comparison.iou.size() > 16 ? ", ..." : "");
+    }
+    json["seconds"] = seconds;
+    if (args.json) {
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addSegmentCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string model;
-        std::string out;
-        std::string seeds;
-        std::string autoClusters;
-        std::string truth;
-        std::string space = "appearance";
-        std::string average;
-        long minIsland = -1;
-        std::uint64_t seed = 1;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "segment", "Split a model into reflectance regions: label image and overlay");
@@ -116,105 +218,9 @@ void addSegmentCommand(CLI::App& app, Action& action) {
                         "(default: 0.2% of the valid pixels)");
     command->add_option("--seed", args->seed, "Random seed of the clustering")
         ->capture_default_str();
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const auto start = std::chrono::steady_clock::now();
-            if (args->seeds.empty() == args->autoClusters.empty()) {
-                throw InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
-            }
-            SegmentOptions options;
-            if (!args->seeds.empty()) {
-                options.seeds = parseSeeds(args->seeds);
-                options.seedSpace =
-                    args->space == "colour" ? SeedSpace::kColour : SeedSpace::kAppearance;
-            } else {
-                options.clusters = parseClusters(args->autoClusters);
-            }
-            options.minIsland = args->minIsland;
-            options.seed = args->seed;
-            options.threads = resolveThreadCount(args->threads);
-            // The truth is read first, so a bad one stops the command before any work.
-            std::optional<LabelMap> truth;
-            if (!args->truth.empty()) {
-                truth = readLabelImage(args->truth);
-            }
-            AppearanceOptions appearanceOptions;
-            appearanceOptions.threads = options.threads;
-            const Appearance appearance = computeAppearance(args->model, appearanceOptions);
-            if (truth && (truth->width != appearance.width || truth->height != appearance.height)) {
-                throw InputError(args->truth, "is " + std::to_string(truth->width) + "x" +
-                                                  std::to_string(truth->height) + ", the model " +
-                                                  std::to_string(appearance.width) + "x" +
-                                                  std::to_string(appearance.height));
-            }
-            const SegmentResult result = segmentAppearance(appearance, options);
-            const std::filesystem::path overlay = overlayPathFor(args->out);
-            writeLabelImage(args->out, result.map);
-            writeLabelOverlay(overlay, result.map, appearance);
-            if (!args->average.empty()) {
-                writeImage8(args->average, appearance.width, appearance.height, 3,
-                            averagePicture(appearance));
-            }
-            const double seconds =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-            nlohmann::json json;
-            json["model"] = args->model;
-            json["out"] = args->out;
-            json["overlay"] = overlay.string();
-            json["mode"] = options.seeds.empty() ? "auto" : "seeds";
-            if (!options.seeds.empty()) {
-                json["space"] = args->space;
-            }
-            json["labels"] = result.map.labels;
-            json["label_pixels"] = labelAreas(result.map);
-            json["pixels"] = result.map.values.size();
-            json["valid_pixels"] = appearance.validPixels;
-            json["min_island"] = result.minIsland;
-            json["islands_merged"] = result.islandsMerged;
-            json["explained_variance"] = appearance.explainedVariance;
-            if (options.seeds.empty()) {
-                json["clusters"] = result.clusters;
-                json["seed"] = args->seed;
-                if (!result.candidates.empty()) {
-                    nlohmann::json silhouettes;
-                    for (std::size_t i = 0; i < result.candidates.size(); ++i) {
-                        silhouettes[std::to_string(result.candidates[i])] = result.silhouettes[i];
-                    }
-                    json["silhouettes"] = silhouettes;
-                }
-            }
-            std::string chosen;
-            if (!result.candidates.empty()) {
-                chosen = " (K chosen by silhouette)";
-            }
-            std::fprintf(stderr, "%s: %d labels%s, %zu islands merged (< %zu px), %.2f s\n",
-                         args->out.c_str(), result.map.labels, chosen.c_str(), result.islandsMerged,
-                         result.minIsland, seconds);
-            if (truth) {
-                const LabelComparison comparison = compareLabels(result.map, *truth);
-                json["truth"] = args->truth;
-                json["truth_labels"] = comparison.truthLabels;
-                json["matched_labels"] = comparison.matchedLabels;
-                json["iou"] = comparison.iou;
-                json["mean_iou"] = comparison.meanIou;
-                json["compared_pixels"] = comparison.comparedPixels;
-                std::fprintf(stderr, "vs %s: mean IoU %.4f over %zu labels (", args->truth.c_str(),
-                             comparison.meanIou, comparison.truthLabels.size());
-                for (std::size_t i = 0; i < comparison.iou.size() && i < 16; ++i) {
-                    std::fprintf(stderr, "%s%d: %.3f", i ? ", " : "", comparison.truthLabels[i],
-                                 comparison.iou[i]);
-                }
-                std::fprintf(stderr, "%s)\n", comparison.iou.size() > 16 ? ", ..." : "");
-            }
-            json["seconds"] = seconds;
-            if (args->json) {
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runSegment(*args); }; });
 }
 
 }  // namespace vpe::cli

@@ -10,20 +10,71 @@
 #include "vpe/eval/fourier_sweep.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string train;
+    std::string test;
+    std::string out;
+    std::string normals;
+    int maxHarmonics = 15;
+    std::vector<double> lambdas{0.0, 0.5, 3.14, 10.0, 50.0};
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe sweep` does once its options are parsed.
+void runSweep(const Arguments& args) {
+    SweepOptions options;
+    options.maxHarmonics = args.maxHarmonics;
+    options.lambdas = args.lambdas;
+    options.threads = resolveThreadCount(args.threads);
+    if (!args.normals.empty()) {
+        options.normals = args.normals;
+    }
+    const Capture train = openCapture(args.train);
+    const Capture test = openCapture(args.test);
+    const SweepResult result = runSweep(train, test, options);
+    const std::filesystem::path out(args.out);
+    writeSweepCsv(out / "sweep.csv", result);
+    writeSweepPlot(out / "sweep.svg", result);
+    std::printf("%8s", "M");
+    for (double lambda : result.lambdas) {
+        std::printf("  λ=%-8g", lambda);
+    }
+    std::printf("   (RMS, 8-bit levels)\n");
+    for (std::size_t m = 0; m < result.harmonics.size(); ++m) {
+        std::printf("%8d", result.harmonics[m]);
+        for (std::size_t l = 0; l < result.lambdas.size(); ++l) {
+            std::printf("  %-10.3f", result.rms[l][m]);
+        }
+        std::printf("\n");
+    }
+    std::fprintf(stderr, "sweep of %zu pixels, %d train / %d test images in %.1f s: %s\n",
+                 result.pixels, result.trainImages, result.testImages, result.seconds,
+                 (out / "sweep.svg").c_str());
+    if (args.json) {
+        nlohmann::json json;
+        json["harmonics"] = result.harmonics;
+        json["lambdas"] = result.lambdas;
+        json["rms"] = result.rms;
+        json["psnr"] = result.psnr;
+        json["valid_fraction"] = result.validFraction;
+        json["pixels"] = result.pixels;
+        json["seconds"] = result.seconds;
+        json["csv"] = (out / "sweep.csv").string();
+        json["plot"] = (out / "sweep.svg").string();
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addSweepCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string train;
-        std::string test;
-        std::string out;
-        std::string normals;
-        int maxHarmonics = 15;
-        std::vector<double> lambdas{0.0, 0.5, 3.14, 10.0, 50.0};
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "sweep", "The paper's Fig. 6: held-out RMS for M = 1..15 and several λ (CSV + SVG)");
@@ -33,53 +84,9 @@ void addSweepCommand(CLI::App& app, Action& action) {
     command->add_option("--normals", args->normals, "Normal map for TRAIN");
     command->add_option("--max-harmonics", args->maxHarmonics, "Largest M")->capture_default_str();
     command->add_option("--lambdas", args->lambdas, "λ values")->delimiter(',');
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            SweepOptions options;
-            options.maxHarmonics = args->maxHarmonics;
-            options.lambdas = args->lambdas;
-            options.threads = resolveThreadCount(args->threads);
-            if (!args->normals.empty()) {
-                options.normals = args->normals;
-            }
-            const Capture train = openCapture(args->train);
-            const Capture test = openCapture(args->test);
-            const SweepResult result = runSweep(train, test, options);
-            const std::filesystem::path out(args->out);
-            writeSweepCsv(out / "sweep.csv", result);
-            writeSweepPlot(out / "sweep.svg", result);
-            std::printf("%8s", "M");
-            for (double lambda : result.lambdas) {
-                std::printf("  λ=%-8g", lambda);
-            }
-            std::printf("   (RMS, 8-bit levels)\n");
-            for (std::size_t m = 0; m < result.harmonics.size(); ++m) {
-                std::printf("%8d", result.harmonics[m]);
-                for (std::size_t l = 0; l < result.lambdas.size(); ++l) {
-                    std::printf("  %-10.3f", result.rms[l][m]);
-                }
-                std::printf("\n");
-            }
-            std::fprintf(stderr, "sweep of %zu pixels, %d train / %d test images in %.1f s: %s\n",
-                         result.pixels, result.trainImages, result.testImages, result.seconds,
-                         (out / "sweep.svg").c_str());
-            if (args->json) {
-                nlohmann::json json;
-                json["harmonics"] = result.harmonics;
-                json["lambdas"] = result.lambdas;
-                json["rms"] = result.rms;
-                json["psnr"] = result.psnr;
-                json["valid_fraction"] = result.validFraction;
-                json["pixels"] = result.pixels;
-                json["seconds"] = result.seconds;
-                json["csv"] = (out / "sweep.csv").string();
-                json["plot"] = (out / "sweep.svg").string();
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runSweep(*args); }; });
 }
 
 }  // namespace vpe::cli

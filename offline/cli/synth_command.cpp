@@ -9,23 +9,66 @@
 #include "vpe/synth/capture_synthesizer.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string out;
+    int size = 128;
+    std::uint64_t seed = 1;
+    std::string rig = "paper";
+    std::string noise = "none";
+    std::string shadows = "on";
+    std::string encoding = "linear16";
+    std::string reflectance = "microfacet";
+    int fourierHarmonics = 4;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe synth` does once its options are parsed.
+void runSynth(const Arguments& args) {
+    synth::SynthOptions options;
+    options.out = args.out;
+    options.size = args.size;
+    options.seed = args.seed;
+    options.rig = args.rig;
+    options.noise = args.noise == "camera" ? synth::SynthNoise::kCamera : synth::SynthNoise::kNone;
+    options.shadows = args.shadows == "on";
+    options.encoding = args.encoding == "exr"     ? synth::SynthEncoding::kExr
+                       : args.encoding == "srgb8" ? synth::SynthEncoding::kSrgb8
+                                                  : synth::SynthEncoding::kLinear16;
+    options.reflectance = args.reflectance == "fourier" ? synth::SynthReflectance::kFourier
+                                                        : synth::SynthReflectance::kMicrofacet;
+    options.fourierHarmonics = args.fourierHarmonics;
+    options.threads = resolveThreadCount(args.threads);
+    const synth::SynthReport report = synth::synthesizeCapture(options);
+    std::fprintf(stderr,
+                 "wrote %s: %d train + %d held-out images of %dx%d in %.1f s (streaks "
+                 "%.0f%% of pixels, relief shadows %.1f%% of lit samples, clipped %.2f%%)\n",
+                 args.out.c_str(), report.trainImages, report.testImages, report.size, report.size,
+                 report.seconds, 100 * report.streakFraction, 100 * report.shadowedFraction,
+                 100 * report.clippedFraction);
+    if (args.json) {
+        nlohmann::json json;
+        json["out"] = args.out;
+        json["train_images"] = report.trainImages;
+        json["test_images"] = report.testImages;
+        json["size"] = report.size;
+        json["streak_fraction"] = report.streakFraction;
+        json["shadowed_fraction"] = report.shadowedFraction;
+        json["clipped_fraction"] = report.clippedFraction;
+        json["seconds"] = report.seconds;
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addSynthCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string out;
-        int size = 128;
-        std::uint64_t seed = 1;
-        std::string rig = "paper";
-        std::string noise = "none";
-        std::string shadows = "on";
-        std::string encoding = "linear16";
-        std::string reflectance = "microfacet";
-        int fourierHarmonics = 4;
-        int threads = 0;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "synth", "Render the built-in synthetic Bizen capture (train, held-out test, truth)");
@@ -58,48 +101,9 @@ void addSynthCommand(CLI::App& app, Action& action) {
         ->add_option("--fourier-harmonics", args->fourierHarmonics,
                      "M of the Fourier truth (with --reflectance fourier)")
         ->capture_default_str();
-    command->add_option("--threads", args->threads, "Worker threads (0: all cores)");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            synth::SynthOptions options;
-            options.out = args->out;
-            options.size = args->size;
-            options.seed = args->seed;
-            options.rig = args->rig;
-            options.noise =
-                args->noise == "camera" ? synth::SynthNoise::kCamera : synth::SynthNoise::kNone;
-            options.shadows = args->shadows == "on";
-            options.encoding = args->encoding == "exr"     ? synth::SynthEncoding::kExr
-                               : args->encoding == "srgb8" ? synth::SynthEncoding::kSrgb8
-                                                           : synth::SynthEncoding::kLinear16;
-            options.reflectance = args->reflectance == "fourier"
-                                      ? synth::SynthReflectance::kFourier
-                                      : synth::SynthReflectance::kMicrofacet;
-            options.fourierHarmonics = args->fourierHarmonics;
-            options.threads = resolveThreadCount(args->threads);
-            const synth::SynthReport report = synth::synthesizeCapture(options);
-            std::fprintf(
-                stderr,
-                "wrote %s: %d train + %d held-out images of %dx%d in %.1f s (streaks "
-                "%.0f%% of pixels, relief shadows %.1f%% of lit samples, clipped %.2f%%)\n",
-                args->out.c_str(), report.trainImages, report.testImages, report.size, report.size,
-                report.seconds, 100 * report.streakFraction, 100 * report.shadowedFraction,
-                100 * report.clippedFraction);
-            if (args->json) {
-                nlohmann::json json;
-                json["out"] = args->out;
-                json["train_images"] = report.trainImages;
-                json["test_images"] = report.testImages;
-                json["size"] = report.size;
-                json["streak_fraction"] = report.streakFraction;
-                json["shadowed_fraction"] = report.shadowedFraction;
-                json["clipped_fraction"] = report.clippedFraction;
-                json["seconds"] = report.seconds;
-                printJson(json.dump());
-            }
-        };
-    });
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runSynth(*args); }; });
 }
 
 }  // namespace vpe::cli

@@ -8,19 +8,58 @@
 #include "vpe/texture/weight_maps.h"
 
 #include "cli/commands.h"
+#include "cli/common_options.h"
 #include "cli/pattern_report.h"
 #include "cli/size_argument.h"
 
 namespace vpe::cli {
 
+namespace {
+
+struct Arguments {
+    std::string weights;
+    std::string size;
+    std::string out;
+    bool raw = false;
+    bool json = false;
+};
+
+// What `vpe weights` does once its options are parsed.
+void runWeights(const Arguments& args) {
+    const std::vector<texture::WeightSource> sources =
+        texture::parseWeightSpec(args.weights, "SPEC");
+    const SizeArgument size = parseSizeArgument(args.size, "--size");
+    texture::WeightMaps weights;
+    if (args.raw) {
+        weights.width = size.width;
+        weights.height = size.height;
+        for (const texture::WeightSource& source : sources) {
+            weights.alpha.push_back(texture::generateWeight(source, size.width, size.height));
+        }
+    } else {
+        weights = texture::buildWeightMaps(sources, size.width, size.height);
+    }
+    texture::writeWeightPicture(args.out, weights);
+    nlohmann::json patterns;
+    reportPatterns(sources, weights, patterns);
+    if (args.json) {
+        nlohmann::json json;
+        json["picture"] = args.out;
+        json["width"] = weights.width;
+        json["height"] = weights.height;
+        json["regions"] = weights.regions();
+        json["raw"] = args.raw;
+        if (!args.raw) {
+            json["zero_weight_pixels"] = weights.zeroSumPixels;
+        }
+        json.update(patterns);
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
 void addWeightsCommand(CLI::App& app, Action& action) {
-    struct Arguments {
-        std::string weights;
-        std::string size;
-        std::string out;
-        bool raw = false;
-        bool json = false;
-    };
     auto args = std::make_shared<Arguments>();
     CLI::App* command = app.add_subcommand(
         "weights", "Draw a weight spec's normalized maps (as vpe compose --weights-out would)");
@@ -34,41 +73,8 @@ void addWeightsCommand(CLI::App& app, Action& action) {
     command->add_flag("--raw", args->raw,
                       "Draw the raw weights (before normalization; clamped to [0, 1]), so one "
                       "entry shows its own pattern");
-    command->add_flag("--json", args->json, "End stdout with a JSON report");
-    command->callback([args, &action] {
-        action = [args] {
-            const std::vector<texture::WeightSource> sources =
-                texture::parseWeightSpec(args->weights, "SPEC");
-            const SizeArgument size = parseSizeArgument(args->size, "--size");
-            texture::WeightMaps weights;
-            if (args->raw) {
-                weights.width = size.width;
-                weights.height = size.height;
-                for (const texture::WeightSource& source : sources) {
-                    weights.alpha.push_back(
-                        texture::generateWeight(source, size.width, size.height));
-                }
-            } else {
-                weights = texture::buildWeightMaps(sources, size.width, size.height);
-            }
-            texture::writeWeightPicture(args->out, weights);
-            nlohmann::json patterns;
-            reportPatterns(sources, weights, patterns);
-            if (args->json) {
-                nlohmann::json json;
-                json["picture"] = args->out;
-                json["width"] = weights.width;
-                json["height"] = weights.height;
-                json["regions"] = weights.regions();
-                json["raw"] = args->raw;
-                if (!args->raw) {
-                    json["zero_weight_pixels"] = weights.zeroSumPixels;
-                }
-                json.update(patterns);
-                printJson(json.dump());
-            }
-        };
-    });
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runWeights(*args); }; });
 }
 
 }  // namespace vpe::cli
