@@ -228,7 +228,7 @@ struct ImageBandReader::Source {
 ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : threads_(threads) {
     raiseOpenFileLimit();
     sources_.resize(capture.images.size());
-    parallelFor(capture.images.size(), 1, threads_, [&](std::size_t begin, std::size_t end) {
+    const auto open = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             auto source = std::make_unique<Source>();
             source->description = describeImage(capture, i);
@@ -267,7 +267,16 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
             }
             sources_[i] = std::move(source);
         }
-    });
+    };
+    // The first image alone, then the rest in parallel: OpenImageIO 2.4 builds its EXIF and
+    // XMP tag tables on the first JPEG it opens, without a lock. Opened concurrently, photos
+    // with metadata (loewenkopf, realrti-dev) raced there (helgrind: writes to the tables in
+    // one thread, reads in another) and a fit crashed, rarely, in the fresh-install demo.
+    if (!capture.images.empty()) {
+        open(0, 1);
+    }
+    parallelFor(capture.images.size() > 0 ? capture.images.size() - 1 : 0, 1, threads_,
+                [&](std::size_t begin, std::size_t end) { open(begin + 1, end + 1); });
     width_ = sources_.front()->input->spec().width;
     height_ = sources_.front()->input->spec().height;
     for (std::size_t i = 1; i < sources_.size(); ++i) {
