@@ -7,16 +7,13 @@
 #include <mutex>
 
 #include "vpe/capture/image_band_reader.h"
-#include "vpe/capture/surface_geometry.h"
 #include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
+#include "vpe/eval/capture_predictor.h"
 #include "vpe/image/image_file.h"
 #include "vpe/model/fourier_model_file.h"
-#include "vpe/model/light_transport.h"
-#include "vpe/model/rti_basis.h"
-#include "vpe/proto/fourier_brdf.h"
 
 namespace vpe {
 
@@ -29,37 +26,22 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                                const EvaluationOptions& options) {
     ModelReader model(modelPath, ModelKinds::kAny);
     const ModelInfo& info = model.info();
-    const std::optional<RtiBasis> rti = info.rtiBasis();
     ImageBandReader reader(statedCapture, options.threads);
-    // A model fitted under a calibrated geometry predicts other captures of the same dome
-    // under that geometry too.
-    const Capture capture =
-        acceptsGeometryCalibration(statedCapture)
-            ? applyGeometryCalibration(statedCapture, info.calibration, info.width, info.height)
-            : statedCapture;
-    // Prediction and truth are compared sRGB-encoded, as people see them. An RTI basis
-    // predicts the stored values, which are decoded first.
-    const TransferFunction metric{TransferFunction::Kind::kSrgb};
-    const TransferFunction stored = storedTransfer(capture, reader.eightBitCodes());
-    std::vector<double> rtiBasisValues;
-    if (rti) {
-        rtiBasisValues.resize(capture.images.size() * static_cast<std::size_t>(rti->terms));
-        for (std::size_t s = 0; s < capture.images.size(); ++s) {
-            rti->evaluate(capture.images[s].light,
-                          &rtiBasisValues[s * static_cast<std::size_t>(rti->terms)]);
-        }
-    }
     if (reader.width() != info.width || reader.height() != info.height) {
-        throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
-                                             std::to_string(reader.height()) + " but the model " +
-                                             modelPath.string() + " is " +
-                                             std::to_string(info.width) + "x" +
-                                             std::to_string(info.height));
+        throw InputError(statedCapture.source, "images are " + std::to_string(reader.width()) +
+                                                   "x" + std::to_string(reader.height()) +
+                                                   " but the model " + modelPath.string() + " is " +
+                                                   std::to_string(info.width) + "x" +
+                                                   std::to_string(info.height));
     }
+    const CapturePredictor predictor(info, statedCapture,
+                                     storedTransfer(statedCapture, reader.eightBitCodes()));
+    const Capture& capture = predictor.capture();
+    // Prediction and truth are compared sRGB-encoded, as people see them.
+    const TransferFunction metric{TransferFunction::Kind::kSrgb};
     const int width = info.width;
     const int height = info.height;
     const int imageCount = reader.imageCount();
-    const SurfaceGeometry geometry(capture, width, height);  // normals come from the model
 
     std::vector<std::vector<std::uint8_t>> predictions;
     if (options.predictionsDir) {
@@ -101,56 +83,13 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                             continue;
                         }
                         ++localScored;
-                        if (rti) {
-                            for (int s = 0; s < imageCount; ++s) {
-                                const double* basis =
-                                    &rtiBasisValues[static_cast<std::size_t>(s) * rti->terms];
-                                for (int c = 0; c < 3; ++c) {
-                                    const float* coefficients = rows.coefficientsAt(row, x, c);
-                                    double value = 0;
-                                    for (int k = 0; k < rti->terms; ++k) {
-                                        value += basis[k] * static_cast<double>(coefficients[k]);
-                                    }
-                                    const double p8 =
-                                        metric.encode(std::clamp(stored.decode(value), 0.0, 1.0));
-                                    const double t8 = metric.encode(std::clamp(
-                                        static_cast<double>(band.value(s, c, row, x)), 0.0, 1.0));
-                                    score(s, y, x, c, p8, t8);
-                                }
-                            }
-                            continue;
-                        }
-                        const Vec3d normal{rows.normal[p * 3], rows.normal[p * 3 + 1],
-                                           rows.normal[p * 3 + 2]};
-                        const Vec3d view = geometry.toViewer(x, y);
-                        const Vec3d position = geometry.position(x, y);
                         for (int s = 0; s < imageCount; ++s) {
-                            const IncidentLight light = incidentLight(
-                                capture, capture.images[static_cast<std::size_t>(s)], position);
-                            const auto angles =
-                                proto::reflectionAngles(normal, light.direction, view);
-                            // The extended model's capture-specific light transport (cast
-                            // shadows, interreflection) of this texel under this light.
-                            const double transport =
-                                rows.transport.empty()
-                                    ? 1.0
-                                    : std::max(
-                                          0.0,
-                                          evaluateLightTransport(
-                                              &rows.transport[p * kTransportTerms],
-                                              transportDirection(
-                                                  capture,
-                                                  capture.images[static_cast<std::size_t>(s)])));
+                            const std::array<double, 3> predicted =
+                                predictor.predict(rows, row, x, y, s);
                             for (int c = 0; c < 3; ++c) {
-                                const double predicted =
-                                    transport * light.irradiance *
-                                    proto::evaluateFourierBrdf(rows.coefficientsAt(row, x, c),
-                                                               info.harmonics, angles.cosThetaD,
-                                                               angles.cosThetaS);
-                                const double p8 = metric.encode(std::clamp(predicted, 0.0, 1.0));
                                 const double t8 = metric.encode(std::clamp(
                                     static_cast<double>(band.value(s, c, row, x)), 0.0, 1.0));
-                                score(s, y, x, c, p8, t8);
+                                score(s, y, x, c, predicted[static_cast<std::size_t>(c)], t8);
                             }
                         }
                     }
