@@ -12,12 +12,23 @@ bool acceptsGeometryCalibration(const Capture& capture) {
            !capture.plane;
 }
 
+bool acceptsResponseCalibration(const Capture& capture) {
+    return capture.encoding == ImageEncoding::kAuto || capture.encoding == ImageEncoding::kGamma;
+}
+
 Capture applyGeometryCalibration(const Capture& capture, const GeometryCalibration& calibration,
                                  int width, int height) {
     if (calibration.isIdentity()) {
         return capture;
     }
     Capture result = capture;
+    if (calibration.responseGamma > 0) {
+        result.encoding = ImageEncoding::kGamma;
+        result.gamma = calibration.responseGamma;
+    }
+    if (calibration.fieldOfViewDegrees == 0 && calibration.lightDistance == 0) {
+        return result;
+    }
     const double pixelSize = 2.0 / width;
     if (calibration.fieldOfViewDegrees > 0) {
         const double tangent = std::tan(calibration.fieldOfViewDegrees * M_PI / 360.0);
@@ -43,6 +54,18 @@ Capture applyGeometryCalibration(const Capture& capture, const GeometryCalibrati
         }
     }
     return result;
+}
+
+Capture applyAcceptedCalibration(const Capture& capture, GeometryCalibration calibration, int width,
+                                 int height) {
+    if (!acceptsGeometryCalibration(capture)) {
+        calibration.fieldOfViewDegrees = 0;
+        calibration.lightDistance = 0;
+    }
+    if (!acceptsResponseCalibration(capture)) {
+        calibration.responseGamma = 0;
+    }
+    return applyGeometryCalibration(capture, calibration, width, height);
 }
 
 }  // namespace vpe

@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #include <sys/resource.h>
 
+#include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/proto/srgb.h"
@@ -221,12 +222,26 @@ struct ImageBandReader::Source {
     int channels = 0;
     OIIO::TypeDesc readFormat;  // UINT8, UINT16 or FLOAT
     bool srgb = false;
+    const float* table = nullptr;  // integer codes → linear radiance, when not the defaults
     int nextRow = 0;
     std::vector<unsigned char> scratch;
 };
 
 ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : threads_(threads) {
     raiseOpenFileLimit();
+    if (capture.encoding == ImageEncoding::kGamma) {
+        const TransferFunction response = storedTransfer(capture, true);
+        gammaTable8_.resize(256);
+        for (int i = 0; i < 256; ++i) {
+            gammaTable8_[static_cast<std::size_t>(i)] =
+                static_cast<float>(response.decode(i / 255.0));
+        }
+        gammaTable16_.resize(65536);
+        for (int i = 0; i < 65536; ++i) {
+            gammaTable16_[static_cast<std::size_t>(i)] =
+                static_cast<float>(response.decode(i / 65535.0));
+        }
+    }
     sources_.resize(capture.images.size());
     const auto open = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
@@ -260,6 +275,16 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                     break;
                 case ImageEncoding::kAuto:
                     source->srgb = native == OIIO::TypeDesc::UINT8;
+                    break;
+                case ImageEncoding::kGamma:
+                    if (source->readFormat == OIIO::TypeDesc::FLOAT) {
+                        throw InputError(source->description +
+                                         ": a calibrated camera response applies to integer "
+                                         "images only");
+                    }
+                    source->table = source->readFormat == OIIO::TypeDesc::UINT8
+                                        ? gammaTable8_.data()
+                                        : gammaTable16_.data();
                     break;
             }
             if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
@@ -348,7 +373,11 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
                                           rows,
                                           width_,
                                           mask};
-                if (source.readFormat == OIIO::TypeDesc::UINT8) {
+                if (source.table != nullptr && source.readFormat == OIIO::TypeDesc::UINT8) {
+                    convertCodes8(decoded, source.table, band);
+                } else if (source.table != nullptr) {
+                    convertCodes16(decoded, source.table, band);
+                } else if (source.readFormat == OIIO::TypeDesc::UINT8) {
                     convertCodes8(decoded,
                                   source.srgb ? srgbTable8().data() : linearTable8().data(), band);
                 } else if (source.readFormat == OIIO::TypeDesc::UINT16 && source.srgb) {

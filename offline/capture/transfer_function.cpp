@@ -3,6 +3,7 @@
 #include "vpe/capture/transfer_function.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "vpe/proto/srgb.h"
 
@@ -12,6 +13,9 @@ double TransferFunction::decode(double stored) const {
     if (kind == Kind::kLinear) {
         return stored;
     }
+    if (kind == Kind::kGamma) {
+        return std::copysign(std::pow(std::fabs(stored), gamma), stored);
+    }
     return std::copysign(proto::srgbToLinear(std::fabs(stored)), stored);
 }
 
@@ -19,10 +23,18 @@ double TransferFunction::encode(double linear) const {
     if (kind == Kind::kLinear) {
         return linear;
     }
+    if (kind == Kind::kGamma) {
+        return std::copysign(std::pow(std::fabs(linear), 1.0 / gamma), linear);
+    }
     return std::copysign(proto::linearToSrgb(std::fabs(linear)), linear);
 }
 
 std::string TransferFunction::describe() const {
+    if (kind == Kind::kGamma) {
+        char text[32];
+        std::snprintf(text, sizeof text, "gamma %.2f", gamma);
+        return text;
+    }
     return kind == Kind::kLinear ? "linear" : "srgb";
 }
 
@@ -32,10 +44,19 @@ TransferFunction storedTransfer(const Capture& capture, bool eightBitImages) {
             return {TransferFunction::Kind::kSrgb};
         case ImageEncoding::kLinear:
             return {TransferFunction::Kind::kLinear};
+        case ImageEncoding::kGamma:
+            return {TransferFunction::Kind::kGamma, capture.gamma};
         case ImageEncoding::kAuto:
             break;
     }
     return {eightBitImages ? TransferFunction::Kind::kSrgb : TransferFunction::Kind::kLinear};
+}
+
+TransferFunction metricTransfer(const Capture& capture) {
+    if (capture.encoding == ImageEncoding::kGamma) {
+        return {TransferFunction::Kind::kGamma, capture.gamma};
+    }
+    return {TransferFunction::Kind::kSrgb};
 }
 
 }  // namespace vpe

@@ -10,23 +10,14 @@
 
 namespace vpe {
 
-namespace {
-
-Capture underModelGeometry(const ModelInfo& info, const Capture& capture) {
-    // A model fitted under a calibrated geometry predicts other captures of the same dome
-    // under that geometry too.
-    return acceptsGeometryCalibration(capture)
-               ? applyGeometryCalibration(capture, info.calibration, info.width, info.height)
-               : capture;
-}
-
-}  // namespace
-
 CapturePredictor::CapturePredictor(const ModelInfo& info, const Capture& capture,
                                    const TransferFunction& stored)
     : info_(info),
-      capture_(underModelGeometry(info, capture)),
+      // A model fitted under a calibrated geometry and response predicts other captures of
+      // the same dome under them too.
+      capture_(applyAcceptedCalibration(capture, info.calibration, info.width, info.height)),
       stored_(stored),
+      metric_(metricTransfer(capture_)),
       geometry_(capture_, info.width, info.height),  // normals come from the model
       rti_(info.rtiBasis()) {
     const std::size_t lights = capture_.images.size();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "vpe/capture/geometry_calibration.h"
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
@@ -26,7 +27,10 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                                const EvaluationOptions& options) {
     ModelReader model(modelPath, ModelKinds::kAny);
     const ModelInfo& info = model.info();
-    ImageBandReader reader(statedCapture, options.threads);
+    // The images are decoded with the response the model was fitted under, if calibrated.
+    const Capture underModel =
+        applyAcceptedCalibration(statedCapture, info.calibration, info.width, info.height);
+    ImageBandReader reader(underModel, options.threads);
     if (reader.width() != info.width || reader.height() != info.height) {
         throw InputError(statedCapture.source, "images are " + std::to_string(reader.width()) +
                                                    "x" + std::to_string(reader.height()) +
@@ -34,11 +38,11 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
                                                    std::to_string(info.width) + "x" +
                                                    std::to_string(info.height));
     }
-    const CapturePredictor predictor(info, statedCapture,
-                                     storedTransfer(statedCapture, reader.eightBitCodes()));
+    const CapturePredictor predictor(info, underModel,
+                                     storedTransfer(underModel, reader.eightBitCodes()));
     const Capture& capture = predictor.capture();
-    // Prediction and truth are compared sRGB-encoded, as people see them.
-    const TransferFunction metric{TransferFunction::Kind::kSrgb};
+    // Prediction and truth are compared as people see them (sRGB or the calibrated response).
+    const TransferFunction metric = metricTransfer(capture);
     const int width = info.width;
     const int height = info.height;
     const int imageCount = reader.imageCount();

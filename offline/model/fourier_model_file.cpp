@@ -317,6 +317,9 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     spec.attribute("vpeCapture", info.capture);
     spec.attribute("vpeFieldOfView", static_cast<float>(info.calibration.fieldOfViewDegrees));
     spec.attribute("vpeLightDistance", static_cast<float>(info.calibration.lightDistance));
+    if (info.calibration.responseGamma > 0) {
+        spec.attribute("vpeResponseGamma", static_cast<float>(info.calibration.responseGamma));
+    }
     if (info.texelMm > 0) {
         spec.attribute("vpeTexelMm", static_cast<float>(info.texelMm));
     }
@@ -470,10 +473,12 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     info.capture = spec.get_string_attribute("vpeCapture");
     info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
     info.calibration.lightDistance = spec.get_float_attribute("vpeLightDistance", 0.0f);
+    info.calibration.responseGamma = spec.get_float_attribute("vpeResponseGamma", 0.0f);
     info.texelMm = spec.get_float_attribute("vpeTexelMm", 0.0f);
     info.tilesU = spec.get_int_attribute("vpeTilesU", 0) != 0;
     if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&
-          info.calibration.lightDistance >= 0)) {
+          info.calibration.lightDistance >= 0 && info.calibration.responseGamma >= 0 &&
+          info.calibration.responseGamma <= 10)) {
         throw InputError(path, "geometry calibration out of range");
     }
     if (!(info.texelMm >= 0) || !std::isfinite(info.texelMm)) {

@@ -26,6 +26,9 @@ enum class ImageEncoding {
     kAuto,    // 8-bit images are sRGB, 16-bit and floating-point images are linear
     kSrgb,    // sRGB transfer function at any bit depth
     kLinear,  // values are linear radiance
+    // stored = linear^(1/γ), γ = Capture::gamma: a camera response that `vpe fit --model
+    // extended` calibrated from the images (integer images only).
+    kGamma,
 };
 
 struct CaptureImage {
@@ -71,6 +74,7 @@ struct Capture {
     // Point lights: observations are normalized to the irradiance of a light at this distance.
     double lightReferenceDistance = 1.0;
     ImageEncoding encoding = ImageEncoding::kAuto;
+    double gamma = 1.0;  // with ImageEncoding::kGamma
     CameraModel camera = OrthographicCamera{};
     std::vector<CaptureImage> images;
     std::optional<std::filesystem::path> normalMap;  // in the world frame

@@ -38,6 +38,7 @@ private:
     struct Source;
     std::vector<std::unique_ptr<Source>> sources_;
     unsigned threads_;
+    std::vector<float> gammaTable8_, gammaTable16_;  // a calibrated response (kGamma)
     int width_ = 0;
     int height_ = 0;
 };

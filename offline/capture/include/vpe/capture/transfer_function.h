@@ -11,16 +11,22 @@
 namespace vpe {
 
 struct TransferFunction {
-    enum class Kind { kLinear, kSrgb };
+    enum class Kind { kLinear, kSrgb, kGamma };
     Kind kind = Kind::kSrgb;
+    double gamma = 1.0;  // kGamma: stored = linear^(1/γ)
 
     double decode(double stored) const;  // stored value → linear radiance (odd: sign kept)
     double encode(double linear) const;  // linear radiance → stored value (odd: sign kept)
-    std::string describe() const;        // "srgb", "linear"
+    std::string describe() const;        // "srgb", "linear", "gamma 1.50"
 };
 
 // The curve a capture's images were decoded with: declared, or for "auto" sRGB on 8-bit images
 // and linear otherwise (ImageBandReader's rule).
 TransferFunction storedTransfer(const Capture& capture, bool eightBitImages);
+
+// The curve predictions and images are compared in, "as people see them": sRGB, or the
+// images' own stored values when their response was calibrated (ImageEncoding::kGamma) —
+// for 8-bit sRGB photographs the two are the same thing.
+TransferFunction metricTransfer(const Capture& capture);
 
 }  // namespace vpe

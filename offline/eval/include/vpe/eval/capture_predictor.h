@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // CapturePredictor: what a fitted model predicts the capture's camera sees under each of the
 // capture's lights — the Fourier BRDF under the capture's geometry times the extended model's
-// light transport, or an RTI basis — sRGB-encoded in [0, 1], the way people see it. One
+// light transport, or an RTI basis — encoded in [0, 1] the way people see it. One
 // definition shared by `vpe eval` (scoring) and what exports a model's relit appearance.
 #pragma once
 
@@ -27,14 +27,15 @@ public:
     int lightCount() const { return static_cast<int>(capture_.images.size()); }
 
     // Prediction of pixel (x, y), row `row` of `rows`, under light `light` (an index into
-    // capture().images), sRGB-encoded and clamped to [0, 1]. The pixel must hold a valid fit.
+    // capture().images), clamped to [0, 1] and encoded as metricTransfer(capture()) says:
+    // sRGB, or the images' calibrated response. The pixel must hold a valid fit.
     std::array<double, 3> predict(const ModelRows& rows, int row, int x, int y, int light) const;
 
 private:
     ModelInfo info_;
     Capture capture_;
     TransferFunction stored_;
-    TransferFunction metric_{TransferFunction::Kind::kSrgb};
+    TransferFunction metric_;  // what predictions are encoded in (capture/transfer_function.h)
     SurfaceGeometry geometry_;
     std::optional<RtiBasis> rti_;
     std::vector<double> rtiBasisValues_;      // [light][term]

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // evaluateModel: predicts every image of a capture from a model (the capture's lights and
 // camera, the model's normals) and scores it the way people see it: prediction clamped to
-// [0, 1] in linear radiance, sRGB-encoded, compared with the sRGB-encoded image, PSNR =
+// [0, 1] in linear radiance, sRGB-encoded, compared with the sRGB-encoded image (for a model
+// fitted under a calibrated camera response: both in the images' stored values), PSNR =
 // 10·log10(1/MSE) on [0, 1] and RMS in 8-bit levels. Only pixels the model holds a valid fit
 // for are scored; their count is reported.
 #pragma once
