@@ -32,6 +32,7 @@ struct Arguments {
     int heldOut = 0;
     std::string storage;
     std::string relief = "detail";
+    std::string response = "auto";
     double macroSigma = 0;
     bool regularizationGiven = false;
     bool json = false;
@@ -54,6 +55,7 @@ void runFit(const Arguments& args) {
     options.storage = parseStorage(args.storage).value_or(ModelStorage::kHalf);
     options.relief =
         args.relief == "coefficients" ? ReliefMode::kInCoefficients : ReliefMode::kDetailMap;
+    options.calibrateResponse = args.response == "auto";
     if (!(args.macroSigma >= 0) || !std::isfinite(args.macroSigma)) {
         throw InputError("--macro-sigma must be a number of pixels ≥ 0");
     }
@@ -90,12 +92,16 @@ void runFit(const Arguments& args) {
                      report.meanRms);
     }
     if (options.variant == ModelVariant::kExtended) {
-        std::fprintf(stderr,
-                     "selected: field of view %.1f°, light distance %.2f half-widths, "
-                     "M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
-                     report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
-                     report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
-                     report.calibrationSeconds);
+        std::fprintf(
+            stderr,
+            "selected: response %s, field of view %.1f°, light distance %.2f "
+            "half-widths, M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
+            report.calibration.responseGamma > 0
+                ? ("gamma " + std::to_string(report.calibration.responseGamma).substr(0, 4)).c_str()
+                : "as stated",
+            report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
+            report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
+            report.calibrationSeconds);
     }
     if (args.json) {
         nlohmann::json json;
@@ -103,6 +109,9 @@ void runFit(const Arguments& args) {
         if (options.variant == ModelVariant::kExtended) {
             json["calibration"] = {{"field_of_view_degrees", report.calibration.fieldOfViewDegrees},
                                    {"light_distance", report.calibration.lightDistance},
+                                   {"response_gamma", report.calibration.responseGamma},
+                                   {"response_heldout_rms", report.responseRms},
+                                   {"srgb_response_heldout_rms", report.statedResponseRms},
                                    {"heldout_rms", report.calibratedRms},
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};
@@ -191,6 +200,13 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "map; coefficients: fit the macro shape's normals, the coefficients absorb "
                      "the relief (docs/transfer-fidelity.md)")
         ->check(CLI::IsMember({"detail", "coefficients"}))
+        ->capture_default_str();
+    command
+        ->add_option("--response", args->response,
+                     "extended model, 8-bit images of unstated encoding: auto calibrates the "
+                     "camera's response (a power law, by held-out validation; many RTI cameras "
+                     "store radiance nearly linearly); srgb keeps the sRGB decoding")
+        ->check(CLI::IsMember({"auto", "srgb"}))
         ->capture_default_str();
     command->add_option("--macro-sigma", args->macroSigma,
                         "σ (pixels) of the regression window giving the macro shape (0: 1/8 of the "

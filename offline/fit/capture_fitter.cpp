@@ -171,9 +171,46 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     report.pixels = static_cast<std::size_t>(report.width) * report.height;
     const std::vector<std::uint8_t> mask = readMask(originalCapture, report.width, report.height);
 
+    const bool extended = options.variant == ModelVariant::kExtended;
+    Capture capture = originalCapture;
     const auto normalsStart = Clock::now();
-    NormalsResult normals = acquireNormals(originalCapture, options.normals, report.width,
-                                           report.height, options.threads);
+    NormalsResult normals =
+        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+    // The camera response, when the capture leaves it unstated: it changes what photometric
+    // stereo sees, so the normals are estimated again under the response chosen, and the
+    // response is chosen again under those normals (once).
+    if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
+        reader->eightBitCodes()) {
+        const auto searchStart = Clock::now();
+        HeldOutSearchOptions search;
+        search.calibrateResponse = true;
+        search.calibrateGeometry = false;
+        search.selectRegularization = false;
+        search.threads = options.threads;
+        for (int round = 0; round < 2; ++round) {
+            const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+            if (round == 0) {
+                report.statedResponseRms = found.rms;
+                for (const HeldOutTrial& trial : found.trials) {
+                    if (trial.calibration.responseGamma == 0) {
+                        report.statedResponseRms = std::min(report.statedResponseRms, trial.rms);
+                    }
+                }
+            }
+            report.responseRms = found.rms;
+            const double gamma = found.calibration.responseGamma;
+            if (gamma == 0 || gamma == report.calibration.responseGamma) {
+                break;  // the capture's own (sRGB), or what the normals were estimated under
+            }
+            report.calibration.responseGamma = gamma;
+            capture =
+                applyGeometryCalibration(capture, found.calibration, report.width, report.height);
+            reader = std::make_unique<ImageBandReader>(capture, options.threads);
+            normals = acquireNormals(capture, options.normals, report.width, report.height,
+                                     options.threads);
+        }
+        report.calibrationSeconds += secondsSince(searchStart);
+    }
     report.normalsSource = normals.source;
     // The relief: measured against the macro shape, then either carried as a detail map or
     // left for the coefficients (fitted against the macro normals).
@@ -198,11 +235,9 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     }
     report.normalsSeconds = secondsSince(normalsStart);
 
-    Capture capture = originalCapture;
     int harmonics = options.harmonics;
     double lambda = options.lambda;
-    const bool calibrate =
-        options.variant == ModelVariant::kExtended && acceptsGeometryCalibration(capture);
+    const bool calibrate = extended && acceptsGeometryCalibration(capture);
     if (calibrate || options.selectRegularization) {
         const auto searchStart = Clock::now();
         HeldOutSearchOptions search;
@@ -212,13 +247,14 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         search.lambda = options.lambda;
         search.threads = options.threads;
         const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
-        report.calibration = found.calibration;
+        report.calibration.fieldOfViewDegrees = found.calibration.fieldOfViewDegrees;
+        report.calibration.lightDistance = found.calibration.lightDistance;
         report.calibratedRms = found.rms;
         report.uncalibratedRms = found.baselineRms;
         harmonics = found.harmonics;
         lambda = found.lambda;
         capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
-        report.calibrationSeconds = secondsSince(searchStart);
+        report.calibrationSeconds += secondsSince(searchStart);
     }
     report.harmonics = harmonics;
     report.lambda = lambda;

@@ -44,11 +44,13 @@ testing::SyntheticCaptureSpec domeSpec(const std::vector<double>& elevations, in
 }
 
 double heldOutPsnr(const std::filesystem::path& train, const std::filesystem::path& test,
-                   const std::filesystem::path& model, ModelVariant variant) {
+                   const std::filesystem::path& model, ModelVariant variant,
+                   bool calibrateResponse = true) {
     FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
     options.variant = variant;
+    options.calibrateResponse = calibrateResponse;
     options.writePreview = false;
     fitCapture(openCapture(train), options, model);
     return evaluateModel(model, openCapture(test), EvaluationOptions{}).psnr;
@@ -103,6 +105,43 @@ TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {
     ModelRows rows;
     reader.readRows(0, 1, rows);
     EXPECT_EQ(rows.transport.size(), static_cast<std::size_t>(train.width) * kTransportTerms);
+}
+
+// 8-bit images that store radiance linearly, under a light file that cannot say so: decoded
+// as sRGB, a Lambertian falloff looks like cos^2.2 and the BRDF extrapolates it badly to lights
+// lower than the training ones. The response stage finds γ = 1 and the prediction recovers
+// (measured: 33.3 dB decoded as sRGB, 44.2 dB calibrated).
+TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
+    testing::TemporaryFolder folder;
+    auto train = domeSpec({40, 60, 80}, 12, 0);
+    train.format = testing::SyntheticFormat::kPng8Linear;
+    writeSyntheticCapture(folder / "train", train);
+    auto test = domeSpec({25, 50, 70}, 5, 18);
+    test.format = train.format;
+    writeSyntheticCapture(folder / "test", test);
+    const double srgb = heldOutPsnr(folder / "train", folder / "test", folder / "srgb.exr",
+                                    ModelVariant::kExtended, false);
+    const double calibrated = heldOutPsnr(folder / "train", folder / "test",
+                                          folder / "calibrated.exr", ModelVariant::kExtended);
+    EXPECT_EQ(ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
+    EXPECT_EQ(ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
+    EXPECT_GT(calibrated, srgb + 9.5) << "sRGB " << srgb << " dB, calibrated " << calibrated;
+}
+
+// sRGB images keep their sRGB decoding: the response stage must not invent a curve.
+TEST(ExtendedModel, ResponseCalibrationKeepsSrgbImages) {
+    testing::TemporaryFolder folder;
+    auto train = domeSpec({40, 60, 80}, 12, 0);
+    train.format = testing::SyntheticFormat::kPng8Srgb;
+    writeSyntheticCapture(folder / "train", train);
+    FitOptions options;
+    options.harmonics = 3;
+    options.lambda = 0.1;
+    options.variant = ModelVariant::kExtended;
+    options.writePreview = false;
+    const FitReport report = fitCapture(openCapture(folder / "train"), options, folder / "m.exr");
+    const double gamma = report.calibration.responseGamma;
+    EXPECT_TRUE(gamma == 0.0 || gamma >= 2.0) << "chose γ " << gamma;
 }
 
 // A ridge to the right of the left half of the image casts a shadow there: lights from the

@@ -17,6 +17,7 @@ enum class SyntheticFormat {
     kExr,          // float, linear: exact
     kPng16Linear,  // 16-bit linear PNG
     kPng8Srgb,     // 8-bit sRGB PNG
+    kPng8Linear,   // 8-bit PNG storing radiance linearly (many RTI cameras' JPEGs)
 };
 
 struct SyntheticCaptureSpec {

@@ -47,6 +47,9 @@ struct FitOptions {
     // Choose M and λ by held-out validation on the training lights instead of using the
     // values below (the CLI does so for the extended model unless they are given).
     bool selectRegularization = false;
+    // Extended variant: calibrate the camera response of 8-bit images whose encoding the
+    // capture leaves unstated (held-out search); false keeps sRGB.
+    bool calibrateResponse = true;
     int harmonics = proto::kDefaultHarmonics;
     double lambda = proto::kDefaultLambda;
     unsigned threads = 1;
@@ -84,6 +87,10 @@ struct FitReport {
     double calibrationSeconds = 0;
     double calibratedRms = 0;
     double uncalibratedRms = 0;
+    // The response stage (8-bit images of unstated encoding): held-out RMS in stored values
+    // under the response chosen and under sRGB, at the stated geometry, each at its best M, λ.
+    double responseRms = 0;
+    double statedResponseRms = 0;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);

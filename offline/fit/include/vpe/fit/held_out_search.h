@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Held-out selection of what a capture cannot state: the extended model picks the camera's
-// field of view, the lights' distance, and the harmonics M and smoothness λ that let the
+// response, field of view, the lights' distance, and the harmonics M and smoothness λ that let the
 // Fourier BRDF predict the capture best. Only the capture's own training images are used:
 // a grid of pixels is fitted on three quarters of the lights and scored on the held-out
 // quarter, in the metric of `vpe eval`. A few global numbers cannot overfit thousands of
@@ -39,6 +39,9 @@ private:
 };
 
 struct HeldOutSearchOptions {
+    // The camera response (8-bit images whose encoding is unstated): a power law γ against
+    // the stated sRGB. Scored in the images' stored values, so the candidates compare.
+    bool calibrateResponse = false;
     bool calibrateGeometry = true;
     bool selectRegularization = true;
     int harmonics = 10;  // used as given when not selecting
