@@ -76,17 +76,47 @@ RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width
     const Eigen::Index pixels = static_cast<Eigen::Index>(width) * height;
     const int planes = options.planes;
 
-    // One column per pixel: its colour under every grid light (node-major, then RGB), the
-    // vector OpenLIME's basis is laid out in.
-    Eigen::MatrixXf samples(dimensions, pixels);
+    // One column per pixel: its colour at every grid node (node-major, then RGB), the vector
+    // OpenLIME's basis is laid out in.
+    Eigen::MatrixXf samples = Eigen::MatrixXf::Zero(dimensions, pixels);
     std::vector<float> rgb;
-    for (int node = 0; node < nodes; ++node) {
+    // samples += (perNode ⊗ I₃) · image: one matrix product rather than strided row updates.
+    const auto addRendering = [&](const Vec3d& light, const Eigen::VectorXd& perNode) {
         rgb.assign(static_cast<std::size_t>(pixels) * 3, 0.0f);
-        render(grid.nodeDirection(node), rgb);
-        for (Eigen::Index p = 0; p < pixels; ++p) {
+        render(light, rgb);
+        const Eigen::Map<const Eigen::MatrixXf> image(rgb.data(), 3, pixels);
+        Eigen::MatrixXf spread = Eigen::MatrixXf::Zero(dimensions, 3);
+        for (int node = 0; node < nodes; ++node) {
             for (int c = 0; c < 3; ++c) {
-                samples(node * 3 + c, p) = rgb[static_cast<std::size_t>(p) * 3 + c];
+                spread(node * 3 + c, c) = static_cast<float>(perNode(node));
             }
+        }
+        samples.noalias() += spread * image;
+    };
+    if (options.grid == GridValues::kNodes) {
+        for (int node = 0; node < nodes; ++node) {
+            addRendering(grid.nodeDirection(node), Eigen::VectorXd::Unit(nodes, node));
+        }
+    } else {
+        // Node values whose bilinear interpolation best matches the subject under the lights
+        // of a twice-as-fine grid (the nodes and every midpoint between them), in the least-
+        // squares sense: what a viewer sees between the nodes counts, not only at them
+        // (Relight fits its nodes to the capture's lights the same way). V = (WᵀW + λI)⁻¹WᵀF.
+        const BilinearLightGrid fine(2 * options.resolution - 1);
+        Eigen::MatrixXd weights = Eigen::MatrixXd::Zero(fine.nodeCount(), nodes);
+        for (int j = 0; j < fine.nodeCount(); ++j) {
+            const LightGridWeights w = grid.weights(fine.nodeDirection(j));
+            for (std::size_t k = 0; k < 4; ++k) {
+                weights(j, w.nodes[k]) += w.weights[k];
+            }
+        }
+        // A light ridge keeps the system well posed without pulling the fit (weights ≤ 1).
+        constexpr double kRidge = 1e-4;
+        const Eigen::MatrixXd normal =
+            weights.transpose() * weights + kRidge * Eigen::MatrixXd::Identity(nodes, nodes);
+        const Eigen::MatrixXd solve = normal.ldlt().solve(weights.transpose());
+        for (int j = 0; j < fine.nodeCount(); ++j) {
+            addRendering(fine.nodeDirection(j), solve.col(j));
         }
     }
 

@@ -18,10 +18,17 @@ namespace vpe {
 // units of the photographs the format was made for.
 using LightRenderer = std::function<void(const Vec3d& towardsLight, std::vector<float>& rgb)>;
 
+// What the grid's nodes hold.
+enum class GridValues {
+    kNodes,         // the subject under each node's light (exact at the nodes)
+    kLeastSquares,  // the values whose interpolation best matches a twice-as-fine grid
+};
+
 struct RelightWebOptions {
     int resolution = 8;  // light grid side (Relight's default)
     int planes = 9;      // PCA planes; a multiple of 3, as OpenLIME's mrgb shader reads 3 a JPEG
     int quality = 95;    // JPEG quality of the planes (Relight's default)
+    GridValues grid = GridValues::kLeastSquares;
     unsigned threads = 1;
 };
 
