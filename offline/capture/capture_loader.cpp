@@ -7,6 +7,7 @@
 
 #include "vpe/capture/capture_manifest.h"
 #include "vpe/capture/light_file_reader.h"
+#include "vpe/capture/relight_project_reader.h"
 #include "vpe/common/input_error.h"
 
 namespace vpe {
@@ -39,6 +40,9 @@ Capture openCapture(const std::filesystem::path& path) {
     }
     if (path.extension() == ".json") {
         return readCaptureManifest(path);
+    }
+    if (path.extension() == ".relight") {
+        return readRelightProject(path);
     }
     return readLightFile(path);
 }

@@ -19,6 +19,7 @@ void addSynthCommand(CLI::App& app, Action& action);
 void addSegmentCommand(CLI::App& app, Action& action);
 void addQuiltCommand(CLI::App& app, Action& action);
 void addRelightCommand(CLI::App& app, Action& action);
+void addExportRelightCommand(CLI::App& app, Action& action);
 void addComposeCommand(CLI::App& app, Action& action);
 void addWeightsCommand(CLI::App& app, Action& action);
 void addQuiltQualityCommand(CLI::App& app, Action& action);

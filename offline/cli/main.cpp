@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
     vpe::cli::addSegmentCommand(app, action);
     vpe::cli::addQuiltCommand(app, action);
     vpe::cli::addRelightCommand(app, action);
+    vpe::cli::addExportRelightCommand(app, action);
     vpe::cli::addComposeCommand(app, action);
     vpe::cli::addWeightsCommand(app, action);
     vpe::cli::addQuiltQualityCommand(app, action);

@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// vpe export-relight MODEL.exr CAPTURE --out DIR [--resolution R] [--planes K] [--quality Q]
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/capture/capture_loader.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/relight_web/model_relight_export.h"
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+
+namespace vpe::cli {
+
+namespace {
+
+struct Arguments {
+    std::string model;
+    std::string capture;
+    std::string out;
+    int resolution = RelightWebOptions{}.resolution;
+    int planes = RelightWebOptions{}.planes;
+    int quality = RelightWebOptions{}.quality;
+    std::string grid = "least-squares";
+    int heldOut = 0;
+    int threads = 0;
+    bool json = false;
+};
+
+// What `vpe export-relight` does once its options are parsed.
+void runExportRelight(const Arguments& args) {
+    RelightWebOptions options;
+    options.resolution = args.resolution;
+    options.planes = args.planes;
+    options.quality = args.quality;
+    options.threads = resolveThreadCount(args.threads);
+    options.grid = args.grid == "nodes" ? GridValues::kNodes : GridValues::kLeastSquares;
+    const Capture capture = openCapture(args.capture);
+    const Capture check =
+        args.heldOut > 0 ? selectHeldOutLights(capture, args.heldOut, true) : Capture{};
+    const RelightModelExport result =
+        exportModelToRelight(args.model, capture, args.out, options, check);
+    std::fprintf(stderr,
+                 "%s: %dx%d, bilinear %dx%d grid, %d planes (%.4f of the variance), %.1f KiB; "
+                 "round trip against the model under %d capture lights: PSNR %.2f dB (worst "
+                 "%.2f dB)\n",
+                 args.out.c_str(), result.summary.width, result.summary.height,
+                 result.summary.resolution, result.summary.resolution, result.summary.planes,
+                 result.summary.retainedVariance,
+                 static_cast<double>(result.summary.bytes) / 1024.0, result.roundTrip.lights,
+                 result.roundTrip.psnr, result.roundTrip.worstPsnr);
+    if (args.json) {
+        nlohmann::json json;
+        json["out"] = args.out;
+        json["width"] = result.summary.width;
+        json["height"] = result.summary.height;
+        json["resolution"] = result.summary.resolution;
+        json["planes"] = result.summary.planes;
+        json["retained_variance"] = result.summary.retainedVariance;
+        json["bytes"] = result.summary.bytes;
+        json["round_trip"] = {{"lights", result.roundTrip.lights},
+                              {"pixels", result.roundTrip.pixels},
+                              {"psnr", result.roundTrip.psnr},
+                              {"worst_psnr", result.roundTrip.worstPsnr},
+                              {"per_light", result.roundTrip.perLight}};
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
+void addExportRelightCommand(CLI::App& app, Action& action) {
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "export-relight",
+        "Export a model as a Relight web RTI (info.json + plane_N.jpg, bilinear light grid, "
+        "PCA planes) for OpenLIME, and report its round trip against the model");
+    command->add_option("MODEL", args->model, "Model file written by vpe fit")->required();
+    command->add_option("CAPTURE", args->capture, "The capture the model was fitted on")
+        ->required();
+    command->add_option("--out", args->out, "Folder to write (replaced as a whole)")->required();
+    command->add_option("--resolution", args->resolution, "Light grid side R (R x R directions)")
+        ->capture_default_str()
+        ->check(CLI::Range(2, 64));
+    command->add_option("--planes", args->planes, "PCA planes, a multiple of 3")
+        ->capture_default_str();
+    command->add_option("--quality", args->quality, "JPEG quality of the planes")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100));
+    command
+        ->add_option("--grid", args->grid,
+                     "Grid node values: the model under each node's light (nodes), or those "
+                     "whose interpolation best matches a twice-as-fine grid (least-squares)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"nodes", "least-squares"}));
+    command
+        ->add_option("--held-out", args->heldOut,
+                     "Measure the round trip under every N-th light only (those vpe fit "
+                     "--held-out N left out); default: all lights")
+        ->check(CLI::Range(2, 1000));
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runExportRelight(*args); }; });
+}
+
+}  // namespace vpe::cli

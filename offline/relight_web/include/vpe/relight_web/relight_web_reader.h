@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// RelightWebReader: reads a Relight web RTI (info.json and plane_N.jpg) of the bilinear, mrgb
+// kind and relights it for any light direction the way OpenLIME's shader does.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "vpe/capture/capture.h"
+#include "vpe/relight_web/bilinear_light_grid.h"
+
+namespace vpe {
+
+class RelightWebReader {
+public:
+    // `path` is the export's folder or its info.json. Throws InputError naming the file and
+    // what is wrong with it (other bases and colour spaces are refused, not misread).
+    explicit RelightWebReader(const std::filesystem::path& path);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+    int planes() const { return planes_; }
+    int resolution() const { return grid_.resolution(); }
+    // info.json's "lights": the capture's light directions, if the export records them.
+    const std::vector<Vec3d>& lights() const { return lights_; }
+
+    // The picture OpenLIME draws with the light towards `towardsLight`: sRGB values,
+    // width·height·3 interleaved, clamped to [0, 1] as a display does.
+    std::vector<float> relight(const Vec3d& towardsLight) const;
+
+private:
+    int width_ = 0;
+    int height_ = 0;
+    int planes_ = 0;
+    BilinearLightGrid grid_;
+    std::vector<Vec3d> lights_;
+    std::vector<float> basis_;         // decoded: (planes + 1) · R² · 3, OpenLIME's layout
+    std::vector<float> coefficients_;  // decoded: per pixel, `planes_` values
+};
+
+// The light directions a Relight export's info.json records ("lights", flat x, y, z triples),
+// normalized; empty when it has none. Throws InputError naming the file.
+std::vector<Vec3d> readRelightExportLights(const std::filesystem::path& infoJson);
+
+}  // namespace vpe

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+// A fitted model exported to Relight's web format, with its round trip measured.
+#include "vpe/relight_web/model_relight_export.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vpe/capture/image_band_reader.h"
+#include "vpe/capture/transfer_function.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/eval/capture_predictor.h"
+#include "vpe/model/fourier_model_file.h"
+#include "vpe/relight_web/relight_web_reader.h"
+
+namespace vpe {
+
+namespace {
+
+// The capture with its images replaced by one light towards `towardsLight`. A point-light
+// rig gets a light at its reference distance in that direction: the web format only knows
+// directions, and that is the light the model's irradiance is normalized to.
+Capture underOneLight(const Capture& capture, const Vec3d& towardsLight) {
+    Capture single = capture;
+    CaptureImage image;
+    image.light = capture.lightKind == LightKind::kPoint
+                      ? Vec3d{towardsLight.x * capture.lightReferenceDistance,
+                              towardsLight.y * capture.lightReferenceDistance,
+                              towardsLight.z * capture.lightReferenceDistance}
+                      : towardsLight;
+    image.file = capture.images.empty() ? std::filesystem::path{} : capture.images.front().file;
+    single.images = {image};
+    return single;
+}
+
+// The model's prediction of every valid pixel under each of `capture`'s lights, into
+// out[light] (width·height·3, sRGB; invalid pixels black).
+void predictAll(const ModelInfo& info, const ModelRows& rows, const Capture& capture,
+                const TransferFunction& stored, unsigned threads,
+                std::vector<std::vector<float>>& out) {
+    const CapturePredictor predictor(info, capture, stored);
+    const int lights = predictor.lightCount();
+    out.assign(static_cast<std::size_t>(lights),
+               std::vector<float>(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f));
+    parallelFor(
+        static_cast<std::size_t>(info.height), 1, threads, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t r = begin; r < end; ++r) {
+                const int y = static_cast<int>(r);
+                for (int x = 0; x < info.width; ++x) {
+                    const std::size_t p = rows.pixel(y, x);
+                    if (!rows.valid[p]) {
+                        continue;
+                    }
+                    for (int s = 0; s < lights; ++s) {
+                        const std::array<double, 3> rgb = predictor.predict(rows, y, x, y, s);
+                        for (int c = 0; c < 3; ++c) {
+                            out[static_cast<std::size_t>(s)][p * 3 + c] =
+                                static_cast<float>(rgb[static_cast<std::size_t>(c)]);
+                        }
+                    }
+                }
+            }
+        });
+}
+
+// The direction the export is relit from for a capture light (a point light: from the
+// middle of the picture's surface, where most of it sits).
+Vec3d directionOf(const Capture& capture, const CaptureImage& image) {
+    if (capture.lightKind == LightKind::kDirectional) {
+        return image.light;
+    }
+    return unitDirection(image.light).value_or(Vec3d{0, 0, 1});
+}
+
+}  // namespace
+
+RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
+                                        const Capture& capture, const std::filesystem::path& folder,
+                                        const RelightWebOptions& options,
+                                        const Capture& checkLights) {
+    ModelReader model(modelPath, ModelKinds::kAny);
+    const ModelInfo info = model.info();
+    ModelRows rows;
+    model.readRows(0, info.height, rows);
+    // What the capture's images were stored with (an RTI basis predicts stored values).
+    bool eightBit = true;
+    {
+        ImageBandReader reader(capture, options.threads);
+        eightBit = reader.eightBitCodes();
+        if (reader.width() != info.width || reader.height() != info.height) {
+            throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
+                                                 std::to_string(reader.height()) +
+                                                 " but the model " + modelPath.string() + " is " +
+                                                 std::to_string(info.width) + "x" +
+                                                 std::to_string(info.height));
+        }
+    }
+    const TransferFunction stored = storedTransfer(capture, eightBit);
+
+    const LightRenderer render = [&](const Vec3d& towardsLight, std::vector<float>& rgb) {
+        std::vector<std::vector<float>> one;
+        predictAll(info, rows, underOneLight(capture, towardsLight), stored, options.threads, one);
+        rgb = std::move(one.front());
+    };
+    std::vector<Vec3d> lights;
+    for (const CaptureImage& image : capture.images) {
+        lights.push_back(directionOf(capture, image));
+    }
+    RelightModelExport result;
+    result.summary = writeRelightWeb(folder, info.width, info.height, render, options, lights);
+
+    // The round trip: the export as OpenLIME relights it against the model's own prediction
+    // under each check light, over the pixels with a valid fit.
+    const Capture& check = checkLights.images.empty() ? capture : checkLights;
+    std::vector<std::vector<float>> predicted;
+    predictAll(info, rows, check, stored, options.threads, predicted);
+    const RelightWebReader reader(folder);
+    std::size_t valid = 0;
+    for (const std::uint8_t v : rows.valid) {
+        valid += v != 0;
+    }
+    if (valid == 0) {
+        throw InputError(modelPath, "no pixel has a valid fit: nothing to export");
+    }
+    double sum = 0;
+    double worst = 1e9;
+    for (std::size_t s = 0; s < check.images.size(); ++s) {
+        const std::vector<float> relit = reader.relight(directionOf(check, check.images[s]));
+        double squared = 0;
+        for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+            if (!rows.valid[p]) {
+                continue;
+            }
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double d = relit[p * 3 + c] - predicted[s][p * 3 + c];
+                squared += d * d;
+            }
+        }
+        const double mse = squared / (3.0 * static_cast<double>(valid));
+        const double psnr = mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
+        sum += psnr;
+        worst = std::min(worst, psnr);
+        result.roundTrip.perLight.push_back(psnr);
+    }
+    result.roundTrip.lights = static_cast<int>(check.images.size());
+    result.roundTrip.pixels = valid;
+    result.roundTrip.psnr = sum / std::max<std::size_t>(1, check.images.size());
+    result.roundTrip.worstPsnr = worst;
+    return result;
+}
+
+}  // namespace vpe
