@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "vpe/capture/image_band_reader.h"
@@ -189,15 +190,15 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         search.threads = options.threads;
         for (int round = 0; round < 2; ++round) {
             const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
-            if (round == 0) {
-                report.statedResponseRms = found.rms;
+            if (round == 0) {  // both under the same (sRGB-estimated) normals
+                report.responseRms = found.rms;
+                report.statedResponseRms = std::numeric_limits<double>::infinity();
                 for (const HeldOutTrial& trial : found.trials) {
                     if (trial.calibration.responseGamma == 0) {
                         report.statedResponseRms = std::min(report.statedResponseRms, trial.rms);
                     }
                 }
             }
-            report.responseRms = found.rms;
             const double gamma = found.calibration.responseGamma;
             if (gamma == 0 || gamma == report.calibration.responseGamma) {
                 break;  // the capture's own (sRGB), or what the normals were estimated under
