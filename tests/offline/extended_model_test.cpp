@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "vpe/capture/capture_loader.h"
+#include "vpe/capture/geometry_calibration.h"
 #include "vpe/eval/model_evaluation.h"
 #include "vpe/fit/capture_fitter.h"
 #include "vpe/fit/held_out_search.h"
@@ -126,6 +127,33 @@ TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
     EXPECT_EQ(ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
     EXPECT_EQ(ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
     EXPECT_GT(calibrated, srgb + 9.5) << "sRGB " << srgb << " dB, calibrated " << calibrated;
+}
+
+// A manifest that states its encoding is trusted: the response stage does not run, and a
+// model calibrated on a light-file capture predicts a stated capture under the stated curve.
+TEST(ExtendedModel, AStatedEncodingIsNotCalibrated) {
+    testing::TemporaryFolder folder;
+    auto train = domeSpec({40, 60, 80}, 12, 0);
+    train.format = testing::SyntheticFormat::kPng8Linear;
+    train.manifest = true;
+    writeSyntheticCapture(folder / "train", train);
+    Capture capture = openCapture(folder / "train");
+    capture.encoding = ImageEncoding::kSrgb;
+    FitOptions options;
+    options.harmonics = 3;
+    options.lambda = 0.1;
+    options.variant = ModelVariant::kExtended;
+    options.writePreview = false;
+    EXPECT_EQ(fitCapture(capture, options, folder / "m.exr").calibration.responseGamma, 0.0);
+    GeometryCalibration calibration;
+    calibration.responseGamma = 1.0;
+    EXPECT_EQ(applyAcceptedCalibration(capture, calibration, train.width, train.height).encoding,
+              ImageEncoding::kSrgb);
+    capture.encoding = ImageEncoding::kAuto;
+    const Capture calibrated =
+        applyAcceptedCalibration(capture, calibration, train.width, train.height);
+    EXPECT_EQ(calibrated.encoding, ImageEncoding::kGamma);
+    EXPECT_EQ(calibrated.gamma, 1.0);
 }
 
 // sRGB images keep their sRGB decoding: the response stage must not invent a curve.

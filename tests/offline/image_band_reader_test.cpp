@@ -273,5 +273,42 @@ TEST(ImageBandReader, ACorruptImageIsNamedInOneLine) {
     }
 }
 
+// A calibrated response (ImageEncoding::kGamma) decodes the same codes as a power law: each
+// sample is (code / full scale)^γ, for 8- and 16-bit images alike.
+TEST(ImageBandReader, ACalibratedResponseDecodesCodesAsAPowerLaw) {
+    for (const OIIO::TypeDesc format : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
+        testing::TemporaryFolder folder;
+        Capture capture = writeCapture(folder.path(), {".png", format, 3}, 2);
+        capture.encoding = ImageEncoding::kLinear;
+        SampleBand codes;
+        ImageBandReader(capture, 1).readBand(0, kHeight, nullptr, codes);
+        capture.encoding = ImageEncoding::kGamma;
+        capture.gamma = 1.4;
+        SampleBand decoded;
+        ImageBandReader(capture, 2).readBand(0, kHeight, nullptr, decoded);
+        ASSERT_EQ(codes.values.size(), decoded.values.size());
+        for (std::size_t i = 0; i < codes.values.size(); ++i) {
+            ASSERT_NEAR(decoded.values[i], std::pow(static_cast<double>(codes.values[i]), 1.4),
+                        1e-6)
+                << "sample " << i;
+        }
+        EXPECT_EQ(codes.weights, decoded.weights);
+    }
+}
+
+TEST(ImageBandReader, ACalibratedResponseRefusesFloatImagesByName) {
+    testing::TemporaryFolder folder;
+    Capture capture = writeCapture(folder.path(), {".exr", OIIO::TypeDesc::FLOAT, 3}, 1);
+    capture.encoding = ImageEncoding::kGamma;
+    capture.gamma = 1.4;
+    try {
+        ImageBandReader reader(capture, 1);
+        FAIL() << "a float image under a calibrated response was accepted";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find(".exr"), std::string::npos) << error.what();
+        EXPECT_NE(std::string(error.what()).find("integer images only"), std::string::npos);
+    }
+}
+
 }  // namespace
 }  // namespace vpe

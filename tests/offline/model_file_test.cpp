@@ -155,6 +155,23 @@ TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
     EXPECT_TRUE(reader.info().tilesU);
 }
 
+// The calibration the extended fit found — camera response included — travels with the model:
+// vpe eval of another capture from the same rig applies it.
+TEST(ModelFile, KeepsTheCaptureCalibration) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(4, 3, 1);
+    info.calibration = {12.5, 6.0, 1.4};
+    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    const GeometryCalibration read = ModelReader(folder / "model.exr").info().calibration;
+    EXPECT_EQ(read.fieldOfViewDegrees, 12.5);
+    EXPECT_EQ(read.lightDistance, 6.0);
+    EXPECT_NEAR(read.responseGamma, 1.4, 1e-6);  // stored as a float attribute
+    // A model without a calibrated response reads as "as the capture states".
+    ModelInfo plain = sampleInfo(4, 3, 1);
+    writeModel(folder / "plain.exr", plain, randomRows(4, 3, 1, 5));
+    EXPECT_EQ(ModelReader(folder / "plain.exr").info().calibration.responseGamma, 0.0);
+}
+
 // Half floats round to 11 significant bits: relative error ≤ 2⁻¹¹ for normal numbers
 // (|x| ≥ 2⁻¹⁴), absolute ≤ 2⁻²⁵ (half a subnormal step) below: docs/model-file.md.
 bool withinHalfTolerance(float read, float written) {
