@@ -112,6 +112,7 @@ void runFit(const Arguments& args) {
                                    {"response_gamma", report.calibration.responseGamma},
                                    {"response_heldout_rms", report.responseRms},
                                    {"srgb_response_heldout_rms", report.statedResponseRms},
+                                   {"normals_under_srgb", report.normalsUnderStatedResponse},
                                    {"heldout_rms", report.calibratedRms},
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};

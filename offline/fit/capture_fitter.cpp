@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/surface_geometry.h"
@@ -179,7 +180,9 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         acquireNormals(capture, options.normals, report.width, report.height, options.threads);
     // The camera response, when the capture leaves it unstated: it changes what photometric
     // stereo sees, so the normals are estimated again under the response chosen, and the
-    // response is chosen again under those normals (once).
+    // response is chosen again under those normals (once). The held-out error decides between
+    // the two normal maps too: photometric stereo is a Lambertian estimate, and on glossy or
+    // shadowed captures a response that fits the radiance better can still give worse normals.
     if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
         reader->eightBitCodes()) {
         const auto searchStart = Clock::now();
@@ -188,8 +191,17 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         search.calibrateGeometry = false;
         search.selectRegularization = false;
         search.threads = options.threads;
+        std::optional<NormalsResult> previous;
         for (int round = 0; round < 2; ++round) {
             const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+            if (previous && found.rms >= report.responseRms) {
+                // The normals estimated under the capture's own response predict the held-out
+                // lights better: keep them, with the response chosen under them.
+                normals = std::move(*previous);
+                normals.source += " (estimated under sRGB)";
+                report.normalsUnderStatedResponse = true;
+                break;
+            }
             if (round == 0) {  // both under the same (sRGB-estimated) normals
                 report.responseRms = found.rms;
                 report.statedResponseRms = std::numeric_limits<double>::infinity();
@@ -207,6 +219,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
             capture =
                 applyGeometryCalibration(capture, found.calibration, report.width, report.height);
             reader = std::make_unique<ImageBandReader>(capture, options.threads);
+            previous = std::move(normals);
             normals = acquireNormals(capture, options.normals, report.width, report.height,
                                      options.threads);
         }

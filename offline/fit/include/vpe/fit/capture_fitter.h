@@ -91,6 +91,9 @@ struct FitReport {
     // under the response chosen and under sRGB, at the stated geometry, each at its best M, λ.
     double responseRms = 0;
     double statedResponseRms = 0;
+    // The normals re-estimated under the response chosen predicted the held-out lights worse
+    // than those estimated under sRGB, so the fit kept the latter.
+    bool normalsUnderStatedResponse = false;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);
