@@ -95,13 +95,14 @@ void runFit(const Arguments& args) {
         std::fprintf(
             stderr,
             "selected: response %s, field of view %.1f°, light distance %.2f "
-            "half-widths, M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated, %.2f s)\n",
+            "half-widths, M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated), T ridge %g "
+            "(held-out RMS %.3f with T; %.2f s)\n",
             report.calibration.responseGamma > 0
                 ? ("gamma " + std::to_string(report.calibration.responseGamma).substr(0, 4)).c_str()
                 : "as stated",
             report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
             report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
-            report.calibrationSeconds);
+            report.transportRidge, report.transportRms, report.calibrationSeconds);
     }
     if (args.json) {
         nlohmann::json json;
@@ -113,9 +114,18 @@ void runFit(const Arguments& args) {
                                    {"response_heldout_rms", report.responseRms},
                                    {"srgb_response_heldout_rms", report.statedResponseRms},
                                    {"normals_under_srgb", report.normalsUnderStatedResponse},
+                                   {"transport_ridge", report.transportRidge},
+                                   {"transport_heldout_rms", report.transportRms},
                                    {"heldout_rms", report.calibratedRms},
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};
+        }
+        if (!report.transportTrials.empty()) {
+            nlohmann::json trials = nlohmann::json::array();
+            for (const TransportRidgeTrial& trial : report.transportTrials) {
+                trials.push_back({{"ridge", trial.ridge}, {"heldout_rms", trial.rms}});
+            }
+            json["calibration"]["transport_trials"] = trials;
         }
         json["pixels"] = report.pixels;
         json["valid_pixels"] = report.validPixels;

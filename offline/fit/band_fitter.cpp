@@ -30,6 +30,7 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
     extendedSettings.harmonics = settings_.harmonics;
     extendedSettings.lambda = settings_.lambda;
     extendedSettings.precision = settings_.precision;
+    extendedSettings.transportRidge = settings_.transportRidge;
     parallelFor(
         static_cast<std::size_t>(band.rows) * chunksPerRow, 4, settings_.threads,
         [&](std::size_t begin, std::size_t end) {

@@ -252,11 +252,13 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     int harmonics = options.harmonics;
     double lambda = options.lambda;
     const bool calibrate = extended && acceptsGeometryCalibration(capture);
-    if (calibrate || options.selectRegularization) {
+    double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
+    if (calibrate || options.selectRegularization || extended) {
         const auto searchStart = Clock::now();
         HeldOutSearchOptions search;
         search.calibrateGeometry = calibrate;
         search.selectRegularization = options.selectRegularization;
+        search.selectTransportRidge = extended;
         search.harmonics = options.harmonics;
         search.lambda = options.lambda;
         search.threads = options.threads;
@@ -267,6 +269,10 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         report.uncalibratedRms = found.baselineRms;
         harmonics = found.harmonics;
         lambda = found.lambda;
+        transportRidge = found.transportRidge;
+        report.transportRidge = found.transportRidge;
+        report.transportRms = found.transportRms;
+        report.transportTrials = found.transportTrials;
         capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
         report.calibrationSeconds += secondsSince(searchStart);
     }
@@ -279,6 +285,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     bandSettings.lambda = lambda;
     bandSettings.precision = resolvePrecision(options.precision, lambda);
     bandSettings.extended = options.variant == ModelVariant::kExtended;
+    bandSettings.transportRidge = transportRidge;
     bandSettings.threads = options.threads;
     const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
 

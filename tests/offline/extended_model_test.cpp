@@ -11,6 +11,7 @@
 #include "vpe/fit/held_out_search.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/model/light_transport.h"
+#include "vpe/normals/normal_map.h"
 
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
@@ -111,7 +112,8 @@ TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {
 // 8-bit images that store radiance linearly, under a light file that cannot say so: decoded
 // as sRGB, a Lambertian falloff looks like cos^2.2 and the BRDF extrapolates it badly to lights
 // lower than the training ones. The response stage finds γ = 1 and the prediction recovers
-// (measured: 33.3 dB decoded as sRGB, 44.2 dB calibrated).
+// (measured: 36.2 dB decoded as sRGB, 44.9 dB calibrated; T's weaker ridge, chosen on
+// held-out lights, hides part of the wrong curve in the sRGB fit).
 TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
     testing::TemporaryFolder folder;
     auto train = domeSpec({40, 60, 80}, 12, 0);
@@ -126,7 +128,7 @@ TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
                                           folder / "calibrated.exr", ModelVariant::kExtended);
     EXPECT_EQ(ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
     EXPECT_EQ(ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
-    EXPECT_GT(calibrated, srgb + 9.5) << "sRGB " << srgb << " dB, calibrated " << calibrated;
+    EXPECT_GT(calibrated, srgb + 8.0) << "sRGB " << srgb << " dB, calibrated " << calibrated;
 }
 
 // A manifest that states its encoding is trusted: the response stage does not run, and a
@@ -228,6 +230,56 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
     // Measured: 0.057 → 0.025, against 0.0035 for a fit of the same material unshadowed.
     EXPECT_LT(extendedMaterial, 0.6 * paperMaterial)
         << "material error: paper " << paperMaterial << ", extended " << extendedMaterial;
+}
+
+// The held-out search judges T's ridge by the extended fit itself: on shadowed texels the
+// fit with T predicts the held-out lights better than the BRDF alone, and the report's choice
+// is the best of its trials.
+TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
+    testing::TemporaryFolder folder;
+    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    const int width = spec.width;
+    spec.transport = [width](int x, int, const Vec3d& light) {
+        return leftHalfShadow(x, width, light);
+    };
+    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
+    const Capture capture = openCapture(folder / "capture");
+    NormalMap normals;
+    normals.resize(spec.width, spec.height);
+    for (int y = 0; y < spec.height; ++y) {
+        for (int x = 0; x < spec.width; ++x) {
+            const Vec3d n = truth.normals[static_cast<std::size_t>(y) * width + x];
+            const std::size_t i = normals.index(x, y);
+            normals.xyz[i * 3] = static_cast<float>(n.x);
+            normals.xyz[i * 3 + 1] = static_cast<float>(n.y);
+            normals.xyz[i * 3 + 2] = static_cast<float>(n.z);
+            normals.valid[i] = 1;
+        }
+    }
+    const HeldOutValidator validator(capture, normals, 4096, 4, 2);
+    fit::ExtendedFitSettings settings;
+    settings.harmonics = 3;
+    settings.lambda = 0.1;
+    const double plain = validator.score(GeometryCalibration{}, 3, 0.1);
+    const double withTransport = validator.scoreWithTransport(GeometryCalibration{}, settings);
+    // Measured: 17.9 → 13.9 levels with the default ridge.
+    EXPECT_LT(withTransport, 0.85 * plain) << "plain " << plain << ", with T " << withTransport;
+
+    HeldOutSearchOptions search;
+    search.calibrateGeometry = false;
+    search.selectRegularization = false;
+    search.selectTransportRidge = true;
+    search.harmonics = 3;
+    search.lambda = 0.1;
+    search.threads = 2;
+    const HeldOutSearchResult found = searchHeldOut(capture, normals, search);
+    ASSERT_EQ(found.transportTrials.size(), 5u);
+    for (const TransportRidgeTrial& trial : found.transportTrials) {
+        EXPECT_GE(trial.rms, found.transportRms) << "ridge " << trial.ridge;
+    }
+    // Measured: 12.3 levels, a weaker ridge than the default.
+    EXPECT_LT(found.transportRms, 0.75 * found.rms);
+    EXPECT_LT(found.transportRidge, fit::ExtendedFitSettings{}.transportRidge);
 }
 
 TEST(ExtendedModel, StatedGeometryIsNotRecalibrated) {

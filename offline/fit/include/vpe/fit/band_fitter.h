@@ -22,6 +22,7 @@ struct BandFitSettings {
     double lambda = proto::kDefaultLambda;
     AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
     bool extended = false;
+    double transportRidge = ExtendedFitSettings{}.transportRidge;  // extended only
     unsigned threads = 1;
 };
 

@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vpe/capture/capture.h"
 #include "vpe/capture/geometry_calibration.h"
+#include "vpe/fit/held_out_search.h"
 #include "vpe/fit/normal_equations.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/model/rti_basis.h"
@@ -94,6 +96,11 @@ struct FitReport {
     // The normals re-estimated under the response chosen predicted the held-out lights worse
     // than those estimated under sRGB, so the fit kept the latter.
     bool normalsUnderStatedResponse = false;
+    // The extended model's light transport: the ridge towards T ≡ 1 chosen by the held-out
+    // extended fit, and that fit's held-out RMS (8-bit levels).
+    double transportRidge = 0;
+    double transportRms = 0;
+    std::vector<TransportRidgeTrial> transportTrials;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);

@@ -12,6 +12,7 @@
 
 #include "vpe/capture/capture.h"
 #include "vpe/capture/geometry_calibration.h"
+#include "vpe/fit/extended_chunk_fit.h"
 #include "vpe/normals/normal_map.h"
 
 namespace vpe {
@@ -27,6 +28,10 @@ public:
 
     // Held-out RMS in 8-bit sRGB levels of a fit under this geometry, M and λ.
     double score(const GeometryCalibration& calibration, int harmonics, double lambda) const;
+    // The same for the extended model's fit, light transport T included (settings give M, λ
+    // and T's ridge).
+    double scoreWithTransport(const GeometryCalibration& calibration,
+                              const fit::ExtendedFitSettings& settings) const;
 
     struct Samples;  // the decoded pixel grid (defined in the .cpp)
 
@@ -47,8 +52,16 @@ struct HeldOutSearchOptions {
     int harmonics = 10;  // used as given when not selecting
     double lambda = 3.14;
     unsigned threads = 1;
+    // The extended model's light transport T: how strongly its per-texel fit is pulled
+    // towards T ≡ 1, judged last, by the extended fit itself under what was chosen above.
+    bool selectTransportRidge = false;
     int samplePixels = 4096;
     int holdOutEvery = 4;
+};
+
+struct TransportRidgeTrial {
+    double ridge = 0;
+    double rms = 0;
 };
 
 struct HeldOutTrial {
@@ -65,6 +78,10 @@ struct HeldOutSearchResult {
     double rms = 0;
     double baselineRms = 0;  // stated geometry with the given M and λ
     std::vector<HeldOutTrial> trials;
+    // Only with selectTransportRidge (else the fit's default and no trials).
+    double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
+    double transportRms = 0;  // held-out RMS of the extended fit with that ridge
+    std::vector<TransportRidgeTrial> transportTrials;
 };
 
 HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
