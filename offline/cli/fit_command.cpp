@@ -123,7 +123,7 @@ void runFit(const Arguments& args) {
         if (!report.transportTrials.empty()) {
             nlohmann::json trials = nlohmann::json::array();
             for (const TransportRidgeTrial& trial : report.transportTrials) {
-                trials.push_back({{"ridge", trial.ridge}, {"heldout_rms", trial.rms}});
+                trials.push_back({{"ridge", trial.ridge}, {"rms", trial.rms}});
             }
             json["calibration"]["transport_trials"] = trials;
         }
