@@ -113,13 +113,19 @@ struct Hypothesis {
     Capture calibrated;
     SurfaceGeometry geometry;
     TransferFunction metric;
+    std::vector<fit::KernelLight> lights;
+    fit::KernelLightSet lightSet;
     std::vector<float> recoded;  // empty: the samples' own values
+    const std::vector<float>* values;
 
     Hypothesis(const Capture& capture, const HeldOutValidator::Samples& samples,
                const GeometryCalibration& calibration, int width, int height)
         : calibrated(applyGeometryCalibration(capture, calibration, width, height)),
           geometry(calibrated, width, height),
-          metric(metricTransfer(calibrated)) {
+          metric(metricTransfer(calibrated)),
+          lights(fit::kernelLights(calibrated)),
+          lightSet(fit::kernelLightSet(calibrated, lights)),
+          values(&samples.values) {
         if (calibrated.encoding != capture.encoding || calibrated.gamma != capture.gamma) {
             const TransferFunction stated = storedTransfer(capture, true);
             const TransferFunction response = storedTransfer(calibrated, true);
@@ -128,8 +134,11 @@ struct Hypothesis {
                 recoded[i] = static_cast<float>(
                     response.decode(stated.encode(static_cast<double>(samples.values[i]))));
             }
+            values = &recoded;
         }
     }
+    Hypothesis(const Hypothesis&) = delete;  // lightSet points into lights
+    Hypothesis& operator=(const Hypothesis&) = delete;
 };
 
 // Squared errors, in the metric's full-scale units, of one fitted pixel's predictions at the
@@ -138,10 +147,10 @@ struct HeldOutErrors {
     double squared = 0;
     double count = 0;
 
-    void add(const HeldOutValidator::Samples& samples, const std::vector<float>& values,
-             const Hypothesis& hypothesis, int holdOutEvery, int fold, int chunk, int lane,
-             const Vec3d& normal, const float (&coefficients)[3][fit::kMaxCoefficients],
-             int harmonics, const float* transport) {
+    void add(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis,
+             int holdOutEvery, int fold, int chunk, int lane, const Vec3d& normal,
+             const float (&coefficients)[3][fit::kMaxCoefficients], int harmonics,
+             const float* transport) {
         const std::size_t p = static_cast<std::size_t>(chunk) * fit::kLanes + lane;
         const Vec3d v = hypothesis.geometry.toViewer(samples.x[p], samples.y[p]);
         const Vec3d position = hypothesis.geometry.position(samples.x[p], samples.y[p]);
@@ -162,7 +171,7 @@ struct HeldOutErrors {
                     t * light.irradiance *
                     proto::evaluateFourierBrdf(coefficients[k], harmonics, angles.cosThetaD,
                                                angles.cosThetaS);
-                const double observed = values[samples.valueIndex(chunk, s, k, lane)];
+                const double observed = (*hypothesis.values)[samples.valueIndex(chunk, s, k, lane)];
                 const double e = hypothesis.metric.encode(std::clamp(predicted, 0.0, 1.0)) -
                                  hypothesis.metric.encode(std::clamp(observed, 0.0, 1.0));
                 squared += e * e;
@@ -194,58 +203,67 @@ Vec3d laneNormal(const fit::ChunkGeometry& chunk, int lane) {
     return {chunk.normal[0][lane], chunk.normal[1][lane], chunk.normal[2][lane]};
 }
 
+// Fits and scores every chunk of the grid on the worker threads and pools the held-out
+// errors. makeWorker() gives each thread its own state: a callable (chunk, errors).
+template <typename MakeWorker>
+double scoreEveryChunk(const HeldOutValidator::Samples& samples, unsigned threads,
+                       MakeWorker makeWorker) {
+    HeldOutErrors errors;
+    std::mutex mergeMutex;
+    parallelFor(static_cast<std::size_t>(samples.chunks()), 4, threads,
+                [&](std::size_t begin, std::size_t end) {
+                    auto worker = makeWorker();
+                    HeldOutErrors local;
+                    for (std::size_t c = begin; c < end; ++c) {
+                        worker(static_cast<int>(c), local);
+                    }
+                    std::lock_guard lock(mergeMutex);
+                    errors.merge(local);
+                });
+    return errors.rms();
+}
+
 }  // namespace
 
 double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics,
                                double lambda) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
-    const std::vector<float>& values =
-        hypothesis.recoded.empty() ? samples.values : hypothesis.recoded;
-    const std::vector<fit::KernelLight> lights = fit::kernelLights(hypothesis.calibrated);
-    const fit::KernelLightSet lightSet = fit::kernelLightSet(hypothesis.calibrated, lights);
-    HeldOutErrors errors;
-    std::mutex mergeMutex;
-    parallelFor(
-        static_cast<std::size_t>(samples.chunks()), 4, threads_,
-        [&](std::size_t begin, std::size_t end) {
-            auto sums = std::make_unique<fit::NormalEquationSums>();
-            auto solution = std::make_unique<fit::ChunkSolution>();
-            std::vector<float> weights(static_cast<std::size_t>(samples.images) * fit::kLanes);
-            fit::ChunkGeometry chunk;
-            HeldOutErrors local;
-            for (std::size_t ci = begin; ci < end; ++ci) {
-                const int c = static_cast<int>(ci);
+    const int fold = holdOutEvery_ - 1;
+    return scoreEveryChunk(samples, threads_, [&] {
+        return
+            [&, sums = std::make_unique<fit::NormalEquationSums>(),
+             solution = std::make_unique<fit::ChunkSolution>(),
+             weights = std::vector<float>(static_cast<std::size_t>(samples.images) * fit::kLanes),
+             chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
                 bool laneValid[fit::kLanes];
                 fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
                 for (int s = 0; s < samples.images; ++s) {
-                    const bool heldOut = s % holdOutEvery_ == holdOutEvery_ - 1;
                     for (int lane = 0; lane < fit::kLanes; ++lane) {
                         weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
-                            heldOut ? 0.0f : samples.weights[samples.weightIndex(c, s, lane)];
+                            s % holdOutEvery_ == fold
+                                ? 0.0f
+                                : samples.weights[samples.weightIndex(c, s, lane)];
                     }
                 }
                 fit::ChunkObservations observations;
-                observations.values = &values[samples.valueIndex(c, 0, 0, 0)];
+                observations.values = &(*hypothesis.values)[samples.valueIndex(c, 0, 0, 0)];
                 observations.sampleStride = 3 * fit::kLanes;
                 observations.channelStride = fit::kLanes;
                 observations.weights = weights.data();
                 observations.weightStride = fit::kLanes;
-                fit::accumulateNormalEquations(chunk, lightSet, observations, harmonics,
+                fit::accumulateNormalEquations(chunk, hypothesis.lightSet, observations, harmonics,
                                                fit::AccumulationPrecision::kFloatBlocks, *sums);
                 fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
                 for (int lane = 0; lane < fit::kLanes; ++lane) {
                     if (laneValid[lane] && solution->valid[lane]) {
-                        local.add(samples, values, hypothesis, holdOutEvery_, holdOutEvery_ - 1, c,
-                                  lane, laneNormal(chunk, lane), solution->coefficients[lane],
-                                  harmonics, nullptr);
+                        errors.add(samples, hypothesis, holdOutEvery_, fold, c, lane,
+                                   laneNormal(chunk, lane), solution->coefficients[lane], harmonics,
+                                   nullptr);
                     }
                 }
-            }
-            std::lock_guard lock(mergeMutex);
-            errors.merge(local);
-        });
-    return errors.rms();
+            };
+    });
 }
 
 double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibration,
@@ -253,10 +271,6 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
     static_assert(fit::kLanes == SampleBand::kChunkWidth, "the grid's chunks are the band's");
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
-    const std::vector<float>& values =
-        hypothesis.recoded.empty() ? samples.values : hypothesis.recoded;
-    const std::vector<fit::KernelLight> lights = fit::kernelLights(hypothesis.calibrated);
-    const fit::KernelLightSet lightSet = fit::kernelLightSet(hypothesis.calibrated, lights);
     const fit::ExtendedLightTable table(hypothesis.calibrated);
     // The grid as one row of a band (the same chunk layout), its held-out lights unusable.
     // One fold, as for everything else the search chooses: judged over all four folds in
@@ -264,7 +278,7 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
     const int fold = holdOutEvery_ - 1;
     SampleBand training;
     training.resize(samples.images, static_cast<int>(samples.x.size()), 1);
-    std::copy(values.begin(), values.end(), training.values.begin());
+    std::copy(hypothesis.values->begin(), hypothesis.values->end(), training.values.begin());
     for (int c = 0; c < samples.chunks(); ++c) {
         for (int s = 0; s < samples.images; ++s) {
             for (int lane = 0; lane < fit::kLanes; ++lane) {
@@ -274,32 +288,23 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
             }
         }
     }
-    HeldOutErrors errors;
-    std::mutex mergeMutex;
-    parallelFor(
-        static_cast<std::size_t>(samples.chunks()), 4, threads_,
-        [&](std::size_t begin, std::size_t end) {
-            auto solution = std::make_unique<fit::ExtendedChunkSolution>();
-            fit::ChunkGeometry chunk;
-            HeldOutErrors local;
-            for (std::size_t ci = begin; ci < end; ++ci) {
-                const int c = static_cast<int>(ci);
-                bool laneValid[fit::kLanes];
-                fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
-                fit::fitChunkExtended(hypothesis.calibrated, table, chunk, laneValid, lightSet,
-                                      training, 0, c * fit::kLanes, settings, *solution);
-                for (int lane = 0; lane < fit::kLanes; ++lane) {
-                    if (laneValid[lane] && solution->brdf.valid[lane]) {
-                        local.add(samples, values, hypothesis, holdOutEvery_, fold, c, lane,
-                                  laneNormal(chunk, lane), solution->brdf.coefficients[lane],
-                                  settings.harmonics, solution->transport[lane]);
-                    }
+    return scoreEveryChunk(samples, threads_, [&] {
+        return [&, solution = std::make_unique<fit::ExtendedChunkSolution>(),
+                chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
+            bool laneValid[fit::kLanes];
+            fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
+            fit::fitChunkExtended(hypothesis.calibrated, table, chunk, laneValid,
+                                  hypothesis.lightSet, training, 0, c * fit::kLanes, settings,
+                                  *solution);
+            for (int lane = 0; lane < fit::kLanes; ++lane) {
+                if (laneValid[lane] && solution->brdf.valid[lane]) {
+                    errors.add(samples, hypothesis, holdOutEvery_, fold, c, lane,
+                               laneNormal(chunk, lane), solution->brdf.coefficients[lane],
+                               settings.harmonics, solution->transport[lane]);
                 }
             }
-            std::lock_guard lock(mergeMutex);
-            errors.merge(local);
-        });
-    return errors.rms();
+        };
+    });
 }
 
 HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
