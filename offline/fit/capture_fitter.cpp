@@ -252,7 +252,6 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     int harmonics = options.harmonics;
     double lambda = options.lambda;
     const bool calibrate = extended && acceptsGeometryCalibration(capture);
-    double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
     if (calibrate || options.selectRegularization || extended) {
         const auto searchStart = Clock::now();
         HeldOutSearchOptions search;
@@ -269,7 +268,6 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         report.uncalibratedRms = found.baselineRms;
         harmonics = found.harmonics;
         lambda = found.lambda;
-        transportRidge = found.transportRidge;
         report.transportRidge = found.transportRidge;
         report.transportRms = found.transportRms;
         report.transportTrials = found.transportTrials;
@@ -284,8 +282,10 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     bandSettings.harmonics = harmonics;
     bandSettings.lambda = lambda;
     bandSettings.precision = resolvePrecision(options.precision, lambda);
-    bandSettings.extended = options.variant == ModelVariant::kExtended;
-    bandSettings.transportRidge = transportRidge;
+    bandSettings.extended = extended;
+    if (extended) {  // the search always runs for it, and chose the ridge
+        bandSettings.transportRidge = report.transportRidge;
+    }
     bandSettings.threads = options.threads;
     const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
 

@@ -148,13 +148,13 @@ struct HeldOutErrors {
     double count = 0;
 
     void add(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis,
-             int holdOutEvery, int fold, int chunk, int lane, const Vec3d& normal,
+             int holdOutEvery, int chunk, int lane, const Vec3d& normal,
              const float (&coefficients)[3][fit::kMaxCoefficients], int harmonics,
              const float* transport) {
         const std::size_t p = static_cast<std::size_t>(chunk) * fit::kLanes + lane;
         const Vec3d v = hypothesis.geometry.toViewer(samples.x[p], samples.y[p]);
         const Vec3d position = hypothesis.geometry.position(samples.x[p], samples.y[p]);
-        for (int s = fold; s < samples.images; s += holdOutEvery) {
+        for (int s = holdOutEvery - 1; s < samples.images; s += holdOutEvery) {
             if (samples.weights[samples.weightIndex(chunk, s, lane)] <= 0) {
                 continue;
             }
@@ -231,38 +231,37 @@ double HeldOutValidator::score(const GeometryCalibration& calibration, int harmo
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     const int fold = holdOutEvery_ - 1;
     return scoreEveryChunk(samples, threads_, [&] {
-        return
-            [&, sums = std::make_unique<fit::NormalEquationSums>(),
-             solution = std::make_unique<fit::ChunkSolution>(),
-             weights = std::vector<float>(static_cast<std::size_t>(samples.images) * fit::kLanes),
-             chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
-                bool laneValid[fit::kLanes];
-                fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
-                for (int s = 0; s < samples.images; ++s) {
-                    for (int lane = 0; lane < fit::kLanes; ++lane) {
-                        weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
-                            s % holdOutEvery_ == fold
-                                ? 0.0f
-                                : samples.weights[samples.weightIndex(c, s, lane)];
-                    }
-                }
-                fit::ChunkObservations observations;
-                observations.values = &(*hypothesis.values)[samples.valueIndex(c, 0, 0, 0)];
-                observations.sampleStride = 3 * fit::kLanes;
-                observations.channelStride = fit::kLanes;
-                observations.weights = weights.data();
-                observations.weightStride = fit::kLanes;
-                fit::accumulateNormalEquations(chunk, hypothesis.lightSet, observations, harmonics,
-                                               fit::AccumulationPrecision::kFloatBlocks, *sums);
-                fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
+        return [&, sums = std::make_unique<fit::NormalEquationSums>(),
+                solution = std::make_unique<fit::ChunkSolution>(),
+                weights =
+                    std::vector<float>(static_cast<std::size_t>(samples.images) * fit::kLanes),
+                chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
+            bool laneValid[fit::kLanes];
+            fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
+            for (int s = 0; s < samples.images; ++s) {
                 for (int lane = 0; lane < fit::kLanes; ++lane) {
-                    if (laneValid[lane] && solution->valid[lane]) {
-                        errors.add(samples, hypothesis, holdOutEvery_, fold, c, lane,
-                                   laneNormal(chunk, lane), solution->coefficients[lane], harmonics,
-                                   nullptr);
-                    }
+                    weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
+                        s % holdOutEvery_ == fold
+                            ? 0.0f
+                            : samples.weights[samples.weightIndex(c, s, lane)];
                 }
-            };
+            }
+            fit::ChunkObservations observations;
+            observations.values = &(*hypothesis.values)[samples.valueIndex(c, 0, 0, 0)];
+            observations.sampleStride = 3 * fit::kLanes;
+            observations.channelStride = fit::kLanes;
+            observations.weights = weights.data();
+            observations.weightStride = fit::kLanes;
+            fit::accumulateNormalEquations(chunk, hypothesis.lightSet, observations, harmonics,
+                                           fit::AccumulationPrecision::kFloatBlocks, *sums);
+            fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
+            for (int lane = 0; lane < fit::kLanes; ++lane) {
+                if (laneValid[lane] && solution->valid[lane]) {
+                    errors.add(samples, hypothesis, holdOutEvery_, c, lane, laneNormal(chunk, lane),
+                               solution->coefficients[lane], harmonics, nullptr);
+                }
+            }
+        };
     });
 }
 
@@ -298,9 +297,9 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
                                   *solution);
             for (int lane = 0; lane < fit::kLanes; ++lane) {
                 if (laneValid[lane] && solution->brdf.valid[lane]) {
-                    errors.add(samples, hypothesis, holdOutEvery_, fold, c, lane,
-                               laneNormal(chunk, lane), solution->brdf.coefficients[lane],
-                               settings.harmonics, solution->transport[lane]);
+                    errors.add(samples, hypothesis, holdOutEvery_, c, lane, laneNormal(chunk, lane),
+                               solution->brdf.coefficients[lane], settings.harmonics,
+                               solution->transport[lane]);
                 }
             }
         };

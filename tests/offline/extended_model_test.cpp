@@ -64,18 +64,7 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     spec.geometry = {40.0, 5.0};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
     const Capture capture = openCapture(folder / "train");
-    NormalMap normals;
-    normals.resize(spec.width, spec.height);
-    for (int y = 0; y < spec.height; ++y) {
-        for (int x = 0; x < spec.width; ++x) {
-            const Vec3d n = truth.normals[static_cast<std::size_t>(y) * spec.width + x];
-            const std::size_t i = normals.index(x, y);
-            normals.xyz[i * 3] = static_cast<float>(n.x);
-            normals.xyz[i * 3 + 1] = static_cast<float>(n.y);
-            normals.xyz[i * 3 + 2] = static_cast<float>(n.z);
-            normals.valid[i] = 1;
-        }
-    }
+    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     HeldOutSearchOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
@@ -185,13 +174,20 @@ double leftHalfShadow(int x, int width, const Vec3d& light) {
     return std::fabs(azimuth) < 60 && elevation < 35 ? 0.15 : 1.0;
 }
 
-TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
-    testing::TemporaryFolder folder;
-    auto train = domeSpec({10, 30, 50, 70, 90}, 12, 0);
-    const int width = train.width;
-    train.transport = [width](int x, int, const Vec3d& light) {
+// The glossy dome capture with that shadow.
+testing::SyntheticCaptureSpec shadowedDomeSpec() {
+    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    const int width = spec.width;
+    spec.transport = [width](int x, int, const Vec3d& light) {
         return leftHalfShadow(x, width, light);
     };
+    return spec;
+}
+
+TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
+    testing::TemporaryFolder folder;
+    const auto train = shadowedDomeSpec();
+    const int width = train.width;
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", train);
     auto test = domeSpec({20, 40, 60, 80}, 5, 18);
     test.transport = train.transport;
@@ -237,25 +233,10 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
 // is the best of its trials.
 TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
     testing::TemporaryFolder folder;
-    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
-    const int width = spec.width;
-    spec.transport = [width](int x, int, const Vec3d& light) {
-        return leftHalfShadow(x, width, light);
-    };
+    const auto spec = shadowedDomeSpec();
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     const Capture capture = openCapture(folder / "capture");
-    NormalMap normals;
-    normals.resize(spec.width, spec.height);
-    for (int y = 0; y < spec.height; ++y) {
-        for (int x = 0; x < spec.width; ++x) {
-            const Vec3d n = truth.normals[static_cast<std::size_t>(y) * width + x];
-            const std::size_t i = normals.index(x, y);
-            normals.xyz[i * 3] = static_cast<float>(n.x);
-            normals.xyz[i * 3 + 1] = static_cast<float>(n.y);
-            normals.xyz[i * 3 + 2] = static_cast<float>(n.z);
-            normals.valid[i] = 1;
-        }
-    }
+    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     const HeldOutValidator validator(capture, normals, 4096, 4, 2);
     fit::ExtendedFitSettings settings;
     settings.harmonics = 3;

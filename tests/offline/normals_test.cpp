@@ -28,18 +28,6 @@ unsigned allThreads() {
     return std::max(1u, std::thread::hardware_concurrency());
 }
 
-NormalMap normalMapOf(const std::vector<Vec3d>& normals, int width, int height) {
-    NormalMap map;
-    map.resize(width, height);
-    for (std::size_t p = 0; p < normals.size(); ++p) {
-        map.xyz[p * 3] = static_cast<float>(normals[p].x);
-        map.xyz[p * 3 + 1] = static_cast<float>(normals[p].y);
-        map.xyz[p * 3 + 2] = static_cast<float>(normals[p].z);
-        map.valid[p] = 1;
-    }
-    return map;
-}
-
 // A Lambertian surface (kd only, a0 = 0) whose normals tilt up to ~35° in all directions,
 // under an RTI dome with rings at 10..90° elevation: low lights fall below some pixels'
 // horizons, as on real objects.
@@ -71,7 +59,7 @@ TEST(PhotometricStereo, RecoversLambertianNormals) {
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     const NormalMap estimate = estimateNormals(openCapture(folder / "capture"), stereoOptions());
     const AngularError error =
-        compareNormalMaps(estimate, normalMapOf(truth.normals, spec.width, spec.height));
+        compareNormalMaps(estimate, testing::trueNormalMap(truth, spec.width, spec.height));
     EXPECT_EQ(error.pixels, static_cast<std::size_t>(spec.width * spec.height));
     EXPECT_LT(error.meanDegrees, 0.5);
 }
@@ -138,7 +126,7 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
     EXPECT_GT(shadowed, pixels * images / 15);
     EXPECT_GT(highlighted, pixels / 2);
 
-    const NormalMap truthMap = normalMapOf(truth.normals, spec.width, spec.height);
+    const NormalMap truthMap = testing::trueNormalMap(truth, spec.width, spec.height);
     const AngularError robust = compareNormalMaps(
         estimateNormals(openCapture(folder / "capture"), stereoOptions()), truthMap);
 

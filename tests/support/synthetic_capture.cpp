@@ -171,4 +171,16 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     return capture;
 }
 
+NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height) {
+    NormalMap map;
+    map.resize(width, height);
+    for (std::size_t p = 0; p < capture.normals.size(); ++p) {
+        map.xyz[p * 3] = static_cast<float>(capture.normals[p].x);
+        map.xyz[p * 3 + 1] = static_cast<float>(capture.normals[p].y);
+        map.xyz[p * 3 + 2] = static_cast<float>(capture.normals[p].z);
+        map.valid[p] = 1;
+    }
+    return map;
+}
+
 }  // namespace vpe::testing

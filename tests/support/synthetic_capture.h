@@ -10,6 +10,7 @@
 
 #include "vpe/capture/capture.h"
 #include "vpe/capture/geometry_calibration.h"
+#include "vpe/normals/normal_map.h"
 
 namespace vpe::testing {
 
@@ -54,6 +55,9 @@ struct SyntheticCapture {
 
 SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
                                        const SyntheticCaptureSpec& spec);
+
+// The capture's true normals as a NormalMap, every pixel valid.
+NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height);
 
 // Lights spread over the whole sphere (Fibonacci lattice): well-conditioned fits.
 std::vector<Vec3d> sphereLights(int count);
