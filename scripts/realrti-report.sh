@@ -102,8 +102,10 @@ done
     echo "the chosen response and under sRGB, and of the final choice against the stated geometry."
     echo "T ridge: how strongly the light transport T is pulled towards 1, chosen last by the"
     echo "extended fit itself on the same held-out lights (its held-out RMS beside it; the plain"
-    echo "BRDF's is the column before). Normals: \"estimated under sRGB\" where those estimated"
-    echo "under the chosen response predicted the held-out lights worse."
+    echo "BRDF's is the column before; T is judged with the normals refined, as the final fit"
+    echo "uses them). Normals: \"estimated under sRGB\" where those estimated under the chosen"
+    echo "response predicted the held-out lights worse; \"refined by the fit\": each texel's"
+    echo "normal moved by the extended fit's own pattern search (docs/extended-model.md)."
     echo "The last column checks \`vpe fit --model\` against the README's published PTM-6 / HSH-9 /"
     echo "HSH-16 (largest difference)."
     echo

@@ -96,13 +96,15 @@ void runFit(const Arguments& args) {
             stderr,
             "selected: response %s, field of view %.1f°, light distance %.2f "
             "half-widths, M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated), T ridge %g "
-            "(held-out RMS %.3f with T; %.2f s)\n",
+            "(held-out RMS %.3f with T), normals %s (%.2f s)\n",
             report.calibration.responseGamma > 0
                 ? ("gamma " + std::to_string(report.calibration.responseGamma).substr(0, 4)).c_str()
                 : "as stated",
             report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
             report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
-            report.transportRidge, report.transportRms, report.calibrationSeconds);
+            report.transportRidge, report.transportRms,
+            report.normalSearchDegrees > 0 ? "refined by the fit" : "as estimated or given",
+            report.calibrationSeconds);
     }
     if (args.json) {
         nlohmann::json json;
@@ -116,6 +118,7 @@ void runFit(const Arguments& args) {
                                    {"normals_under_srgb", report.normalsUnderStatedResponse},
                                    {"transport_ridge", report.transportRidge},
                                    {"transport_heldout_rms", report.transportRms},
+                                   {"normal_search_degrees", report.normalSearchDegrees},
                                    {"heldout_rms", report.calibratedRms},
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};

@@ -31,6 +31,7 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
     extendedSettings.lambda = settings_.lambda;
     extendedSettings.precision = settings_.precision;
     extendedSettings.transportRidge = settings_.transportRidge;
+    extendedSettings.normalSearchDegrees = settings_.normalSearchDegrees;
     parallelFor(
         static_cast<std::size_t>(band.rows) * chunksPerRow, 4, settings_.threads,
         [&](std::size_t begin, std::size_t end) {
@@ -48,8 +49,9 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
                 bool laneValid[kLanes];
                 fillChunkGeometry(geometry_, normals_, x0, band.rowBegin + r, chunk, laneValid);
                 if (settings_.extended) {
-                    fitChunkExtended(capture_, *lightTable_, chunk, laneValid, lightSet_, band, r,
-                                     x0, extendedSettings, *withTransport);
+                    fitChunkExtendedRefiningNormals(capture_, *lightTable_, chunk, laneValid,
+                                                    lightSet_, band, r, x0, extendedSettings,
+                                                    *withTransport);
                 } else {
                     accumulateNormalEquations(chunk, lightSet_, chunkObservations(band, r, x0),
                                               settings_.harmonics, settings_.precision, *sums);

@@ -31,6 +31,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The first tilt of the extended fit's normal search (then half, then a quarter). On
+// realrti-dev 4°, 8° and 12° gave the same held-out PSNR within 0.05 dB on average, and every
+// tilt tried costs one more fit of the texel, so the smallest.
+constexpr double kNormalSearchDegrees = 4.0;
+
 double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -51,6 +56,24 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
         mask[i] = image.pixels[i * static_cast<std::size_t>(image.channels)] > 0 ? 1 : 0;
     }
     return mask;
+}
+
+// The relief of refined normals: rows.detail again, from the fitted normals, against the same
+// macro shape.
+void refineDetail(ModelRows& rows, const NormalMap& macro, int rowBegin, const Vec3d& right) {
+    const std::size_t first = static_cast<std::size_t>(rowBegin) * macro.width;
+    for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+        const std::size_t m = first + p;
+        if (!rows.valid[p] || !macro.valid[m]) {
+            continue;
+        }
+        const Vec3d d = detailNormalOf(
+            {rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
+            {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
+        rows.detail[p * 3] = static_cast<float>(d.x);
+        rows.detail[p * 3 + 1] = static_cast<float>(d.y);
+        rows.detail[p * 3 + 2] = static_cast<float>(d.z);
+    }
 }
 
 // The RTI bases: no normals, no calibration, the images' stored values fitted as they are.
@@ -249,6 +272,14 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     }
     report.normalsSeconds = secondsSince(normalsStart);
 
+    // The extended fit refines photometric stereo's normals, a Lambertian estimate that leaves
+    // out the darkest samples, where raking lights are most sensitive to the tilt. A given
+    // normal map is trusted, as a manifest's geometry is; in coefficients mode the normals are
+    // the macro shape by design.
+    if (extended && normals.estimated && options.relief == ReliefMode::kDetailMap) {
+        report.normalSearchDegrees = kNormalSearchDegrees;
+        report.normalsSource += ", refined by the fit";
+    }
     int harmonics = options.harmonics;
     double lambda = options.lambda;
     const bool calibrate = extended && acceptsGeometryCalibration(capture);
@@ -258,6 +289,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         search.calibrateGeometry = calibrate;
         search.selectRegularization = options.selectRegularization;
         search.selectTransportRidge = extended;
+        search.normalSearchDegrees = report.normalSearchDegrees;
         search.harmonics = options.harmonics;
         search.lambda = options.lambda;
         search.threads = options.threads;
@@ -285,6 +317,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     bandSettings.extended = extended;
     if (extended) {  // the search always runs for it, and chose the ridge
         bandSettings.transportRidge = report.transportRidge;
+        bandSettings.normalSearchDegrees = report.normalSearchDegrees;
     }
     bandSettings.threads = options.threads;
     const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
@@ -331,6 +364,9 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
             rows.detail.assign(
                 detail.begin() + static_cast<std::ptrdiff_t>(first),
                 detail.begin() + static_cast<std::ptrdiff_t>(first + rows.valid.size() * 3));
+            if (report.normalSearchDegrees > 0) {
+                refineDetail(rows, macro, rowBegin, imageRightDirection(originalCapture));
+            }
         }
         countValid(rows, report, rmsSum);
         report.fitSeconds += secondsSince(fitStart);

@@ -292,9 +292,9 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
                 chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
             bool laneValid[fit::kLanes];
             fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
-            fit::fitChunkExtended(hypothesis.calibrated, table, chunk, laneValid,
-                                  hypothesis.lightSet, training, 0, c * fit::kLanes, settings,
-                                  *solution);
+            fit::fitChunkExtendedRefiningNormals(hypothesis.calibrated, table, chunk,
+                                                 laneValid, hypothesis.lightSet, training, 0,
+                                                 c * fit::kLanes, settings, *solution);
             for (int lane = 0; lane < fit::kLanes; ++lane) {
                 if (laneValid[lane] && solution->brdf.valid[lane]) {
                     errors.add(samples, hypothesis, holdOutEvery_, c, lane, laneNormal(chunk, lane),
@@ -423,6 +423,7 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
         fit::ExtendedFitSettings settings;
         settings.harmonics = result.harmonics;
         settings.lambda = result.lambda;
+        settings.normalSearchDegrees = options.normalSearchDegrees;
         for (double ridge : {1.0, 0.3, 0.1, 0.03, 0.01}) {
             settings.transportRidge = ridge;
             const double rms = validator.scoreWithTransport(result.calibration, settings);

@@ -28,6 +28,7 @@ NormalsResult acquireNormals(const Capture& capture,
     options.threads = threads;
     result.normals = estimateNormals(capture, options);
     result.source = "photometric stereo";
+    result.estimated = true;
     return result;
 }
 

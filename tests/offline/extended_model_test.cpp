@@ -12,6 +12,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/model/light_transport.h"
 #include "vpe/normals/normal_map.h"
+#include "vpe/normals/photometric_stereo.h"
 
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
@@ -282,6 +283,53 @@ TEST(ExtendedModel, StatedGeometryIsNotRecalibrated) {
     const FitReport report = fitCapture(capture, options, folder / "model.exr");
     EXPECT_TRUE(report.calibration.isIdentity());
     EXPECT_TRUE(ModelReader(folder / "model.exr").info().calibration.isIdentity());
+}
+
+// Photometric stereo is a Lambertian estimate: on a glossy material its normals lean towards
+// the highlights. The extended fit's normal search refits them with the whole model.
+TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
+    testing::TemporaryFolder folder;
+    const auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
+    std::filesystem::remove(folder / "capture" / "normals.png");  // estimated, not given
+    const Capture capture = openCapture(folder / "capture");
+    const NormalMap trueNormals = testing::trueNormalMap(truth, spec.width, spec.height);
+    PhotometricStereoOptions stereo;
+    stereo.threads = 2;
+    const NormalMap estimated = estimateNormals(capture, stereo);
+
+    const HeldOutValidator validator(capture, estimated, 4096, 4, 2);
+    fit::ExtendedFitSettings settings;
+    settings.harmonics = 3;
+    settings.lambda = 0.1;
+    const double asEstimated = validator.scoreWithTransport(GeometryCalibration{}, settings);
+    settings.normalSearchDegrees = 4;
+    const double refined = validator.scoreWithTransport(GeometryCalibration{}, settings);
+    // Measured: 5.89 → 4.57 levels.
+    EXPECT_LT(refined, 0.82 * asEstimated) << "held-out RMS " << asEstimated << " → " << refined;
+
+    FitOptions options;
+    options.harmonics = 3;
+    options.lambda = 0.1;
+    options.variant = ModelVariant::kExtended;
+    options.writePreview = false;
+    options.threads = 2;
+    const FitReport report = fitCapture(capture, options, folder / "model.exr");
+    EXPECT_EQ(report.normalSearchDegrees, 4.0);
+    ModelReader reader(folder / "model.exr");
+    ModelRows rows;
+    reader.readRows(0, spec.height, rows);
+    NormalMap fitted;
+    fitted.resize(spec.width, spec.height);
+    for (std::size_t p = 0; p < rows.valid.size(); ++p) {
+        fitted.valid[p] = rows.valid[p];
+        std::copy_n(&rows.normal[p * 3], 3, &fitted.xyz[p * 3]);
+    }
+    const AngularError before = compareNormalMaps(estimated, trueNormals);
+    const AngularError after = compareNormalMaps(fitted, trueNormals);
+    // Measured: 13.5° → 8.7° (the search moves a normal by at most 4 + 2 + 1°).
+    EXPECT_LT(after.meanDegrees, 0.7 * before.meanDegrees)
+        << "mean angular error " << before.meanDegrees << "° → " << after.meanDegrees << "°";
 }
 
 }  // namespace

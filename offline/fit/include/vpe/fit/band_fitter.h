@@ -23,6 +23,9 @@ struct BandFitSettings {
     AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
     bool extended = false;
     double transportRidge = ExtendedFitSettings{}.transportRidge;  // extended only
+    // Extended only: refine each texel's normal by the fit (ExtendedFitSettings); the refined
+    // normals are what ModelRows::normal then holds.
+    double normalSearchDegrees = 0;
     unsigned threads = 1;
 };
 

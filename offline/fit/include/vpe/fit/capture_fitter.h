@@ -101,6 +101,9 @@ struct FitReport {
     double transportRidge = 0;
     double transportRms = 0;
     std::vector<TransportRidgeTrial> transportTrials;
+    // Photometric-stereo normals refined by the extended fit: its normal search's first tilt
+    // (0: the normals as estimated or given).
+    double normalSearchDegrees = 0;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);

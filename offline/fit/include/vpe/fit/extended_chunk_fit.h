@@ -30,11 +30,19 @@ struct ExtendedFitSettings {
     // lights; 8σ keeps it as clean and loses ~0.1 dB.
     double shadowCutoff = 8.0;
     double minimumTransport = 0.02;  // T below this drops the sample from the f fit
+    // Normals refined by the fit itself (fitChunkExtendedRefiningNormals): a pattern search
+    // over each texel's tilt, 4 directions at this angle, halved normalSearchSteps − 1 times.
+    // 0 keeps the normals as given.
+    double normalSearchDegrees = 0;
+    int normalSearchSteps = 3;
 };
 
 struct ExtendedChunkSolution {
     ChunkSolution brdf;
     float transport[kLanes][kTransportTerms];
+    // Σ w (y − T E f)² over the lane's usable training samples and RGB, in linear radiance
+    // (censored samples the model already reaches count zero): what the normal search lowers.
+    double trainingError[kLanes];
 };
 
 // Light data shared by all chunks of a capture.
@@ -47,5 +55,16 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
                       const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
                       const KernelLightSet& lights, const SampleBand& band, int row, int x0,
                       const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+
+// The same fit, then (with settings.normalSearchDegrees > 0) each lane's normal refined: a
+// photometric-stereo normal is a Lambertian estimate that drops the darkest samples, and raking
+// lights, where the model is most sensitive to the tilt, are among them. Every tilt of the
+// pattern is a full extended fit of the chunk; a lane keeps the normal, BRDF and T of the
+// lowest training error. `geometry`'s normals are replaced by the chosen ones.
+void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
+                                     ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                                     const KernelLightSet& lights, const SampleBand& band,
+                                     int row, int x0, const ExtendedFitSettings& settings,
+                                     ExtendedChunkSolution& out);
 
 }  // namespace vpe::fit

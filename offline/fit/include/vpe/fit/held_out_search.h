@@ -55,6 +55,9 @@ struct HeldOutSearchOptions {
     // The extended model's light transport T: how strongly its per-texel fit is pulled
     // towards T ≡ 1, judged last, by the extended fit itself under what was chosen above.
     bool selectTransportRidge = false;
+    // The extended fit's normal search (ExtendedFitSettings::normalSearchDegrees) the ridge is
+    // judged under: the final fit's own.
+    double normalSearchDegrees = 0;
     int samplePixels = 4096;
     int holdOutEvery = 4;
 };

@@ -14,7 +14,8 @@ namespace vpe {
 
 struct NormalsResult {
     NormalMap normals;
-    std::string source;  // for reports: the file, or "photometric stereo"
+    std::string source;      // for reports: the file, or "photometric stereo"
+    bool estimated = false;  // photometric stereo, not a given map
 };
 
 NormalsResult acquireNormals(const Capture& capture,
