@@ -67,9 +67,9 @@ void refineDetail(ModelRows& rows, const NormalMap& macro, int rowBegin, const V
         if (!rows.valid[p] || !macro.valid[m]) {
             continue;
         }
-        const Vec3d d = detailNormalOf(
-            {rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
-            {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
+        const Vec3d d =
+            detailNormalOf({rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
+                           {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
         rows.detail[p * 3] = static_cast<float>(d.x);
         rows.detail[p * 3 + 1] = static_cast<float>(d.y);
         rows.detail[p * 3 + 2] = static_cast<float>(d.z);

@@ -187,34 +187,25 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         }
     };
 
-    // The final model's squared error on the lane's training samples, all three channels.
+    // The final model's squared error on the lane's training samples, all three channels
+    // (`transport` holds the final T of every sample).
     auto trainingError = [&](int lane) {
-        double coefficients[kTransportTerms];
-        for (int k = 0; k < kTransportTerms; ++k) {
-            coefficients[k] = static_cast<double>(out.transport[lane][k]);
-        }
         double error = 0;
         for (int s = 0; s < samples; ++s) {
             const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
             if (weights[at] <= 0) {
                 continue;
             }
-            const auto& basis = table.transportBasis[static_cast<std::size_t>(s)];
-            double t = 0;
-            for (int k = 0; k < kTransportTerms; ++k) {
-                t += coefficients[k] * basis[static_cast<std::size_t>(k)];
-            }
-            const double shading = std::clamp(t, 0.0, 4.0) * irradiance[at];
+            const double shading = static_cast<double>(transport[at]) * irradiance[at];
             for (int c = 0; c < 3; ++c) {
                 const double model =
                     shading * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
                                                          settings.harmonics, cosD[at], cosS[at]);
-                const double observed =
-                    static_cast<double>(values[(static_cast<std::size_t>(s) * 3 + c) * kLanes +
-                                               lane]);
+                const double observed = static_cast<double>(
+                    values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane]);
                 if (!(saturated[at] && model >= observed)) {
-                    error += static_cast<double>(weights[at]) * (observed - model) *
-                             (observed - model);
+                    error +=
+                        static_cast<double>(weights[at]) * (observed - model) * (observed - model);
                 }
             }
         }
@@ -279,6 +270,9 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             for (int k = 0; k < kTransportTerms; ++k) {
                 out.transport[lane][k] = static_cast<float>(identity[k]);
             }
+            for (int s = 0; s < samples; ++s) {
+                transport[static_cast<std::size_t>(s) * kLanes + lane] = 1.0f;
+            }
         }
     }
     for (int lane = 0; lane < kLanes; ++lane) {
@@ -302,8 +296,8 @@ Vec3d tilted(const Vec3d& n, double radians, double phi) {
 
 void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
                                      ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                                     const KernelLightSet& lights, const SampleBand& band,
-                                     int row, int x0, const ExtendedFitSettings& settings,
+                                     const KernelLightSet& lights, const SampleBand& band, int row,
+                                     int x0, const ExtendedFitSettings& settings,
                                      ExtendedChunkSolution& out) {
     fitChunkExtended(capture, table, geometry, laneValid, lights, band, row, x0, settings, out);
     if (!(settings.normalSearchDegrees > 0)) {
@@ -323,15 +317,15 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
         for (int direction = 0; direction < kDirections; ++direction) {
             const double phi = 2.0 * std::numbers::pi * direction / kDirections;
             for (int lane = 0; lane < kLanes; ++lane) {
-                const Vec3d n = tilted({centre.normal[0][lane], centre.normal[1][lane],
-                                        centre.normal[2][lane]},
-                                       radians, phi);
+                const Vec3d n =
+                    tilted({centre.normal[0][lane], centre.normal[1][lane], centre.normal[2][lane]},
+                           radians, phi);
                 candidate.normal[0][lane] = static_cast<float>(n.x);
                 candidate.normal[1][lane] = static_cast<float>(n.y);
                 candidate.normal[2][lane] = static_cast<float>(n.z);
             }
-            fitChunkExtended(capture, table, candidate, laneValid, lights, band, row, x0,
-                             settings, *trial);
+            fitChunkExtended(capture, table, candidate, laneValid, lights, band, row, x0, settings,
+                             *trial);
             for (int lane = 0; lane < kLanes; ++lane) {
                 if (!laneValid[lane] || !trial->brdf.valid[lane] ||
                     (out.brdf.valid[lane] &&

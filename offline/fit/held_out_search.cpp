@@ -292,9 +292,9 @@ double HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibrati
                 chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
             bool laneValid[fit::kLanes];
             fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
-            fit::fitChunkExtendedRefiningNormals(hypothesis.calibrated, table, chunk,
-                                                 laneValid, hypothesis.lightSet, training, 0,
-                                                 c * fit::kLanes, settings, *solution);
+            fit::fitChunkExtendedRefiningNormals(hypothesis.calibrated, table, chunk, laneValid,
+                                                 hypothesis.lightSet, training, 0, c * fit::kLanes,
+                                                 settings, *solution);
             for (int lane = 0; lane < fit::kLanes; ++lane) {
                 if (laneValid[lane] && solution->brdf.valid[lane]) {
                     errors.add(samples, hypothesis, holdOutEvery_, c, lane, laneNormal(chunk, lane),

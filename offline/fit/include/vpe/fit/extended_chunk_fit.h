@@ -63,8 +63,8 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
 // lowest training error. `geometry`'s normals are replaced by the chosen ones.
 void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
                                      ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                                     const KernelLightSet& lights, const SampleBand& band,
-                                     int row, int x0, const ExtendedFitSettings& settings,
+                                     const KernelLightSet& lights, const SampleBand& band, int row,
+                                     int x0, const ExtendedFitSettings& settings,
                                      ExtendedChunkSolution& out);
 
 }  // namespace vpe::fit
