@@ -58,13 +58,16 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
     return mask;
 }
 
-// The relief of refined normals: rows.detail again, from the fitted normals, against the same
-// macro shape.
-void refineDetail(ModelRows& rows, const NormalMap& macro, int rowBegin, const Vec3d& right) {
+// The relief the fitted normals carry (refined by the extended fit, or as estimated): each
+// row's detail normal against the macro shape, (0, 0, 1) where that is invalid. The macro shape
+// is valid only where the normals are.
+void fillDetailRows(ModelRows& rows, const NormalMap& macro, int rowBegin, const Vec3d& right) {
     const std::size_t first = static_cast<std::size_t>(rowBegin) * macro.width;
+    rows.detail.assign(rows.valid.size() * 3, 0.0f);
     for (std::size_t p = 0; p < rows.valid.size(); ++p) {
         const std::size_t m = first + p;
-        if (!rows.valid[p] || !macro.valid[m]) {
+        rows.detail[p * 3 + 2] = 1.0f;
+        if (!macro.valid[m]) {
             continue;
         }
         const Vec3d d =
@@ -253,14 +256,17 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     // left for the coefficients (fitted against the macro normals).
     report.macroSigma = options.macroSigma.value_or(defaultMacroSigma(report.width, report.height));
     const NormalMap macro = lowPassNormals(normals.normals, report.macroSigma);
-    const std::vector<float> detail =
-        detailNormalMap(normals.normals, macro, imageRightDirection(originalCapture));
+    const Vec3d right = imageRightDirection(originalCapture);
     {
         double tilt = 0;
         std::size_t counted = 0;
         for (std::size_t p = 0; p < macro.valid.size(); ++p) {
             if (macro.valid[p]) {
-                tilt += std::acos(std::clamp(static_cast<double>(detail[p * 3 + 2]), -1.0, 1.0));
+                const Vec3d n{normals.normals.xyz[p * 3], normals.normals.xyz[p * 3 + 1],
+                              normals.normals.xyz[p * 3 + 2]};
+                const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
+                const float z = static_cast<float>(detailNormalOf(n, m, right).z);
+                tilt += std::acos(std::clamp(static_cast<double>(z), -1.0, 1.0));
                 ++counted;
             }
         }
@@ -360,13 +366,7 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         const auto fitStart = Clock::now();
         fitter.fit(band, rows);
         if (info.detailNormals) {
-            const std::size_t first = static_cast<std::size_t>(rowBegin) * report.width * 3;
-            rows.detail.assign(
-                detail.begin() + static_cast<std::ptrdiff_t>(first),
-                detail.begin() + static_cast<std::ptrdiff_t>(first + rows.valid.size() * 3));
-            if (report.normalSearchDegrees > 0) {
-                refineDetail(rows, macro, rowBegin, imageRightDirection(originalCapture));
-            }
+            fillDetailRows(rows, macro, rowBegin, right);
         }
         countValid(rows, report, rmsSum);
         report.fitSeconds += secondsSince(fitStart);

@@ -214,23 +214,4 @@ Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d&
     return proto::detailNormalIn(proto::tangentFrame(macroNormal, imageRight, up), normal);
 }
 
-std::vector<float> detailNormalMap(const NormalMap& normals, const NormalMap& macro,
-                                   const Vec3d& imageRight) {
-    const std::size_t pixels = static_cast<std::size_t>(normals.width) * normals.height;
-    std::vector<float> detail(pixels * 3, 0.0f);
-    for (std::size_t p = 0; p < pixels; ++p) {
-        detail[p * 3 + 2] = 1.0f;
-        if (!normals.valid[p] || !macro.valid[p]) {
-            continue;
-        }
-        const Vec3d n{normals.xyz[p * 3], normals.xyz[p * 3 + 1], normals.xyz[p * 3 + 2]};
-        const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
-        const Vec3d d = detailNormalOf(n, m, imageRight);
-        detail[p * 3] = static_cast<float>(d.x);
-        detail[p * 3 + 1] = static_cast<float>(d.y);
-        detail[p * 3 + 2] = static_cast<float>(d.z);
-    }
-    return detail;
-}
-
 }  // namespace vpe

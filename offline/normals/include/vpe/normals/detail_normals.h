@@ -31,13 +31,8 @@ NormalMap lowPassNormals(const NormalMap& normals, double sigma);
 // capture. With the macro normal it fixes the tangent frame (t from it, b = n × t ≈ image up).
 Vec3d imageRightDirection(const Capture& capture);
 
-// The detail normal of every pixel, 3 floats a pixel, row-major: the normal's components in the
-// macro normal's frame (proto::tangentFrame(macro, right, up), proto::detailNormalIn), (0, 0, 1)
-// where either map is invalid.
-std::vector<float> detailNormalMap(const NormalMap& normals, const NormalMap& macro,
-                                   const Vec3d& imageRight);
-
-// The same for one pixel (for the truth's own relief, which knows its macro normal exactly).
+// The detail normal of one pixel: the normal's components in the macro normal's frame
+// (proto::tangentFrame(macro, right, up), proto::detailNormalIn).
 Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d& imageRight);
 
 }  // namespace vpe
