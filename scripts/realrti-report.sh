@@ -50,7 +50,7 @@ for item in $(cd "$data" && ls -d item* | sort -V); do
     fit="$work/$item-extended.fit.json"
     for field in field_of_view_degrees light_distance harmonics lambda heldout_rms \
         uncalibrated_heldout_rms response_gamma response_heldout_rms srgb_response_heldout_rms \
-        transport_ridge transport_heldout_rms; do
+        transport_ridge transport_heldout_rms blocked; do
         value=$(json_field "$field" < "$fit")
         line+=" ${value:-nan}"
     done
@@ -106,15 +106,17 @@ done
     echo "uses them). Normals: \"estimated under sRGB\" where those estimated under the chosen"
     echo "response predicted the held-out lights worse; \"refined by the fit\": each texel's"
     echo "normal moved by the extended fit's own pattern search (docs/extended-model.md)."
+    echo "Blocked lights: lights that reach the object at under 90% of the median light, found by"
+    echo "the search and kept only when they predict its held-out lights better (0: none kept)."
     echo "The last column checks \`vpe fit --model\` against the README's published PTM-6 / HSH-9 /"
     echo "HSH-16 (largest difference)."
     echo
-    echo "| item | response γ | RMS: γ / sRGB | field of view (°) | light distance (half-widths) | M | λ | held-out RMS | as stated | T ridge (RMS with T) | normals | vs published (dB) |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
-    awk '{ d = 0; for (i = 0; i < 3; i++) { e = $(3 + i) - $(21 + i); if (e < 0) e = -e; if (e > d) d = e }
-           printf "| %s | %s | %.2f / %.2f | %.1f | %.2f | %d | %g | %.2f | %.2f | %g (%.2f) | %s | %.3f |\n",
+    echo "| item | response γ | RMS: γ / sRGB | field of view (°) | light distance (half-widths) | M | λ | held-out RMS | as stated | T ridge (RMS with T) | blocked lights | normals | vs published (dB) |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    awk '{ d = 0; for (i = 0; i < 3; i++) { e = $(3 + i) - $(22 + i); if (e < 0) e = -e; if (e > d) d = e }
+           printf "| %s | %s | %.2f / %.2f | %.1f | %.2f | %d | %g | %.2f | %.2f | %g (%.2f) | %d | %s | %.3f |\n",
                   $1, ($15 > 0 ? sprintf("%.1f", $15) : "sRGB"), $16, $17, $9, $10, $11, $12,
-                  $13, $14, $18, $19, $20, d }' "$rows" | tr '_' ' '
+                  $13, $14, $18, $19, $20, $21, d }' "$rows" | tr '_' ' '
     echo
     echo "Where the loss came from on each item, and what was tried: [realrti-causes.md](realrti-causes.md)."
 } > "$work/report.md"

@@ -39,6 +39,21 @@ struct Arguments {
     bool noPreview = false;
 };
 
+// The blocked lights' calibration: how many lights it found blocked (none: not adopted), the
+// lowest intensity, and the held-out figures that decided it (per-image RMS, 8-bit levels).
+nlohmann::json lightIntensitiesJson(const FitReport& report) {
+    int blocked = 0;
+    double lowest = 1;
+    for (const LightIntensity& entry : report.calibration.lightIntensities) {
+        blocked += entry.intensity < 1 ? 1 : 0;
+        lowest = std::min(lowest, entry.intensity);
+    }
+    return {{"blocked", blocked},
+            {"lowest", lowest},
+            {"heldout_image_rms", report.lightIntensityRms},
+            {"heldout_image_rms_as_stated", report.transportImageRms}};
+}
+
 // What `vpe fit` does once its options are parsed.
 void runFit(const Arguments& args) {
     FitOptions options;
@@ -96,13 +111,14 @@ void runFit(const Arguments& args) {
             stderr,
             "selected: response %s, field of view %.1f°, light distance %.2f "
             "half-widths, M = %d, λ = %g (held-out RMS %.3f vs %.3f as stated), T ridge %g "
-            "(held-out RMS %.3f with T), normals %s (%.2f s)\n",
+            "(held-out RMS %.3f with T), light intensities %s, normals %s (%.2f s)\n",
             report.calibration.responseGamma > 0
                 ? ("gamma " + std::to_string(report.calibration.responseGamma).substr(0, 4)).c_str()
                 : "as stated",
             report.calibration.fieldOfViewDegrees, report.calibration.lightDistance,
             report.harmonics, report.lambda, report.calibratedRms, report.uncalibratedRms,
             report.transportRidge, report.transportRms,
+            report.calibration.lightIntensities.empty() ? "as stated" : "some blocked",
             report.normalSearchDegrees > 0 ? "refined by the fit" : "as estimated or given",
             report.calibrationSeconds);
     }
@@ -119,6 +135,7 @@ void runFit(const Arguments& args) {
                                    {"transport_ridge", report.transportRidge},
                                    {"transport_heldout_rms", report.transportRms},
                                    {"normal_search_degrees", report.normalSearchDegrees},
+                                   {"light_intensities", lightIntensitiesJson(report)},
                                    {"heldout_rms", report.calibratedRms},
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};

@@ -296,12 +296,16 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         search.selectRegularization = options.selectRegularization;
         search.selectTransportRidge = extended;
         search.normalSearchDegrees = report.normalSearchDegrees;
+        search.calibrateLightIntensities = calibrate;
         search.harmonics = options.harmonics;
         search.lambda = options.lambda;
         search.threads = options.threads;
         const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
         report.calibration.fieldOfViewDegrees = found.calibration.fieldOfViewDegrees;
         report.calibration.lightDistance = found.calibration.lightDistance;
+        report.calibration.lightIntensities = found.calibration.lightIntensities;
+        report.lightIntensityRms = found.lightIntensityRms;
+        report.transportImageRms = found.transportImageRms;
         report.calibratedRms = found.rms;
         report.uncalibratedRms = found.baselineRms;
         harmonics = found.harmonics;

@@ -124,6 +124,34 @@ bool toHalf(const float* in, std::uint16_t* out, std::size_t n) {
     return f16c ? toHalfF16c(in, out, n) : toHalfPortable(in, out, n);
 }
 
+// vpeLightIntensities: x, y, z, intensity per light (absent: the lights as stated).
+std::vector<LightIntensity> readLightIntensities(const OIIO::ImageSpec& spec,
+                                                 const std::filesystem::path& path) {
+    const OIIO::ParamValue* attribute = spec.find_attribute("vpeLightIntensities");
+    if (!attribute) {
+        return {};
+    }
+    const OIIO::TypeDesc type = attribute->type();
+    const std::size_t count = static_cast<std::size_t>(attribute->nvalues()) * type.aggregate *
+                              static_cast<std::size_t>(std::max(type.arraylen, 1));
+    if (type.basetype != OIIO::TypeDesc::FLOAT || count == 0 || count % 4 != 0) {
+        throw InputError(path, "vpeLightIntensities must hold 4 floats per light");
+    }
+    const auto* values = static_cast<const float*>(attribute->data());
+    std::vector<LightIntensity> table;
+    for (std::size_t i = 0; i < count; i += 4) {
+        const Vec3d direction{values[i], values[i + 1], values[i + 2]};
+        const double length = std::sqrt(proto::dot(direction, direction));
+        const double intensity = values[i + 3];
+        if (!(std::fabs(length - 1) < 1e-3) || !(intensity > 0) || !std::isfinite(intensity)) {
+            throw InputError(path, "vpeLightIntensities entry " + std::to_string(i / 4) +
+                                       " is not a unit direction with a positive intensity");
+        }
+        table.push_back({direction, intensity});
+    }
+    return table;
+}
+
 }  // namespace
 
 const char* storageName(ModelStorage storage) {
@@ -320,6 +348,19 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     if (info.calibration.responseGamma > 0) {
         spec.attribute("vpeResponseGamma", static_cast<float>(info.calibration.responseGamma));
     }
+    if (!info.calibration.lightIntensities.empty()) {
+        // x, y, z, intensity per light.
+        std::vector<float> table;
+        for (const LightIntensity& entry : info.calibration.lightIntensities) {
+            table.insert(
+                table.end(),
+                {static_cast<float>(entry.direction.x), static_cast<float>(entry.direction.y),
+                 static_cast<float>(entry.direction.z), static_cast<float>(entry.intensity)});
+        }
+        spec.attribute("vpeLightIntensities",
+                       OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, static_cast<int>(table.size())),
+                       table.data());
+    }
     if (info.texelMm > 0) {
         spec.attribute("vpeTexelMm", static_cast<float>(info.texelMm));
     }
@@ -474,6 +515,7 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
     info.calibration.lightDistance = spec.get_float_attribute("vpeLightDistance", 0.0f);
     info.calibration.responseGamma = spec.get_float_attribute("vpeResponseGamma", 0.0f);
+    info.calibration.lightIntensities = readLightIntensities(spec, path);
     info.texelMm = spec.get_float_attribute("vpeTexelMm", 0.0f);
     info.tilesU = spec.get_int_attribute("vpeTilesU", 0) != 0;
     if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&

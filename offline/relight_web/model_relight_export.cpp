@@ -79,7 +79,10 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
                                         const RelightWebOptions& options,
                                         const Capture& checkLights) {
     ModelReader model(modelPath, ModelKinds::kAny);
-    const ModelInfo info = model.info();
+    // The object under an unobstructed light: lights that the capture rig blocked
+    // (GeometryCalibration::lightIntensities) are the rig's, not the object's appearance.
+    ModelInfo info = model.info();
+    info.calibration.lightIntensities.clear();
     ModelRows rows;
     model.readRows(0, info.height, rows);
     // What the capture's images were stored with (an RTI basis predicts stored values).

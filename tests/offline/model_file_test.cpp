@@ -160,16 +160,37 @@ TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
 TEST(ModelFile, KeepsTheCaptureCalibration) {
     testing::TemporaryFolder folder;
     ModelInfo info = sampleInfo(4, 3, 1);
-    info.calibration = {12.5, 6.0, 1.4};
+    info.calibration = {12.5, 6.0, 1.4, {{{0.6, 0.0, 0.8}, 0.25}, {{0.0, 0.0, 1.0}, 1.0}}};
     writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
     const GeometryCalibration read = ModelReader(folder / "model.exr").info().calibration;
     EXPECT_EQ(read.fieldOfViewDegrees, 12.5);
     EXPECT_EQ(read.lightDistance, 6.0);
     EXPECT_NEAR(read.responseGamma, 1.4, 1e-6);  // stored as a float attribute
+    ASSERT_EQ(read.lightIntensities.size(), 2u);
+    EXPECT_NEAR(read.lightIntensities[0].direction.x, 0.6, 1e-6);
+    EXPECT_NEAR(read.lightIntensities[0].direction.z, 0.8, 1e-6);
+    EXPECT_EQ(read.lightIntensities[0].intensity, 0.25);
+    EXPECT_EQ(read.lightIntensities[1].intensity, 1.0);
     // A model without a calibrated response reads as "as the capture states".
     ModelInfo plain = sampleInfo(4, 3, 1);
     writeModel(folder / "plain.exr", plain, randomRows(4, 3, 1, 5));
     EXPECT_EQ(ModelReader(folder / "plain.exr").info().calibration.responseGamma, 0.0);
+    EXPECT_TRUE(ModelReader(folder / "plain.exr").info().calibration.lightIntensities.empty());
+}
+
+// A light table that is not 4 floats per light, or holds no unit direction, is a corrupt model.
+TEST(ModelFile, RejectsAMalformedLightTable) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(4, 3, 1);
+    info.calibration.lightIntensities = {{{3.0, 0.0, 4.0}, 0.5}};  // not a unit direction
+    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    try {
+        ModelReader reader(folder / "model.exr");
+        FAIL() << "read a light table whose direction has length 5";
+    } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("vpeLightIntensities"), std::string::npos)
+            << error.what();
+    }
 }
 
 // Half floats round to 11 significant bits: relative error ≤ 2⁻¹¹ for normal numbers

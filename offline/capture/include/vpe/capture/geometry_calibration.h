@@ -5,22 +5,44 @@
 // sRGB JPEGs; real rigs (and SynthRTI's renders) have a perspective camera and lights at a
 // finite distance, which moves highlights and shading across the image in ways no per-pixel
 // BRDF of (θd, θs) can follow, and many RTI cameras store radiance nearly linearly, which
-// sRGB decoding turns into a cos^2.2 falloff that no physical BRDF extrapolates.
+// sRGB decoding turns into a cos^2.2 falloff that no physical BRDF extrapolates. Nor can it
+// state how much light each lamp delivers: domes have lamps of unequal brightness, and parts of
+// the rig can block the lowest ones (realrti-dev item7: lights 0–5° above the horizon, over
+// 60° of azimuth, reach the object at 2–30% of the others).
 #pragma once
+
+#include <vector>
 
 #include "vpe/capture/capture.h"
 
 namespace vpe {
 
+// The relative intensity of the light from one direction, as calibrated.
+struct LightIntensity {
+    Vec3d direction;  // unit, as the capture states it
+    double intensity = 1;
+};
+
 struct GeometryCalibration {
     double fieldOfViewDegrees = 0;  // horizontal; 0 = orthographic
     double lightDistance = 0;       // in image half-widths from the centre; 0 = directional
     double responseGamma = 0;       // stored = linear^(1/γ); 0 = as the capture states
+    // The lights' intensities at the object, per calibrated direction; empty: as stated. A
+    // light between them takes lightIntensityAt().
+    std::vector<LightIntensity> lightIntensities;
 
     bool isIdentity() const {
-        return fieldOfViewDegrees == 0 && lightDistance == 0 && responseGamma == 0;
+        return fieldOfViewDegrees == 0 && lightDistance == 0 && responseGamma == 0 &&
+               lightIntensities.empty();
     }
 };
+
+// The intensity of a light from `direction` (unit): a table entry's own when it is one,
+// else interpolated between the two nearest entries, inverse to their distance. Distance
+// weighs elevation 3× azimuth: what blocks a dome's lights (a rim, a stand, the object's
+// mount) cuts them off below an elevation that changes slowly with azimuth, so a light is
+// more like its neighbour on the same ring than the one above it.
+double lightIntensityAt(const std::vector<LightIntensity>& table, const Vec3d& direction);
 
 // True for captures read from a light file: orthographic camera and directional lights, the
 // conventions a calibration replaces. Manifests that state their geometry are left alone.

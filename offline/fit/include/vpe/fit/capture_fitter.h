@@ -101,6 +101,11 @@ struct FitReport {
     double transportRidge = 0;
     double transportRms = 0;
     std::vector<TransportRidgeTrial> transportTrials;
+    // Blocked lights (HeldOutSearchResult::lightIntensityRms): the held-out per-image RMS of
+    // the extended fit with and without them (0: not tried); calibration.lightIntensities
+    // holds them when they predicted better.
+    double lightIntensityRms = 0;
+    double transportImageRms = 0;
     // Photometric-stereo normals refined by the extended fit: its normal search's first tilt
     // (0: the normals as estimated or given).
     double normalSearchDegrees = 0;

@@ -17,6 +17,13 @@
 
 namespace vpe {
 
+// Held-out RMS in 8-bit levels: pooled over every held-out sample, and the geometric mean
+// of the held-out images' RMS (whose PSNR is the images' mean PSNR, vpe eval's figure).
+struct HeldOutScore {
+    double pooled = 0;
+    double imageMean = 0;
+};
+
 // Scores hypotheses on a fixed grid of pixels, decoded once.
 class HeldOutValidator {
 public:
@@ -30,8 +37,13 @@ public:
     double score(const GeometryCalibration& calibration, int harmonics, double lambda) const;
     // The same for the extended model's fit, light transport T included (settings give M, λ
     // and T's ridge).
-    double scoreWithTransport(const GeometryCalibration& calibration,
-                              const fit::ExtendedFitSettings& settings) const;
+    HeldOutScore scoreWithTransport(const GeometryCalibration& calibration,
+                                    const fit::ExtendedFitSettings& settings) const;
+    // Each light's gain under that extended fit: the factor Σ ŷ y / Σ ŷ² by which the grid's
+    // observations y exceed the model's predictions ŷ, for the lights the fit used (all
+    // lights, or the three quarters the scores train on when `holdOut`); 0 for the others.
+    std::vector<double> lightGains(const GeometryCalibration& calibration,
+                                   const fit::ExtendedFitSettings& settings, bool holdOut) const;
 
     struct Samples;  // the decoded pixel grid (defined in the .cpp)
 
@@ -58,6 +70,10 @@ struct HeldOutSearchOptions {
     // The extended fit's normal search (ExtendedFitSettings::normalSearchDegrees) the ridge is
     // judged under: the final fit's own.
     double normalSearchDegrees = 0;
+    // Lights that a part of the rig blocks (GeometryCalibration::lightIntensities: those
+    // reaching the object at under 90% of the median light keep their own intensity), judged
+    // after T's ridge by the extended fit: kept when they predict the held-out lights better.
+    bool calibrateLightIntensities = false;
     int samplePixels = 4096;
     int holdOutEvery = 4;
 };
@@ -83,8 +99,13 @@ struct HeldOutSearchResult {
     std::vector<HeldOutTrial> trials;
     // Only with selectTransportRidge (else the fit's default and no trials).
     double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
-    double transportRms = 0;  // held-out RMS of the extended fit with that ridge
+    double transportRms = 0;       // held-out RMS of the extended fit with that ridge
+    double transportImageRms = 0;  // the same fit's per-image geometric mean (HeldOutScore)
     std::vector<TransportRidgeTrial> transportTrials;
+    // Only with calibrateLightIntensities: the per-image held-out RMS (HeldOutScore::imageMean)
+    // of the extended fit with the intensities calibrated on the other lights, adopted when
+    // below transportImageRms.
+    double lightIntensityRms = 0;
 };
 
 HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
