@@ -7,8 +7,8 @@
 // BRDF of (θd, θs) can follow, and many RTI cameras store radiance nearly linearly, which
 // sRGB decoding turns into a cos^2.2 falloff that no physical BRDF extrapolates. Nor can it
 // state how much light each lamp delivers: domes have lamps of unequal brightness, and parts of
-// the rig can block the lowest ones (realrti-dev item7: lights 0–5° above the horizon, over
-// 60° of azimuth, reach the object at 2–30% of the others).
+// the rig can block the lowest ones (realrti-dev item7: lights 0–8° above the horizon, over
+// 110° of azimuth, reach the object at 0.5–42% of the others).
 #pragma once
 
 #include <vector>
