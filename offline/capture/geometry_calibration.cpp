@@ -43,8 +43,10 @@ double lightIntensityAt(const std::vector<LightIntensity>& table, const Vec3d& d
     if (!std::isfinite(nearest[0])) {
         return 1.0;
     }
+    // Within float rounding of an entry (the model file stores directions as floats): its own.
+    constexpr double kSameLight = 1e-5;  // radians
     const double d0 = std::sqrt(nearest[0]);
-    if (d0 < 1e-9 || !std::isfinite(nearest[1])) {
+    if (d0 < kSameLight || !std::isfinite(nearest[1])) {
         return value[0];
     }
     const double d1 = std::sqrt(nearest[1]);

@@ -451,10 +451,12 @@ GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
         calibration.lightIntensities = table();
         const std::vector<double> gains = validator.lightGains(calibration, settings, holdOut);
         std::vector<double> used;
+        std::vector<bool> measured(intensity.size(), false);
         for (std::size_t s = 0; s < intensity.size(); ++s) {
             if (gains[s] > 0) {
                 intensity[s] = std::max(kLowest, intensity[s] * gains[s]);
                 used.push_back(intensity[s]);
+                measured[s] = true;
             }
         }
         if (used.empty()) {
@@ -463,8 +465,9 @@ GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
         std::nth_element(used.begin(), used.begin() + static_cast<long>(used.size() / 2),
                          used.end());
         const double median = used[used.size() / 2];
-        for (double& value : intensity) {
-            value = value / median < kBlockedBelow ? value / median : 1.0;
+        for (std::size_t s = 0; s < intensity.size(); ++s) {
+            const double relative = intensity[s] / median;
+            intensity[s] = measured[s] && relative < kBlockedBelow ? relative : 1.0;
         }
     }
     calibration.lightIntensities = table();
