@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <utility>
 
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/surface_geometry.h"
@@ -613,19 +614,24 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
             settings.transportRidge = result.transportRidge;
             const GeometryCalibration heldOut = calibrateLightIntensities(
                 validator, capture, result.calibration, settings, options.holdOutEvery, true);
-            const bool anyBlocked =
-                std::any_of(heldOut.lightIntensities.begin(), heldOut.lightIntensities.end(),
-                            [](const LightIntensity& entry) { return entry.intensity < 1; });
+            auto anyBlocked = [](const std::vector<LightIntensity>& table) {
+                return std::any_of(table.begin(), table.end(),
+                                   [](const LightIntensity& entry) { return entry.intensity < 1; });
+            };
             // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
             // calibrates are the dark ones, which pooling over all samples barely counts.
             result.lightIntensityRms =
-                anyBlocked ? validator.scoreWithTransport(heldOut, settings).imageMean
-                           : result.transportImageRms;
+                anyBlocked(heldOut.lightIntensities)
+                    ? validator.scoreWithTransport(heldOut, settings).imageMean
+                    : result.transportImageRms;
             if (result.lightIntensityRms < result.transportImageRms) {
-                result.calibration.lightIntensities =
+                std::vector<LightIntensity> table =
                     calibrateLightIntensities(validator, capture, result.calibration, settings,
                                               options.holdOutEvery, false)
                         .lightIntensities;
+                if (anyBlocked(table)) {  // else the lights as stated, as the model file says
+                    result.calibration.lightIntensities = std::move(table);
+                }
             }
         }
     }
