@@ -249,18 +249,26 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     }
     const fs::path board =
         writeFile("paced.toml", "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n");
-    const pid_t pid = spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json"});
+    // The first frame, written out, says the player is drawing: only then may the bundle
+    // change (a busy machine once started the player so late that all three reloads came
+    // before its first frame, which then drew them as one).
+    const fs::path frames = folder_ / "frames";
+    const pid_t pid = spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json",
+                             "--out", frames.string(), "--every", "1000000"});
     ASSERT_GT(pid, 0);
-    const auto waitFor = [&](const std::string& needle) {
+    const auto waitUntil = [](const auto& condition) {
         for (int i = 0; i < 300; ++i) {
-            if (spawnedErr().find(needle) != std::string::npos) {
+            if (condition()) {
                 return true;
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
         return false;
     };
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    const auto waitFor = [&](const std::string& needle) {
+        return waitUntil([&] { return spawnedErr().find(needle) != std::string::npos; });
+    };
+    ASSERT_TRUE(waitUntil([&] { return fs::exists(frames / "frame_00000.ppm"); })) << spawnedErr();
     // Replaced by a corrupt file (written beside it and renamed, as the bake does).
     std::string corrupt = bundleBytes_;
     corrupt[corrupt.size() - 9] = static_cast<char>(corrupt[corrupt.size() - 9] ^ 0x33);
@@ -270,6 +278,9 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     writeFile("next.tmp", bundleBytes_);
     fs::rename(folder_ / "next.tmp", bundle_);
     EXPECT_TRUE(waitFor("reloaded (file replaced)")) << spawnedErr();
+    // Two reloads within one tick draw one frame: let the player draw after this one first
+    // (six ticks at 30 Hz).
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
     ::kill(pid, SIGHUP);
     EXPECT_TRUE(waitFor("reloaded (SIGHUP)")) << spawnedErr();
     // Long enough for a dozen ticks at 30 Hz after the reloads, however slow the start was.
