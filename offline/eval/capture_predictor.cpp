@@ -60,15 +60,14 @@ std::array<double, 3> CapturePredictor::predict(const ModelRows& rows, int row, 
     const auto angles =
         proto::reflectionAngles(normal, incident.direction, geometry_.toViewer(x, y));
     // The extended model's capture-specific light transport (cast shadows, interreflection)
-    // of this texel under this light.
-    const double transport =
-        rows.transport.empty()
-            ? 1.0
-            : std::max(0.0, evaluateLightTransport(&rows.transport[p * kTransportTerms],
-                                                   transportDirections_[s]));
+    // of this texel under this light, per colour channel.
+    const std::array<double, kTransportChannels> transport =
+        rows.transport.empty() ? std::array<double, kTransportChannels>{1.0, 1.0, 1.0}
+                               : evaluateColourTransport(&rows.transport[p * kTransportValues],
+                                                         transportDirections_[s]);
     for (int c = 0; c < 3; ++c) {
         const double predicted =
-            transport * incident.irradiance *
+            transport[static_cast<std::size_t>(c)] * incident.irradiance *
             proto::evaluateFourierBrdf(rows.coefficientsAt(row, x, c), info_.harmonics,
                                        angles.cosThetaD, angles.cosThetaS);
         out[static_cast<std::size_t>(c)] = metric_.encode(std::clamp(predicted, 0.0, 1.0));

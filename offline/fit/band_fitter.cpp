@@ -75,8 +75,8 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
                     }
                     if (settings_.extended) {
                         std::copy_n(
-                            withTransport->transport[lane], kTransportTerms,
-                            rows.transport.begin() + static_cast<long>(p * kTransportTerms));
+                            withTransport->transport[lane], kTransportValues,
+                            rows.transport.begin() + static_cast<long>(p * kTransportValues));
                     }
                 }
             }

@@ -29,8 +29,13 @@ constexpr int kFormatVersion = 1;
 constexpr const char* kColour = "RGB";
 constexpr const char* kAxis = "XYZ";
 
-std::string transportName(int term) {
+// "transport.t07.G": term 7 of the green channel's T. Models written before T had colour
+// carry one grey T, "transport.t07".
+std::string greyTransportName(int term) {
     return std::string("transport.t") + (term < 10 ? "0" : "") + std::to_string(term);
+}
+std::string transportName(int term, int channel) {
+    return greyTransportName(term) + "." + kColour[channel];
 }
 
 // Every channel of the file, in the order the rows are packed.
@@ -53,7 +58,9 @@ std::vector<std::string> channelNames(const ModelInfo& info) {
     names.push_back("valid");
     if (withTransport) {
         for (int t = 0; t < kTransportTerms; ++t) {
-            names.push_back(transportName(t));
+            for (int c = 0; c < kTransportChannels; ++c) {
+                names.push_back(transportName(t, c));
+            }
         }
     }
     if (withDetail) {
@@ -195,7 +202,7 @@ void ModelRows::resize(int w, int r, int k, bool withTransport, bool withDetail)
     normal.assign(pixels * 3, 0.0f);
     rms.assign(pixels * 3, 0.0f);
     valid.assign(pixels, 0);
-    transport.assign(withTransport ? pixels * kTransportTerms : 0, 0.0f);
+    transport.assign(withTransport ? pixels * kTransportValues : 0, 0.0f);
     detail.assign(withDetail ? pixels * 3 : 0, 0.0f);
     for (std::size_t p = 0; p < detail.size(); p += 3) {
         detail[p + 2] = 1.0f;  // flat
@@ -301,7 +308,9 @@ struct ModelWriter::Impl {
         *out++ = rows.valid[p] ? 1.0f : 0.0f;
         if (transport) {
             for (int t = 0; t < kTransportTerms; ++t) {
-                *out++ = rows.transport[p * kTransportTerms + t];
+                for (int c = 0; c < kTransportChannels; ++c) {
+                    *out++ = rows.transport[p * kTransportValues + c * kTransportTerms + t];
+                }
             }
         }
         if (detail) {
@@ -555,8 +564,14 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
                        ? ModelStorage::kHalf
                        : ModelStorage::kFloat;
     if (info.hasTransport()) {
-        for (int t = 0; t < kTransportTerms; ++t) {
-            impl_->transportChannel.push_back(find(transportName(t)));
+        // [channel][term], as ModelRows holds it; a grey T serves all three channels.
+        const bool grey = std::find(spec.channelnames.begin(), spec.channelnames.end(),
+                                    greyTransportName(0)) != spec.channelnames.end();
+        for (int c = 0; c < kTransportChannels; ++c) {
+            for (int t = 0; t < kTransportTerms; ++t) {
+                impl_->transportChannel.push_back(
+                    find(grey ? greyTransportName(t) : transportName(t, c)));
+            }
         }
     }
     // Optional: models written before the relief was carried have none.
@@ -601,7 +616,7 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
             }
             out.valid[p] = in[impl_->validChannel] > 0.5f ? 1 : 0;
             for (std::size_t t = 0; t < impl_->transportChannel.size(); ++t) {
-                out.transport[p * kTransportTerms + t] = in[impl_->transportChannel[t]];
+                out.transport[p * kTransportValues + t] = in[impl_->transportChannel[t]];
             }
             for (std::size_t a = 0; a < impl_->detailChannel.size(); ++a) {
                 out.detail[p * 3 + a] = in[impl_->detailChannel[a]];

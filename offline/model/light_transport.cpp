@@ -2,6 +2,7 @@
 // Real spherical harmonics, bands 0..3.
 #include "vpe/model/light_transport.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vpe {
@@ -34,14 +35,19 @@ void identityTransport(double* coefficients) {
     coefficients[0] = 1.0 / 0.282094791773878;
 }
 
-double evaluateLightTransport(const float* coefficients, const Vec3d& direction) {
+std::array<double, kTransportChannels> evaluateColourTransport(const float* values,
+                                                               const Vec3d& direction) {
     double basis[kTransportTerms];
     lightTransportBasis(direction, basis);
-    double value = 0;
-    for (int i = 0; i < kTransportTerms; ++i) {
-        value += static_cast<double>(coefficients[i]) * basis[i];
+    std::array<double, kTransportChannels> t{};
+    for (int c = 0; c < kTransportChannels; ++c) {
+        double value = 0;
+        for (int i = 0; i < kTransportTerms; ++i) {
+            value += static_cast<double>(values[c * kTransportTerms + i]) * basis[i];
+        }
+        t[static_cast<std::size_t>(c)] = std::max(0.0, value);
     }
-    return value;
+    return t;
 }
 
 Vec3d transportDirection(const Capture& capture, const CaptureImage& image) {

@@ -12,11 +12,14 @@
 #include <vector>
 
 #include <Imath/half.h>
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include "vpe/common/input_error.h"
 #include "vpe/model/fourier_model_file.h"
+#include "vpe/model/light_transport.h"
 #include "vpe/proto/fourier_brdf.h"
 
 #include "support/test_data.h"
@@ -250,6 +253,57 @@ TEST(ModelFile, RoundTripInHalfIsWithinItsStatedTolerance) {
         EXPECT_TRUE(changed) << name << ": not stored as half";
     }
     EXPECT_EQ(read.valid, written.valid);  // 0 and 1 are exact in half
+}
+
+// Models written before T had colour carry one grey T ("transport.t07"); the reader gives it
+// to all three channels.
+TEST(ModelFile, ReadsAGreyTransportIntoEveryChannel) {
+    testing::TemporaryFolder folder;
+    ModelInfo info = sampleInfo(5, 3, 2);
+    info.variant = "extended";
+    info.storage = ModelStorage::kFloat;
+    ModelRows written = randomRows(info.width, info.height, info.harmonics, 5);
+    written.resize(info.width, info.height, written.coefficients, true);
+    for (std::size_t i = 0; i < written.transport.size(); ++i) {
+        written.transport[i] = static_cast<float>(i) * 0.25f;
+    }
+    {
+        ModelWriter writer(folder / "colour.exr", info);
+        writer.writeRows(0, written);
+        writer.finish();
+    }
+    // The same file with only the green channel's T, under the grey names.
+    {
+        const OIIO::ImageBuf colour((folder / "colour.exr").string());
+        std::vector<int> order;
+        std::vector<std::string> names;
+        for (int c = 0; c < colour.nchannels(); ++c) {
+            const std::string& name = colour.spec().channelnames[static_cast<std::size_t>(c)];
+            if (name.rfind("transport.", 0) != 0) {
+                order.push_back(c);
+                names.push_back(name);
+            } else if (name.back() == 'G') {
+                order.push_back(c);
+                names.push_back(name.substr(0, name.size() - 2));
+            }
+        }
+        const OIIO::ImageBuf grey =
+            OIIO::ImageBufAlgo::channels(colour, static_cast<int>(order.size()), order, {}, names);
+        ASSERT_TRUE(grey.write((folder / "grey.exr").string())) << grey.geterror();
+    }
+    ModelReader reader(folder / "grey.exr");
+    ModelRows read;
+    reader.readRows(0, info.height, read);
+    ASSERT_EQ(read.transport.size(), written.transport.size());
+    for (std::size_t p = 0; p < read.valid.size(); ++p) {
+        for (int c = 0; c < kTransportChannels; ++c) {
+            for (int t = 0; t < kTransportTerms; ++t) {
+                EXPECT_EQ(read.transport[p * kTransportValues + c * kTransportTerms + t],
+                          written.transport[p * kTransportValues + kTransportTerms + t])
+                    << "pixel " << p << ", channel " << c << ", term " << t;
+            }
+        }
+    }
 }
 
 TEST(ModelFile, StorageIsTheChannelTypeStandardToolsSee) {

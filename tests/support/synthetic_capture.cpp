@@ -126,8 +126,9 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
                                                             geometry.toViewer(x, y));
                 const double shadow = spec.transport ? spec.transport(x, y, lights[s]) : 1.0;
                 for (int c = 0; c < 3; ++c) {
+                    const double tint = spec.tint ? spec.tint(x, y, c, lights[s]) : 1.0;
                     rgb[p * 3 + c] = static_cast<float>(
-                        shadow * light.irradiance *
+                        tint * shadow * light.irradiance *
                         proto::evaluateFourierBrdf(capture.at(x, y, c, w), spec.harmonics,
                                                    angles.cosThetaD, angles.cosThetaS));
                 }

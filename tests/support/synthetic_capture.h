@@ -40,6 +40,9 @@ struct SyntheticCaptureSpec {
     GeometryCalibration geometry;
     // Multiplies the rendering of pixel (x, y) under a light direction: cast shadows.
     std::function<double(int x, int y, const Vec3d& light)> transport;
+    // Multiplies channel c of that rendering too: light reaching the pixel off a coloured
+    // neighbour.
+    std::function<double(int x, int y, int c, const Vec3d& light)> tint;
 };
 
 struct SyntheticCapture {

@@ -3,7 +3,11 @@
 //   - f, the transferable Fourier BRDF (paper eq. 19), fitted on y / T with weights T²
 //     (the same SIMD kernel), so shadowed samples stop dragging the material down; and
 //   - T, the texel's light-transport factor over the rig's light directions (cast shadows,
-//     interreflection), a ridge-regularized spherical-harmonic fit towards T ≡ 1.
+//     interreflection), a ridge-regularized spherical-harmonic fit towards T ≡ 1 on
+//     luminance, each texel's ridge its own where its lights ask for a weaker one. T then
+//     takes a colour: each channel's T is fitted to that channel, pulled towards the
+//     luminance T by the same ridge, and the three keep T's luminance; f is fitted on each
+//     channel's y / T_c.
 // Shadows only darken, so f is first refitted as an upper envelope (Tukey weights on
 // residuals far below the model) before T is introduced; otherwise the alternation settles
 // where f has absorbed the shadows and T ≈ 1. Saturated samples are censored: they count
@@ -25,6 +29,10 @@ struct ExtendedFitSettings {
     AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
     int rounds = 4;               // BRDF fits: f, (T, f) × 3 with shadow weights
     double transportRidge = 1.0;  // relative to the average sample's weight in the T fit
+    // Each texel may take a weaker ridge where its own lights ask for it (the leave-one-out
+    // rule of extended_chunk_fit.cpp); false: every texel takes transportRidge.
+    bool texelRidges = true;
+    bool colourTransport = true;  // false: T stays grey (every channel the luminance T)
     // Tukey cutoff for darker-than-model residuals, in robust σ. Measured on SynthRTI and on
     // a synthetic horizon shadow: 3σ keeps the material clean but loses ~1 dB on held-out
     // lights; 8σ keeps it as clean and loses ~0.1 dB.
@@ -39,7 +47,7 @@ struct ExtendedFitSettings {
 
 struct ExtendedChunkSolution {
     ChunkSolution brdf;
-    float transport[kLanes][kTransportTerms];
+    float transport[kLanes][kTransportValues];  // [lane][channel][term]
     // Σ w (y − T E f)² over the lane's usable training samples and RGB, in linear radiance
     // (censored samples the model already reaches count zero): what the normal search lowers.
     double trainingError[kLanes];

@@ -72,9 +72,9 @@ struct ModelRows {
     std::vector<float> normal;        // [row][x][3]
     std::vector<float> rms;           // [row][x][3], linear, normalized to unit irradiance
     std::vector<std::uint8_t> valid;  // [row][x]
-    // Extended variant only: the capture-specific light transport T, kTransportTerms per
+    // Extended variant only: the capture-specific light transport T, kTransportValues per
     // pixel (model/light_transport.h); empty for the paper's model.
-    std::vector<float> transport;  // [row][x][term]
+    std::vector<float> transport;  // [row][x][channel][term]
     // With ModelInfo::detailNormals: the relief's detail normal per pixel, tangent space
     // (proto/detail_normal.h; docs/model-file.md), (0, 0, 1) where flat; empty without.
     std::vector<float> detail;  // [row][x][3]
