@@ -199,9 +199,10 @@ struct HeldOutErrors {
         : imageSquared(static_cast<std::size_t>(images), 0.0),
           imageCount(static_cast<std::size_t>(images), 0.0) {}
 
+    // The pixel's predictions of the lights at positions fold, fold + holdOutEvery, ….
     void add(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis,
-             int holdOutEvery, int chunk, int lane, const FittedPixel& pixel) {
-        for (int s = holdOutEvery - 1; s < samples.images; s += holdOutEvery) {
+             int holdOutEvery, int fold, int chunk, int lane, const FittedPixel& pixel) {
+        for (int s = fold; s < samples.images; s += holdOutEvery) {
             if (samples.weights[samples.weightIndex(chunk, s, lane)] <= 0) {
                 continue;
             }
@@ -318,11 +319,11 @@ Accumulator reduceEveryChunk(const HeldOutValidator::Samples& samples, unsigned 
 
 }  // namespace
 
-double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics,
-                               double lambda) const {
+double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics, double lambda,
+                               HeldOutFolds folds) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
-    const int fold = holdOutEvery_ - 1;
+    const int firstFold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1;
     const HeldOutErrors heldOut =
         reduceEveryChunk(samples, threads_, HeldOutErrors(samples.images), [&] {
             return [&, sums = std::make_unique<fit::NormalEquationSums>(),
@@ -332,29 +333,32 @@ double HeldOutValidator::score(const GeometryCalibration& calibration, int harmo
                     chunk = fit::ChunkGeometry{}](int c, HeldOutErrors& errors) mutable {
                 bool laneValid[fit::kLanes];
                 fillSampleChunk(samples, hypothesis.geometry, normals_, c, chunk, laneValid);
-                for (int s = 0; s < samples.images; ++s) {
-                    for (int lane = 0; lane < fit::kLanes; ++lane) {
-                        weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
-                            s % holdOutEvery_ == fold
-                                ? 0.0f
-                                : samples.weights[samples.weightIndex(c, s, lane)];
+                for (int fold = firstFold; fold < holdOutEvery_; ++fold) {
+                    for (int s = 0; s < samples.images; ++s) {
+                        for (int lane = 0; lane < fit::kLanes; ++lane) {
+                            weights[static_cast<std::size_t>(s) * fit::kLanes + lane] =
+                                s % holdOutEvery_ == fold
+                                    ? 0.0f
+                                    : samples.weights[samples.weightIndex(c, s, lane)];
+                        }
                     }
-                }
-                fit::ChunkObservations observations;
-                observations.values = &(*hypothesis.values)[samples.valueIndex(c, 0, 0, 0)];
-                observations.sampleStride = 3 * fit::kLanes;
-                observations.channelStride = fit::kLanes;
-                observations.weights = weights.data();
-                observations.weightStride = fit::kLanes;
-                fit::accumulateNormalEquations(chunk, hypothesis.lightSet, observations, harmonics,
-                                               fit::AccumulationPrecision::kFloatBlocks, *sums);
-                fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
-                for (int lane = 0; lane < fit::kLanes; ++lane) {
-                    if (laneValid[lane] && solution->valid[lane]) {
-                        errors.add(
-                            samples, hypothesis, holdOutEvery_, c, lane,
-                            FittedPixel(samples, hypothesis, c, lane, laneNormal(chunk, lane),
-                                        solution->coefficients[lane], harmonics, nullptr));
+                    fit::ChunkObservations observations;
+                    observations.values = &(*hypothesis.values)[samples.valueIndex(c, 0, 0, 0)];
+                    observations.sampleStride = 3 * fit::kLanes;
+                    observations.channelStride = fit::kLanes;
+                    observations.weights = weights.data();
+                    observations.weightStride = fit::kLanes;
+                    fit::accumulateNormalEquations(chunk, hypothesis.lightSet, observations,
+                                                   harmonics,
+                                                   fit::AccumulationPrecision::kFloatBlocks, *sums);
+                    fit::solveNormalEquations(*sums, harmonics, lambda, *solution);
+                    for (int lane = 0; lane < fit::kLanes; ++lane) {
+                        if (laneValid[lane] && solution->valid[lane]) {
+                            errors.add(
+                                samples, hypothesis, holdOutEvery_, fold, c, lane,
+                                FittedPixel(samples, hypothesis, c, lane, laneNormal(chunk, lane),
+                                            solution->coefficients[lane], harmonics, nullptr));
+                        }
                     }
                 }
             };
@@ -426,7 +430,7 @@ HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& cal
         samples, normals_, hypothesis, gridBand(samples, *hypothesis.values, holdOutEvery_, true),
         settings, threads_, HeldOutErrors(samples.images),
         [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
-            errors.add(samples, hypothesis, holdOutEvery_, chunk, lane, pixel);
+            errors.add(samples, hypothesis, holdOutEvery_, holdOutEvery_ - 1, chunk, lane, pixel);
         });
     return {heldOut.rms(), heldOut.imageMeanRms()};
 }
@@ -518,17 +522,28 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
     HeldOutSearchResult result;
     result.harmonics = options.harmonics;
     result.lambda = options.lambda;
+    // The camera and the rig (response, field of view, light distance) are the same under
+    // every light, so every training light judges them, each fold fitted on the other three:
+    // on realrti-dev item7 one fold's choice moved with the fold (γ 1.7 and 13.75°, or sRGB,
+    // or 50° with a misfired exposure in the fold), and every fold's held γ 1.4 on all three
+    // rotations of the protocol, +0.3 dB on each. How far the model may be trusted between and
+    // beyond the lights (M, λ, T's ridge, the blocked lights) stays judged on the one fold:
+    // chosen on every fold, item5 (whose test lights lie below all its training lights) took
+    // M = 6, λ = 0.03 and lost 3 dB.
+    HeldOutFolds folds = options.calibrateResponse || options.calibrateGeometry
+                             ? HeldOutFolds::kEvery
+                             : HeldOutFolds::kOne;
     auto score = [&](const GeometryCalibration& calibration, int harmonics, double lambda) {
         for (const HeldOutTrial& known : result.trials) {
             if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
                 known.calibration.lightDistance == calibration.lightDistance &&
                 known.calibration.responseGamma == calibration.responseGamma &&
-                known.harmonics == harmonics && known.lambda == lambda) {
+                known.harmonics == harmonics && known.lambda == lambda && known.folds == folds) {
                 return known.rms;
             }
         }
-        const double rms = validator.score(calibration, harmonics, lambda);
-        result.trials.push_back({calibration, harmonics, lambda, rms});
+        const double rms = validator.score(calibration, harmonics, lambda, folds);
+        result.trials.push_back({calibration, harmonics, lambda, folds, rms});
         if (result.trials.size() == 1 || rms < result.rms) {
             result.calibration = calibration;
             result.harmonics = harmonics;
@@ -537,7 +552,17 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
         }
         return rms;
     };
-    result.baselineRms = score(GeometryCalibration{}, options.harmonics, options.lambda);
+    // From here on scored over `next`: the choice so far, scored so, is the one to beat.
+    auto judgeBy = [&](HeldOutFolds next) {
+        if (next == folds) {
+            return;
+        }
+        folds = next;
+        result.rms = validator.score(result.calibration, result.harmonics, result.lambda, folds);
+        result.trials.push_back(
+            {result.calibration, result.harmonics, result.lambda, folds, result.rms});
+    };
+    score(GeometryCalibration{}, options.harmonics, options.lambda);
 
     // Geometry: a coarse grid of field of view (degrees) and light distance (image
     // half-widths, 0 = far), then coordinate descent with shrinking steps.
@@ -610,6 +635,7 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
     // Regularization under the chosen geometry; the paper's M = 10, λ = 3.14 is one of the
     // candidates, so selection can only keep or improve the held-out error.
     if (options.selectRegularization) {
+        judgeBy(HeldOutFolds::kOne);
         const GeometryCalibration geometry = result.calibration;
         const int trainingLights = static_cast<int>(capture.images.size()) -
                                    static_cast<int>(capture.images.size()) / options.holdOutEvery;
@@ -622,9 +648,22 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
             }
         }
         if (options.calibrateGeometry) {
+            judgeBy(HeldOutFolds::kEvery);
             refineGeometry(1);  // the geometry may shift a little with a sharper BRDF
         }
     }
+    // The stated geometry at the given M and λ, scored as the choice was.
+    const auto stated =
+        std::find_if(result.trials.begin(), result.trials.end(), [&](const HeldOutTrial& trial) {
+            return trial.calibration.fieldOfViewDegrees == 0 &&
+                   trial.calibration.lightDistance == 0 && trial.calibration.responseGamma == 0 &&
+                   trial.harmonics == options.harmonics && trial.lambda == options.lambda &&
+                   trial.folds == folds;
+        });
+    result.baselineRms =
+        stated != result.trials.end()
+            ? stated->rms
+            : validator.score(GeometryCalibration{}, options.harmonics, options.lambda, folds);
     // T's ridge, by the extended fit under everything chosen above. A weak pull lets T draw
     // the sharper shadows of raking lights (realrti-dev item7, lights 1–6° above the horizon);
     // a strong one keeps T from explaining noise where there are few lights.

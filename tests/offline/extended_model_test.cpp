@@ -2,6 +2,8 @@
 // The extended model: geometry calibration and light transport recover what they should.
 #include <cmath>
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <gtest/gtest.h>
 
 #include "vpe/capture/capture_loader.h"
@@ -74,6 +76,31 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
     EXPECT_LT(result.rms, 0.25 * result.baselineRms);
+}
+
+// A photograph exposed at 20% (a flash that misfired) among the lights the search holds out
+// first: judged on that one fold, its error outweighs the geometry's; judged on every fold,
+// the camera and the lights are still found.
+TEST(ExtendedModel, CalibrationSurvivesAMisfiredExposure) {
+    testing::TemporaryFolder folder;
+    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    spec.geometry = {40.0, 5.0, 0.0, {}};
+    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
+    Capture capture = openCapture(folder / "train");
+    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
+    HeldOutSearchOptions options;
+    options.harmonics = 3;
+    options.lambda = 0.1;
+    options.selectRegularization = false;
+    {
+        const std::filesystem::path image = capture.images[7].file;
+        const OIIO::ImageBuf dark = OIIO::ImageBufAlgo::mul(OIIO::ImageBuf(image.string()), 0.2f);
+        ASSERT_TRUE(dark.write((folder / "misfired.exr").string()));
+    }
+    capture.images[7].file = folder / "misfired.exr";
+    const HeldOutSearchResult result = searchHeldOut(capture, normals, options);
+    EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
+    EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
 }
 
 TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {

@@ -3,8 +3,8 @@
 // response, field of view, the lights' distance, and the harmonics M and smoothness λ that let the
 // Fourier BRDF predict the capture best. Only the capture's own training images are used:
 // a grid of pixels is fitted on three quarters of the lights and scored on the held-out
-// quarter, in the metric of `vpe eval`. A few global numbers cannot overfit thousands of
-// pixels.
+// quarter (every quarter in turn for the camera and the rig), in the metric of `vpe eval`.
+// A few global numbers cannot overfit thousands of pixels.
 #pragma once
 
 #include <memory>
@@ -24,6 +24,10 @@ struct HeldOutScore {
     double imageMean = 0;
 };
 
+// Which of the training lights a score predicts: the one fold (positions holdOutEvery − 1,
+// 2·holdOutEvery − 1, …), or every light in turn, each fold fitted on the other three.
+enum class HeldOutFolds { kOne, kEvery };
+
 // Scores hypotheses on a fixed grid of pixels, decoded once.
 class HeldOutValidator {
 public:
@@ -34,7 +38,8 @@ public:
     HeldOutValidator& operator=(const HeldOutValidator&) = delete;
 
     // Held-out RMS in 8-bit sRGB levels of a fit under this geometry, M and λ.
-    double score(const GeometryCalibration& calibration, int harmonics, double lambda) const;
+    double score(const GeometryCalibration& calibration, int harmonics, double lambda,
+                 HeldOutFolds folds = HeldOutFolds::kOne) const;
     // The same for the extended model's fit, light transport T included (settings give M, λ
     // and T's ridge).
     HeldOutScore scoreWithTransport(const GeometryCalibration& calibration,
@@ -87,6 +92,7 @@ struct HeldOutTrial {
     GeometryCalibration calibration;
     int harmonics = 0;
     double lambda = 0;
+    HeldOutFolds folds = HeldOutFolds::kOne;
     double rms = 0;  // held-out RMS, 8-bit sRGB levels
 };
 
@@ -94,8 +100,8 @@ struct HeldOutSearchResult {
     GeometryCalibration calibration;
     int harmonics = 0;
     double lambda = 0;
-    double rms = 0;
-    double baselineRms = 0;  // stated geometry with the given M and λ
+    double rms = 0;          // of the choice, over the folds that judged the camera and rig
+    double baselineRms = 0;  // stated geometry with the given M and λ, the same way
     std::vector<HeldOutTrial> trials;
     // Only with selectTransportRidge (else the fit's default and no trials).
     double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
