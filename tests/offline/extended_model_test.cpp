@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The extended model: geometry calibration and light transport recover what they should.
 #include <cmath>
+#include <memory>
+#include <utility>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -268,22 +270,40 @@ HeldOutSearchOptions transportSearch() {
     return search;
 }
 
+// A synthetic capture written to `folder`, its true normals, and the search's validator over
+// its whole picture.
+struct ValidatedCapture {
+    Capture capture;
+    NormalMap normals;
+    std::unique_ptr<HeldOutValidator> validator;
+    ValidatedCapture(const std::filesystem::path& folder, const testing::SyntheticCaptureSpec& spec)
+        : normals(testing::trueNormalMap(writeSyntheticCapture(folder / "capture", spec),
+                                         spec.width, spec.height)) {
+        capture = openCapture(folder / "capture");
+        validator = std::make_unique<HeldOutValidator>(capture, normals, 4096, 4, 2);
+    }
+};
+
+// The extended fit at the glossy material's M and λ, the default ridge.
+fit::ExtendedFitSettings glossySettings() {
+    fit::ExtendedFitSettings settings;
+    settings.harmonics = 3;
+    settings.lambda = 0.1;
+    return settings;
+}
+
 // The held-out search judges T's ridge by the extended fit itself: on shadowed texels the
 // fit with T predicts the held-out lights better than the BRDF alone, and the report's choice
 // is the best of its trials.
 TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
     testing::TemporaryFolder folder;
     const auto spec = shadowedDomeSpec();
-    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    const Capture capture = openCapture(folder / "capture");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    const HeldOutValidator validator(capture, normals, 4096, 4, 2);
-    fit::ExtendedFitSettings settings;
-    settings.harmonics = 3;
-    settings.lambda = 0.1;
-    const double plain = validator.score(GeometryCalibration{}, 3, 0.1);
+    const ValidatedCapture validated(folder.path(), spec);
+    const Capture& capture = validated.capture;
+    const NormalMap& normals = validated.normals;
+    const double plain = validated.validator->score(GeometryCalibration{}, 3, 0.1);
     const double withTransport =
-        validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
+        validated.validator->scoreWithTransport(GeometryCalibration{}, glossySettings()).pooled;
     // Measured: 17.9 → 13.9 levels with the default ridge.
     EXPECT_LT(withTransport, 0.85 * plain) << "plain " << plain << ", with T " << withTransport;
 
@@ -295,6 +315,21 @@ TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
     // Measured: 12.3 levels, a weaker ridge than the default.
     EXPECT_LT(found.transportRms, 0.75 * found.rms);
     EXPECT_LT(found.transportRidge, fit::ExtendedFitSettings{}.transportRidge);
+}
+
+// The held-out RMS of the extended fit (the search's first fold, default ridge) on `spec`'s
+// capture, without and with one of the fit's options, at the glossy material's M and λ.
+std::pair<double, double> heldOutWithoutAndWith(const std::filesystem::path& folder,
+                                                const testing::SyntheticCaptureSpec& spec,
+                                                bool fit::ExtendedFitSettings::*option) {
+    const ValidatedCapture validated(folder, spec);
+    fit::ExtendedFitSettings settings = glossySettings();
+    settings.*option = false;
+    const double without =
+        validated.validator->scoreWithTransport(GeometryCalibration{}, settings).pooled;
+    settings.*option = true;
+    return {without,
+            validated.validator->scoreWithTransport(GeometryCalibration{}, settings).pooled};
 }
 
 // Light off a red neighbour: on the left half of the picture, lights from the +x side reach
@@ -311,17 +346,8 @@ TEST(ExtendedModel, LightTransportTakesTheColourOfInterreflection) {
         const double red = 0.1 * (1 + light.x) * (1 - light.z);  // strongest low, from +x
         return c == 0 ? 1 + red : c == 2 ? 1 - 2 * red : 1 - red * (0.2126 - 2 * 0.0722) / 0.7152;
     };
-    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    const Capture capture = openCapture(folder / "capture");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    const HeldOutValidator validator(capture, normals, 4096, 4, 2);
-    fit::ExtendedFitSettings settings;
-    settings.harmonics = 3;
-    settings.lambda = 0.1;
-    settings.colourTransport = false;
-    const double grey = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
-    settings.colourTransport = true;
-    const double colour = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
+    const auto [grey, colour] =
+        heldOutWithoutAndWith(folder.path(), spec, &fit::ExtendedFitSettings::colourTransport);
     // Measured: 2.95 → 2.27 levels.
     EXPECT_LT(colour, 0.82 * grey) << "grey T " << grey << ", colour T " << colour;
 }
@@ -342,17 +368,8 @@ TEST(ExtendedModel, VeinTexelsTakeAWeakerTransportRidge) {
                               0.5 * std::max(0.0, -s * light.x + c * light.z);
         return facets / std::max(0.1, light.z);
     };
-    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    const Capture capture = openCapture(folder / "capture");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    const HeldOutValidator validator(capture, normals, 4096, 4, 2);
-    fit::ExtendedFitSettings settings;
-    settings.harmonics = 3;
-    settings.lambda = 0.1;
-    settings.texelRidges = false;
-    const double searchRidge = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
-    settings.texelRidges = true;
-    const double texelRidges = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
+    const auto [searchRidge, texelRidges] =
+        heldOutWithoutAndWith(folder.path(), spec, &fit::ExtendedFitSettings::texelRidges);
     // Measured: 9.69 → 8.46 levels (ridge 0.1 for every texel: 7.96).
     EXPECT_LT(texelRidges, 0.9 * searchRidge)
         << "the search's ridge " << searchRidge << ", texels' own " << texelRidges;
