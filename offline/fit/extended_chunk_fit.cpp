@@ -33,6 +33,32 @@ struct TransportSample {
     double weight, predicted, observed;
 };
 
+// The normal equations of Σ w (y − T(l) P)² over `samples`.
+struct TransportEquations {
+    TransportMatrix a = TransportMatrix::Zero();
+    TransportVector b = TransportVector::Zero();
+    double meanWeight = 0;  // of w P², the scale the ridges are relative to
+
+    explicit TransportEquations(const std::vector<TransportSample>& samples) {
+        double weightSum = 0;
+        for (const TransportSample& sample : samples) {
+            const Eigen::Map<const TransportVector> h(sample.basis);
+            const double wp = sample.weight * sample.predicted;
+            a.noalias() += (wp * sample.predicted) * h * h.transpose();
+            b.noalias() += (wp * sample.observed) * h;
+            weightSum += wp * sample.predicted;
+        }
+        meanWeight = samples.empty() ? 0.0 : weightSum / static_cast<double>(samples.size());
+    }
+    bool solvable() const { return meanWeight > 0; }
+    // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖²; not finite when it fails.
+    TransportVector solve(double ridge, const TransportVector& prior) const {
+        TransportMatrix regularized = a;
+        regularized.diagonal().array() += ridge * meanWeight;
+        return regularized.ldlt().solve(b + ridge * meanWeight * prior);
+    }
+};
+
 // T's ridge for one texel, relative to its mean sample weight: the search's `ridge`, or a
 // weaker one (0.3, 0.1, 0.03 or 0.01 of it, none below the weakest the search tries) where
 // the texel's own lights call for it. They call when the ridge fit's leave-one-light-out
@@ -40,10 +66,9 @@ struct TransportSample {
 // one standard error of a PRESS over some forty lights; on flat texels a weaker ridge only
 // fits noise. On realrti-dev item7 (clay relief) the veins are such texels: the light falls
 // off their flanks faster than the search's ridge lets T draw (+0.3 dB on held-out lights).
-double texelTransportRidge(const TransportMatrix& a, const TransportVector& b,
-                           const Eigen::Map<const TransportVector>& one,
-                           const std::vector<TransportSample>& samples, double meanWeight,
-                           double ridge) {
+double texelTransportRidge(const TransportEquations& equations,
+                           const std::vector<TransportSample>& samples,
+                           const TransportVector& prior, double ridge) {
     constexpr double kWeakest = 0.01;
     constexpr double kRequiredGain = 0.8;
     double chosen = ridge, best = 0;
@@ -52,10 +77,11 @@ double texelTransportRidge(const TransportMatrix& a, const TransportVector& b,
         if (factor < 1 && candidate < kWeakest * (1 - 1e-9)) {
             break;
         }
-        TransportMatrix regularized = a;
-        regularized.diagonal().array() += candidate * meanWeight;
+        TransportMatrix regularized = equations.a;
+        regularized.diagonal().array() += candidate * equations.meanWeight;
         const TransportMatrix inverse = regularized.inverse();
-        const TransportVector t = inverse * (b + candidate * meanWeight * one);
+        const TransportVector t =
+            inverse * (equations.b + candidate * equations.meanWeight * prior);
         if (!t.allFinite()) {
             continue;
         }
@@ -77,6 +103,17 @@ double texelTransportRidge(const TransportMatrix& a, const TransportVector& b,
         }
     }
     return chosen;
+}
+
+// T of every sample from its coefficients, at least 0 and at most 4 (the fit's own bound).
+void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, int samples,
+                     float* out, std::size_t stride) {
+    for (int s = 0; s < samples; ++s) {
+        const Eigen::Map<const TransportVector> h(
+            table.transportBasis[static_cast<std::size_t>(s)].data());
+        out[static_cast<std::size_t>(s) * stride] =
+            static_cast<float>(std::clamp(t.dot(h), 0.0, 4.0));
+    }
 }
 
 }  // namespace
@@ -172,51 +209,43 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
     // T given f, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖², ρ the texel's own
     // (texelTransportRidge). Every channel takes it.
     thread_local std::vector<TransportSample> fitted;
-    auto fitTransport = [&](int lane) {
-        TransportMatrix a = TransportMatrix::Zero();
-        TransportVector b = TransportVector::Zero();
-        double weightSum = 0;
+    const Eigen::Map<const TransportVector> one(identity);
+    // The lane's usable samples (`channel` < 0: luminance), with the prediction P of `predict`.
+    auto gatherSamples = [&](int lane, int channel, auto predict) {
         fitted.clear();
         for (int s = 0; s < samples; ++s) {
             const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
             if (weights[at] <= 0 || censored[at]) {
                 continue;
             }
-            const TransportSample sample{table.transportBasis[static_cast<std::size_t>(s)].data(),
-                                         weights[at], predicted[static_cast<std::size_t>(s)],
-                                         observedLuminance(s, lane)};
-            const Eigen::Map<const TransportVector> h(sample.basis);
-            const double wp = sample.weight * sample.predicted;
-            a.noalias() += (wp * sample.predicted) * h * h.transpose();
-            b.noalias() += (wp * sample.observed) * h;
-            weightSum += wp * sample.predicted;
-            fitted.push_back(sample);
+            const double observed =
+                channel < 0
+                    ? observedLuminance(s, lane)
+                    : static_cast<double>(
+                          values[(static_cast<std::size_t>(s) * 3 + channel) * kLanes + lane]);
+            fitted.push_back({table.transportBasis[static_cast<std::size_t>(s)].data(), weights[at],
+                              predict(s, at), observed});
         }
-        if (fitted.empty() || !(weightSum > 0)) {
+    };
+    auto fitTransport = [&](int lane) {
+        gatherSamples(lane, -1,
+                      [&](int s, std::size_t) { return predicted[static_cast<std::size_t>(s)]; });
+        const TransportEquations equations(fitted);
+        if (!equations.solvable()) {
             return;
         }
-        const Eigen::Map<const TransportVector> one(identity);
-        const double meanWeight = weightSum / static_cast<double>(fitted.size());
-        const double ridge =
-            meanWeight * (settings.texelRidges ? texelTransportRidge(a, b, one, fitted, meanWeight,
-                                                                     settings.transportRidge)
-                                               : settings.transportRidge);
-        a.diagonal().array() += ridge;
-        b += ridge * one;
-        const Eigen::Matrix<double, kTransportTerms, 1> t = a.ldlt().solve(b);
+        const double ridge = settings.texelRidges ? texelTransportRidge(equations, fitted, one,
+                                                                        settings.transportRidge)
+                                                  : settings.transportRidge;
+        const TransportVector t = equations.solve(ridge, one);
         if (!t.allFinite()) {
             return;
         }
         setGreyTransport(lane, t.data());
         transportFitted[lane] = true;
-        for (int s = 0; s < samples; ++s) {
-            const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
-                table.transportBasis[static_cast<std::size_t>(s)].data());
-            const float grey = static_cast<float>(std::clamp(t.dot(h), 0.0, 4.0));
-            transport[static_cast<std::size_t>(s) * kLanes + lane] = grey;
-            for (int c = 0; c < 3; ++c) {
-                channelTransport[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] = grey;
-            }
+        sampleTransport(table, t, samples, &transport[lane], kLanes);
+        for (int c = 0; c < 3; ++c) {
+            sampleTransport(table, t, samples, &channelTransport[c * kLanes + lane], 3 * kLanes);
         }
     };
     // Each channel's T given f: min Σ w (y_c − T_c(l) P_c)² + ρ ‖t_c − t‖², pulled towards the
@@ -226,63 +255,36 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
     // photographs under high lights are 3–5% bluer than a grey T draws them). Letting the
     // channels change T's luminance as well cost the canvas (item5) 0.7 dB.
     auto fitColourTransport = [&](int lane) {
-        Eigen::Matrix<double, kTransportTerms, 1> grey;
+        TransportVector grey;
         for (int k = 0; k < kTransportTerms; ++k) {
             grey[k] = static_cast<double>(out.transport[lane][k]);
         }
-        Eigen::Matrix<double, kTransportTerms, 1> colour[kTransportChannels] = {grey, grey, grey};
+        TransportVector colour[kTransportChannels] = {grey, grey, grey};
         for (int c = 0; c < kTransportChannels; ++c) {
-            Eigen::Matrix<double, kTransportTerms, kTransportTerms> a;
-            Eigen::Matrix<double, kTransportTerms, 1> b;
-            a.setZero();
-            b.setZero();
-            double weightSum = 0;
-            int used = 0;
-            for (int s = 0; s < samples; ++s) {
-                const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-                if (weights[at] <= 0 || censored[at]) {
-                    continue;
-                }
-                const double p = irradiance[at] *
-                                 proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                            settings.harmonics, cosD[at], cosS[at]);
-                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
-                    table.transportBasis[static_cast<std::size_t>(s)].data());
-                const double w = weights[at];
-                const double y = static_cast<double>(
-                    values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane]);
-                a.noalias() += (w * p * p) * h * h.transpose();
-                b.noalias() += (w * p * y) * h;
-                weightSum += w * p * p;
-                ++used;
-            }
-            if (used == 0 || !(weightSum > 0)) {
+            gatherSamples(lane, c, [&](int, std::size_t at) {
+                return irradiance[at] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
+                                                                   settings.harmonics, cosD[at],
+                                                                   cosS[at]);
+            });
+            const TransportEquations equations(fitted);
+            if (!equations.solvable()) {
                 continue;  // the channel keeps the luminance T
             }
-            const double ridge = settings.transportRidge * weightSum / used;
-            a.diagonal().array() += ridge;
-            b += ridge * grey;
-            const Eigen::Matrix<double, kTransportTerms, 1> t = a.ldlt().solve(b);
+            const TransportVector t = equations.solve(settings.transportRidge, grey);
             if (t.allFinite()) {
                 colour[c] = t;
             }
         }
         // Only the colour: the channels shift together until their luminance is T's again.
-        const Eigen::Matrix<double, kTransportTerms, 1> shift =
+        const TransportVector shift =
             grey -
             (kLuminance[0] * colour[0] + kLuminance[1] * colour[1] + kLuminance[2] * colour[2]);
         for (int c = 0; c < kTransportChannels; ++c) {
+            const TransportVector t = colour[c] + shift;
             for (int k = 0; k < kTransportTerms; ++k) {
-                out.transport[lane][c * kTransportTerms + k] =
-                    static_cast<float>(colour[c][k] + shift[k]);
+                out.transport[lane][c * kTransportTerms + k] = static_cast<float>(t[k]);
             }
-            const Eigen::Matrix<double, kTransportTerms, 1> t = colour[c] + shift;
-            for (int s = 0; s < samples; ++s) {
-                const Eigen::Map<const Eigen::Matrix<double, kTransportTerms, 1>> h(
-                    table.transportBasis[static_cast<std::size_t>(s)].data());
-                channelTransport[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] =
-                    static_cast<float>(std::clamp(t.dot(h), 0.0, 4.0));
-            }
+            sampleTransport(table, t, samples, &channelTransport[c * kLanes + lane], 3 * kLanes);
         }
     };
     // Shadows only darken: residuals far below the model (relative to the lane's robust
