@@ -184,6 +184,7 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         setGreyTransport(lane, identity);
     }
     bool transportFitted[kLanes] = {};
+    double luminanceWeight[kLanes] = {};  // the luminance T fit's mean weight, per lane
 
     thread_local std::vector<float> robust;  // shadow down-weighting of the BRDF fit
     robust.assign(laneBlock, 1.0f);
@@ -243,13 +244,14 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         }
         setGreyTransport(lane, t.data());
         transportFitted[lane] = true;
+        luminanceWeight[lane] = equations.meanWeight;
         sampleTransport(table, t, samples, &transport[lane], kLanes);
         for (int c = 0; c < 3; ++c) {
             sampleTransport(table, t, samples, &channelTransport[c * kLanes + lane], 3 * kLanes);
         }
     };
     // Each channel's T given f: min Σ w (y_c − T_c(l) P_c)² + ρ ‖t_c − t‖², pulled towards the
-    // luminance T by the search's relative ridge, over the samples the luminance fit used;
+    // luminance T by the search's ridge, over the samples the luminance fit used;
     // then shifted so that the channels' luminance is T again. What T explains has a
     // colour (light off the clay, a lamp's tint across its beam: on realrti-dev item7 the
     // photographs under high lights are 3–5% bluer than a grey T draws them). Letting the
@@ -270,7 +272,12 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             if (!equations.solvable()) {
                 continue;  // the channel keeps the luminance T
             }
-            const TransportVector t = equations.solve(settings.transportRidge, grey);
+            // The luminance fit's ridge, in its units: a channel with little light of its own
+            // (a dark background's red) stays grey, where a pull relative to its own faint
+            // samples let quantization noise through, and the shift below carried it into the
+            // other channels (SynthRTI Multi/Object1/material2: 45.8 → 24.0 dB).
+            const TransportVector t = equations.solve(
+                settings.transportRidge * luminanceWeight[lane] / equations.meanWeight, grey);
             if (t.allFinite()) {
                 colour[c] = t;
             }
