@@ -183,8 +183,8 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
     for (int lane = 0; lane < kLanes; ++lane) {
         setGreyTransport(lane, identity);
     }
-    bool transportFitted[kLanes] = {};
-    double luminanceWeight[kLanes] = {};  // the luminance T fit's mean weight, per lane
+    // The luminance T fit's mean weight per lane; 0 while the lane has no fitted T.
+    double luminanceWeight[kLanes] = {};
 
     thread_local std::vector<float> robust;  // shadow down-weighting of the BRDF fit
     robust.assign(laneBlock, 1.0f);
@@ -243,7 +243,6 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             return;
         }
         setGreyTransport(lane, t.data());
-        transportFitted[lane] = true;
         luminanceWeight[lane] = equations.meanWeight;
         sampleTransport(table, t, samples, &transport[lane], kLanes);
         for (int c = 0; c < 3; ++c) {
@@ -409,7 +408,7 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             predictLane(lane);
             if (round >= 1) {
                 fitTransport(lane);
-                if (settings.colourTransport && transportFitted[lane]) {
+                if (settings.colourTransport && luminanceWeight[lane] > 0) {
                     fitColourTransport(lane);
                 }
             }
@@ -425,7 +424,7 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             std::copy_n(firstRound->rms[lane], kChannels, out.brdf.rms[lane]);
             out.brdf.valid[lane] = true;
             setGreyTransport(lane, identity);
-            transportFitted[lane] = false;
+            luminanceWeight[lane] = 0;
             for (int s = 0; s < samples; ++s) {
                 transport[static_cast<std::size_t>(s) * kLanes + lane] = 1.0f;
                 for (int c = 0; c < 3; ++c) {
