@@ -111,6 +111,7 @@ public:
         const fb::Bundle& root = verifiedMetadata(view.header_);
         decodeModel(view, root);
         decodeProjector(view, root);
+        decodeCamera(view, root);
         decodeSettings(view, root);
         decodeMesh(view, root);
         decodeTextures(view, root);
@@ -174,21 +175,41 @@ private:
     }
 
     void decodeProjector(BundleView& view, const fb::Bundle& root) {
-        const fb::Projector* projector = root.projector();
-        if (projector == nullptr) {
-            fail("metadata has no projector");
+        view.projector_ = decodePinhole(root.projector(), "projector");
+        if (const std::string problem = checkProjector(view.projector_); !problem.empty()) {
+            fail(problem);
         }
-        const fb::Mat3d* intrinsics = projector->intrinsics();
-        const fb::Mat3d* rotation = projector->rotation();
-        const fb::Distortion* distortion = projector->distortion();
-        const fb::Vec3d* translation = projector->translation();
+    }
+
+    // 1.3's camera: absent in older bundles and optional in newer ones; when present, held to
+    // the projector's rules.
+    void decodeCamera(BundleView& view, const fb::Bundle& root) {
+        if (root.camera() == nullptr) {
+            return;
+        }
+        const ProjectorCalibration camera = decodePinhole(root.camera(), "camera");
+        if (const std::string problem = checkBundleCamera(camera); !problem.empty()) {
+            fail(problem);
+        }
+        view.camera_ = camera;
+    }
+
+    // A Projector table (the projector's or the camera's) into its struct, unchecked.
+    ProjectorCalibration decodePinhole(const fb::Projector* table, const std::string& what) {
+        if (table == nullptr) {
+            fail("metadata has no " + what);
+        }
+        const fb::Mat3d* intrinsics = table->intrinsics();
+        const fb::Mat3d* rotation = table->rotation();
+        const fb::Distortion* distortion = table->distortion();
+        const fb::Vec3d* translation = table->translation();
         if (intrinsics == nullptr || distortion == nullptr || rotation == nullptr ||
             translation == nullptr) {
-            fail("projector: intrinsics, distortion, rotation or translation missing");
+            fail(what + ": intrinsics, distortion, rotation or translation missing");
         }
-        ProjectorCalibration& p = view.projector_;
-        p.width = projector->width();
-        p.height = projector->height();
+        ProjectorCalibration p;
+        p.width = table->width();
+        p.height = table->height();
         for (flatbuffers::uoffset_t i = 0; i < 9; ++i) {
             p.intrinsics[i] = intrinsics->m()->Get(i);
             p.rotation[i] = rotation->m()->Get(i);
@@ -196,9 +217,7 @@ private:
         p.distortion = {distortion->k1(), distortion->k2(), distortion->p1(), distortion->p2(),
                         distortion->k3()};
         p.translation = {translation->x(), translation->y(), translation->z()};
-        if (const std::string problem = checkProjector(p); !problem.empty()) {
-            fail(problem);
-        }
+        return p;
     }
 
     void decodeSettings(BundleView& view, const fb::Bundle& root) {

@@ -44,7 +44,7 @@ constexpr const char* kChannelNames[3] = {"red", "green", "blue"};
 // accepts those and still refuses scaled or sheared matrices.
 constexpr double kRotationTolerance = 1e-3;
 
-std::string checkRotation(const std::array<double, 9>& r) {
+std::string checkRotation(const std::array<double, 9>& r, const std::string& what) {
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
             double dot = 0;
@@ -52,17 +52,39 @@ std::string checkRotation(const std::array<double, 9>& r) {
                 dot += r[3 * i + k] * r[3 * j + k];
             }
             if (std::fabs(dot - (i == j ? 1.0 : 0.0)) > kRotationTolerance) {
-                return "projector rotation is not orthonormal (row " + std::to_string(i) +
-                       " · row " + std::to_string(j) + " = " + number(dot) + ")";
+                return what + " rotation is not orthonormal (row " + std::to_string(i) + " · row " +
+                       std::to_string(j) + " = " + number(dot) + ")";
             }
         }
     }
     const double det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) +
                        r[2] * (r[3] * r[7] - r[4] * r[6]);
     if (det < 0) {
-        return "projector rotation is a reflection (determinant " + number(det) + ")";
+        return what + " rotation is a reflection (determinant " + number(det) + ")";
     }
     return "";
+}
+
+// The projector's rules, for the projector and for the camera (same table, same conventions);
+// `what` starts each phrase.
+std::string checkPinhole(const ProjectorCalibration& p, const std::string& what) {
+    if (p.width == 0 || p.height == 0) {
+        return what + " resolution " + std::to_string(p.width) + " x " + std::to_string(p.height) +
+               " is empty";
+    }
+    if (!allFinite(p.intrinsics) || !allFinite(p.distortion) || !allFinite(p.rotation) ||
+        !allFinite(p.translation)) {
+        return what + " calibration has a value that is not finite";
+    }
+    const auto& k = p.intrinsics;
+    if (!(k[0] > 0 && k[4] > 0)) {
+        return what + " intrinsics: focal lengths " + number(k[0]) + ", " + number(k[4]) +
+               " are not positive";
+    }
+    if (k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1) {
+        return what + " intrinsics are not a camera matrix (expected [fx s cx; 0 fy cy; 0 0 1])";
+    }
+    return checkRotation(p.rotation, what);
 }
 
 std::string checkCurve(const std::vector<float>& curve, const char* channel) {
@@ -89,24 +111,12 @@ std::string checkCurve(const std::vector<float>& curve, const char* channel) {
 
 }  // namespace
 
-std::string checkProjector(const ProjectorCalibration& p) {
-    if (p.width == 0 || p.height == 0) {
-        return "projector resolution " + std::to_string(p.width) + " x " +
-               std::to_string(p.height) + " is empty";
-    }
-    if (!allFinite(p.intrinsics) || !allFinite(p.distortion) || !allFinite(p.rotation) ||
-        !allFinite(p.translation)) {
-        return "projector calibration has a value that is not finite";
-    }
-    const auto& k = p.intrinsics;
-    if (!(k[0] > 0 && k[4] > 0)) {
-        return "projector intrinsics: focal lengths " + number(k[0]) + ", " + number(k[4]) +
-               " are not positive";
-    }
-    if (k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1) {
-        return "projector intrinsics are not a camera matrix (expected [fx s cx; 0 fy cy; 0 0 1])";
-    }
-    return checkRotation(p.rotation);
+std::string checkProjector(const ProjectorCalibration& projector) {
+    return checkPinhole(projector, "projector");
+}
+
+std::string checkBundleCamera(const ProjectorCalibration& camera) {
+    return checkPinhole(camera, "camera");
 }
 
 std::string checkSettings(const RenderSettings& s) {

@@ -116,7 +116,19 @@ std::vector<std::uint8_t> metadata(const RawBundleSpec& spec,
     const auto textures =
         fb::CreateTexturesDirect(b, spec.textureWidth, spec.textureHeight, &regions, composed,
                                  &presets, spec.wrapU.value_or(false));
-    fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
+    flatbuffers::Offset<fb::Projector> camera;
+    if (spec.camera) {
+        const ProjectorCalibration& cam = *spec.camera;
+        const fb::Mat3d cameraK(flatbuffers::make_span(cam.intrinsics));
+        const fb::Mat3d cameraR(flatbuffers::make_span(cam.rotation));
+        const fb::Distortion cameraKc(cam.distortion[0], cam.distortion[1], cam.distortion[2],
+                                      cam.distortion[3], cam.distortion[4]);
+        const fb::Vec3d cameraT(cam.translation[0], cam.translation[1], cam.translation[2]);
+        camera = fb::CreateProjector(b, cam.width, cam.height, &cameraK, &cameraKc,
+                                     spec.cameraWithoutRotation ? nullptr : &cameraR, &cameraT);
+    }
+    fb::FinishBundleBuffer(b,
+                           fb::CreateBundle(b, mesh, projector, settings, model, textures, camera));
     return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }
 

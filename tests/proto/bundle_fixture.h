@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "vpe/proto/bundle_contents.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
 
@@ -47,6 +48,10 @@ struct RawBundleSpec {
     // Region 0 carries a relief ("region 0 detail", Float16 [h, w, 2], format 1.2); without,
     // the field stays absent, as 1.0 and 1.1 writers left it.
     bool detailNormals = false;
+    // Bundle.camera as written (format 1.3); nullopt leaves the field out, as 1.0–1.2 writers
+    // did. cameraWithoutRotation writes the table with its rotation left out.
+    std::optional<ProjectorCalibration> camera;
+    bool cameraWithoutRotation = false;
     // Called for each payload — "positions", "normals", "uvs", "indices", "region 0",
     // "region 1", "composed", "preset 0", "preset 1", "region 0 detail" — after layout, before
     // the metadata.

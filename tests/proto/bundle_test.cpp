@@ -431,7 +431,7 @@ TEST_F(BundleReader, ReadsADetailNormalMap) {
     spec.detailNormals = true;
     const std::vector<std::byte> bytes = buildRawBundle(spec);
     const BundleFile file = BundleFile::open(writeBytes(path(), bytes));
-    EXPECT_EQ(file->header().minorVersion, 2);
+    EXPECT_EQ(file->header().minorVersion, kBundleMinorVersion);
     const CoefficientMapView& base = file->regions()[0].coefficients;
     ASSERT_EQ(base.detailNormals.size(), 2u * 4 * 2);
     for (std::size_t i = 0; i < base.detailNormals.size(); ++i) {
@@ -476,6 +476,81 @@ TEST_F(BundleReader, RefusesADetailNormalMapOfAnotherShapeOrType) {
               prefix() +
                   "region 0 'base' coefficients detail normals: element type float32, "
                   "expected float16");
+}
+
+// A camera above the object looking down at it (R: 90° about x), distorted, at 1640 x 1232.
+ProjectorCalibration testCamera() {
+    ProjectorCalibration camera;
+    camera.width = 1640;
+    camera.height = 1232;
+    camera.intrinsics = {1250, 0.5, 819.5, 0, 1252, 615.5, 0, 0, 1};
+    camera.distortion = {-0.12, 0.08, 0.0004, -0.0003, -0.01};
+    camera.rotation = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+    camera.translation = {0.02, -0.1, 2.4};
+    return camera;
+}
+
+TEST_F(BundleReader, ReadsTheInstallationsCamera) {
+    RawBundleSpec spec;
+    spec.camera = testCamera();
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_EQ(file->header().minorVersion, 3);
+    ASSERT_TRUE(file->camera().has_value());
+    const ProjectorCalibration& camera = *file->camera();
+    EXPECT_EQ(camera.width, 1640u);
+    EXPECT_EQ(camera.height, 1232u);
+    EXPECT_EQ(camera.intrinsics, testCamera().intrinsics);
+    EXPECT_EQ(camera.distortion, testCamera().distortion);
+    EXPECT_EQ(camera.rotation, testCamera().rotation);
+    EXPECT_EQ(camera.translation, testCamera().translation);
+    // The projector is its own table, unchanged by the camera beside it.
+    EXPECT_EQ(file->projector().width, 1920u);
+    EXPECT_EQ(file->projector().translation[2], 1.5);
+}
+
+TEST_F(BundleReader, ReadsNoCameraAsNone) {
+    // Absent: every bundle before 1.3, and a 1.3 bundle baked without one.
+    EXPECT_FALSE(BundleFile::open(writeBytes(path(), buildRawBundle()))->camera().has_value());
+}
+
+TEST_F(BundleReader, ReadsAFormat12BundleWithoutCamera) {
+    RawBundleSpec spec;
+    spec.minorVersion = 2;
+    spec.detailNormals = true;
+    spec.wrapU = true;
+    const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
+    EXPECT_EQ(file->header().minorVersion, 2);
+    EXPECT_FALSE(file->camera().has_value());
+    EXPECT_TRUE(file->textureWrapsU());
+    EXPECT_FALSE(file->regions()[0].coefficients.detailNormals.empty());
+    EXPECT_EQ(file->projector().width, 1920u);
+}
+
+TEST_F(BundleReader, RefusesABadCameraNamingIt) {
+    RawBundleSpec spec;
+    spec.camera = testCamera();
+    spec.camera->intrinsics[4] = -1252;
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "camera intrinsics: focal lengths 1250, -1252 are not positive");
+    spec.camera = testCamera();
+    spec.camera->rotation[0] = -1;  // a mirror
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "camera rotation is a reflection (determinant -1)");
+    spec.camera = testCamera();
+    spec.camera->rotation[1] = 0.5;
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "camera rotation is not orthonormal (row 0 · row 0 = 1.25)");
+    spec.camera = testCamera();
+    spec.camera->height = 0;
+    EXPECT_EQ(refuse(buildRawBundle(spec)), prefix() + "camera resolution 1640 x 0 is empty");
+    spec.camera = testCamera();
+    spec.camera->translation[1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "camera calibration has a value that is not finite");
+    spec.camera = testCamera();
+    spec.cameraWithoutRotation = true;
+    EXPECT_EQ(refuse(buildRawBundle(spec)),
+              prefix() + "camera: intrinsics, distortion, rotation or translation missing");
 }
 
 TEST(BundleSeeds, TheFuzzerSeedsWrittenIn10StillRead) {

@@ -2,7 +2,8 @@
 // Reading a device bundle (proto/BUNDLE.md): BundleView validates a bundle's bytes and points
 // into them; BundleFile maps a file read-only and holds its BundleView. Meshes, textures and
 // the low-rank bases are spans into the mapping, ready for GL upload; only the few numbers of
-// calibration, settings and model (its θs basis included) are decoded into plain structs.
+// calibrations (projector, camera), settings and model (its θs basis included) are decoded into
+// plain structs.
 #pragma once
 
 #include <cstddef>
@@ -96,6 +97,10 @@ public:
 
     const MeshView& mesh() const { return mesh_; }
     const ProjectorCalibration& projector() const { return projector_; }
+    // Format 1.3, optional: the installation's camera (the lamp tracker's), object frame →
+    // camera frame in the projector's conventions; checked like the projector. Empty: the
+    // bundle carries none (every bundle before 1.3).
+    const std::optional<ProjectorCalibration>& camera() const { return camera_; }
     const RenderSettings& settings() const { return settings_; }
     const BundleModel& model() const { return model_; }
     int textureWidth() const { return textureWidth_; }
@@ -119,6 +124,7 @@ private:
     bool checksumVerified_ = false;
     MeshView mesh_;
     ProjectorCalibration projector_;
+    std::optional<ProjectorCalibration> camera_;
     RenderSettings settings_;
     BundleModel model_;
     int textureWidth_ = 0;

@@ -61,6 +61,9 @@ struct BundleModel {
 
 // Why these values cannot be rendered, as a phrase naming the field; "" when they can.
 std::string checkProjector(const ProjectorCalibration& projector);
+// The installation's camera (format 1.3, Bundle.camera) has the projector's type and rules;
+// its phrases name "camera" instead.
+std::string checkBundleCamera(const ProjectorCalibration& camera);
 std::string checkSettings(const RenderSettings& settings);
 std::string checkModel(const BundleModel& model);
 

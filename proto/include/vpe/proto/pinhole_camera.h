@@ -67,9 +67,10 @@ std::optional<Vec2d> projectToPixel(const PinholeCamera& camera, const Vec3d& po
 PinholeCamera cameraLookingAt(int width, int height, double verticalFovDegrees, const Vec3d& eye,
                               const Vec3d& target);
 
-// The camera of a bundle's projector: the one place where the bundle's field names
-// (intrinsics, rotation, translation) become the camera's (K, R, T). Values are copied as they
-// are; checkProjector (bundle_contents.h) is what refuses bad ones.
+// The camera of a bundle's projector (or of its camera, format 1.3: the same table): the one
+// place where the bundle's field names (intrinsics, rotation, translation) become the camera's
+// (K, R, T). Values are copied as they are; checkProjector and checkBundleCamera
+// (bundle_contents.h) are what refuse bad ones.
 PinholeCamera cameraOf(const ProjectorCalibration& calibration);
 
 }  // namespace vpe::proto
