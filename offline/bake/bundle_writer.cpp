@@ -46,6 +46,9 @@ public:
 
     void run() {
         ruleFromProto(proto::checkProjector(c_.projector));
+        if (c_.camera) {
+            ruleFromProto(proto::checkBundleCamera(*c_.camera));
+        }
         ruleFromProto(proto::checkSettings(c_.settings));
         ruleFromProto(proto::checkModel(c_.model));
         mesh();
@@ -456,14 +459,10 @@ public:
         flatbuffers::FlatBufferBuilder b(4096);
         const auto mesh = fb::CreateMesh(b, ref(b, index_.positions), ref(b, index_.normals),
                                          ref(b, index_.uvs), ref(b, index_.indices));
-        const proto::ProjectorCalibration& p = c_.projector;
-        const fb::Mat3d intrinsics(flatbuffers::make_span(p.intrinsics));
-        const fb::Mat3d rotation(flatbuffers::make_span(p.rotation));
-        const fb::Distortion distortion(p.distortion[0], p.distortion[1], p.distortion[2],
-                                        p.distortion[3], p.distortion[4]);
-        const fb::Vec3d translation(p.translation[0], p.translation[1], p.translation[2]);
-        const auto projector = fb::CreateProjector(b, p.width, p.height, &intrinsics, &distortion,
-                                                   &rotation, &translation);
+        const auto projector = buildPinhole(b, c_.projector);
+        // No camera: the field stays absent, as in a 1.2 bundle.
+        const auto camera =
+            c_.camera ? buildPinhole(b, *c_.camera) : flatbuffers::Offset<fb::Projector>();
         const auto settings = buildSettings(b);
         // No basis: the field stays absent, as in a 1.0 bundle (the device renders exactly).
         const std::vector<float>* thetaBasis =
@@ -489,11 +488,24 @@ public:
             fb::CreateTexturesDirect(b, static_cast<std::uint32_t>(c_.textureWidth),
                                      static_cast<std::uint32_t>(c_.textureHeight), &regions,
                                      composed, &presets, c_.textureWrapsU);
-        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures));
+        fb::FinishBundleBuffer(
+            b, fb::CreateBundle(b, mesh, projector, settings, model, textures, camera));
         return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
     }
 
 private:
+    // The projector's table, for the projector and for the camera.
+    static flatbuffers::Offset<fb::Projector> buildPinhole(flatbuffers::FlatBufferBuilder& b,
+                                                           const proto::ProjectorCalibration& p) {
+        const fb::Mat3d intrinsics(flatbuffers::make_span(p.intrinsics));
+        const fb::Mat3d rotation(flatbuffers::make_span(p.rotation));
+        const fb::Distortion distortion(p.distortion[0], p.distortion[1], p.distortion[2],
+                                        p.distortion[3], p.distortion[4]);
+        const fb::Vec3d translation(p.translation[0], p.translation[1], p.translation[2]);
+        return fb::CreateProjector(b, p.width, p.height, &intrinsics, &distortion, &rotation,
+                                   &translation);
+    }
+
     flatbuffers::Offset<fb::Payload> ref(flatbuffers::FlatBufferBuilder& b, std::size_t i) {
         return proto::payloadReference(b, payloads_[i]);
     }

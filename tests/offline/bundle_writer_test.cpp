@@ -250,7 +250,7 @@ TEST_F(BundleWriter, WritesAReliefAsHalfFloatsAndRefusesOneOffTheUnitDisc) {
     bake::writeBundle(path(), contents_);
     {
         const BundleFile file = BundleFile::open(path());
-        EXPECT_EQ(file->header().minorVersion, 2);
+        EXPECT_EQ(file->header().minorVersion, proto::kBundleMinorVersion);
         EXPECT_TRUE(file->regions()[0].coefficients.detailNormals.empty());
         const auto& read = file->regions()[1].coefficients.detailNormals;
         ASSERT_EQ(read.size(), detail.size());
@@ -307,6 +307,34 @@ TEST_F(BundleWriter, RefusesABadCalibration) {
     EXPECT_EQ(refusal(contents_), path().string() +
                                       ": projector rotation is not orthonormal "
                                       "(row 0 · row 0 = 4)");
+    expectNothingWritten(folder_.path());
+}
+
+TEST_F(BundleWriter, WritesTheCameraWhenThereIsOneAndRefusesABadOne) {
+    EXPECT_FALSE(
+        (bake::writeBundle(path(), contents_), BundleFile::open(path())->camera().has_value()));
+    proto::ProjectorCalibration camera;
+    camera.width = 640;
+    camera.height = 480;
+    camera.intrinsics = {500.25, 0, 319.5, 0, 501, 239.5, 0, 0, 1};
+    camera.distortion = {-0.1, 0.02, 0.001, -0.002, 0.003};
+    camera.rotation = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+    camera.translation = {0.1, 0.2, 2.5};
+    contents_.camera = camera;
+    bake::writeBundle(path(), contents_);
+    {
+        const BundleFile file = BundleFile::open(path());
+        ASSERT_TRUE(file->camera().has_value());
+        EXPECT_EQ(file->camera()->width, 640u);
+        EXPECT_EQ(file->camera()->intrinsics, camera.intrinsics);
+        EXPECT_EQ(file->camera()->distortion, camera.distortion);
+        EXPECT_EQ(file->camera()->rotation, camera.rotation);
+        EXPECT_EQ(file->camera()->translation, camera.translation);
+    }
+    std::filesystem::remove(path());
+    contents_.camera->intrinsics[0] = 0;
+    EXPECT_EQ(refusal(contents_),
+              path().string() + ": camera intrinsics: focal lengths 0, 501 are not positive");
     expectNothingWritten(folder_.path());
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Writes a device bundle (proto/BUNDLE.md) from plain arrays: mesh, projector calibration,
-// render settings, and coefficient and weight textures as floats, which it encodes as half
-// floats (or 8-bit weights) laid out for direct GL upload.
+// Writes a device bundle (proto/BUNDLE.md) from plain arrays: mesh, projector (and camera)
+// calibration, render settings, and coefficient and weight textures as floats, which it encodes as
+// half floats (or 8-bit weights) laid out for direct GL upload.
 #pragma once
 
 #include <cstdint>
@@ -52,6 +52,9 @@ struct WeightPreset {
 struct BundleContents {
     BundleMesh mesh;
     proto::ProjectorCalibration projector;
+    // Format 1.3: the installation's camera (object frame → camera, the projector's
+    // conventions), for the device's lamp tracker; empty: the field stays absent.
+    std::optional<proto::ProjectorCalibration> camera;
     proto::RenderSettings settings;
     proto::BundleModel model;  // M, λ and the θs basis (empty: none, rendered exactly)
     int textureWidth = 0;      // 1..4096
