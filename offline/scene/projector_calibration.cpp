@@ -7,13 +7,15 @@
 //      << "R" << R << "T" << T << "b" << ... << "m" << ... << "stereo_error" << ...;
 // where R, T come from cv::stereoCalibrate(camera, projector): camera → projector
 // coordinates, T in the chessboard's unit; proj_kc has OpenCV's five coefficients (k3 fixed
-// at 0 by CALIB_FIX_K3). It does not write the projector's resolution.
+// at 0 by CALIB_FIX_K3). It does not write the projector's resolution, nor the camera's:
+// vpe's files add proj_width/proj_height and cam_width/cam_height (and length_unit).
 #include "vpe/scene/projector_calibration.h"
 
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -106,12 +108,11 @@ public:
         return out;
     }
 
-    Numbers required(const char* key) const {
+    // `needs` says why, in the message: "a projector calibration needs proj_K, R and T".
+    Numbers required(const char* key, const char* needs) const {
         auto value = numbers(key);
         if (!value) {
-            throw InputError(path_, std::string(key) +
-                                        ": missing (a projector calibration "
-                                        "needs proj_K, R and T)");
+            throw InputError(path_, std::string(key) + ": missing (" + needs + ")");
         }
         return *value;
     }
@@ -189,7 +190,7 @@ std::string lowercaseExtension(const std::filesystem::path& path) {
 // OpenCV 4's parsers report "(-212) <parser function> in function 'NAME(LINE): problem'":
 // the useful part is in Exception::func for parse errors, in Exception::err otherwise.
 InputError parseError(const std::filesystem::path& path, const cv::Exception& failure,
-                      int addedLines) {
+                      int addedLines, const std::string& what) {
     if (failure.code == cv::Error::StsParseError) {
         const std::string& where = failure.func;
         const std::size_t open = where.rfind('(', where.find("): "));
@@ -199,32 +200,43 @@ InputError parseError(const std::filesystem::path& path, const cv::Exception& fa
             const auto [end, error] =
                 std::from_chars(where.data() + open + 1, where.data() + close, line);
             if (error == std::errc() && end == where.data() + close) {
-                return InputError(
-                    path, std::max(1, line - addedLines),
-                    "cannot parse projector calibration: " + oneLine(where.substr(close + 3)));
+                return InputError(path, std::max(1, line - addedLines),
+                                  "cannot parse " + what + ": " + oneLine(where.substr(close + 3)));
             }
         }
-        return InputError(path, "cannot parse projector calibration: " + oneLine(where));
+        return InputError(path, "cannot parse " + what + ": " + oneLine(where));
     }
-    return InputError(path, "cannot parse projector calibration: " + oneLine(failure.err));
+    return InputError(path, "cannot parse " + what + ": " + oneLine(failure.err));
 }
 
-}  // namespace
+// The keys a pinhole's parts are stored under: the projector's (proj_*) or the camera's
+// (cam_*); R and T are the file's own.
+struct PinholeKeys {
+    const char* what;  // "projector" or "camera", in messages
+    const char* K;
+    const char* kc;
+    const char* width;
+    const char* height;
+};
+constexpr PinholeKeys kProjectorKeys{"projector", "proj_K", "proj_kc", "proj_width", "proj_height"};
+constexpr PinholeKeys kCameraKeys{"camera", "cam_K", "cam_kc", "cam_width", "cam_height"};
 
-void validateProjectorCalibration(const ProjectorCalibration& c,
-                                  const std::filesystem::path& source) {
+// The checks a calibration file's pinhole must pass, naming its keys.
+void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path& source,
+                     const PinholeKeys& keys) {
+    const std::string K = keys.K, kc = keys.kc;
     if (c.width < 1 || c.width > kMaxResolution || c.height < 1 || c.height > kMaxResolution) {
-        throw InputError(source, "projector resolution " + std::to_string(c.width) + "x" +
-                                     std::to_string(c.height) + " is outside 1..8192");
+        throw InputError(source, std::string(keys.what) + " resolution " + std::to_string(c.width) +
+                                     "x" + std::to_string(c.height) + " is outside 1..8192");
     }
     const auto allFinite = [](const auto& values) {
         return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
     };
     if (!allFinite(c.K)) {
-        throw InputError(source, "proj_K: not all finite numbers");
+        throw InputError(source, K + ": not all finite numbers");
     }
     if (!allFinite(c.distortion)) {
-        throw InputError(source, "proj_kc: not all finite numbers");
+        throw InputError(source, kc + ": not all finite numbers");
     }
     if (!allFinite(c.R)) {
         throw InputError(source, "R: not all finite numbers");
@@ -233,13 +245,12 @@ void validateProjectorCalibration(const ProjectorCalibration& c,
         throw InputError(source, "T: not all finite numbers");
     }
     if (!(c.K[0] > 0) || !(c.K[4] > 0)) {
-        throw InputError(source, "proj_K: focal lengths must be positive (fx = " +
+        throw InputError(source, K + ": focal lengths must be positive (fx = " +
                                      formatNumber(c.K[0]) + ", fy = " + formatNumber(c.K[4]) + ")");
     }
     if (c.K[3] != 0 || c.K[6] != 0 || c.K[7] != 0 || std::fabs(c.K[8] - 1) > 1e-9) {
-        throw InputError(source,
-                         "proj_K: not an intrinsic matrix (expected [fx s cx; 0 fy cy; "
-                         "0 0 1])");
+        throw InputError(source, K + ": not an intrinsic matrix (expected [fx s cx; 0 fy cy; "
+                                     "0 0 1])");
     }
     const auto& r = c.R;
     double worst = 0;
@@ -264,17 +275,19 @@ void validateProjectorCalibration(const ProjectorCalibration& c,
     }
 }
 
-ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
-                                              const ProjectorCalibrationOverrides& overrides) {
+// Opens a calibration file into `storage`. Read through memory: OpenCV refuses YAML without its
+// "%YAML:1.0" first line, which hand-written files often lack; it is added here (and line
+// numbers corrected).
+// `what` names the file's kind in messages ("projector calibration").
+void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage,
+                     const std::string& what) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {
-        throw InputError(path, std::filesystem::exists(path, error)
-                                   ? "cannot open projector calibration: not a regular file"
-                                   : "cannot open projector calibration: no such file");
+        throw InputError(path, "cannot open " + what +
+                                   (std::filesystem::exists(path, error) ? ": not a regular file"
+                                                                         : ": no such file"));
     }
-    // Read through memory: OpenCV refuses YAML without its "%YAML:1.0" first line, which
-    // hand-written files often lack; it is added here (and line numbers corrected).
-    std::string text = text::readTextFile(path, "projector calibration");
+    std::string text = text::readTextFile(path, what);
     const std::string_view start =
         std::string_view(text).substr(std::min(text.find_first_not_of(" \t\r\n"), text.size()));
     const std::string extension = lowercaseExtension(path);
@@ -283,45 +296,57 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
         text.insert(0, "%YAML:1.0\n");
         addedLines = 1;
     }
-    cv::FileStorage storage;
     try {
         if (!storage.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
-            throw InputError(path,
-                             "cannot read projector calibration (OpenCV FileStorage YAML, "
-                             "XML or JSON expected)");
+            throw InputError(
+                path, "cannot read " + what + " (OpenCV FileStorage YAML, XML or JSON expected)");
         }
     } catch (const cv::Exception& failure) {
-        throw parseError(path, failure, addedLines);
+        throw parseError(path, failure, addedLines, what);
     }
-    const CalibrationReader reader(path, storage);
-    ProjectorCalibration c;
+}
 
-    const Numbers k = reader.required("proj_K");
+std::array<double, 9> intrinsicsFrom(const Numbers& k, const std::filesystem::path& path,
+                                     const char* key) {
     if (k.values.size() != 9 || (k.rows != 3 && k.rows != 1)) {
-        throw InputError(path, "proj_K: expected a 3x3 matrix, found " + shape(k));
+        throw InputError(path, std::string(key) + ": expected a 3x3 matrix, found " + shape(k));
     }
-    std::copy(k.values.begin(), k.values.end(), c.K.begin());
+    std::array<double, 9> K{};
+    std::copy(k.values.begin(), k.values.end(), K.begin());
+    return K;
+}
 
-    if (const auto kc = reader.numbers("proj_kc")) {
+// OpenCV's k1 k2 p1 p2 [k3 …]; absent: no distortion.
+std::array<double, 5> distortionFrom(const CalibrationReader& reader,
+                                     const std::filesystem::path& path, const char* key) {
+    std::array<double, 5> distortion{};
+    if (const auto kc = reader.numbers(key)) {
         const std::size_t n = kc->values.size();
         if ((kc->rows != 1 && kc->cols != 1) ||
             (n != 4 && n != 5 && n != 8 && n != 12 && n != 14)) {
-            throw InputError(path,
-                             "proj_kc: expected 4 or 5 distortion coefficients (k1 k2 p1 "
-                             "p2 [k3]), found " +
-                                 shape(*kc));
+            throw InputError(path, std::string(key) +
+                                       ": expected 4 or 5 distortion coefficients (k1 k2 p1 "
+                                       "p2 [k3]), found " +
+                                       shape(*kc));
         }
         for (std::size_t i = 5; i < n; ++i) {
             if (kc->values[i] != 0) {
-                throw InputError(path, "proj_kc: coefficient " + std::to_string(i + 1) +
+                throw InputError(path, std::string(key) + ": coefficient " + std::to_string(i + 1) +
                                            " is not zero; vpe models k1 k2 p1 p2 k3 only "
                                            "(no rational or thin-prism terms)");
             }
         }
-        std::copy_n(kc->values.begin(), std::min<std::size_t>(n, 5), c.distortion.begin());
+        std::copy_n(kc->values.begin(), std::min<std::size_t>(n, 5), distortion.begin());
     }
+    return distortion;
+}
 
-    const Numbers r = reader.required("R");
+// R (3×3 or a Rodrigues vector) and T in metres: T's unit from `metresPerUnit`, else the file's
+// length_unit; nullopt when neither says (T is then taken in metres, and the caller judges).
+std::optional<double> readPose(const CalibrationReader& reader, const std::filesystem::path& path,
+                               std::optional<double> metresPerUnit, proto::PinholeCamera& c,
+                               const char* needs) {
+    const Numbers r = reader.required("R", needs);
     if (r.values.size() == 9 && (r.rows == 3 || r.rows == 1)) {
         std::copy(r.values.begin(), r.values.end(), c.R.begin());
     } else if (r.values.size() == 3 && (r.rows == 1 || r.cols == 1)) {
@@ -330,12 +355,11 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
         throw InputError(path,
                          "R: expected a 3x3 rotation matrix or a 3-vector, found " + shape(r));
     }
-
-    const Numbers t = reader.required("T");
+    const Numbers t = reader.required("T", needs);
     if (t.values.size() != 3 || (t.rows != 1 && t.cols != 1)) {
         throw InputError(path, "T: expected a 3-vector, found " + shape(t));
     }
-    std::optional<double> scale = overrides.metresPerUnit;
+    std::optional<double> scale = metresPerUnit;
     if (!scale) {
         if (const auto unit = reader.string("length_unit")) {
             scale = metresPerUnitOf(*unit);
@@ -350,59 +374,52 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
     for (std::size_t i = 0; i < 3; ++i) {
         c.T[i] = t.values[i] * scale.value_or(1.0);
     }
-
-    // The resolution: from the file (procam tools disagree on the name) or the overrides.
-    std::optional<int> width, height;
-    const char* widthKey = nullptr;
-    for (const auto& [w, h] :
-         {std::pair{"proj_width", "proj_height"}, std::pair{"image_width", "image_height"}}) {
-        if (reader.has(w) || reader.has(h)) {
-            widthKey = w;
-            width = reader.integer(w);
-            height = reader.integer(h);
-            if (!width || !height) {
-                throw InputError(path, std::string(width ? h : w) + ": missing (given " +
-                                           (width ? w : h) + " without it)");
-            }
-            break;
-        }
-    }
-    if (overrides.width.has_value() != overrides.height.has_value()) {
-        throw InputError(path, "the projector resolution needs both a width and a height");
-    }
-    if (width && overrides.width && (*width != *overrides.width || *height != *overrides.height)) {
-        throw InputError(path, std::string(widthKey) + ": the file says " + std::to_string(*width) +
-                                   "x" + std::to_string(*height) + " but " +
-                                   std::to_string(*overrides.width) + "x" +
-                                   std::to_string(*overrides.height) + " was given");
-    }
-    if (!width) {
-        if (!overrides.width) {
-            throw InputError(path,
-                             "no projector resolution (keys proj_width/proj_height or "
-                             "image_width/image_height): give it on the command line");
-        }
-        width = overrides.width;
-        height = overrides.height;
-    }
-    c.width = *width;
-    c.height = *height;
-
-    validateProjectorCalibration(c, path);
-    if (!scale) {
-        const Vec3d centre = c.center();
-        const double distance = std::sqrt(proto::dot(centre, centre));
-        if (distance > kMaxUnitlessDistance) {
-            throw InputError(path, "T: the projector would be " + formatNumber(distance) +
-                                       " m from the origin; if T is in millimetres (as "
-                                       "procam-calibration writes it), give the unit");
-        }
-    }
-    return c;
+    return scale;
 }
 
-void writeProjectorCalibration(const ProjectorCalibration& c, const std::filesystem::path& path) {
-    validateProjectorCalibration(c, path);
+// Without a unit, T is metres unless that puts the camera implausibly far: probably millimetres.
+void checkUnitlessDistance(const proto::PinholeCamera& c, const std::filesystem::path& path,
+                           const char* what) {
+    const Vec3d centre = c.center();
+    const double distance = std::sqrt(proto::dot(centre, centre));
+    if (distance > kMaxUnitlessDistance) {
+        throw InputError(path, std::string("T: the ") + what + " would be " +
+                                   formatNumber(distance) +
+                                   " m from the origin; if T is in millimetres (as "
+                                   "procam-calibration writes it), give the unit");
+    }
+}
+
+// A width and height key pair: both or neither.
+std::optional<std::pair<int, int>> resolutionFrom(const CalibrationReader& reader,
+                                                  const std::filesystem::path& path,
+                                                  const char* widthKey, const char* heightKey) {
+    if (!reader.has(widthKey) && !reader.has(heightKey)) {
+        return std::nullopt;
+    }
+    const std::optional<int> width = reader.integer(widthKey);
+    const std::optional<int> height = reader.integer(heightKey);
+    if (!width || !height) {
+        throw InputError(path, std::string(width ? heightKey : widthKey) + ": missing (given " +
+                                   (width ? widthKey : heightKey) + " without it)");
+    }
+    return std::pair{*width, *height};
+}
+
+cv::Mat matrixOf(const double* values, int rows, int cols) {
+    return cv::Mat(rows, cols, CV_64F, const_cast<double*>(values));
+}
+
+void writePinhole(cv::FileStorage& storage, const proto::PinholeCamera& c,
+                  const PinholeKeys& keys) {
+    storage << keys.width << c.width << keys.height << c.height;
+    storage << keys.K << matrixOf(c.K.data(), 3, 3);
+    storage << keys.kc << matrixOf(c.distortion.data(), 1, 5);
+}
+
+// Writes a calibration file atomically: `fill` stores the keys.
+void writeCalibrationFile(const std::filesystem::path& path, const char* comment,
+                          const std::function<void(cv::FileStorage&)>& fill) {
     const std::string extension = lowercaseExtension(path);
     if (extension != ".yml" && extension != ".yaml" && extension != ".xml" &&
         extension != ".json") {
@@ -416,22 +433,169 @@ void writeProjectorCalibration(const ProjectorCalibration& c, const std::filesys
             throw InputError(path, "cannot write projector calibration");
         }
         if (extension != ".json") {
-            storage.writeComment(
-                "vpe projector calibration: x_projector = R * x_object + T "
-                "(metres); OpenCV pinhole + distortion");
+            storage.writeComment(comment);
         }
-        storage << "proj_width" << c.width << "proj_height" << c.height;
-        storage << "proj_K" << cv::Mat(3, 3, CV_64F, const_cast<double*>(c.K.data()));
-        storage << "proj_kc" << cv::Mat(1, 5, CV_64F, const_cast<double*>(c.distortion.data()));
-        storage << "R" << cv::Mat(3, 3, CV_64F, const_cast<double*>(c.R.data()));
-        storage << "T" << cv::Mat(3, 1, CV_64F, const_cast<double*>(c.T.data()));
-        storage << "length_unit"
-                << "m";
+        fill(storage);
         storage.release();
     } catch (const cv::Exception& failure) {
         throw InputError(path, "cannot write projector calibration: " + oneLine(failure.err));
     }
     output.commit();
+}
+
+bool isOrigin(const proto::PinholeCamera& c) {
+    const std::array<double, 9> identity{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    return c.R == identity && c.T == std::array<double, 3>{};
+}
+
+}  // namespace
+
+void validateProjectorCalibration(const ProjectorCalibration& c,
+                                  const std::filesystem::path& source) {
+    validatePinhole(c, source, kProjectorKeys);
+}
+
+void validateCameraCalibration(const proto::PinholeCamera& camera,
+                               const std::filesystem::path& source) {
+    validatePinhole(camera, source, kCameraKeys);
+}
+
+ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
+                                              const ProjectorCalibrationOverrides& overrides) {
+    cv::FileStorage storage;
+    openCalibration(path, storage, "projector calibration");
+    const CalibrationReader reader(path, storage);
+    ProjectorCalibration c;
+    constexpr const char* kNeeds = "a projector calibration needs proj_K, R and T";
+    c.K = intrinsicsFrom(reader.required("proj_K", kNeeds), path, "proj_K");
+    c.distortion = distortionFrom(reader, path, "proj_kc");
+    const std::optional<double> scale = readPose(reader, path, overrides.metresPerUnit, c, kNeeds);
+
+    // The resolution: from the file (procam tools disagree on the name) or the overrides.
+    std::optional<std::pair<int, int>> size;
+    const char* widthKey = nullptr;
+    for (const auto& [w, h] :
+         {std::pair{"proj_width", "proj_height"}, std::pair{"image_width", "image_height"}}) {
+        size = resolutionFrom(reader, path, w, h);
+        if (size) {
+            widthKey = w;
+            break;
+        }
+    }
+    if (overrides.width.has_value() != overrides.height.has_value()) {
+        throw InputError(path, "the projector resolution needs both a width and a height");
+    }
+    if (size && overrides.width &&
+        (size->first != *overrides.width || size->second != *overrides.height)) {
+        throw InputError(
+            path, std::string(widthKey) + ": the file says " + std::to_string(size->first) + "x" +
+                      std::to_string(size->second) + " but " + std::to_string(*overrides.width) +
+                      "x" + std::to_string(*overrides.height) + " was given");
+    }
+    if (!size) {
+        if (!overrides.width) {
+            throw InputError(path,
+                             "no projector resolution (keys proj_width/proj_height or "
+                             "image_width/image_height): give it on the command line");
+        }
+        size = std::pair{*overrides.width, *overrides.height};
+    }
+    c.width = size->first;
+    c.height = size->second;
+
+    validateProjectorCalibration(c, path);
+    if (!scale) {
+        checkUnitlessDistance(c, path, "projector");
+    }
+    return c;
+}
+
+std::optional<proto::PinholeCamera> readCameraCalibration(const std::filesystem::path& path,
+                                                          CameraPose pose) {
+    cv::FileStorage storage;
+    openCalibration(path, storage, "camera calibration");
+    const CalibrationReader reader(path, storage);
+    const std::optional<Numbers> k = reader.numbers("cam_K");
+    if (!k) {
+        return std::nullopt;
+    }
+    proto::PinholeCamera c;
+    c.K = intrinsicsFrom(*k, path, "cam_K");
+    c.distortion = distortionFrom(reader, path, "cam_kc");
+    const auto size = resolutionFrom(reader, path, "cam_width", "cam_height");
+    if (!size) {
+        throw InputError(path,
+                         "cam_width: missing (cam_K needs the camera's resolution: cam_width "
+                         "and cam_height, pixels)");
+    }
+    c.width = size->first;
+    c.height = size->second;
+    std::optional<double> scale = 1.0;
+    if (pose == CameraPose::kFromFile) {
+        scale = readPose(reader, path, std::nullopt, c, "the camera's pose needs R and T");
+    }
+    validateCameraCalibration(c, path);
+    if (!scale) {
+        checkUnitlessDistance(c, path, "camera");
+    }
+    return c;
+}
+
+void writeProjectorCalibration(const ProjectorCalibration& c, const std::filesystem::path& path) {
+    writeProcamCalibration(c, std::nullopt, std::nullopt, path);
+}
+
+void writeProcamCalibration(const ProjectorCalibration& projector,
+                            const std::optional<proto::PinholeCamera>& camera,
+                            std::optional<double> stereoRms, const std::filesystem::path& path) {
+    validateProjectorCalibration(projector, path);
+    if (camera) {
+        validateCameraCalibration(*camera, path);
+        // The file's R, T are the projector's pose in the camera's frame: a camera elsewhere
+        // would have to move the object frame (and the mesh with it), which is not this
+        // function's to decide.
+        if (!isOrigin(*camera)) {
+            throw InputError(path,
+                             "cam_K: the camera's pose must be R = I, T = 0 (a procam file's "
+                             "object frame is the camera's)");
+        }
+    }
+    if (stereoRms && !(std::isfinite(*stereoRms) && *stereoRms >= 0)) {
+        throw InputError(
+            path, "stereo_error: " + formatNumber(*stereoRms) + " is not a finite value ≥ 0");
+    }
+    const char* comment =
+        camera ? "vpe procam calibration: the object frame is the camera's; x_projector = R * "
+                 "x_object + T (metres); OpenCV pinhole + distortion"
+               : "vpe projector calibration: x_projector = R * x_object + T (metres); OpenCV "
+                 "pinhole + distortion";
+    writeCalibrationFile(path, comment, [&](cv::FileStorage& storage) {
+        writePinhole(storage, projector, kProjectorKeys);
+        if (camera) {
+            writePinhole(storage, *camera, kCameraKeys);
+        }
+        storage << "R" << matrixOf(projector.R.data(), 3, 3);
+        storage << "T" << matrixOf(projector.T.data(), 3, 1);
+        storage << "length_unit"
+                << "m";
+        if (stereoRms) {
+            storage << "stereo_error" << *stereoRms;
+        }
+    });
+}
+
+void writeCameraCalibration(const proto::PinholeCamera& camera, const std::filesystem::path& path) {
+    validateCameraCalibration(camera, path);
+    writeCalibrationFile(path,
+                         "vpe camera calibration: x_camera = R * x_object + T (metres); OpenCV "
+                         "pinhole + distortion",
+                         [&](cv::FileStorage& storage) {
+                             writePinhole(storage, camera, kCameraKeys);
+                             storage << "R" << matrixOf(camera.R.data(), 3, 3);
+                             storage << "T" << matrixOf(camera.T.data(), 3, 1);
+                             storage << "length_unit"
+                                     << "m";
+                         });
 }
 
 ProjectorCalibration projectorLookingAt(int width, int height, double verticalFovDegrees,

@@ -271,6 +271,133 @@ TEST(ProjectorCalibration, ReadsYamlWithoutItsDirectiveLine) {
     EXPECT_EQ(c.T[2], 1);
 }
 
+// The camera of a procam rig, at the origin of its own frame (the object frame of a procam
+// file), with a little distortion.
+proto::PinholeCamera sampleCamera() {
+    proto::PinholeCamera camera;
+    camera.width = 1640;
+    camera.height = 1232;
+    camera.K = {1250, 0.125, 819.5, 0, 1252, 615.5, 0, 0, 1};
+    camera.distortion = {-0.12, 0.08, 0.0004, -0.0003, -0.01};
+    return camera;
+}
+
+TEST(CameraCalibration, RoundTripsBesideTheProjectorInYamlXmlAndJson) {
+    TemporaryFolder folder;
+    const ProjectorCalibration projector = sampleCalibration();
+    const proto::PinholeCamera camera = sampleCamera();
+    for (const char* name : {"procam.yml", "procam.xml", "procam.json"}) {
+        SCOPED_TRACE(name);
+        writeProcamCalibration(projector, camera, 0.42, folder / name);
+        expectSameCalibration(projector, readProjectorCalibration(folder / name));
+        const std::optional<proto::PinholeCamera> read = readCameraCalibration(folder / name);
+        ASSERT_TRUE(read.has_value());
+        expectSameCalibration(camera, *read);
+    }
+    // A file without the camera's keys has no camera: every projector-only file.
+    writeProjectorCalibration(projector, folder / "projector.yml");
+    EXPECT_FALSE(readCameraCalibration(folder / "projector.yml").has_value());
+    writeProcamCalibration(projector, std::nullopt, std::nullopt, folder / "alone.yml");
+    EXPECT_FALSE(readCameraCalibration(folder / "alone.yml").has_value());
+    expectSameCalibration(projector, readProjectorCalibration(folder / "alone.yml"));
+}
+
+TEST(CameraCalibration, ReadsProcamsCameraAtTheOriginOnceItsResolutionIsGiven) {
+    TemporaryFolder folder;
+    // procam-calibration writes cam_K and cam_kc but not the camera's resolution.
+    writeFile(folder / "calibration.yml", kProcamYaml);
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "calibration.yml"),
+                       "calibration.yml: cam_width: missing (cam_K needs the camera's "
+                       "resolution: cam_width and cam_height, pixels)");
+    writeFile(folder / "calibration.yml", std::string(kProcamYaml) + "cam_width: 2400\n");
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "calibration.yml"),
+                       "calibration.yml: cam_height: missing (given cam_width without it)");
+    writeFile(folder / "calibration.yml",
+              std::string(kProcamYaml) + "cam_width: 2400\ncam_height: 1800\n");
+    const std::optional<proto::PinholeCamera> camera =
+        readCameraCalibration(folder / "calibration.yml");
+    ASSERT_TRUE(camera.has_value());
+    EXPECT_EQ(camera->width, 2400);
+    EXPECT_EQ(camera->height, 1800);
+    EXPECT_DOUBLE_EQ(camera->K[0], 2300);
+    EXPECT_DOUBLE_EQ(camera->K[5], 900);
+    EXPECT_DOUBLE_EQ(camera->distortion[1], -0.2);
+    // The file's R, T are the projector's (camera → projector): the camera is the origin.
+    EXPECT_EQ(camera->R, (std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
+    EXPECT_EQ(camera->T, (std::array<double, 3>{0, 0, 0}));
+}
+
+TEST(CameraCalibration, RefusesEachBadCameraKeyByName) {
+    TemporaryFolder folder;
+    const auto refuse = [&](const std::string& extra, const std::string& fragment) {
+        SCOPED_TRACE(extra);
+        writeFile(folder / "p.yml", yamlWith("", "") + extra);
+        EXPECT_INPUT_ERROR(readCameraCalibration(folder / "p.yml"), "p.yml: " + fragment);
+    };
+    refuse("cam_width: 640\ncam_height: 480\ncam_K: " +
+               matrix(3, 3, "-500., 0., 319.5, 0., 500., 239.5, 0., 0., 1.") + "\n",
+           "cam_K: focal lengths must be positive (fx = -500, fy = 500)");
+    refuse(
+        "cam_width: 640\ncam_height: 480\ncam_K: " + matrix(2, 3, "1., 2., 3., 4., 5., 6.") + "\n",
+        "cam_K: expected a 3x3 matrix, found 2x3");
+    refuse("cam_width: 640\ncam_height: 480\ncam_K: " +
+               matrix(3, 3, "500., 0., 319.5, 0., 500., 239.5, 0., 0., 1.") +
+               "\ncam_kc: " + matrix(1, 3, "0., 0., 0.") + "\n",
+           "cam_kc: expected 4 or 5 distortion coefficients");
+    refuse("cam_width: 0\ncam_height: 480\ncam_K: " +
+               matrix(3, 3, "500., 0., 319.5, 0., 500., 239.5, 0., 0., 1.") + "\n",
+           "camera resolution 0x480 is outside 1..8192");
+    refuse("cam_width: 640.5\ncam_height: 480\ncam_K: " +
+               matrix(3, 3, "500., 0., 319.5, 0., 500., 239.5, 0., 0., 1.") + "\n",
+           "cam_width: expected a whole number of pixels");
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "absent.yml"),
+                       "absent.yml: cannot open camera calibration: no such file");
+}
+
+TEST(CameraCalibration, WritesOnlyACameraAtTheOriginIntoAProcamFile) {
+    TemporaryFolder folder;
+    proto::PinholeCamera moved = sampleCamera();
+    moved.T = {0, 0, 0.5};
+    EXPECT_INPUT_ERROR(
+        writeProcamCalibration(sampleCalibration(), moved, std::nullopt, folder / "p.yml"),
+        "p.yml: cam_K: the camera's pose must be R = I, T = 0 (a procam file's object frame is "
+        "the camera's)");
+    proto::PinholeCamera flat = sampleCamera();
+    flat.K[4] = 0;
+    EXPECT_INPUT_ERROR(
+        writeProcamCalibration(sampleCalibration(), flat, std::nullopt, folder / "p.yml"),
+        "p.yml: cam_K: focal lengths must be positive");
+    EXPECT_INPUT_ERROR(
+        writeProcamCalibration(sampleCalibration(), sampleCamera(), -1.0, folder / "p.yml"),
+        "p.yml: stereo_error: -1 is not a finite value ≥ 0");
+    EXPECT_FALSE(std::filesystem::exists(folder / "p.yml"));
+}
+
+TEST(CameraCalibration, ACameraFileCarriesItsOwnPose) {
+    TemporaryFolder folder;
+    proto::PinholeCamera camera = sampleCamera();
+    camera.R = {1, 0, 0, 0, 0, -1, 0, 1, 0};  // looking down: +z of the camera is −y
+    camera.T = {0.02, -0.1, 2.4};
+    writeCameraCalibration(camera, folder / "camera.yml");
+    const std::optional<proto::PinholeCamera> read =
+        readCameraCalibration(folder / "camera.yml", CameraPose::kFromFile);
+    ASSERT_TRUE(read.has_value());
+    expectSameCalibration(camera, *read);
+    // Read as a procam file it sits at the origin instead.
+    EXPECT_EQ(readCameraCalibration(folder / "camera.yml")->T, (std::array<double, 3>{0, 0, 0}));
+    // A pose in millimetres without its unit is refused as procam's are.
+    writeFile(folder / "mm.yml",
+              "cam_width: 640\ncam_height: 480\ncam_K: [500, 0, 319.5, 0, "
+              "500, 239.5, 0, 0, 1]\nR: [0, 0, 0]\nT: [0, 0, 2400]\n");
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "mm.yml", CameraPose::kFromFile),
+                       "mm.yml: T: the camera would be 2400 m from the origin");
+    writeFile(folder / "none.yml",
+              "cam_width: 640\ncam_height: 480\ncam_K: [500, 0, 319.5, 0, "
+              "500, 239.5, 0, 0, 1]\n");
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "none.yml", CameraPose::kFromFile),
+                       "none.yml: R: missing (the camera's pose needs R and T)");
+}
+
 TEST(ProjectorCalibration, DemoProjectorFramesTheVase) {
     const ProjectorCalibration c = makeDemoProjector(0.8);
     EXPECT_EQ(c.width, 1920);
