@@ -134,6 +134,15 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         projector = scene::readProjectorCalibration(options.projector, overrides);
     }
     contents.projector = toBundleProjector(projector);
+    std::optional<proto::PinholeCamera> camera = options.camera;
+    if (camera) {
+        scene::validateCameraCalibration(*camera, "camera");
+    } else if (!options.projector.empty()) {
+        camera = scene::readCameraCalibration(options.projector);
+    }
+    if (camera) {
+        contents.camera = toBundleProjector(*camera);
+    }
     contents.settings = options.settings;
     contents.settings.response = toBundleResponse(scene::parseProjectorResponse(options.response));
 
@@ -227,6 +236,11 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
     report.bytesPerTexel = 8 * ((perTexel + 3) / 4);
     report.bytes = written.bytes;
     report.checksum = written.checksum;
+    report.camera = camera.has_value();
+    if (camera) {
+        report.cameraWidth = camera->width;
+        report.cameraHeight = camera->height;
+    }
     return report;
 }
 

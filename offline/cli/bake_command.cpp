@@ -102,13 +102,16 @@ void runBake(const Arguments& args) {
     const bake::BakeReport report = bake::bakeScene(options, args.out);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::string camera = report.camera ? "camera " + std::to_string(report.cameraWidth) +
+                                                   "x" + std::to_string(report.cameraHeight)
+                                             : std::string("no camera");
     std::fprintf(stderr,
                  "%s: %d region%s of %dx%d (M = %d, %s, %d bytes/texel%s, %s), mesh %zu "
-                 "vertices / %zu triangles, %.1f MiB in %.2f s\n",
+                 "vertices / %zu triangles, %s, %.1f MiB in %.2f s\n",
                  args.out.c_str(), report.regions, report.regions == 1 ? "" : "s",
                  report.textureWidth, report.textureHeight, report.harmonics, args.encoding.c_str(),
                  report.bytesPerTexel, report.relief ? " + 4 of relief" : "",
-                 thetaBasisText(report).c_str(), report.vertices, report.triangles,
+                 thetaBasisText(report).c_str(), report.vertices, report.triangles, camera.c_str(),
                  static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
     std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
                  report.meshWrapsU && !report.wrapU
@@ -134,6 +137,7 @@ void runBake(const Arguments& args) {
         json["triangles"] = report.triangles;
         json["wrap_u"] = report.wrapU;
         json["mesh_wraps_u"] = report.meshWrapsU;
+        json["camera"] = report.camera;
         json["bytes"] = report.bytes;
         json["checksum"] = report.checksum;
         json["seconds"] = seconds;
@@ -160,8 +164,9 @@ void addBakeCommand(CLI::App& app, Action& action) {
                      "Metres per mesh unit (0.001 for millimetres)")
         ->capture_default_str();
     command->add_option("--projector", args->projector,
-                        "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T); "
-                        "default: a demo projector facing the object");
+                        "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T; with "
+                        "cam_K, cam_kc, cam_width, cam_height the bundle carries the camera "
+                        "too); default: a demo projector facing the object");
     command->add_option("--projector-size", args->projectorSize,
                         "Projector resolution WxH, when the calibration file has none");
     command

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <Eigen/Core>
@@ -130,7 +131,11 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_EQ(proto::checkThetaBasis(10, view.model().thetaBasis), "");
     // The fit's relief travels into the bundle (format 1.2): x and y of its detail normals.
     EXPECT_TRUE(report["relief"].get<bool>());
-    EXPECT_EQ(view.header().minorVersion, 2);
+    EXPECT_EQ(view.header().minorVersion, 3);
+    // The demo projector has no camera beside it: none in the bundle.
+    EXPECT_FALSE(report["camera"].get<bool>());
+    EXPECT_FALSE(view.camera().has_value());
+    EXPECT_NE(result.err.find(", no camera, "), std::string::npos) << result.err;
     const bake::CoefficientTexture relief = bake::readCoefficientTexture(path("model.exr"));
     ASSERT_EQ(view.regions()[0].coefficients.detailNormals.size(), relief.detailNormals.size());
     for (std::size_t i = 0; i < relief.detailNormals.size(); i += 7) {
@@ -227,6 +232,67 @@ TEST_F(Bake, QuiltRegionsWithPresets) {
         EXPECT_EQ(view.presets()[0].unorm8[t] + view.presets()[0].unorm8[texels + t], 255);
         EXPECT_EQ(view.presets()[1].unorm8[t], 255);
     }
+}
+
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// A procam calibration with the camera's keys: the bundle carries the camera (format 1.3), at
+// the origin of the procam frame; a projector-only file gives none.
+TEST_F(Bake, RecordsTheCameraOfAProcamCalibration) {
+    const scene::ProjectorCalibration projector =
+        scene::projectorLookingAt(160, 120, 30.0, {0.1, 0.1, 0.6}, {0, 0.075, 0});
+    proto::PinholeCamera camera;
+    camera.width = 1640;
+    camera.height = 1232;
+    camera.K = {1250, 0, 819.5, 0, 1252, 615.5, 0, 0, 1};
+    camera.distortion = {-0.12, 0.08, 0.0004, -0.0003, -0.01};
+    scene::writeProcamCalibration(projector, camera, 0.3, path("procam.yml"));
+    const testing::CommandResult result =
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector", path("procam.yml"),
+                        "--theta-basis", "full", "--out", path("camera.vpeb"), "--json"}));
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    EXPECT_TRUE(lastJsonLine(result.out)["camera"].get<bool>());
+    EXPECT_NE(result.err.find(", camera 1640x1232, "), std::string::npos) << result.err;
+    const proto::BundleFile file = proto::BundleFile::open(path("camera.vpeb"));
+    ASSERT_TRUE(file->camera().has_value());
+    const proto::ProjectorCalibration& baked = *file->camera();
+    EXPECT_EQ(baked.width, 1640u);
+    EXPECT_EQ(baked.height, 1232u);
+    EXPECT_EQ(baked.intrinsics, camera.K);
+    EXPECT_EQ(baked.distortion, camera.distortion);
+    EXPECT_EQ(baked.rotation, (std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
+    EXPECT_EQ(baked.translation, (std::array<double, 3>{0, 0, 0}));
+    EXPECT_EQ(file->projector().width, 160u);
+
+    scene::writeProjectorCalibration(projector, path("projector-only.yml"));
+    const testing::CommandResult without = runCommand(
+        vpe({"bake", "--texture", path("model.exr"), "--projector", path("projector-only.yml"),
+             "--theta-basis", "full", "--out", path("no-camera.vpeb"), "--json"}));
+    ASSERT_EQ(without.exitStatus, 0) << without.err;
+    EXPECT_FALSE(lastJsonLine(without.out)["camera"].get<bool>());
+    EXPECT_FALSE(proto::BundleFile::open(path("no-camera.vpeb"))->camera().has_value());
+
+    // A camera that cannot be one is refused, one line naming the file and the key, and no
+    // bundle is written.
+    writeText(path("bad-camera.yml"),
+              "%YAML:1.0\nproj_width: 160\nproj_height: 120\n"
+              "proj_K: [200, 0, 79.5, 0, 200, 59.5, 0, 0, 1]\nR: [0, 0, 0]\n"
+              "T: [0, 0, 1]\ncam_width: 640\ncam_height: 480\n"
+              "cam_K: [500, 0, 319.5, 0, -500, 239.5, 0, 0, 1]\n");
+    expectInputError(runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                                     path("bad-camera.yml"), "--out", path("bad-camera.vpeb")})),
+                     {"bad-camera.yml", "cam_K: focal lengths must be positive"});
+    EXPECT_FALSE(std::filesystem::exists(path("bad-camera.vpeb")));
+    writeText(path("sizeless-camera.yml"),
+              "%YAML:1.0\nproj_width: 160\nproj_height: 120\n"
+              "proj_K: [200, 0, 79.5, 0, 200, 59.5, 0, 0, 1]\nR: [0, 0, 0]\n"
+              "T: [0, 0, 1]\ncam_K: [500, 0, 319.5, 0, 500, 239.5, 0, 0, 1]\n");
+    expectInputError(
+        runCommand(vpe({"bake", "--texture", path("model.exr"), "--projector",
+                        path("sizeless-camera.yml"), "--out", path("bad-camera.vpeb")})),
+        {"sizeless-camera.yml", "cam_width: missing"});
 }
 
 TEST_F(Bake, BadInputExitsTwoNamingItAndWritesNothing) {

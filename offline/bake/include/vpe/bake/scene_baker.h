@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // vpe bake: the screen texture (one composed map, or the quilted region maps with named
 // weight-map presets the device can switch live), the screen object's mesh, the projector's
-// calibration and response, and the viewer, combined into one device bundle.
+// calibration and response, the installation's camera, and the viewer, combined into one device
+// bundle.
 #pragma once
 
 #include <array>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "vpe/proto/bundle_contents.h"
+#include "vpe/proto/pinhole_camera.h"
 
 namespace vpe::bake {
 
@@ -32,6 +34,11 @@ struct BakeOptions {
     std::optional<int> projectorWidth, projectorHeight;
     std::optional<double> projectorMetresPerUnit;
     double demoDistance = 0.6;
+    // The installation's camera, object frame → camera (format 1.3's Bundle.camera: the
+    // device's lamp tracker maps image positions to light directions with it). Unset: the
+    // `projector` file's cam_K, cam_kc, cam_width, cam_height when it has them, at the
+    // origin (a procam file's object frame is its camera's); else none.
+    std::optional<proto::PinholeCamera> camera;
     std::string response = "2.2";  // gamma, r,g,b gammas, or a CSV curve
     proto::RenderSettings settings;
     // Carry the textures' relief (detail normal maps) into the bundle when they have one.
@@ -63,6 +70,9 @@ struct BakeReport {
     // (∫₀^π g², every texel and channel) they keep.
     int thetaBasis = 0;
     double thetaEnergyKept = 1.0;
+    // The bundle carries the installation's camera (at this resolution).
+    bool camera = false;
+    int cameraWidth = 0, cameraHeight = 0;
     std::uint64_t bytes = 0;
     std::uint32_t checksum = 0;
 };
