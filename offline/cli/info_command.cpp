@@ -87,6 +87,11 @@ std::string thetaBasisText(const proto::BundleModel& model) {
            " (orthonormal over [0, π])";
 }
 
+nlohmann::json pinholeJson(const proto::ProjectorCalibration& p) {
+    return {{"width", p.width},           {"height", p.height},     {"intrinsics", p.intrinsics},
+            {"distortion", p.distortion}, {"rotation", p.rotation}, {"translation", p.translation}};
+}
+
 nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle) {
     const proto::BundleHeader& header = bundle.header();
     const proto::ProjectorCalibration& projector = bundle.projector();
@@ -101,10 +106,9 @@ nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle
     json["checksum_ok"] = bundle.checksumVerified();
     json["mesh"] = {{"vertices", bundle.mesh().vertexCount()},
                     {"triangles", bundle.mesh().triangleCount()}};
-    json["projector"] = {
-        {"width", projector.width},           {"height", projector.height},
-        {"intrinsics", projector.intrinsics}, {"distortion", projector.distortion},
-        {"rotation", projector.rotation},     {"translation", projector.translation}};
+    json["projector"] = pinholeJson(projector);
+    // Format 1.3: the installation's camera; null when the bundle carries none.
+    json["camera"] = bundle.camera() ? pinholeJson(*bundle.camera()) : nlohmann::json(nullptr);
     json["settings"] = {{"viewer_position", decimals(settings.viewerPosition)},
                         {"screen_albedo", decimals(settings.screenAlbedo)},
                         {"ambient_irradiance", decimals(settings.ambientIrradiance)},
@@ -155,6 +159,17 @@ std::string mapText(const CoefficientMapView& map) {
            (map.detailNormals.empty() ? "" : ", relief (4 bytes per texel)");
 }
 
+// Two lines: resolution, intrinsics and distortion; the pose.
+void printPinhole(const char* what, const proto::ProjectorCalibration& p) {
+    std::printf(
+        "%-10s %u x %u, fx %.6g fy %.6g cx %.6g cy %.6g, distortion %.4g %.4g %.4g %.4g %.4g\n",
+        what, p.width, p.height, p.intrinsics[0], p.intrinsics[4], p.intrinsics[2], p.intrinsics[5],
+        p.distortion[0], p.distortion[1], p.distortion[2], p.distortion[3], p.distortion[4]);
+    std::printf("           R rows %s %s %s, T %s m\n", triple(&p.rotation[0]).c_str(),
+                triple(&p.rotation[3]).c_str(), triple(&p.rotation[6]).c_str(),
+                triple(p.translation).c_str());
+}
+
 void printInfo(const std::string& path, const proto::BundleView& bundle) {
     const proto::BundleHeader& header = bundle.header();
     const proto::ProjectorCalibration& p = bundle.projector();
@@ -167,14 +182,12 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
                 hex32(header.checksum).c_str(), bundle.checksumVerified() ? "OK" : "not checked");
     std::printf("mesh       %zu vertices, %zu triangles\n", bundle.mesh().vertexCount(),
                 bundle.mesh().triangleCount());
-    std::printf(
-        "projector  %u x %u, fx %.6g fy %.6g cx %.6g cy %.6g, distortion %.4g %.4g %.4g "
-        "%.4g %.4g\n",
-        p.width, p.height, p.intrinsics[0], p.intrinsics[4], p.intrinsics[2], p.intrinsics[5],
-        p.distortion[0], p.distortion[1], p.distortion[2], p.distortion[3], p.distortion[4]);
-    std::printf("           R rows %s %s %s, T %s m\n", triple(&p.rotation[0]).c_str(),
-                triple(&p.rotation[3]).c_str(), triple(&p.rotation[6]).c_str(),
-                triple(p.translation).c_str());
+    printPinhole("projector", p);
+    if (bundle.camera()) {
+        printPinhole("camera", *bundle.camera());
+    } else {
+        std::printf("camera     none\n");
+    }
     std::printf("viewer     %s m\n", triple(s.viewerPosition).c_str());
     std::printf("screen     albedo %s, ambient %s\n", triple(s.screenAlbedo).c_str(),
                 triple(s.ambientIrradiance).c_str());

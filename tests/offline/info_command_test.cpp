@@ -53,9 +53,10 @@ TEST_F(InfoCommand, DescribesTheBundle) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const std::string& out = result.out;
     for (const std::string& expected : std::vector<std::string>{
-             path_.string() + ": vpe bundle 1.2, ", "checksum 0x", " OK\n",
+             path_.string() + ": vpe bundle 1.3, ", "checksum 0x", " OK\n",
              "mesh       4 vertices, 2 triangles\n", "projector  1280 x 800, fx 1500.5 fy 1498 ",
-             "viewer     (0, 0.25, 1.75) m\n", "response   curve, 4/4/4 samples",
+             "camera     none\n", "viewer     (0, 0.25, 1.75) m\n",
+             "response   curve, 4/4/4 samples",
              "model      M = 2, lambda = 0.5, 18 values per texel (fourier_brdf:k_major_rgb)\n",
              "           theta basis: 2 functions (orthonormal over [0, π])\n",
              "textures   5 x 3, 2 regions, sampling wraps in u\n",
@@ -73,7 +74,8 @@ TEST_F(InfoCommand, ReportsJson) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json json = nlohmann::json::parse(result.out);
     EXPECT_EQ(json["file"], path_.string());
-    EXPECT_EQ(json["format_version"], "1.2");
+    EXPECT_EQ(json["format_version"], "1.3");
+    EXPECT_TRUE(json["camera"].is_null());
     EXPECT_EQ(json["textures"]["wrap_u"], true);
     EXPECT_EQ(json["file_bytes"], std::filesystem::file_size(path_));
     EXPECT_EQ(json["checksum_ok"], true);
@@ -109,6 +111,36 @@ TEST_F(InfoCommand, SaysABundleWithoutThetaBasisRendersExactly) {
     const CommandResult json = vpeInfo({path_.string(), "--json"});
     ASSERT_EQ(json.exitStatus, 0) << json.err;
     EXPECT_EQ(nlohmann::json::parse(json.out)["model"]["theta_basis"], "full");
+}
+
+TEST_F(InfoCommand, ShowsTheInstallationsCamera) {
+    bake::BundleContents contents = testing::sampleBundleContents();
+    proto::ProjectorCalibration camera;
+    camera.width = 1640;
+    camera.height = 1232;
+    camera.intrinsics = {1250, 0, 819.5, 0, 1252, 615.5, 0, 0, 1};
+    camera.distortion = {-0.12, 0.08, 0, 0, 0};
+    camera.rotation = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+    camera.translation = {0.02, -0.1, 2.4};
+    contents.camera = camera;
+    bake::writeBundle(path_, contents);
+    const CommandResult text = vpeInfo({path_.string()});
+    ASSERT_EQ(text.exitStatus, 0) << text.err;
+    EXPECT_NE(text.out.find("camera     1640 x 1232, fx 1250 fy 1252 cx 819.5 cy 615.5, "
+                            "distortion -0.12 0.08 0 0 0\n"
+                            "           R rows (1, 0, 0) (0, 0, -1) (0, 1, 0), T (0.02, -0.1, "
+                            "2.4) m\n"),
+              std::string::npos)
+        << text.out;
+    const CommandResult json = vpeInfo({path_.string(), "--json"});
+    ASSERT_EQ(json.exitStatus, 0) << json.err;
+    const nlohmann::json report = nlohmann::json::parse(json.out);
+    EXPECT_EQ(report["camera"]["width"], 1640);
+    EXPECT_EQ(report["camera"]["height"], 1232);
+    EXPECT_EQ(report["camera"]["intrinsics"][5], 615.5);
+    EXPECT_EQ(report["camera"]["rotation"][5], -1);
+    EXPECT_EQ(report["camera"]["translation"][2], 2.4);
+    EXPECT_EQ(report["projector"]["width"], 1280);
 }
 
 TEST_F(InfoCommand, RefusesACorruptBundleWithStatus2) {
