@@ -122,9 +122,10 @@ std::vector<CalibrationPoint> parseCalibration(const toml::table& camera, const 
 }  // namespace
 
 CameraConfig parseCameraConfig(const toml::table& camera, const std::string& source) {
-    checkKeys(camera, source, kSection,
-              {"enabled", "id", "size", "exposure_us", "analogue_gain", "threshold",
-               "relative_threshold", "min_area", "max_area", "hold_s", "filter", "calibration"});
+    checkKeys(
+        camera, source, kSection,
+        {"enabled", "id", "size", "exposure_us", "analogue_gain", "threshold", "relative_threshold",
+         "min_area", "max_area", "hold_s", "filter", "calibration", "lamp_distance_m"});
     CameraConfig config;
     config.enabled = optionalBool(camera, source, kSection, "enabled").value_or(false);
     if (auto id = optionalString(camera, source, kSection, "id")) {
@@ -181,6 +182,10 @@ CameraConfig parseCameraConfig(const toml::table& camera, const std::string& sou
                                                  1000.0, parameters.derivativeCutoffHz);
     }
 
+    if (camera.contains("lamp_distance_m")) {
+        config.lampDistanceM =
+            numberIn(camera, source, kSection, "lamp_distance_m", 0.0, true, 1000.0, 1.0);
+    }
     config.calibration = parseCalibration(camera, source, tracking.width, tracking.height);
     if (!config.calibration.empty()) {
         try {
@@ -188,13 +193,49 @@ CameraConfig parseCameraConfig(const toml::table& camera, const std::string& sou
         } catch (const CalibrationError& error) {
             fail(source, "camera.calibration", error.what());
         }
-    } else if (config.enabled) {
-        fail(source, "camera.calibration",
-             "missing or empty (the camera is enabled: at least 3 [u, v, azimuth_deg, "
-             "elevation_deg] "
-             "points, see firmware/tracking/README.md)");
     }
     return config;
+}
+
+LampDirectionMap lampDirectionMapOf(const CameraConfig& config,
+                                    const std::optional<proto::PinholeCamera>& bundleCamera,
+                                    const LightSphere& sphere, const LightConfig& light,
+                                    const std::string& source) {
+    if (!config.calibration.empty()) {
+        try {
+            return LampCalibration::fit(config.calibration);
+        } catch (const CalibrationError& error) {
+            fail(source, "camera.calibration", error.what());
+        }
+    }
+    if (!bundleCamera) {
+        fail(source, "camera.calibration",
+             "absent, and the bundle carries no camera (bake it from a scan or a calibration "
+             "with cam_K)");
+    }
+    const double radius =
+        config.lampDistanceM.value_or(light.initialDistanceM.value_or(2.0 * sphere.objectRadius()));
+    try {
+        return CameraLampModel(*bundleCamera, config.tracking.width, config.tracking.height, sphere,
+                               radius);
+    } catch (const CalibrationError& error) {
+        fail(source, "camera.size", error.what());
+    }
+}
+
+std::string describeLampDirectionMap(const LampDirectionMap& map) {
+    if (const auto* table = std::get_if<LampCalibration>(&map)) {
+        return std::string("the table (") +
+               (table->model() == LampCalibration::Model::kAffine ? "affine" : "quadratic") +
+               ", rms residual " + numberText(table->rmsResidualDeg()) + "°)";
+    }
+    const auto& model = std::get<CameraLampModel>(map);
+    const proto::PinholeCamera& calibrated = model.calibratedCamera();
+    const proto::PinholeCamera& stream = model.streamCamera();
+    return "the bundle's camera (" + std::to_string(calibrated.width) + "x" +
+           std::to_string(calibrated.height) + " scaled to " + std::to_string(stream.width) + "x" +
+           std::to_string(stream.height) + "; lamp sphere " + numberText(model.radiusM()) +
+           " m, the camera " + (model.cameraInsideSphere() ? "inside" : "outside") + " it)";
 }
 
 }  // namespace vpe::firmware

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// LampTracker: blob → smoothing → calibration, and the hold-then-release of a lost lamp.
+// LampTracker: blob → smoothing → direction map, and the hold-then-release of a lost lamp.
 #include "vpe/firmware/tracking/lamp_tracker.h"
 
 #include <cmath>
@@ -26,9 +26,9 @@ double rescale(double position, int from, int to) {
 
 }  // namespace
 
-LampTracker::LampTracker(const LampTrackerSettings& settings, LampCalibration calibration)
+LampTracker::LampTracker(const LampTrackerSettings& settings, LampDirectionMap map)
     : settings_(settings),
-      calibration_(std::move(calibration)),
+      map_(std::move(map)),
       blobs_(settings.blob),
       filterU_(settings.filter),
       filterV_(settings.filter) {
@@ -61,11 +61,27 @@ void LampTracker::onFrame(const LuminanceView& frame, std::int64_t timestampNs,
     const double u = filterU_.filter(rescale(lastBlob_->x, frame.width, settings_.width), seconds);
     const double v =
         filterV_.filter(rescale(lastBlob_->y, frame.height, settings_.height), seconds);
-    const LightDirection direction = calibration_.direction(u, v);
+    const std::optional<LightDirection> direction = std::visit(
+        [u, v](const auto& map) { return std::optional<LightDirection>(map.direction(u, v)); },
+        map_);
+    if (!direction) {
+        // Seen, but off the lamp's sphere (a reflection, or the lamp held far from where the
+        // model expects it): this frame does not show where the lamp is.
+        ++unmappedFrames_;
+        releaseIfHoldExpired(timestampNs, events);
+        return;
+    }
     events.push_back(InputEvent{InputSource::kCamera, timestampNs,
-                                AimLight{direction.azimuthDeg, direction.elevationDeg, {}}});
+                                AimLight{direction->azimuthDeg, direction->elevationDeg, {}}});
     steering_ = true;
     lastSeenNs_ = timestampNs;
+}
+
+std::map<std::string, std::uint64_t> LampTracker::refusals() const {
+    if (unmappedFrames_ == 0) {
+        return {};
+    }
+    return {{kLampRayMissesSphere, unmappedFrames_}};
 }
 
 void LampTracker::tick(std::int64_t nowNs, std::vector<InputEvent>& events) {

@@ -362,11 +362,13 @@ void LibcameraLamp::Session::drain(LampTracker& tracker, std::vector<InputEvent>
     }
 }
 
-LibcameraLamp::LibcameraLamp(const CameraConfig& config)
-    : tracker_(config.tracking, LampCalibration::fit(config.calibration)),
-      session_(std::make_unique<Session>()) {
+LibcameraLamp::LibcameraLamp(const CameraConfig& config, LampDirectionMap map)
+    : tracker_(config.tracking, std::move(map)), session_(std::make_unique<Session>()) {
     session_->open(config);
 }
+
+LibcameraLamp::LibcameraLamp(const CameraConfig& config)
+    : LibcameraLamp(config, LampCalibration::fit(config.calibration)) {}
 
 LibcameraLamp::~LibcameraLamp() = default;
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -29,9 +30,12 @@ class LibcameraLamp final : public InputDevice {
 public:
     // Starts a libcamera CameraManager, acquires and configures the camera (luminance-first
     // format: R8, YUV420, NV12, NV21 or YVU420; config.tracking's size), maps its buffers and
-    // starts streaming. Throws CameraUnavailable, or CalibrationError when config.calibration
-    // does not determine a map. libcamera allows one CameraManager per process, so at most one
+    // starts streaming; positions become directions through `map` (lampDirectionMapOf). Throws
+    // CameraUnavailable. libcamera allows one CameraManager per process, so at most one
     // LibcameraLamp may exist at a time.
+    LibcameraLamp(const CameraConfig& config, LampDirectionMap map);
+    // The same with config.calibration's table; also throws CalibrationError when the table
+    // does not determine a map.
     explicit LibcameraLamp(const CameraConfig& config);
     // Stops streaming and releases the camera; returns once libcamera's thread is done with
     // this object.
@@ -42,7 +46,12 @@ public:
     void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) override;
     void onTick(std::int64_t nowNs, std::vector<InputEvent>& events) override;
 
+    // Lamp positions the map could not place, per reason (kLampRayMissesSphere).
+    std::map<std::string, std::uint64_t> refusals() const override { return tracker_.refusals(); }
+
     const LampTracker& tracker() const { return tracker_; }
+    // A reloaded bundle's camera: the next frame on.
+    void setDirectionMap(LampDirectionMap map) { tracker_.setDirectionMap(std::move(map)); }
 
 private:
     class Session;  // the libcamera objects, kept out of this header
