@@ -2,6 +2,7 @@
 #include "vpe/firmware/player/board_check.h"
 
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "vpe/firmware/player/input_setup.h"
@@ -44,6 +45,15 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     } catch (const CalibrationError& error) {
         throw PlayerInputError(board.source + ":camera.calibration: " + error.what());
     }
+    // The bundle, when given, is opened first: its camera may be what maps the lamp.
+    std::optional<proto::BundleFile> bundle;
+    if (!options.bundle.empty()) {
+        try {
+            bundle.emplace(proto::BundleFile::open(options.bundle));
+        } catch (const proto::BundleError& error) {
+            throw PlayerInputError(error.what());
+        }
+    }
     std::ostringstream out;
     out << board.source << ": valid board file";
     if (!board.name.empty()) {
@@ -78,8 +88,23 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     }
     if (inputs.camera && inputs.camera->enabled) {
         out << "  camera: " << inputs.camera->id << ", " << inputs.camera->tracking.width << "x"
-            << inputs.camera->tracking.height << ", " << inputs.camera->calibration.size()
-            << " calibration points (fit ok; the camera itself is probed when the player starts)\n";
+            << inputs.camera->tracking.height << ", ";
+        if (!inputs.camera->calibration.empty()) {
+            out << inputs.camera->calibration.size() << " calibration points (fit ok";
+        } else if (bundle) {
+            try {
+                out << "the lamp mapped by "
+                    << describeLampDirectionMap(
+                           lampDirectionFor(*inputs.camera, inputs, bundle->view()))
+                    << " (";
+            } catch (const BoardConfigError& error) {
+                throw PlayerInputError(error.what());
+            }
+        } else {
+            out << "no calibration table: the lamp needs the bundle's camera (not checked "
+                   "without --bundle";
+        }
+        out << "; the camera itself is probed when the player starts)\n";
     } else {
         out << "  camera: off\n";
     }
@@ -99,33 +124,32 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
                       number(board.idle.periodSeconds) + " s"
                 : std::string("off"))
         << "\n";
-    if (!options.bundle.empty()) {
-        try {
-            const proto::BundleFile bundle = proto::BundleFile::open(options.bundle);
-            const auto& projector = bundle.view().projector();
-            out << "  bundle: " << options.bundle.string() << " ok (checksum verified), projector "
-                << projector.width << "x" << projector.height << ", "
-                << bundle.view().presets().size() << " presets\n";
-            const auto w = static_cast<int>(projector.width),
-                       h = static_cast<int>(projector.height);
-            // The size the board fixes, if any: the headless render size or the KMS mode.
-            const bool headless = board.display.backend == DisplayBackend::kHeadless;
-            std::optional<DisplayMode> fixed = board.display.mode;
-            if (headless) {
-                fixed.reset();
-                if (board.render.width) {
-                    fixed = DisplayMode{*board.render.width, *board.render.height, 0};
-                }
+    if (bundle) {
+        const auto& projector = bundle->view().projector();
+        const auto& camera = bundle->view().camera();
+        out << "  bundle: " << options.bundle.string() << " ok (checksum verified), projector "
+            << projector.width << "x" << projector.height << ", " << bundle->view().presets().size()
+            << " presets, "
+            << (camera ? "camera " + std::to_string(camera->width) + "x" +
+                             std::to_string(camera->height)
+                       : std::string("no camera"))
+            << "\n";
+        const auto w = static_cast<int>(projector.width), h = static_cast<int>(projector.height);
+        // The size the board fixes, if any: the headless render size or the KMS mode.
+        const bool headless = board.display.backend == DisplayBackend::kHeadless;
+        std::optional<DisplayMode> fixed = board.display.mode;
+        if (headless) {
+            fixed.reset();
+            if (board.render.width) {
+                fixed = DisplayMode{*board.render.width, *board.render.height, 0};
             }
-            if (fixed && (fixed->width != w || fixed->height != h)) {
-                throw PlayerInputError(
-                    board.source + ":" + (headless ? "render.size" : "display.mode") + ": " +
-                    std::to_string(fixed->width) + "x" + std::to_string(fixed->height) +
-                    " differs from the bundle's projector " + std::to_string(w) + "x" +
-                    std::to_string(h));
-            }
-        } catch (const proto::BundleError& error) {
-            throw PlayerInputError(error.what());
+        }
+        if (fixed && (fixed->width != w || fixed->height != h)) {
+            throw PlayerInputError(
+                board.source + ":" + (headless ? "render.size" : "display.mode") + ": " +
+                std::to_string(fixed->width) + "x" + std::to_string(fixed->height) +
+                " differs from the bundle's projector " + std::to_string(w) + "x" +
+                std::to_string(h));
         }
     }
     return out.str();

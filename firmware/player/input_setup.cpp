@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
 #include "vpe/firmware/player/input_setup.h"
 
+#include <functional>
+#include <utility>
+#include <variant>
+
 #include "vpe/firmware/knobs/gpio_knobs.h"
 #include "vpe/firmware/knobs/knobs_config_parser.h"
 #include "vpe/firmware/osc/osc_server.h"
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player/replay_input.h"
-#include "vpe/firmware/tracking/lamp_calibration.h"
 #include "vpe/firmware/tracking/libcamera_lamp.h"
+#include "vpe/proto/pinhole_camera.h"
 
 namespace vpe::firmware {
 
@@ -21,10 +25,46 @@ std::vector<std::string> presetNamesOf(const proto::BundleView& view) {
     return names;
 }
 
+// A lamp mapped by the bundle's camera follows each reloaded bundle's camera (and light
+// sphere); a new bundle without one, or with one the stream cannot use, leaves the lamp on the
+// previous model, logged. `apply` hands the new map to the device.
+void followBundleCamera(Player& player, const CameraConfig& camera, const InputSettings& settings,
+                        std::function<void(LampDirectionMap)> apply) {
+    const Player* observed = &player;
+    player.onBundleReloaded([observed, camera, settings, apply = std::move(apply)] {
+        const proto::BundleView& bundle = observed->bundle();
+        if (!bundle.camera()) {
+            playerLog(
+                "camera: the new bundle carries no camera; the lamp keeps the previous "
+                "bundle's");
+            return;
+        }
+        try {
+            LampDirectionMap map = lampDirectionFor(camera, settings, bundle);
+            playerLog("camera: the lamp follows " + describeLampDirectionMap(map));
+            apply(std::move(map));
+        } catch (const BoardConfigError& error) {
+            playerLog(std::string(error.what()) + "; the lamp keeps the previous bundle's camera");
+        }
+    });
+}
+
 }  // namespace
+
+LampDirectionMap lampDirectionFor(const CameraConfig& camera, const InputSettings& settings,
+                                  const proto::BundleView& bundle) {
+    std::optional<proto::PinholeCamera> bundleCamera;
+    if (bundle.camera()) {
+        bundleCamera = proto::cameraOf(*bundle.camera());
+    }
+    return lampDirectionMapOf(camera, bundleCamera, Player::sphereOf(bundle), settings.light,
+                              settings.source);
+}
 
 InputSettings readInputSettings(const BoardConfig& board) {
     InputSettings settings;
+    settings.light = board.light;
+    settings.source = board.source;
     if (const toml::table* gpio = board.section("gpio")) {
         settings.knobs = knobs::parseKnobsConfig(*gpio, board.source);
     }
@@ -54,15 +94,33 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
         ReplayDecoders decoders;
         decoders.knobs = settings.knobs;
         decoders.camera = settings.camera;
+        if (settings.camera) {
+            try {
+                decoders.lampDirection =
+                    lampDirectionFor(*settings.camera, settings, player.bundle());
+            } catch (const BoardConfigError& error) {
+                // A disabled camera is needed only by camera events, and the replay refuses
+                // those without a map.
+                if (settings.camera->enabled) {
+                    throw PlayerInputError(error.what());
+                }
+            }
+        }
         decoders.oscLimits = oscLimitsOf(player.rig().limits());
         decoders.presetNames = presetNamesOf(player.bundle());
         try {
             auto replay =
                 std::make_unique<ReplayInput>(*options.replay, readReplayFile(*options.replay),
                                               decoders, options.replayLoop, monotonicNowNs());
-            const ReplayInput* raw = replay.get();
+            ReplayInput* raw = replay.get();
             playerLog(raw->description());
             player.addInput(std::move(replay));
+            if (decoders.lampDirection &&
+                std::holds_alternative<CameraLampModel>(*decoders.lampDirection)) {
+                followBundleCamera(player, *settings.camera, settings, [raw](LampDirectionMap map) {
+                    raw->setLampDirection(std::move(map));
+                });
+            }
             if (options.frames == 0) {
                 player.stopWhen([raw] { return raw->finished(); }, "replay");
             }
@@ -81,13 +139,27 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
         }
     }
     if (settings.camera && settings.camera->enabled) {
+        // Resolved before the camera is opened: a board that cannot map the lamp is refused
+        // whether or not a camera is attached.
+        const LampDirectionMap map = [&] {
+            try {
+                return lampDirectionFor(*settings.camera, settings, player.bundle());
+            } catch (const BoardConfigError& error) {
+                throw PlayerInputError(error.what());
+            }
+        }();
         try {
-            auto camera = std::make_unique<LibcameraLamp>(*settings.camera);
-            playerLog(camera->description());
+            auto camera = std::make_unique<LibcameraLamp>(*settings.camera, map);
+            LibcameraLamp* raw = camera.get();
+            playerLog(camera->description() + ", the lamp mapped by " +
+                      describeLampDirectionMap(map));
             player.addInput(std::move(camera));
+            if (std::holds_alternative<CameraLampModel>(map)) {
+                followBundleCamera(player, *settings.camera, settings, [raw](LampDirectionMap m) {
+                    raw->setDirectionMap(std::move(m));
+                });
+            }
         } catch (const CameraUnavailable& error) {
-            playerLog(std::string("camera: ") + error.what() + "; playing without it");
-        } catch (const CalibrationError& error) {
             playerLog(std::string("camera: ") + error.what() + "; playing without it");
         }
     }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -171,13 +172,13 @@ ReplayInput::ReplayInput(const std::filesystem::path& path, std::vector<ReplayEv
             knobs_.emplace(*decoders.knobs, knobs::LineLevels{}, startNs_);
         }
         if (event.kind == ReplayEvent::Kind::kCamera && !tracker_) {
-            if (!decoders.camera || decoders.camera->calibration.size() < 3) {
+            if (!decoders.camera || !decoders.lampDirection) {
                 fail(path_, event.line,
-                     "a camera event, but the board's [camera] has no calibration");
+                     "a camera event, but the board's [camera] has no calibration and the "
+                     "bundle carries no camera");
             }
             try {
-                tracker_.emplace(decoders.camera->tracking,
-                                 LampCalibration::fit(decoders.camera->calibration));
+                tracker_.emplace(decoders.camera->tracking, *decoders.lampDirection);
             } catch (const std::exception& error) {
                 fail(path_, event.line, error.what());
             }
@@ -251,6 +252,22 @@ void ReplayInput::onReadable(int, std::int64_t nowNs, std::vector<InputEvent>& e
         }
     }
     armNext();
+}
+
+std::map<std::string, std::uint64_t> ReplayInput::refusals() const {
+    std::map<std::string, std::uint64_t> refusals = osc_.counters().rejectionsByName();
+    if (tracker_) {
+        for (const auto& [reason, count] : tracker_->refusals()) {
+            refusals[reason] += count;
+        }
+    }
+    return refusals;
+}
+
+void ReplayInput::setLampDirection(LampDirectionMap map) {
+    if (tracker_) {
+        tracker_->setDirectionMap(std::move(map));
+    }
 }
 
 void ReplayInput::onTick(std::int64_t nowNs, std::vector<InputEvent>& events) {

@@ -2,12 +2,18 @@
 // vpe-player with inputs, end to end on the real binary: --check, replayed knob edges (with
 // bounce), OSC messages and camera frames through the real decoders, absent hardware logged
 // once, and a bundle reloaded on SIGHUP or when its file is replaced (a bad one refused while
-// the old keeps playing). Runs that render SKIP without EGL.
+// the old keeps playing); the lamp mapped by the bundle's camera, and following a reloaded
+// bundle's. Runs that render SKIP without EGL.
 #include <chrono>
 #include <csignal>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "vpe/firmware/player/player.h"
+#include "vpe/firmware/tracking/camera_lamp_model.h"
+#include "vpe/proto/bundle.h"
+#include "vpe/proto/pinhole_camera.h"
 
 #include "player_fixture.h"
 #include "replay_script.h"
@@ -297,6 +303,167 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     // the other ticks skipped.
     EXPECT_GT(number(json, "frames") + number(json, "skipped"), 10.0) << json;
     EXPECT_GE(number(json, "frames"), 3.0) << json;
+}
+
+// ---- the lamp mapped by the bundle's camera (format 1.3) --------------------------------------
+
+// A camera high in front of the vase, looking down at it, with a little barrel distortion; the
+// same camera moved for the reloaded bundle.
+proto::PinholeCamera installationCamera(double x = 0.25) {
+    proto::PinholeCamera camera =
+        proto::cameraLookingAt(640, 480, 60.0, {x, 1.1, 0.9}, {0.0, 0.075, 0.0});
+    camera.distortion = {-0.08, 0.02, 0.0, 0.0, 0.0};
+    return camera;
+}
+
+std::string bundleWith(const std::optional<proto::PinholeCamera>& camera) {
+    renderer::testing::GlesBundleSpec spec;
+    spec.camera = camera;
+    const std::vector<std::byte> bytes = renderer::testing::buildGlesTestBundle(spec);
+    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+// The board: the camera switched on (absent here) with no table, the lamp 0.4 m from the vase.
+const std::string kCameraModelBoard = R"([display]
+backend = "headless"
+[camera]
+enabled = true
+size = "320x240"
+hold_s = 0.3
+lamp_distance_m = 0.4
+[light]
+smoothing_s = 0
+[idle]
+enabled = false
+[render]
+rate = 0
+)";
+
+// Where the lamp at (azimuth, elevation) on the 0.4 m sphere shows in the 320 × 240 stream.
+proto::Vec2d streamPixel(const proto::PinholeCamera& camera, const fs::path& bundle,
+                         double azimuthDeg, double elevationDeg) {
+    const proto::BundleFile file = proto::BundleFile::open(bundle);
+    const std::array<double, 3> p =
+        Player::sphereOf(file.view()).toPosition({azimuthDeg, elevationDeg, 0.4});
+    const proto::Vec2d pixel = *proto::projectToPixel(camera, {p[0], p[1], p[2]});
+    return {(pixel.x + 0.5) * 0.5 - 0.5, (pixel.y + 0.5) * 0.5 - 0.5};
+}
+
+TEST_F(PlayerInputTest, MapsTheLampWithTheBundlesCameraOrRefusesTheBoard) {
+    const fs::path board = writeFile("camera.toml", kCameraModelBoard);
+    const fs::path withCamera = writeFile("camera.vpeb", bundleWith(installationCamera()));
+
+    const PlayerRun checked =
+        play({"--board", board.string(), "--bundle", withCamera.string(), "--check"});
+    EXPECT_EQ(checked.status, 0) << checked.err;
+    EXPECT_NE(checked.out.find("camera: auto, 320x240, the lamp mapped by the bundle's camera "
+                               "(640x480 scaled to 320x240; lamp sphere 0.4 m, the camera "
+                               "outside it)"),
+              std::string::npos)
+        << checked.out;
+    EXPECT_NE(checked.out.find("2 presets, camera 640x480"), std::string::npos) << checked.out;
+    const PlayerRun unbundled = play({"--board", board.string(), "--check"});
+    EXPECT_EQ(unbundled.status, 0) << unbundled.err;
+    EXPECT_NE(unbundled.out.find("no calibration table: the lamp needs the bundle's camera"),
+              std::string::npos)
+        << unbundled.out;
+
+    // Neither a table nor a camera: --check and start-up both refuse the board, one line.
+    const std::string absent =
+        "camera.toml:camera.calibration: absent, and the bundle carries "
+        "no camera (bake it from a scan or a calibration with cam_K)";
+    expectOneLineError(play({"--board", board.string(), "--bundle", bundle_.string(), "--check"}),
+                       absent);
+    // A calibration of another shape than the stream's names the size.
+    proto::PinholeCamera wide = installationCamera();
+    wide.width = 1920;
+    wide.height = 1080;
+    const fs::path wideBundle = writeFile("wide.vpeb", bundleWith(wide));
+    expectOneLineError(
+        play({"--board", board.string(), "--bundle", wideBundle.string(), "--check"}),
+        "camera.toml:camera.size: the stream's 320x240 (aspect 1.333) is not the camera "
+        "calibration's 1920x1080 (aspect 1.778) scaled");
+
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    // Start-up opens the display and the bundle first, then refuses the board the same way.
+    expectOneLineError(
+        play({"--board", board.string(), "--bundle", bundle_.string(), "--frames", "1"}), absent);
+    // The lamp held at azimuth 25°, elevation 40°, then beside the sphere (a ray that misses).
+    const proto::Vec2d lamp = streamPixel(installationCamera(), withCamera, 25.0, 40.0);
+    ReplayScript script;
+    for (int frame = 0; frame < 10; ++frame) {
+        script.cameraLamp(0.05 + frame * 0.02, lamp.x, lamp.y, 2.5);
+    }
+    for (int frame = 0; frame < 3; ++frame) {
+        script.cameraLamp(0.3 + frame * 0.02, 8.0, 8.0, 2.5);
+    }
+    const fs::path replay = folder_ / "lamp.jsonl";
+    script.write(replay);
+    const PlayerRun run = play({"--board", board.string(), "--bundle", withCamera.string(),
+                                "--replay", replay.string(), "--json"});
+    ASSERT_EQ(run.status, 0) << run.err;
+    const std::string json = jsonOf(run);
+    EXPECT_EQ(number(json, "camera"), 10.0) << json;
+    EXPECT_NEAR(number(json, "azimuth"), 25.0, 0.3) << json;
+    EXPECT_NEAR(number(json, "elevation"), 40.0, 0.3) << json;
+    EXPECT_EQ(number(json, "camera.ray_misses_sphere"), 3.0) << json;
+}
+
+TEST_F(PlayerInputTest, TheLampFollowsTheCameraOfAReloadedBundle) {
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    const fs::path board = writeFile("camera.toml", kCameraModelBoard);
+    const fs::path scene = writeFile("scene-camera.vpeb", bundleWith(installationCamera()));
+    // The lamp stays at one pixel, frame after frame (the replay loops).
+    const proto::Vec2d lamp = streamPixel(installationCamera(), scene, 25.0, 40.0);
+    ReplayScript script;
+    for (int frame = 0; frame < 60; ++frame) {
+        script.cameraLamp(frame * 0.05, lamp.x, lamp.y, 2.5);
+    }
+    const fs::path replay = folder_ / "still.jsonl";
+    script.write(replay);
+    const fs::path frames = folder_ / "frames";
+    const pid_t pid =
+        spawn({"--board", board.string(), "--bundle", scene.string(), "--replay", replay.string(),
+               "--replay-loop", "--json", "--out", frames.string(), "--every", "1000000"});
+    ASSERT_GT(pid, 0);
+    const auto waitUntil = [](const auto& condition) {
+        for (int i = 0; i < 300; ++i) {
+            if (condition()) {
+                return true;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return false;
+    };
+    ASSERT_TRUE(waitUntil([&] { return fs::exists(frames / "frame_00000.ppm"); })) << spawnedErr();
+    // The camera moved 0.3 m sideways and calibrated again: the same pixel is another direction.
+    writeFile("next.tmp", bundleWith(installationCamera(-0.05)));
+    fs::rename(folder_ / "next.tmp", scene);
+    EXPECT_TRUE(waitUntil([&] {
+        return spawnedErr().find("camera: the lamp follows the bundle's camera") !=
+               std::string::npos;
+    })) << spawnedErr();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    ::kill(pid, SIGTERM);
+    const PlayerRun run = finish(pid);
+    EXPECT_EQ(run.status, 0) << run.err;
+    const std::string json = jsonOf(run);
+    EXPECT_EQ(number(json, "reloads"), 1.0) << json;
+    // Where the new camera puts that pixel, on the new bundle's sphere.
+    const proto::BundleFile file = proto::BundleFile::open(scene);
+    const CameraLampModel moved(installationCamera(-0.05), 320, 240, Player::sphereOf(file.view()),
+                                0.4);
+    const std::optional<LightDirection> expected = moved.direction(lamp.x, lamp.y);
+    ASSERT_TRUE(expected.has_value());
+    EXPECT_GT(std::abs(expected->azimuthDeg - 25.0), 5.0);  // the move matters
+    EXPECT_NEAR(number(json, "azimuth"), expected->azimuthDeg, 0.3) << json;
+    EXPECT_NEAR(number(json, "elevation"), expected->elevationDeg, 0.3) << json;
 }
 
 }  // namespace

@@ -219,8 +219,21 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
                 fb::CreateWeightPresetDirect(b, "radial", ref(7))};
             const auto textures =
                 fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
-            fb::FinishBundleBuffer(b,
-                                   fb::CreateBundle(b, mesh, projector, settings, model, textures));
+            flatbuffers::Offset<fb::Projector> installationCamera;
+            if (spec.camera) {
+                const proto::PinholeCamera& cam = *spec.camera;
+                const fb::Mat3d cameraK(flatbuffers::make_span(cam.K));
+                const fb::Mat3d cameraR(flatbuffers::make_span(cam.R));
+                const fb::Distortion cameraKc(cam.distortion[0], cam.distortion[1],
+                                              cam.distortion[2], cam.distortion[3],
+                                              cam.distortion[4]);
+                const fb::Vec3d cameraT(cam.T[0], cam.T[1], cam.T[2]);
+                installationCamera = fb::CreateProjector(b, static_cast<std::uint32_t>(cam.width),
+                                                         static_cast<std::uint32_t>(cam.height),
+                                                         &cameraK, &cameraKc, &cameraR, &cameraT);
+            }
+            fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model,
+                                                       textures, installationCamera));
             return std::vector<std::uint8_t>(b.GetBufferPointer(),
                                              b.GetBufferPointer() + b.GetSize());
         });

@@ -4,16 +4,18 @@
 // 160 × 120 projector with lens distortion, M = 3, two regions ('base' full, 'glaze' low-rank),
 // presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response;
 // optionally with textures that wrap in u and the seam u = 0 | 1 turned to the projector, and
-// optionally a relief on 'base'.
+// optionally a relief on 'base', and optionally the installation's camera.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vpe/proto/bundle.h"
+#include "vpe/proto/pinhole_camera.h"
 
 namespace vpe::renderer::testing {
 
@@ -35,6 +37,9 @@ struct GlesBundleSpec {
     // Region 'base' carries a relief (format 1.2: a detail normal map tilting up to ~30°);
     // 'glaze' none, so presets blend a relief with a flat region.
     bool relief = false;
+    // The installation's camera (format 1.3, Bundle.camera), object frame → camera; none when
+    // unset.
+    std::optional<proto::PinholeCamera> camera;
 };
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});

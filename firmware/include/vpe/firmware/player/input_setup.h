@@ -21,6 +21,10 @@ struct InputSettings {
     std::optional<knobs::KnobsConfig> knobs;  // absent: no [gpio] section
     std::optional<CameraConfig> camera;
     std::optional<OscConfig> osc;
+    // The board's [light] (the lamp's default distance for the camera model) and the board
+    // file's name, for what is checked once the bundle is open.
+    LightConfig light;
+    std::string source;
 };
 
 // Parses the input sections. Throws BoardConfigError.
@@ -30,8 +34,15 @@ InputSettings readInputSettings(const BoardConfig& board);
 // so OSC refuses exactly what the rig would have to clamp.
 OscLimits oscLimitsOf(const LightLimits& light);
 
+// The lamp's map for `bundle` (lampDirectionMapOf: the board's table, or the bundle's camera
+// on its light sphere). Throws BoardConfigError naming the board file's key.
+LampDirectionMap lampDirectionFor(const CameraConfig& camera, const InputSettings& settings,
+                                  const proto::BundleView& bundle);
+
 // Adds the enabled inputs to the player (or the replay, with --replay). Throws
-// PlayerInputError for a bad replay file.
+// PlayerInputError for a bad replay file, or an enabled camera with neither a table nor a
+// bundle camera to map the lamp with (or a bundle camera of another aspect ratio). A lamp
+// mapped by the bundle's camera follows the camera of each reloaded bundle.
 void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options);
 
 }  // namespace vpe::firmware

@@ -54,6 +54,8 @@ public:
     FrameReport run();
 
     const proto::BundleView& bundle() const { return scene_->view(); }
+    // The light's sphere of a bundle (its mesh's centre, its viewer's azimuth 0).
+    static LightSphere sphereOf(const proto::BundleView& view);
     const LightRig& rig() const { return rig_; }
     const FrameReport& report() const { return report_; }
 
@@ -67,7 +69,6 @@ private:
     void reload(const char* why);
     // The rig's preset becomes the one the renderer shows (at start and after a reload).
     void adoptRenderersPreset();
-    static LightSphere sphereOf(const proto::BundleView& view);
 
     PlayerOptions options_;
     BoardConfig board_;

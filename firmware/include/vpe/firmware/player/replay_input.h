@@ -51,6 +51,9 @@ std::vector<ReplayEvent> readReplayFile(const std::filesystem::path& path);
 struct ReplayDecoders {
     std::optional<knobs::KnobsConfig> knobs;  // needed by gpio events
     std::optional<CameraConfig> camera;       // needed by camera events
+    // The map camera events go through (lampDirectionMapOf: the board's table or the bundle's
+    // camera); needed by camera events too.
+    std::optional<LampDirectionMap> lampDirection;
     OscLimits oscLimits;
     std::vector<std::string> presetNames;
 };
@@ -65,10 +68,12 @@ public:
     std::vector<int> pollDescriptors() const override { return {timer_.fd()}; }
     void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) override;
     void onTick(std::int64_t nowNs, std::vector<InputEvent>& events) override;
-    // The replayed OSC messages' rejections, as the live server counts them.
-    std::map<std::string, std::uint64_t> refusals() const override {
-        return osc_.counters().rejectionsByName();
-    }
+    // The replayed OSC messages' rejections, as the live server counts them, and the camera
+    // frames whose lamp the map could not place, as the live camera counts them.
+    std::map<std::string, std::uint64_t> refusals() const override;
+    // A reloaded bundle's camera for the camera events still to come (a replay without camera
+    // events has no tracker: nothing changes).
+    void setLampDirection(LampDirectionMap map);
 
     // Every event played (never, when looping).
     bool finished() const { return !loop_ && next_ >= events_.size(); }
