@@ -20,12 +20,15 @@ packages=(
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     libopencv-imgproc-dev                     # streak widths (exact distance transform)
+    libopencv-calib3d-dev                     # vpe calibrate: checkerboards, camera + stereo calibration
+    libopen3d-dev                             # vpe bake --scan: global registration (FPFH + RANSAC), ICP
     fonts-dejavu-core                         # labels on contact sheets
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
     libdrm-dev libgbm-dev                     # GLES renderer's KMS platform (DRM + GBM + EGL)
     libtomlplusplus-dev                       # vpe-player's board files (boards/*.toml)
     libgpiod-dev liblo-dev libcamera-dev      # vpe-player's inputs: knobs (1.6 API), OSC, tracked lamp
     libsystemd-dev                            # vpe-player's sd_notify watchdog (boards/vpe-player.service)
+    libtinyobjloader-dev                      # the procam simulator's scene files (object OBJ), on the device too
 )
 test_packages=(
     libgtest-dev libgmock-dev libbenchmark-dev
