@@ -31,6 +31,43 @@ FloatImage readImage(const std::filesystem::path& path) {
     return image;
 }
 
+FloatImage readImageChannels(const std::filesystem::path& path,
+                             const std::vector<std::string>& channels) {
+    auto input = OIIO::ImageInput::open(path.string());
+    if (!input) {
+        std::string reason = OIIO::geterror();
+        throw InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
+    }
+    const OIIO::ImageSpec& spec = input->spec();
+    std::vector<int> indices;
+    for (const std::string& name : channels) {
+        const int index = spec.channelindex(name);
+        if (index < 0) {
+            throw InputError(path, "no channel '" + name + "'");
+        }
+        indices.push_back(index);
+    }
+    std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
+        throw InputError(path, "cannot decode image: " + input->geterror());
+    }
+    FloatImage image;
+    image.width = spec.width;
+    image.height = spec.height;
+    image.channels = static_cast<int>(channels.size());
+    image.integerSource = !spec.format.is_floating_point();
+    const std::size_t pixels = static_cast<std::size_t>(spec.width) * spec.height;
+    image.pixels.resize(pixels * channels.size());
+    for (std::size_t p = 0; p < pixels; ++p) {
+        for (std::size_t c = 0; c < indices.size(); ++c) {
+            image.pixels[p * channels.size() + c] =
+                all[p * static_cast<std::size_t>(spec.nchannels) +
+                    static_cast<std::size_t>(indices[c])];
+        }
+    }
+    return image;
+}
+
 void writeImage(const std::filesystem::path& path, int width, int height, int channels,
                 const std::vector<float>& pixels, PixelFormat format,
                 const std::vector<std::string>& channelNames) {

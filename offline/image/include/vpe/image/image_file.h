@@ -25,6 +25,11 @@ struct FloatImage {
 // is applied. Throws InputError naming the file.
 FloatImage readImage(const std::filesystem::path& path);
 
+// The named channels only, in the order asked for (EXR files store channels sorted by name).
+// Throws InputError naming the file and the first channel it lacks.
+FloatImage readImageChannels(const std::filesystem::path& path,
+                             const std::vector<std::string>& channels);
+
 enum class PixelFormat { kUint8, kUint16, kFloat };
 
 // Writes float pixels atomically as 8-bit, 16-bit (values clamped to [0, 1] and scaled)
