@@ -27,6 +27,9 @@ void addInfoCommand(CLI::App& app, Action& action);
 void addBakeCommand(CLI::App& app, Action& action);
 void addRenderCommand(CLI::App& app, Action& action);
 void addTransferCommand(CLI::App& app, Action& action);
+void addSynthProcamCommand(CLI::App& app, Action& action);
+void addScanCommand(CLI::App& app, Action& action);
+void addCalibrateCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

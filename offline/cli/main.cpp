@@ -36,6 +36,9 @@ int main(int argc, char** argv) {
     vpe::cli::addRenderCommand(app, action);
     vpe::cli::addInfoCommand(app, action);
     vpe::cli::addTransferCommand(app, action);
+    vpe::cli::addSynthProcamCommand(app, action);
+    vpe::cli::addCalibrateCommand(app, action);
+    vpe::cli::addScanCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT
+// vpe scan CAPTURE --calibration procam.yml --out DIR [--truth DIR]
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/common/atomic_folder.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/scan/scan_accuracy.h"
+#include "vpe/scan/scan_files.h"
+#include "vpe/scene/projector_calibration.h"
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+
+namespace vpe::cli {
+
+namespace {
+
+struct Arguments {
+    std::string capture, calibration, out, truth;
+    double minCoverage = 0.5;
+    int threads = 0;
+    bool json = false;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void runScan(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    scan::ProcamRig rig;
+    rig.projector = scene::readProjectorCalibration(args.calibration);
+    const auto camera = scene::readCameraCalibration(args.calibration);
+    if (!camera) {
+        throw InputError(args.calibration,
+                         "cam_K: missing (vpe scan needs the camera's intrinsics too: a "
+                         "calibration from vpe calibrate)");
+    }
+    rig.camera = *camera;
+    const structured_light::ScanCapture capture(args.capture);
+    structured_light::DecodeOptions decodeOptions;
+    decodeOptions.threads = args.threads;
+    const structured_light::DecodedScan decoded =
+        structured_light::decodePatterns(capture, decodeOptions);
+    const double decodeSeconds = secondsSince(start);
+    const double decodedShare = decoded.lit ? double(decoded.decoded) / double(decoded.lit) : 0;
+    if (decodedShare < args.minCoverage) {
+        throw InputError(capture.folder(),
+                         "the scan covers too little of the object: " +
+                             std::to_string(static_cast<int>(100 * decodedShare)) +
+                             "% of the pixels the projector lights were decoded (at least " +
+                             std::to_string(static_cast<int>(100 * args.minCoverage)) +
+                             "% wanted; see the contact sheet's reasons: room light, "
+                             "interreflection, a moving object)");
+    }
+    const auto triangulateStart = std::chrono::steady_clock::now();
+    scan::TriangulationOptions triangulation;
+    triangulation.threads = args.threads;
+    const scan::ProjectorSurface surface = scan::triangulateScan(decoded, rig, triangulation);
+    const double triangulateSeconds = secondsSince(triangulateStart);
+
+    const auto writeStart = std::chrono::steady_clock::now();
+    AtomicFolder folder(args.out, scan::kSurfaceFile, "vpe scan");
+    scan::writeSurface(surface, folder.temporaryPath() / scan::kSurfaceFile);
+    scan::writePointCloud(surface, folder.temporaryPath() / scan::kPointCloudFile);
+    scan::writeScanSheet(decoded, surface, folder.temporaryPath() / scan::kScanSheetFile);
+    scan::writeDecoded(decoded, folder.temporaryPath() / scan::kDecodedFile);
+    // The calibration goes with the scan (vpe bake --scan reads both).
+    std::filesystem::copy_file(args.calibration, folder.temporaryPath() / scan::kCalibrationFile);
+    folder.commit();
+    const double writeSeconds = secondsSince(writeStart);
+
+    std::optional<scan::ScanAccuracy> accuracy;
+    if (!args.truth.empty()) {
+        accuracy = scan::compareWithTruth(decoded, surface, args.truth);
+    }
+    std::fprintf(stderr,
+                 "%s: decoded %zu of %zu lit camera pixels (%.1f%%), measured %zu projector "
+                 "pixels; decode %.2f s, triangulate %.2f s, write %.2f s\n",
+                 args.out.c_str(), decoded.decoded, decoded.lit, 100 * decodedShare,
+                 surface.measured, decodeSeconds, triangulateSeconds, writeSeconds);
+    if (accuracy) {
+        std::fprintf(stderr,
+                     "against the truth: coverage %.2f%%, depth RMS %.3f mm (p99 %.3f), normals "
+                     "median %.2f°, wrong decodes %.4f%% (%zu), decode RMS %.3f px\n",
+                     100 * accuracy->coverage, accuracy->depthRmsMm, accuracy->depthP99Mm,
+                     accuracy->normalMedianDeg, 100 * accuracy->wrongDecodeShare,
+                     accuracy->wrongDecodes, accuracy->decodeRmsPx);
+    }
+    if (args.json) {
+        nlohmann::json json;
+        json["out"] = args.out;
+        json["camera"] = {decoded.width, decoded.height};
+        json["projector"] = {decoded.projectorWidth, decoded.projectorHeight};
+        json["lit_pixels"] = decoded.lit;
+        json["decoded_pixels"] = decoded.decoded;
+        json["decoded_share"] = decodedShare;
+        nlohmann::json reasons;
+        for (int s = 1; s < structured_light::kDecodeStatusCount; ++s) {
+            reasons[structured_light::decodeStatusName(static_cast<structured_light::DecodeStatus>(
+                s))] = decoded.statusCounts[static_cast<std::size_t>(s)];
+        }
+        json["undecoded"] = reasons;
+        json["noise_sigma_at_half"] = decoded.noise.sigma(0.5);
+        json["measured_projector_pixels"] = surface.measured;
+        json["completed_projector_pixels"] = surface.completed;
+        json["decode_seconds"] = decodeSeconds;
+        json["triangulate_seconds"] = triangulateSeconds;
+        json["scan_seconds"] = decodeSeconds + triangulateSeconds;
+        json["write_seconds"] = writeSeconds;
+        if (accuracy) {
+            json["scan_coverage"] = accuracy->coverage;
+            json["depth_rms_mm"] = accuracy->depthRmsMm;
+            json["depth_p99_mm"] = accuracy->depthP99Mm;
+            json["normal_median_deg"] = accuracy->normalMedianDeg;
+            json["normal_p95_deg"] = accuracy->normalP95Deg;
+            json["wrong_decode_share"] = accuracy->wrongDecodeShare;
+            json["wrong_decodes"] = accuracy->wrongDecodes;
+            json["wrong_decode_share_centre"] = accuracy->wrongAtCentreShare;
+            json["decode_rms_px"] = accuracy->decodeRmsPx;
+            json["measured_without_truth"] = accuracy->measuredWithoutTruth;
+        }
+        json["seconds"] = secondsSince(start);
+        printJson(json.dump());
+    }
+}
+
+}  // namespace
+
+void addScanCommand(CLI::App& app, Action& action) {
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "scan",
+        "Decode a structured-light capture and triangulate the surface each projector "
+        "pixel lights");
+    command->add_option("capture", args->capture, "Scan folder (scan.json and its images)")
+        ->required();
+    command
+        ->add_option("--calibration", args->calibration,
+                     "Projector–camera calibration (vpe calibrate's YAML, with cam_K)")
+        ->required();
+    command
+        ->add_option("--out", args->out,
+                     "Folder to write: surface.exr, points.ply, surface-mesh.obj, "
+                     "contact-sheet.png, decoded.exr")
+        ->required();
+    command->add_option("--truth", args->truth,
+                        "A simulation's truth folder (vpe synth-procam): report the errors");
+    command
+        ->add_option("--min-coverage", args->minCoverage,
+                     "Refuse a scan that decodes less than this share of the lit pixels")
+        ->capture_default_str();
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] { action = [args] { runScan(*args); }; });
+}
+
+}  // namespace vpe::cli

@@ -1,0 +1,286 @@
+// SPDX-License-Identifier: MIT
+// vpe synth-procam --out DIR                       a complete simulated installation
+// vpe synth-procam --scene FILE --out DIR          a scan of a scene file, with its truth
+// vpe synth-procam --scene FILE --show IMAGE --out IMAGE   what the camera sees of one image
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/common/atomic_folder.h"
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+#include "vpe/common/progress_bar.h"
+#include "vpe/image/image_file.h"
+#include "vpe/procam/gallery_installation.h"
+#include "vpe/procam/simulated_capture.h"
+#include "vpe/proto/pnm_image.h"
+#include "vpe/proto/scan_manifest.h"
+#include "vpe/renderer/procam/scene_file.h"
+#include "vpe/scene/projector_calibration.h"
+
+#include "cli/commands.h"
+#include "cli/common_options.h"
+#include "cli/size_argument.h"
+
+namespace vpe::cli {
+
+namespace {
+
+namespace sim = renderer::procam;
+
+struct Arguments {
+    std::string out, scene, show;
+    std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
+    int poses = 10;
+    std::uint64_t seed = 1;
+    std::string noise = "camera";
+    bool stains = false;
+    int phasePeriod = 32, phaseSteps = 8;
+    int threads = 0;
+    bool json = false;
+};
+
+nlohmann::json cameraJson(const proto::PinholeCamera& c) {
+    return {{"width", c.width},           {"height", c.height}, {"K", c.K},
+            {"distortion", c.distortion}, {"R", c.R},           {"T", c.T}};
+}
+
+// A room-frame device re-expressed in the camera's frame (the calibration's).
+proto::PinholeCamera inCameraFrame(const proto::PinholeCamera& device,
+                                   const proto::PinholeCamera& camera) {
+    const sim::RigidPose roomToCamera{camera.R, camera.T};
+    const sim::RigidPose roomToDevice{device.R, device.T};
+    const sim::RigidPose cameraToDevice = roomToDevice.compose(roomToCamera.inverse());
+    proto::PinholeCamera out = device;
+    out.R = cameraToDevice.R;
+    out.T = cameraToDevice.t;
+    return out;
+}
+
+nlohmann::json poseJson(const sim::RigidPose& pose) {
+    return {{"R", pose.R}, {"t", pose.t}};
+}
+
+void runGallery(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    procam::GalleryOptions options;
+    const SizeArgument projector = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
+    const SizeArgument camera = parseSizeArgument(args.cameraSize, "--camera-size", 8192);
+    options.projectorWidth = projector.width;
+    options.projectorHeight = projector.height;
+    options.cameraWidth = camera.width;
+    options.cameraHeight = camera.height;
+    options.boardPoses = args.poses;
+    options.seed = args.seed;
+    options.noise = args.noise == "camera";
+    options.stains = args.stains;
+    const procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
+    const int threads = static_cast<int>(resolveThreadCount(args.threads));
+
+    AtomicFolder folder(args.out, "installation.toml", "vpe synth-procam");
+    const std::filesystem::path root = folder.temporaryPath();
+    std::filesystem::create_directories(root / "truth");
+    std::filesystem::create_directories(root / "calibration" / "scenes");
+    scene::writeScreenMeshObj(gallery.object, root / "object.obj");
+    renderer::procam::writeSceneFile(root / "installation.toml", gallery.objectScene,
+                                     gallery.camera, "object.obj");
+
+    proto::StructuredLightParameters parameters{projector.width, projector.height, args.phasePeriod,
+                                                args.phaseSteps};
+    std::size_t patterns = 0;
+    try {
+        patterns = proto::StructuredLightSequence(parameters).patterns().size();
+    } catch (const proto::StructuredLightError& error) {
+        throw InputError(std::string("--phase-period/--phase-steps: ") + error.what());
+    }
+    ProgressBar progress("synth-procam", patterns * (gallery.boardScenes.size() + 1));
+    procam::SimulatedScanOptions scan;
+    scan.phasePeriod = args.phasePeriod;
+    scan.phaseSteps = args.phaseSteps;
+
+    nlohmann::json truth;
+    const proto::PinholeCamera& c = gallery.camera.camera;
+    truth["camera"] = cameraJson(c);
+    truth["camera"].erase("R");
+    truth["camera"].erase("T");
+    truth["projector"] = cameraJson(inCameraFrame(gallery.objectScene.projector.camera, c));
+    const sim::RigidPose roomToCamera{c.R, c.T};
+    truth["object_to_camera"] = poseJson(roomToCamera.compose(gallery.objectPose));
+    truth["room_to_camera"] = poseJson(roomToCamera);
+    nlohmann::json boards = nlohmann::json::array();
+    for (std::size_t k = 0; k < gallery.boardScenes.size(); ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "pose%02zu", k + 1);
+        progress.setPhase(std::string("calibration ") + name);
+        renderer::procam::SimulatedCamera boardCamera = gallery.camera;
+        boardCamera.samples = 3;  // sharper corners
+        const sim::ProcamSimulator simulator(gallery.boardScenes[k], boardCamera, threads);
+        scan.firstFrame = 1000 * (k + 1);
+        scan.source = std::string("simulated:calibration/scenes/") + name + ".toml";
+        renderer::procam::writeSceneFile(
+            root / "calibration" / "scenes" / (std::string(name) + ".toml"), gallery.boardScenes[k],
+            boardCamera, "");
+        procam::writeSimulatedScan(simulator, root / "calibration" / name, scan, &progress);
+        boards.push_back(poseJson(roomToCamera.compose(gallery.boardScenes[k].board->pose)));
+    }
+    const sim::CheckerBoard& board = *gallery.boardScenes.front().board;
+    truth["board"] = {{"squares", {board.squaresX, board.squaresY}},
+                      {"square_mm", board.squareM * 1000},
+                      {"poses_to_camera", boards}};
+
+    progress.setPhase("object scan");
+    const sim::ProcamSimulator simulator(gallery.objectScene, gallery.camera, threads);
+    scan.firstFrame = 0;
+    scan.source = "simulated:installation.toml";
+    procam::writeSimulatedScan(simulator, root / "scan", scan, &progress);
+    progress.setPhase("truth");
+    procam::writeSimulationTruth(simulator, root / "truth");
+    writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
+    // The true calibration in vpe calibrate's own file: scans can be decoded with it alone.
+    proto::PinholeCamera cameraAtOrigin = c;
+    cameraAtOrigin.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    cameraAtOrigin.T = {0, 0, 0};
+    scene::writeProcamCalibration(inCameraFrame(gallery.objectScene.projector.camera, c),
+                                  cameraAtOrigin, std::nullopt, root / "truth" / "calibration.yml");
+    progress.finish();
+    folder.commit();
+
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "wrote %s: a simulated installation — %zu calibration poses and an object scan "
+                 "of %zu images each (projector %dx%d, camera %dx%d), the truth, in %.1f s\n",
+                 args.out.c_str(), gallery.boardScenes.size(), patterns, projector.width,
+                 projector.height, camera.width, camera.height, seconds);
+    std::fprintf(stderr, "board: %dx%d squares of %.0f mm (vpe calibrate --board %dx%d:%.0fmm)\n",
+                 board.squaresX, board.squaresY, board.squareM * 1000, board.squaresX,
+                 board.squaresY, board.squareM * 1000);
+    if (args.json) {
+        nlohmann::json json;
+        json["out"] = args.out;
+        json["poses"] = gallery.boardScenes.size();
+        json["images_per_capture"] = patterns;
+        json["board"] = std::to_string(board.squaresX) + "x" + std::to_string(board.squaresY) +
+                        ":" + std::to_string(static_cast<int>(board.squareM * 1000)) + "mm";
+        json["seconds"] = seconds;
+        printJson(json.dump());
+    }
+}
+
+void runScene(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    renderer::procam::SceneFile file;
+    try {
+        file = renderer::procam::readSceneFile(args.scene);
+    } catch (const renderer::procam::SceneFileError& error) {
+        throw InputError(error.what());
+    }
+    const int threads = static_cast<int>(resolveThreadCount(args.threads));
+    const sim::ProcamSimulator simulator(file.scene, file.camera, threads);
+    if (!args.show.empty()) {
+        const FloatImage shown = readImage(args.show);
+        const proto::PinholeCamera& p = file.scene.projector.camera;
+        if (shown.width != p.width || shown.height != p.height) {
+            throw InputError(args.show,
+                             std::to_string(shown.width) + "x" + std::to_string(shown.height) +
+                                 ", but the scene's projector is " + std::to_string(p.width) + "x" +
+                                 std::to_string(p.height));
+        }
+        renderer::RgbImage levels(p.width, p.height);
+        for (std::size_t i = 0; i < levels.pixelCount(); ++i) {
+            for (std::size_t ch = 0; ch < 3; ++ch) {
+                const int from = shown.channels >= 3 ? static_cast<int>(ch) : 0;
+                levels.values[3 * i + ch] =
+                    shown.pixels[i * static_cast<std::size_t>(shown.channels) +
+                                 static_cast<std::size_t>(from)];
+            }
+        }
+        const renderer::RgbImage radiance = simulator.radiance(levels);
+        const std::filesystem::path out(args.out);
+        if (out.extension() == ".exr") {
+            writeImage(out, radiance.width, radiance.height, 3, radiance.values,
+                       PixelFormat::kFloat);
+        } else {
+            const sim::CameraFrame frame = simulator.expose(radiance, 0);
+            std::vector<float> values(frame.samples.size());
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                values[i] =
+                    static_cast<float>(frame.samples[i]) / static_cast<float>(frame.maxValue());
+            }
+            writeImage(out, frame.width, frame.height, frame.channels, values,
+                       frame.bits > 8 ? PixelFormat::kUint16 : PixelFormat::kUint8);
+        }
+        std::fprintf(stderr, "wrote %s: the camera's view of %s\n", args.out.c_str(),
+                     args.show.c_str());
+        return;
+    }
+    proto::StructuredLightParameters parameters{file.scene.projector.camera.width,
+                                                file.scene.projector.camera.height,
+                                                args.phasePeriod, args.phaseSteps};
+    ProgressBar progress("synth-procam",
+                         proto::StructuredLightSequence(parameters).patterns().size());
+    procam::SimulatedScanOptions scan;
+    scan.phasePeriod = args.phasePeriod;
+    scan.phaseSteps = args.phaseSteps;
+    scan.source = "simulated:" + args.scene;
+    AtomicFolder folder(args.out, proto::kScanManifestName, "vpe synth-procam");
+    procam::writeSimulatedScan(simulator, folder.temporaryPath(), scan, &progress);
+    procam::writeSimulationTruth(simulator, folder.temporaryPath() / "truth");
+    progress.finish();
+    folder.commit();
+    std::fprintf(stderr, "wrote %s: a simulated scan of %s and its truth in %.1f s\n",
+                 args.out.c_str(), args.scene.c_str(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+}
+
+}  // namespace
+
+void addSynthProcamCommand(CLI::App& app, Action& action) {
+    auto args = std::make_shared<Arguments>();
+    CLI::App* command = app.add_subcommand(
+        "synth-procam",
+        "Simulate a projector–camera installation: calibration and scan captures with the truth");
+    command
+        ->add_option("--out", args->out,
+                     "Folder to write (an installation, or one scan); with --show, the image")
+        ->required();
+    command->add_option("--scene", args->scene,
+                        "A scene file (installation.toml) to simulate instead of the gallery");
+    command->add_option("--show", args->show,
+                        "With --scene: a projector image; writes what the camera records of it");
+    command->add_option("--projector-size", args->projectorSize, "Projector resolution WxH")
+        ->capture_default_str();
+    command->add_option("--camera-size", args->cameraSize, "Camera resolution WxH")
+        ->capture_default_str();
+    command->add_option("--poses", args->poses, "Checkerboard poses for the calibration")
+        ->capture_default_str();
+    command->add_option("--seed", args->seed, "Chooses the object's pose and the noise")
+        ->capture_default_str();
+    command->add_option("--noise", args->noise, "camera (shot + read noise) or none")
+        ->check(CLI::IsMember({"camera", "none"}))
+        ->capture_default_str();
+    command->add_flag("--stains", args->stains, "Non-uniform plaster: a greyer foot and stains");
+    command->add_option("--phase-period", args->phasePeriod, "Projector pixels per sinusoid")
+        ->capture_default_str();
+    command->add_option("--phase-steps", args->phaseSteps, "Phase shifts per axis")
+        ->capture_default_str();
+    addThreadsOption(command, args->threads);
+    addJsonFlag(command, args->json);
+    command->callback([args, &action] {
+        action = [args] {
+            if (!args->show.empty() && args->scene.empty()) {
+                throw InputError("--show needs --scene FILE");
+            }
+            if (args->scene.empty()) {
+                runGallery(*args);
+            } else {
+                runScene(*args);
+            }
+        };
+    });
+}
+
+}  // namespace vpe::cli

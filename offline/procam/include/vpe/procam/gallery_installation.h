@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// GalleryInstallation: a complete simulated installation to rehearse on and test against — the
+// built-in vase standing at a pose nobody told vpe, a projector that is not the demo's (lens
+// shift, distortion, a response, a black level, defocus), a camera beside it (a Raspberry Pi
+// camera's 1640 × 1232 binned raw mode: linear, 10 bits, shot and read noise), a lit room, and
+// the checkerboard poses for the calibration (docs/install.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vpe/renderer/procam/procam_scene.h"
+#include "vpe/scene/screen_mesh.h"
+
+namespace vpe::procam {
+
+struct GalleryOptions {
+    int projectorWidth = 1920, projectorHeight = 1080;
+    int cameraWidth = 1640, cameraHeight = 1232;
+    int boardPoses = 10;
+    bool noise = true;
+    // Chooses the object's pose (a turn about its axis, a lean, an offset) and the noise.
+    std::uint64_t seed = 1;
+    bool stains = false;  // non-uniform plaster (greyer foot, stains)
+};
+
+struct GalleryInstallation {
+    scene::ScreenMesh object;                                // the vase in its own frame
+    renderer::procam::ProcamScene objectScene;               // the vase at its pose
+    std::vector<renderer::procam::ProcamScene> boardScenes;  // the board at each pose, alone
+    renderer::procam::SimulatedCamera camera;
+    renderer::procam::RigidPose objectPose;  // object frame → room (the truth)
+};
+
+// Throws InputError for sizes out of range (8..8192) or fewer than 3 board poses.
+GalleryInstallation makeGalleryInstallation(const GalleryOptions& options);
+
+// The ScreenMesh as the simulator's object at `pose`.
+renderer::procam::ScreenObject screenObjectOf(const scene::ScreenMesh& mesh,
+                                              const renderer::procam::RigidPose& pose);
+
+}  // namespace vpe::procam

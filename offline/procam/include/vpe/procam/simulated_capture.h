@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// Simulated captures on disk: a scan folder exactly as vpe-player --scan writes one
+// (proto/SCAN.md), rendered by the projector–camera simulator, and the truth files beside it.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "vpe/common/progress_bar.h"
+#include "vpe/proto/structured_light.h"
+#include "vpe/renderer/procam/procam_simulator.h"
+
+namespace vpe::procam {
+
+struct SimulatedScanOptions {
+    int phasePeriod = 32;
+    int phaseSteps = 8;
+    // Frames are numbered from here for the noise, so that two captures differ.
+    std::uint64_t firstFrame = 0;
+    std::string source = "simulated";  // the manifest's camera.source
+};
+
+// Renders every pattern of the sequence for the simulator's projector, exposes it and writes
+// NNN-<pattern>.pgm (8 or 10 bits, as the camera) and scan.json into `folder` (created; its
+// former pattern images and manifest are replaced). `progress` advances once per image when
+// given.
+void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
+                        const std::filesystem::path& folder, const SimulatedScanOptions& options,
+                        ProgressBar* progress = nullptr);
+
+// The file name of image `index` showing `pattern`, as the device names it.
+std::string scanImageName(std::size_t index, const proto::PatternSpec& pattern);
+
+// The truth of the simulator's installation, in the camera's frame:
+//   camera-truth.exr: per camera pixel, the projector coordinate it sees (projector.x/y: the
+//     light-weighted mean over its area, CameraTruth), its centre ray's (centre.x/y) and the
+//     point that ray meets (point.X/Y/Z); NaN elsewhere;
+//   projector-truth.exr: per projector pixel, the point it lights (position.X/Y/Z), the normal
+//     there (normal.X/Y/Z) and whether the camera sees it (seen, 0 or 1).
+void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
+                          const std::filesystem::path& folder);
+
+}  // namespace vpe::procam

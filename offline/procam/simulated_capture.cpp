@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// Writing simulated scan folders and the truth beside them.
+#include "vpe/procam/simulated_capture.h"
+
+#include <cstdio>
+
+#include "vpe/common/input_error.h"
+#include "vpe/image/image_file.h"
+#include "vpe/proto/pnm_image.h"
+#include "vpe/proto/scan_manifest.h"
+
+namespace vpe::procam {
+
+std::string scanImageName(std::size_t index, const proto::PatternSpec& pattern) {
+    char number[16];
+    std::snprintf(number, sizeof number, "%03zu", index);
+    return std::string(number) + "-" + pattern.name() + ".pgm";
+}
+
+void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
+                        const std::filesystem::path& folder, const SimulatedScanOptions& options,
+                        ProgressBar* progress) {
+    const proto::PinholeCamera& projector = simulator.scene().projector.camera;
+    proto::StructuredLightParameters parameters;
+    parameters.width = projector.width;
+    parameters.height = projector.height;
+    parameters.phasePeriod = options.phasePeriod;
+    parameters.phaseSteps = options.phaseSteps;
+    std::optional<proto::StructuredLightSequence> sequence;
+    try {
+        sequence.emplace(parameters);
+    } catch (const proto::StructuredLightError& error) {
+        throw InputError(error.what());
+    }
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    if (error) {
+        throw InputError(folder, "cannot create the scan folder (" + error.message() + ")");
+    }
+    const renderer::procam::SimulatedCamera& camera = simulator.camera();
+    proto::ScanManifest manifest;
+    manifest.patterns = parameters;
+    manifest.camera.width = camera.camera.width;
+    manifest.camera.height = camera.camera.height;
+    manifest.camera.bits = camera.bits;
+    manifest.camera.source = options.source;
+    manifest.createdBy = "vpe synth-procam";
+    std::vector<std::uint8_t> codes(static_cast<std::size_t>(parameters.width) * parameters.height);
+    const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
+    for (std::size_t i = 0; i < patterns.size(); ++i) {
+        sequence->render(patterns[i], codes);
+        const renderer::procam::CameraFrame frame =
+            simulator.expose(simulator.radiance(codes), options.firstFrame + i);
+        const std::string name = scanImageName(i, patterns[i]);
+        try {
+            proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
+                                      frame.maxValue(), frame.samples);
+        } catch (const std::exception& failure) {
+            throw InputError(failure.what());
+        }
+        manifest.images.push_back({name, patterns[i].name(), 1});
+        if (progress != nullptr) {
+            progress->advance();
+        }
+    }
+    try {
+        proto::writeScanManifest(folder, manifest);
+    } catch (const std::exception& failure) {
+        throw InputError(failure.what());
+    }
+}
+
+void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
+                          const std::filesystem::path& folder) {
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    const renderer::procam::CameraTruth camera = simulator.cameraTruth();
+    const proto::PinholeCamera& c = simulator.camera().camera;
+    const std::size_t cameraPixels = static_cast<std::size_t>(c.width) * c.height;
+    std::vector<float> cameraValues(cameraPixels * 7);
+    for (std::size_t p = 0; p < cameraPixels; ++p) {
+        cameraValues[7 * p] = camera.projectorX[p];
+        cameraValues[7 * p + 1] = camera.projectorY[p];
+        cameraValues[7 * p + 2] = camera.centreX[p];
+        cameraValues[7 * p + 3] = camera.centreY[p];
+        for (std::size_t k = 0; k < 3; ++k) {
+            cameraValues[7 * p + 4 + k] = camera.pointCamera[3 * p + k];
+        }
+    }
+    writeImage(
+        folder / "camera-truth.exr", c.width, c.height, 7, cameraValues, PixelFormat::kFloat,
+        {"projector.x", "projector.y", "centre.x", "centre.y", "point.X", "point.Y", "point.Z"});
+    const renderer::procam::ProjectorTruth projector = simulator.projectorTruth();
+    const std::size_t projectorPixels =
+        static_cast<std::size_t>(projector.width) * projector.height;
+    std::vector<float> projectorValues(projectorPixels * 7);
+    for (std::size_t p = 0; p < projectorPixels; ++p) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            projectorValues[7 * p + k] = projector.position[3 * p + k];
+            projectorValues[7 * p + 3 + k] = projector.normal[3 * p + k];
+        }
+        projectorValues[7 * p + 6] = projector.seen[p];
+    }
+    writeImage(
+        folder / "projector-truth.exr", projector.width, projector.height, 7, projectorValues,
+        PixelFormat::kFloat,
+        {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "seen"});
+}
+
+}  // namespace vpe::procam

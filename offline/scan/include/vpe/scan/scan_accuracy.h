@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+// ScanAccuracy: a scan against the simulator's truth (vpe synth-procam's truth/ folder) — how
+// much of the object it measured, how well, and how many camera pixels it decoded wrong.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+
+#include "vpe/scan/projector_surface.h"
+
+namespace vpe::scan {
+
+struct ScanAccuracy {
+    // Projector pixels whose lit object point the camera sees, and how many of them were
+    // measured: the coverage.
+    std::size_t seen = 0, measuredSeen = 0;
+    double coverage = 0;
+    // Distance between measured and true points, over measured pixels that light the object
+    // (millimetres), and the angle between normals (degrees).
+    double depthRmsMm = 0, depthP99Mm = 0, normalMedianDeg = 0, normalP95Deg = 0;
+    // Measured pixels where the truth has no surface (false measurements).
+    std::size_t measuredWithoutTruth = 0;
+    // Camera pixels: decoded, decoded more than one projector pixel from the coordinate the
+    // pixel sees (the light-weighted mean over its area: CameraTruth), and their share; decoded
+    // where the pixel sees no lit point.
+    std::size_t decoded = 0, wrongDecodes = 0, decodedWithoutTruth = 0;
+    double wrongDecodeShare = 0;
+    double decodeRmsPx = 0;  // over decoded pixels with a truth, both axes
+    // The same against the coordinate of the pixel's centre ray alone: stricter where one camera
+    // pixel sees many projector pixels (grazing surfaces), whose mean is not the centre's.
+    std::size_t wrongAtCentre = 0;
+    double wrongAtCentreShare = 0;
+};
+
+// Reads truth/camera-truth.exr and truth/projector-truth.exr (InputError naming a missing or
+// mismatched file).
+ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
+                              const ProjectorSurface& surface,
+                              const std::filesystem::path& truthFolder);
+
+}  // namespace vpe::scan

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: MIT
+// decodePatterns: per camera pixel, which projector pixel lights it — the Gray code gives the
+// quarter period, the phase shifting the position inside the period — with a robustness test
+// at every step, so that pixels in shadow, saturated, or lit mostly by interreflection are
+// marked, never guessed (docs/install.md, "How a scan is decoded").
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vpe/structured_light/scan_capture.h"
+
+namespace vpe::structured_light {
+
+// Why a pixel has no projector coordinate.
+enum class DecodeStatus : std::uint8_t {
+    kDecoded = 0,
+    kDark,           // the projector's light is below minDirect here (shadow, off the object)
+    kSaturated,      // the white frame clipped: the phase would be wrong
+    kAmbiguous,      // a Gray bit the direct light cannot tell from the global (interreflection)
+    kLowModulation,  // the sinusoid is too weak: against the direct light (mixed surfaces,
+                     // blur), or against the camera's noise (the position's σ > maxSigma)
+    kInconsistent,   // the phase disagrees with the Gray code
+    // A mixed pixel where the decoded coordinates step between neighbours (two surfaces at
+    // different depths in one pixel, as a lip over a neck): its coordinate is a blend of two,
+    // not a point of either surface.
+    kEdge,
+};
+inline constexpr int kDecodeStatusCount = 7;
+const char* decodeStatusName(DecodeStatus status);
+
+struct DecodeOptions {
+    // The least direct light (white − black, as a fraction of the camera's full scale) worth
+    // decoding.
+    double minDirect = 0.015;
+    // A white frame at or above this is clipped.
+    double saturation = 0.995;
+    // Noise margins of the bit tests: this many standard deviations of the camera's noise
+    // (measured on the capture itself, see NoiseModel), plus a share of the pixel's
+    // white − black for what the noise model does not see (response, blur).
+    double noiseSigmas = 3.5;
+    double relativeMargin = 0.04;
+    // The phase's amplitude must reach this share of the direct light.
+    double minModulation = 0.15;
+    // The position's expected standard deviation from the camera's noise (DecodedScan::precision)
+    // must stay below this many projector pixels: dimmer pixels are too noisy to place.
+    double maxSigma = 0.25;
+    // Bends of the decoded coordinates, x(left) + x(right) − 2·x on a row or a column, beyond
+    // this many projector pixels and of opposite signs at two neighbours mark a step.
+    double maxBend = 1.5;
+    int threads = 0;
+};
+
+// The camera noise the capture itself shows: σ² = a + b·signal, fitted to how far
+// pattern + inverse departs from white + black on the finest Gray pairs (where they must sum to
+// the same), per brightness bin, by the median absolute deviation.
+struct NoiseModel {
+    double constant = 0, perSignal = 0;
+    double sigma(double signal) const;
+};
+
+struct DecodedScan {
+    int width = 0, height = 0;  // the camera's
+    int projectorWidth = 0, projectorHeight = 0;
+    std::vector<float> projectorX, projectorY;  // pixel centres at integers; NaN undecoded
+    std::vector<float> direct;        // L_d: the projector's direct light, white − black share
+    std::vector<float> global;        // L_g: interreflection and scatter under full white
+    std::vector<float> white, black;  // the two flat frames
+    // The decoded position's expected standard deviation from the camera's noise (projector
+    // pixels, the worse axis); NaN undecoded.
+    std::vector<float> precision;
+    std::vector<DecodeStatus> status;
+    NoiseModel noise;
+    std::vector<std::size_t> statusCounts;  // kDecodeStatusCount entries
+    std::size_t decoded = 0;
+    std::size_t lit = 0;  // pixels with direct light ≥ minDirect: the object the camera sees lit
+};
+
+// Throws InputError naming the capture when it cannot be decoded at all: an image missing or of
+// another size (ScanCapture), a white frame that is black (no projector light reaches the
+// camera), or one whose lit pixels are mostly saturated.
+DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& options = {});
+
+}  // namespace vpe::structured_light
