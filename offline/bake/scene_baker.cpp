@@ -122,9 +122,26 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         throw InputError("bake: --preset goes with --quilt (a composed --texture has one region)");
     }
     // Cheap checks first: the projector and the response, then the mesh, then the textures.
+    if (!options.scan.empty() && !options.projector.empty()) {
+        throw InputError("bake: --scan brings its own calibration; leave out --projector");
+    }
     BundleContents contents;
+    std::optional<ScanPlacement> placement;
     scene::ProjectorCalibration projector;
-    if (options.projector.empty()) {
+    std::optional<proto::PinholeCamera> camera = options.camera;
+    scene::ScreenMesh mesh;
+    if (!options.scan.empty()) {
+        std::optional<scene::ScreenMesh> given;
+        if (!options.mesh.empty()) {
+            scene::ScreenMeshLoadOptions load;
+            load.metresPerUnit = options.meshMetresPerUnit;
+            given = scene::loadScreenMesh(options.mesh, load);
+        }
+        placement = placeFromScan(options.scan, given, options.registration);
+        projector = placement->projector;
+        camera = placement->camera;
+        mesh = placement->mesh;
+    } else if (options.projector.empty()) {
         projector = scene::makeDemoProjector(options.demoDistance);
     } else {
         scene::ProjectorCalibrationOverrides overrides;
@@ -134,7 +151,6 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         projector = scene::readProjectorCalibration(options.projector, overrides);
     }
     contents.projector = toBundleProjector(projector);
-    std::optional<proto::PinholeCamera> camera = options.camera;
     if (camera) {
         scene::validateCameraCalibration(*camera, "camera");
     } else if (!options.projector.empty()) {
@@ -146,17 +162,19 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
     contents.settings = options.settings;
     contents.settings.response = toBundleResponse(scene::parseProjectorResponse(options.response));
 
-    scene::ScreenMesh mesh;
-    if (options.mesh.empty()) {
-        mesh = scene::makeProceduralVase();
-    } else {
-        scene::ScreenMeshLoadOptions load;
-        load.metresPerUnit = options.meshMetresPerUnit;
-        mesh = scene::loadScreenMesh(options.mesh, load);
+    if (!placement) {  // a scan placed its mesh above
+        if (options.mesh.empty()) {
+            mesh = scene::makeProceduralVase();
+        } else {
+            scene::ScreenMeshLoadOptions load;
+            load.metresPerUnit = options.meshMetresPerUnit;
+            mesh = scene::loadScreenMesh(options.mesh, load);
+        }
     }
     contents.mesh = toBundleMesh(mesh);
 
     BakeReport report;
+    report.placement = placement;
     report.vertices = mesh.vertexCount();
     report.triangles = mesh.triangleCount();
     std::vector<CoefficientTexture> textures;

@@ -57,7 +57,7 @@ namespace {
 
 struct Arguments {
     bake::BakeOptions options;
-    std::string texture, quilt, mesh, projector, projectorSize, out;
+    std::string texture, quilt, mesh, projector, projectorSize, out, scan;
     std::vector<std::string> presets;
     std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
     std::string encoding = "low-rank";
@@ -75,6 +75,7 @@ void runBake(const Arguments& args) {
     options.quilt = args.quilt;
     options.mesh = args.mesh;
     options.projector = args.projector;
+    options.scan = args.scan;
     if (!args.projectorSize.empty()) {
         const SizeArgument size = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
         options.projectorWidth = size.width;
@@ -118,9 +119,43 @@ void runBake(const Arguments& args) {
                      ? ": the mesh's u wraps but the textures do not tile, so u = 0 | 1 "
                        "shows as a seam (vpe quilt --wrap auto makes them tile)"
                      : "");
+    const std::optional<bake::ScanPlacement>& placement = report.placement;
+    if (placement && placement->registration) {
+        const registration::RegistrationResult& r = *placement->registration;
+        std::fprintf(
+            stderr,
+            "registered %s to the scan: residual %.3f mm over %.1f%% of %zu scan points%s\n",
+            args.mesh.c_str(), r.rmsMm, 100 * r.inlierShare, r.scanPoints,
+            r.turnUnmeasured
+                ? ("; a surface of revolution: its turn about the axis is not measured, "
+                   "so its front (+z) was turned " +
+                   std::to_string(static_cast<int>(std::lround(r.turnSetDeg))) +
+                   "° to face the projector")
+                      .c_str()
+                : "");
+    } else if (placement) {
+        std::fprintf(stderr, "the scan's own surface is the screen object (%s chart)\n",
+                     registration::surfaceChartName(*placement->chart));
+    }
     if (args.json) {
         nlohmann::json json;
         json["out"] = args.out;
+        if (placement) {
+            json["object_to_camera"] = {{"R", placement->objectToCamera.R},
+                                        {"t", placement->objectToCamera.t}};
+            if (placement->registration) {
+                const registration::RegistrationResult& r = *placement->registration;
+                json["registration"] = {{"rms_mm", r.rmsMm},
+                                        {"inlier_share", r.inlierShare},
+                                        {"scan_points", r.scanPoints},
+                                        {"turn_unmeasured", r.turnUnmeasured},
+                                        {"turn_set_deg", r.turnSetDeg},
+                                        {"axis", r.axis},
+                                        {"axis_point", r.axisPoint}};
+            } else {
+                json["surface_chart"] = registration::surfaceChartName(*placement->chart);
+            }
+        }
         json["regions"] = report.regions;
         json["texture_width"] = report.textureWidth;
         json["texture_height"] = report.textureHeight;
@@ -158,7 +193,11 @@ void addBakeCommand(CLI::App& app, Action& action) {
                         "NAME=WEIGHTS: a weight-map preset for --quilt (vpe compose's --weights "
                         "spec); repeat for more; the first is the default");
     command->add_option("--mesh", args->mesh,
-                        "Screen object (OBJ or PLY with UVs); default: the built-in vase");
+                        "Screen object (OBJ or PLY with UVs); default: the built-in vase, or with "
+                        "--scan the scan's own surface");
+    command->add_option("--scan", args->scan,
+                        "A scan (vpe scan's --out): its calibration, and the mesh registered to "
+                        "it (or its surface when no --mesh)");
     command
         ->add_option("--mesh-scale", args->options.meshMetresPerUnit,
                      "Metres per mesh unit (0.001 for millimetres)")

@@ -9,6 +9,7 @@
 #include "vpe/common/atomic_folder.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/registration/surface_mesh.h"
 #include "vpe/scan/scan_accuracy.h"
 #include "vpe/scan/scan_files.h"
 #include "vpe/scene/projector_calibration.h"
@@ -70,8 +71,12 @@ void runScan(const Arguments& args) {
     scan::writePointCloud(surface, folder.temporaryPath() / scan::kPointCloudFile);
     scan::writeScanSheet(decoded, surface, folder.temporaryPath() / scan::kScanSheetFile);
     scan::writeDecoded(decoded, folder.temporaryPath() / scan::kDecodedFile);
-    // The calibration goes with the scan (vpe bake --scan reads both).
+    // The calibration goes with the scan (vpe bake --scan reads both), and the scan's own
+    // surface as a mesh, for an installation without one.
     std::filesystem::copy_file(args.calibration, folder.temporaryPath() / scan::kCalibrationFile);
+    const registration::SurfaceMesh surfaceMesh =
+        registration::makeSurfaceMesh(surface, rig.projector);
+    registration::writeSurfaceMesh(surfaceMesh, folder.temporaryPath());
     folder.commit();
     const double writeSeconds = secondsSince(writeStart);
 
@@ -84,6 +89,14 @@ void runScan(const Arguments& args) {
                  "pixels; decode %.2f s, triangulate %.2f s, write %.2f s\n",
                  args.out.c_str(), decoded.decoded, decoded.lit, 100 * decodedShare,
                  surface.measured, decodeSeconds, triangulateSeconds, writeSeconds);
+    std::fprintf(stderr, "surface mesh: %zu triangles, %s chart%s\n",
+                 surfaceMesh.mesh.triangleCount(),
+                 registration::surfaceChartName(surfaceMesh.chart),
+                 surfaceMesh.axis.valid
+                     ? (" (axis of revolution fits the normals to " +
+                        std::to_string(1000 * surfaceMesh.axis.rmsM).substr(0, 5) + " mm)")
+                           .c_str()
+                     : "");
     if (accuracy) {
         std::fprintf(stderr,
                      "against the truth: coverage %.2f%%, depth RMS %.3f mm (p99 %.3f), normals "
@@ -109,6 +122,9 @@ void runScan(const Arguments& args) {
         json["noise_sigma_at_half"] = decoded.noise.sigma(0.5);
         json["measured_projector_pixels"] = surface.measured;
         json["completed_projector_pixels"] = surface.completed;
+        json["surface_chart"] = registration::surfaceChartName(surfaceMesh.chart);
+        json["surface_triangles"] = surfaceMesh.mesh.triangleCount();
+        json["axis_rms_mm"] = 1000 * surfaceMesh.axis.rmsM;
         json["decode_seconds"] = decodeSeconds;
         json["triangulate_seconds"] = triangulateSeconds;
         json["scan_seconds"] = decodeSeconds + triangulateSeconds;

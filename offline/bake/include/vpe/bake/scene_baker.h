@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "vpe/bake/scan_placement.h"
 #include "vpe/proto/bundle_contents.h"
 #include "vpe/proto/pinhole_camera.h"
 
@@ -29,6 +30,10 @@ struct BakeOptions {
     // The screen object: an OBJ/PLY file, or empty for the built-in vase.
     std::filesystem::path mesh;
     double meshMetresPerUnit = 1.0;
+    // A scan folder (vpe scan's --out): the projector and camera from its calibration, the mesh
+    // placed in it by registration (scan_placement.h), or the scan's own surface without a mesh.
+    std::filesystem::path scan;
+    registration::RegistrationOptions registration;
     // The projector: a calibration file, or empty for the demo projector at `demoDistance`.
     std::filesystem::path projector;
     std::optional<int> projectorWidth, projectorHeight;
@@ -73,6 +78,8 @@ struct BakeReport {
     // The bundle carries the installation's camera (at this resolution).
     bool camera = false;
     int cameraWidth = 0, cameraHeight = 0;
+    // With a scan: where the object stands in the camera's frame, and how it was found.
+    std::optional<ScanPlacement> placement;
     std::uint64_t bytes = 0;
     std::uint32_t checksum = 0;
 };
