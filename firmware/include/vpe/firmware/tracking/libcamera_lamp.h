@@ -1,38 +1,28 @@
 // SPDX-License-Identifier: MIT
 // LibcameraLamp: the camera-tracked lamp as an InputDevice (libcamera 0.0.3). The camera runs
-// at a fixed exposure and gain; libcamera's thread hands completed requests over through a
-// mutex-protected queue and an eventfd, and the player's loop runs LampTracker on the newest
-// frame (older ones are dropped: latency over completeness).
+// at a fixed exposure and gain (LibcameraStream, shared with the scan); its eventfd joins the
+// player's loop, which runs LampTracker on the newest frame (older ones are dropped: latency
+// over completeness).
 #pragma once
 
 #include <cstdint>
 #include <map>
-#include <memory>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "vpe/firmware/input/input_device.h"
 #include "vpe/firmware/tracking/camera_config.h"
 #include "vpe/firmware/tracking/lamp_tracker.h"
+#include "vpe/firmware/tracking/libcamera_stream.h"
 
 namespace vpe::firmware {
 
-// The camera cannot be used: none present, the requested id absent, busy, or refusing the
-// configuration. One line starting "camera: " or "camera <id>: ", e.g. "camera: no camera found
-// (libcamera lists none)".
-class CameraUnavailable : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
 class LibcameraLamp final : public InputDevice {
 public:
-    // Starts a libcamera CameraManager, acquires and configures the camera (luminance-first
-    // format: R8, YUV420, NV12, NV21 or YVU420; config.tracking's size), maps its buffers and
-    // starts streaming; positions become directions through `map` (lampDirectionMapOf). Throws
-    // CameraUnavailable. libcamera allows one CameraManager per process, so at most one
-    // LibcameraLamp may exist at a time.
+    // Opens the camera as a viewfinder stream of config.tracking's size at the fixed exposure
+    // and gain (LibcameraStream); positions become directions through `map`
+    // (lampDirectionMapOf). Throws CameraUnavailable. libcamera allows one CameraManager per
+    // process, so at most one LibcameraLamp (or other LibcameraStream) may exist at a time.
     LibcameraLamp(const CameraConfig& config, LampDirectionMap map);
     // The same with config.calibration's table; also throws CalibrationError when the table
     // does not determine a map.
@@ -54,10 +44,8 @@ public:
     void setDirectionMap(LampDirectionMap map) { tracker_.setDirectionMap(std::move(map)); }
 
 private:
-    class Session;  // the libcamera objects, kept out of this header
-
     LampTracker tracker_;
-    std::unique_ptr<Session> session_;
+    LibcameraStream stream_;
 };
 
 }  // namespace vpe::firmware
