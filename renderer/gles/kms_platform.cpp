@@ -96,6 +96,9 @@ public:
             throw GraphicsError("EGL: eglMakeCurrent failed: " + eglErrorName(eglGetError()));
         }
     }
+    std::optional<std::array<int, 2>> fixedTargetSize() const override {
+        return std::array<int, 2>{display_.width(), display_.height()};
+    }
     std::unique_ptr<RenderTarget> createRenderTarget(int width, int height) override {
         if (width != display_.width() || height != display_.height()) {
             throw GraphicsError(

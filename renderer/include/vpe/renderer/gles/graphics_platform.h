@@ -5,8 +5,10 @@
 // page flips, kmscube's call order, kms_platform.h).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +57,10 @@ public:
     // A target of that size (a KMS platform accepts only its mode's size). Throws GraphicsError
     // for sizes outside 1 … GL_MAX_RENDERBUFFER_SIZE.
     virtual std::unique_ptr<RenderTarget> createRenderTarget(int width, int height) = 0;
+    // The one size a target may have when the platform fixes it ({width, height}: a KMS
+    // display's mode), for callers that draw whatever the display is (a scan's patterns);
+    // empty when any size goes (headless).
+    virtual std::optional<std::array<int, 2>> fixedTargetSize() const { return std::nullopt; }
     // Makes the platform's context current on the calling thread.
     virtual void makeCurrent() = 0;
 };
