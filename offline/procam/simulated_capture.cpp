@@ -2,20 +2,12 @@
 // Writing simulated scan folders and the truth beside them.
 #include "vpe/procam/simulated_capture.h"
 
-#include <cstdio>
-
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/proto/scan_manifest.h"
 
 namespace vpe::procam {
-
-std::string scanImageName(std::size_t index, const proto::PatternSpec& pattern) {
-    char number[16];
-    std::snprintf(number, sizeof number, "%03zu", index);
-    return std::string(number) + "-" + pattern.name() + ".pgm";
-}
 
 void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
                         const std::filesystem::path& folder, const SimulatedScanOptions& options,
@@ -51,7 +43,7 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
         sequence->render(patterns[i], codes);
         const renderer::procam::CameraFrame frame =
             simulator.expose(simulator.radiance(codes), options.firstFrame + i);
-        const std::string name = scanImageName(i, patterns[i]);
+        const std::string name = proto::scanImageName(i, patterns[i]);
         try {
             proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
                                       frame.maxValue(), frame.samples);

@@ -4,6 +4,7 @@
 #include "vpe/proto/scan_manifest.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -247,6 +248,12 @@ void writeScanManifest(const std::filesystem::path& folder, const ScanManifest& 
     const std::string text = scanManifestJson(manifest);
     parseScanManifest(text, path.string());
     writeFileAtomically(path, {std::span<const char>(text)});
+}
+
+std::string scanImageName(std::size_t index, const PatternSpec& pattern) {
+    char number[24];
+    std::snprintf(number, sizeof number, "%03zu", index);
+    return std::string(number) + "-" + pattern.name() + ".pgm";
 }
 
 }  // namespace vpe::proto

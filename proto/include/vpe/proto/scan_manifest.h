@@ -5,6 +5,7 @@
 // vpe calibrate: one definition of the folder for both sides.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -60,5 +61,9 @@ void writeScanManifest(const std::filesystem::path& folder, const ScanManifest& 
 
 // The manifest's folder for `folderOrFile` (the file's parent when given a file).
 std::filesystem::path scanFolderOf(const std::filesystem::path& folderOrFile);
+
+// The file name of image `index` showing `pattern`: "NNN-<pattern name>.pgm" ("007-gray-x-b5.pgm"),
+// as the device and the simulator both name them.
+std::string scanImageName(std::size_t index, const PatternSpec& pattern);
 
 }  // namespace vpe::proto

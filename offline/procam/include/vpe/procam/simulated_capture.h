@@ -29,9 +29,6 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
                         const std::filesystem::path& folder, const SimulatedScanOptions& options,
                         ProgressBar* progress = nullptr);
 
-// The file name of image `index` showing `pattern`, as the device names it.
-std::string scanImageName(std::size_t index, const proto::PatternSpec& pattern);
-
 // The truth of the simulator's installation, in the camera's frame:
 //   camera-truth.exr: per camera pixel, the projector coordinate it sees (projector.x/y: the
 //     light-weighted mean over its area, CameraTruth), its centre ray's (centre.x/y) and the
