@@ -2,6 +2,7 @@
 #include "board/toml_fields.h"
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace vpe::firmware::toml_fields {
@@ -12,6 +13,12 @@ void fail(const std::string& source, const std::string& key, const std::string& 
 
 std::string qualified(const std::string& section, const std::string& key) {
     return section.empty() ? key : section + "." + key;
+}
+
+std::string numberText(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
 }
 
 const char* typeName(const toml::node& node) {
@@ -109,6 +116,34 @@ std::optional<bool> optionalBool(const toml::table& table, const std::string& so
              std::string("expected a boolean, got ") + typeName(*node));
     }
     return *node->value<bool>();
+}
+
+int integerIn(const toml::table& table, const std::string& source, const std::string& section,
+              const char* key, long long low, long long high, int fallback) {
+    const std::optional<long long> value = optionalInteger(table, source, section, key);
+    if (!value) {
+        return fallback;
+    }
+    if (*value < low || *value > high) {
+        fail(source, qualified(section, key),
+             "expected an integer in " + std::to_string(low) + "…" + std::to_string(high) +
+                 ", got " + std::to_string(*value));
+    }
+    return static_cast<int>(*value);
+}
+
+double numberIn(const toml::table& table, const std::string& source, const std::string& section,
+                const char* key, double low, bool lowOpen, double high, double fallback) {
+    const std::optional<double> value = optionalNumber(table, source, section, key);
+    if (!value) {
+        return fallback;
+    }
+    if ((lowOpen ? !(*value > low) : !(*value >= low)) || !(*value <= high)) {
+        fail(source, qualified(section, key),
+             std::string("expected a number in ") + (lowOpen ? "(" : "[") + numberText(low) + ", " +
+                 numberText(high) + "], got " + numberText(*value));
+    }
+    return *value;
 }
 
 std::optional<std::pair<double, double>> optionalRange(const toml::table& table,

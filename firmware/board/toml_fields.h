@@ -38,6 +38,12 @@ std::optional<long long> optionalInteger(const toml::table& table, const std::st
                                          const std::string& section, const char* key);
 std::optional<bool> optionalBool(const toml::table& table, const std::string& source,
                                  const std::string& section, const char* key);
+// An integer in [low, high]; `fallback` when absent.
+int integerIn(const toml::table& table, const std::string& source, const std::string& section,
+              const char* key, long long low, long long high, int fallback);
+// A number in [low, high] ((low, high] when `lowOpen`); `fallback` when absent.
+double numberIn(const toml::table& table, const std::string& source, const std::string& section,
+                const char* key, double low, bool lowOpen, double high, double fallback);
 // [low, high] with low ≤ high, both finite.
 std::optional<std::pair<double, double>> optionalRange(const toml::table& table,
                                                        const std::string& source,
@@ -51,5 +57,8 @@ std::vector<const toml::table*> optionalTableArray(const toml::table& table,
 
 // "section.key", or "key" for the root.
 std::string qualified(const std::string& section, const std::string& key);
+
+// "%g": errors quote 0.5 as 0.5, the way the file most likely wrote it.
+std::string numberText(double value);
 
 }  // namespace vpe::firmware::toml_fields

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include <toml++/toml.h>
@@ -21,42 +20,6 @@ using namespace toml_fields;
 
 constexpr const char* kSection = "camera";
 constexpr int kMaxSide = 4096;
-
-// "%g": errors quote 0.5 as 0.5, the way the file most likely wrote it.
-std::string numberText(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
-    return text;
-}
-
-int integerIn(const toml::table& table, const std::string& source, const std::string& section,
-              const char* key, long long low, long long high, int fallback) {
-    const std::optional<long long> value = optionalInteger(table, source, section, key);
-    if (!value) {
-        return fallback;
-    }
-    if (*value < low || *value > high) {
-        fail(source, qualified(section, key),
-             "expected an integer in " + std::to_string(low) + "…" + std::to_string(high) +
-                 ", got " + std::to_string(*value));
-    }
-    return static_cast<int>(*value);
-}
-
-// A number in [low, high] (or (low, high] when `lowOpen`).
-double numberIn(const toml::table& table, const std::string& source, const std::string& section,
-                const char* key, double low, bool lowOpen, double high, double fallback) {
-    const std::optional<double> value = optionalNumber(table, source, section, key);
-    if (!value) {
-        return fallback;
-    }
-    if ((lowOpen ? !(*value > low) : !(*value >= low)) || !(*value <= high)) {
-        fail(source, qualified(section, key),
-             std::string("expected a number in ") + (lowOpen ? "(" : "[") + numberText(low) + ", " +
-                 numberText(high) + "], got " + numberText(*value));
-    }
-    return *value;
-}
 
 double pointValue(const toml::array& point, std::size_t index, const std::string& source,
                   const std::string& key) {
