@@ -64,6 +64,7 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
                                description);
     }
     std::set<std::string, std::less<>> sections{"board", "display", "render", "light", "idle"};
+    sections.insert("scan");  // scan/scan_config.h: what vpe-player --scan needs
     sections.insert(kInputSections.begin(), kInputSections.end());
     checkKeys(root, source, "", sections);
     for (const std::string& input : kInputSections) {
@@ -74,6 +75,9 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
     config.source = source;
     config.light = parseLightConfig(optionalTable(root, source, "", "light"), source);
     config.idle = parseIdleConfig(optionalTable(root, source, "", "idle"), source);
+    if (const toml::table* scan = optionalTable(root, source, "", "scan")) {
+        config.scan = parseScanConfig(*scan, source);
+    }
     if (const toml::table* board = optionalTable(root, source, "", "board")) {
         checkKeys(*board, source, "board", {"name"});
         config.name = optionalString(*board, source, "board", "name").value_or("");

@@ -15,6 +15,7 @@
 #include <toml++/impl/forward_declarations.h>  // toml::table, without the parser
 
 #include "vpe/firmware/light/light_config.h"
+#include "vpe/firmware/scan/scan_config.h"
 
 namespace vpe::firmware {
 
@@ -54,6 +55,8 @@ struct BoardConfig {
     RenderConfig render;
     LightConfig light;
     IdleConfig idle;
+    // [scan]: what vpe-player --scan needs; empty when the section is absent (no scan).
+    std::optional<ScanConfig> scan;
     // The input sections ([gpio], [camera], [osc]) are parsed by their own rooms (knobs/,
     // tracking/, osc/) from the document kept here; nullptr when the section is absent.
     const toml::table* section(std::string_view key) const;
