@@ -33,6 +33,20 @@ std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board,
         throw PlayerInputError("--out: frames are read back only on the headless display (" +
                                options.board.string() + " uses kms)");
     }
+    return createDisplayPlatform(board);
+}
+
+std::unique_ptr<SceneSlot> loadScene(const PlayerOptions& options) {
+    try {
+        return SceneSlot::load(options.bundle, options.preset);
+    } catch (const SceneLoadError& error) {
+        throw PlayerInputError(error.what());
+    }
+}
+
+}  // namespace
+
+std::unique_ptr<gles::GraphicsPlatform> createDisplayPlatform(const BoardConfig& board) {
     try {
         if (board.display.backend == DisplayBackend::kHeadless) {
             return gles::createHeadlessEglPlatform();
@@ -51,16 +65,6 @@ std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board,
         throw PlayerInputError(error.what());
     }
 }
-
-std::unique_ptr<SceneSlot> loadScene(const PlayerOptions& options) {
-    try {
-        return SceneSlot::load(options.bundle, options.preset);
-    } catch (const SceneLoadError& error) {
-        throw PlayerInputError(error.what());
-    }
-}
-
-}  // namespace
 
 LightSphere Player::sphereOf(const proto::BundleView& view) {
     return LightSphere(view.mesh().positions, view.settings().viewerPosition);

@@ -34,6 +34,10 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The board's display: headless EGL, or KMS with the board's device, connector, mode and
+// modesetting. Throws PlayerInputError (one line: the display is unavailable).
+std::unique_ptr<renderer::gles::GraphicsPlatform> createDisplayPlatform(const BoardConfig& board);
+
 class Player {
 public:
     // Opens the platform, the bundle and the render target. Throws PlayerInputError.
