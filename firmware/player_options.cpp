@@ -4,6 +4,7 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <utility>
 
 #include "vpe/firmware/board_config.h"
 
@@ -27,9 +28,12 @@ const char* playerUsage() {
            "                  [--out DIR] [--every K] [--preset NAME] [--replay EVENTS.jsonl]\n"
            "                  [--replay-loop] [--json]\n"
            "       vpe-player --board FILE [--bundle FILE] --check\n"
+           "       vpe-player --board FILE --scan OUT [--size WxH] [--json]\n"
            "  --frames N   stop after N frames (default: run until SIGTERM or SIGINT)\n"
            "  --rate HZ    headless frame rate (default: the board's render.rate; 0 = unpaced)\n"
            "  --replay F   feed recorded input events (firmware/README.md) through the decoders\n"
+           "  --scan OUT   show the structured-light patterns, photograph each with the board's\n"
+           "               camera ([scan], [camera]) and write the scan folder OUT\n"
            "  SIGHUP, or the bundle file being replaced, reloads the bundle\n";
 }
 
@@ -55,7 +59,8 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         }
         if (option != "--board" && option != "--bundle" && option != "--frames" &&
             option != "--size" && option != "--out" && option != "--every" &&
-            option != "--preset" && option != "--rate" && option != "--replay") {
+            option != "--preset" && option != "--rate" && option != "--replay" &&
+            option != "--scan") {
             throw PlayerUsageError(option + ": unknown argument (see vpe-player --help)");
         }
         if (i + 1 >= arguments.size()) {
@@ -78,6 +83,11 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
             options.rate = rate;
         } else if (option == "--replay") {
             options.replay = value;
+        } else if (option == "--scan") {
+            if (value.empty()) {
+                throw PlayerUsageError("--scan: expected a folder, got \"\"");
+            }
+            options.scan = value;
         } else if (option == "--every") {
             options.every = positive(option, value);
         } else if (option == "--size") {
@@ -97,7 +107,22 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         if (options.board.empty()) {
             throw PlayerUsageError("--board: missing (a board file such as boards/headless.toml)");
         }
-        if (options.bundle.empty() && !options.check) {
+        if (options.scan) {
+            // A scan shows patterns, not a bundle: what plays a bundle does not apply.
+            const std::vector<std::pair<bool, const char*>> playing{
+                {!options.bundle.empty(), "--bundle"}, {options.check, "--check"},
+                {options.frames != 0, "--frames"},     {options.out.has_value(), "--out"},
+                {options.every != 1, "--every"},       {!options.preset.empty(), "--preset"},
+                {options.rate.has_value(), "--rate"},  {options.replay.has_value(), "--replay"},
+                {options.replayLoop, "--replay-loop"}};
+            for (const auto& [given, name] : playing) {
+                if (given) {
+                    throw PlayerUsageError(std::string(name) +
+                                           ": not used by --scan (which takes --board, --size "
+                                           "and --json)");
+                }
+            }
+        } else if (options.bundle.empty() && !options.check) {
             throw PlayerUsageError("--bundle: missing (a device bundle made by vpe bake)");
         }
     }

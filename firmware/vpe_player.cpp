@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // vpe-player: the device program (firmware/README.md). Board file → Player (platform, bundle,
 // renderer, light rig, event loop) → inputs (the board's hardware, or a replay) → frames until
-// --frames, the replay's end, SIGTERM or SIGINT. Bad input: one line, exit status 2.
+// --frames, the replay's end, SIGTERM or SIGINT. With --scan, the same board's display and
+// camera capture a structured-light scan instead (scan/scan_run.h). Bad input: one line, exit
+// status 2; a scan that cannot be completed: one line, exit status 1.
 #include <iostream>
 #include <string>
 #include <vector>
@@ -13,6 +15,7 @@
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player_options.h"
+#include "vpe/firmware/scan/scan_run.h"
 
 namespace {
 
@@ -24,6 +27,14 @@ int run(const fw::PlayerOptions& options, std::int64_t startNs) {
         board = fw::loadBoardConfig(options.board);
     } catch (const fw::BoardConfigError& error) {
         throw fw::PlayerInputError(error.what());
+    }
+    if (options.scan) {
+        const fw::ScanReport report = fw::runScan(options, board, startNs);
+        std::cout << report.summaryLine() << "\n";
+        if (options.json) {
+            std::cout << report.json() << "\n";
+        }
+        return 0;
     }
     if (options.check) {
         std::cout << fw::checkBoard(board, options);  // throws PlayerInputError when bad

@@ -28,14 +28,18 @@ struct PlayerOptions {
     std::optional<std::filesystem::path> replay;  // --replay events.jsonl
     bool replayLoop = false;                      // --replay-loop: start the file over when it ends
     bool check = false;  // --check: validate the board file (and bundle, if given), exit
+    // --scan OUT: show the structured-light patterns and photograph them into the folder OUT
+    // (firmware/README.md, "Scanning"); no bundle.
+    std::optional<std::filesystem::path> scan;
     bool json = false;
     bool help = false;
 };
 
 const char* playerUsage();
 
-// arguments: argv[1 …]. --bundle is optional with --check. Throws PlayerUsageError ("--frames:
-// expected a positive integer, got x").
+// arguments: argv[1 …]. --bundle is optional with --check and refused with --scan, which takes
+// only --board, --size and --json. Throws PlayerUsageError ("--frames: expected a positive
+// integer, got x").
 PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments);
 
 }  // namespace vpe::firmware

@@ -1,0 +1,373 @@
+// SPDX-License-Identifier: MIT
+// runScan: the camera, the display, the sequence, the loop over pattern groups with their
+// checks and retries, and the folder.
+#include "vpe/firmware/scan/scan_run.h"
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "vpe/firmware/loop/event_loop.h"
+#include "vpe/firmware/player/frame_report.h"
+#include "vpe/firmware/player/player.h"
+#include "vpe/firmware/player/player_log.h"
+#include "vpe/firmware/scan/libcamera_scan_camera.h"
+#include "vpe/firmware/scan/pattern_projector.h"
+#include "vpe/firmware/scan/scan_folder.h"
+#include "vpe/firmware/scan/simulated_scan_camera.h"
+#include "vpe/firmware/tracking/camera_config.h"
+#include "vpe/proto/pnm_image.h"
+#include "vpe/proto/scan_manifest.h"
+#include "vpe/proto/structured_light.h"
+
+namespace vpe::firmware {
+
+namespace gles = renderer::gles;
+
+namespace {
+
+constexpr double kNsPerMs = 1e6;
+// The still stream's buffers: one being filled, one completed, one with us.
+constexpr unsigned kStillBuffers = 3;
+// The longest frame the camera may take when the exposure is short (µs): a frame rate that
+// need not be high, with room for exposures up to it.
+constexpr std::int64_t kLongestFrameUs = 100'000;
+// A projector's time to lock onto the mode the display just set (the board may say otherwise).
+constexpr double kKmsSettleMs = 1000;
+
+double msBetween(std::int64_t fromNs, std::int64_t toNs) {
+    return static_cast<double>(toNs - fromNs) / kNsPerMs;
+}
+
+std::string numberText(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
+}
+
+std::string sizeText(int width, int height) {
+    return std::to_string(width) + "x" + std::to_string(height);
+}
+
+// The camera the board asks for: the simulation, or the lamp's camera ([camera] id, enabled)
+// on a projector (kms). Refused before anything is opened.
+std::optional<CameraConfig> scanCameraConfig(const BoardConfig& board, const ScanConfig& scan) {
+    const bool headless = board.display.backend == DisplayBackend::kHeadless;
+    if (scan.simulate) {
+        if (!headless) {
+            throw PlayerInputError(board.source +
+                                   ":scan.simulate: the simulated camera needs the headless "
+                                   "display (display.backend is \"kms\")");
+        }
+        return std::nullopt;
+    }
+    const toml::table* section = board.section("camera");
+    if (section == nullptr) {
+        throw PlayerInputError(board.source +
+                               ":camera: missing; the scan photographs with the lamp's camera "
+                               "([camera] enabled and id), or set scan.simulate");
+    }
+    CameraConfig camera = parseCameraConfig(*section, board.source);
+    if (!camera.enabled) {
+        throw PlayerInputError(board.source +
+                               ":camera.enabled: false; the scan photographs with the lamp's "
+                               "camera: enable it (or set scan.simulate)");
+    }
+    if (headless) {
+        throw PlayerInputError(board.source +
+                               ":display.backend: \"headless\" shows the patterns to no "
+                               "projector; a scan with a camera needs \"kms\" (or scan.simulate)");
+    }
+    return camera;
+}
+
+CameraStreamSettings stillStreamOf(const CameraConfig& camera, const ScanConfig& scan) {
+    CameraStreamSettings settings;
+    settings.id = camera.id;
+    settings.width = scan.cameraWidth;
+    settings.height = scan.cameraHeight;
+    settings.role = CameraStreamRole::kStillCapture;
+    settings.exposureUs = scan.exposureUs;
+    settings.analogueGain = scan.analogueGain;
+    settings.fixedWhiteBalance = true;
+    settings.colourGains = scan.colourGains;
+    settings.frameDurationUs = std::array<std::int64_t, 2>{
+        scan.exposureUs, std::max<std::int64_t>(scan.exposureUs, kLongestFrameUs)};
+    settings.minBuffers = kStillBuffers;
+    return settings;
+}
+
+// The projector's size: the display's mode (KMS), else --size, the board's render size, or the
+// simulated projector's. A simulated projector must be the display.
+std::array<int, 2> projectorSizeOf(const gles::GraphicsPlatform& platform,
+                                   const PlayerOptions& options, const BoardConfig& board,
+                                   const SimulatedScanCamera* simulated,
+                                   const std::filesystem::path& sceneFile) {
+    std::array<int, 2> size{0, 0};
+    std::string from;
+    if (const std::optional<std::array<int, 2>> fixed = platform.fixedTargetSize()) {
+        size = *fixed;
+        if (options.width && (*options.width != size[0] || *options.height != size[1])) {
+            throw PlayerInputError("--size: " + sizeText(*options.width, *options.height) +
+                                   " differs from the display's mode " +
+                                   sizeText(size[0], size[1]));
+        }
+        return size;
+    }
+    if (options.width) {
+        size = {*options.width, *options.height};
+        from = "--size";
+    } else if (board.render.width) {
+        size = {*board.render.width, *board.render.height};
+        from = board.source + ":render.size";
+    } else if (simulated != nullptr) {
+        return {simulated->projectorWidth(), simulated->projectorHeight()};
+    } else {
+        throw PlayerInputError("--size: missing (the headless display has no projector size)");
+    }
+    if (simulated != nullptr &&
+        (size[0] != simulated->projectorWidth() || size[1] != simulated->projectorHeight())) {
+        throw PlayerInputError(from + ": " + sizeText(size[0], size[1]) +
+                               " differs from the simulated projector " +
+                               sizeText(simulated->projectorWidth(), simulated->projectorHeight()) +
+                               " (" + sceneFile.string() + ")");
+    }
+    return size;
+}
+
+void stopOnSignal(SignalWatch& signals) {
+    while (const int signal = signals.next()) {
+        if (signal == SIGINT || signal == SIGTERM) {
+            throw ScanError(std::string("scan: stopped by ") +
+                            (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; nothing written");
+        }
+        // SIGHUP reloads a bundle; a scan has none.
+    }
+}
+
+}  // namespace
+
+ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
+                   std::int64_t processStartNs) {
+    // Blocked before any thread starts (libcamera's, the GL driver's), so none of them takes a
+    // SIGINT that should stop the scan cleanly.
+    SignalWatch signals;
+    if (!board.scan) {
+        throw PlayerInputError(board.source +
+                               ":scan: missing (a [scan] section: the projector's latency, the "
+                               "camera's exposure and size; boards/README.md)");
+    }
+    const ScanConfig& scan = *board.scan;
+    const std::optional<CameraConfig> cameraConfig = scanCameraConfig(board, scan);
+    ScanFolder folder(*options.scan);
+
+    ScanReport report;
+    report.out = folder.out();
+    report.latencyMs = scan.latencyMs;
+    report.simulated = scan.simulate.has_value();
+    report.simulatedLatencyMs = scan.simulatedLatencyMs;
+
+    // The camera before the display: no camera, no modeset (and no flash on the projector).
+    const std::int64_t cameraBeginNs = scanClockNs();
+    std::unique_ptr<ScanCamera> camera;
+    SimulatedScanCamera* simulated = nullptr;
+    if (scan.simulate) {
+        auto simulation =
+            std::make_unique<SimulatedScanCamera>(*scan.simulate, scan.simulatedLatencyMs);
+        simulated = simulation.get();
+        camera = std::move(simulation);
+    } else {
+        try {
+            camera = std::make_unique<LibcameraScanCamera>(stillStreamOf(*cameraConfig, scan));
+        } catch (const CameraUnavailable& error) {
+            throw PlayerInputError(error.what());
+        }
+    }
+    report.camera = camera->info();
+    report.cameraSetupMs = msBetween(cameraBeginNs, scanClockNs());
+
+    const std::int64_t displayBeginNs = scanClockNs();
+    const std::unique_ptr<gles::GraphicsPlatform> platform = createDisplayPlatform(board);
+    const std::array<int, 2> size =
+        projectorSizeOf(*platform, options, board, simulated, scan.simulate.value_or(""));
+    proto::StructuredLightParameters parameters;
+    parameters.width = size[0];
+    parameters.height = size[1];
+    parameters.phasePeriod = scan.phasePeriod;
+    parameters.phaseSteps = scan.phaseSteps;
+    std::optional<proto::StructuredLightSequence> sequence;
+    try {
+        sequence.emplace(parameters);
+    } catch (const proto::StructuredLightError& error) {
+        throw PlayerInputError(board.source + ":scan.phase_period: " + error.what());
+    }
+    std::unique_ptr<gles::RenderTarget> target;
+    std::optional<PatternProjector> projector;
+    try {
+        target = platform->createRenderTarget(size[0], size[1]);
+        projector.emplace(*target);
+    } catch (const gles::GraphicsError& error) {
+        throw PlayerInputError(error.what());
+    }
+    report.platform = platform->description();
+    report.displaySetupMs = msBetween(displayBeginNs, scanClockNs());
+    report.projectorWidth = size[0];
+    report.projectorHeight = size[1];
+    report.phasePeriod = scan.phasePeriod;
+    report.phaseSteps = scan.phaseSteps;
+
+    const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
+    report.patterns = patterns.size();
+    ScanFrameCheck check(*sequence, {scan.minContrast, scan.minLitFraction, scan.tolerance});
+    proto::ScanManifest manifest;
+    manifest.patterns = parameters;
+    manifest.camera.width = report.camera.width;
+    manifest.camera.height = report.camera.height;
+    manifest.camera.bits = report.camera.bits;
+    manifest.camera.exposureUs = report.camera.exposureUs;
+    manifest.camera.analogueGain = report.camera.analogueGain;
+    manifest.camera.source = report.camera.source;
+    manifest.createdBy = "vpe-player";
+    manifest.projectorLatencyMs = scan.latencyMs;
+    manifest.images.resize(patterns.size());
+    for (proto::ScanImage& image : manifest.images) {
+        image.attempts = 0;  // counted below, capture by capture
+    }
+
+    std::vector<std::uint8_t> codes(static_cast<std::size_t>(size[0]) *
+                                    static_cast<std::size_t>(size[1]));
+    const std::int64_t scanBeginNs = scanClockNs();
+    // Black first, for as long as the projector needs to take the new mode: the first pattern's
+    // latency is then the projector's usual one.
+    const double settleMs =
+        scan.settleMs.value_or(board.display.backend == DisplayBackend::kKms ? kKmsSettleMs : 0.0);
+    const std::int64_t blackNs = projector->show(codes);
+    if (camera->needsShownImage()) {
+        camera->patternShown(projector->readBack(), size[0], size[1], blackNs);
+    }
+    sleepUntilNs(blackNs + static_cast<std::int64_t>(settleMs * kNsPerMs));
+    stopOnSignal(signals);
+    double waitMs = scan.latencyMs;
+    for (const std::vector<std::size_t>& group : check.groups()) {
+        std::vector<CameraImage> images(group.size());
+        FrameVerdict failure;
+        std::size_t failedAt = group.front();
+        bool accepted = false;
+        for (int attempt = 0; attempt <= scan.retries && !accepted; ++attempt) {
+            const double wait = waitMs + attempt * scan.retryWaitMs;
+            failure = {};
+            for (std::size_t k = 0; k < group.size() && failure.passed(); ++k) {
+                const std::size_t index = group[k];
+                sequence->render(patterns[index], codes);
+                const std::int64_t shownNs = projector->show(codes);
+                if (camera->needsShownImage()) {
+                    camera->patternShown(projector->readBack(), size[0], size[1], shownNs);
+                }
+                images[k] = camera->capture(shownNs + static_cast<std::int64_t>(wait * kNsPerMs));
+                report.captureMs.push_back(msBetween(shownNs, scanClockNs()));
+                ++report.captures;
+                ++manifest.images[index].attempts;
+                stopOnSignal(signals);
+                failure = check.check(index, images[k]);
+                if (!failure.passed()) {
+                    ++report.rejected[static_cast<std::size_t>(failure.problem)];
+                    failedAt = index;
+                }
+            }
+            if (failure.passed()) {
+                accepted = true;
+                waitMs = wait;  // a projector slower than the board says is slow for every pattern
+            }
+        }
+        if (!accepted) {
+            throw ScanError("scan: " + patterns[failedAt].name() + ": " + failure.detail + " (" +
+                            std::to_string(manifest.images[failedAt].attempts) +
+                            " captures, the last " +
+                            numberText(waitMs + scan.retries * scan.retryWaitMs) +
+                            " ms after the pattern; raise [scan] latency_ms or retries)");
+        }
+        for (std::size_t k = 0; k < group.size(); ++k) {
+            const std::size_t index = group[k];
+            proto::ScanImage& entry = manifest.images[index];
+            entry.file = proto::scanImageName(index, patterns[index]);
+            entry.pattern = patterns[index].name();
+            report.retried += entry.attempts > 1 ? 1 : 0;
+            const CameraImage& image = images[k];
+            proto::writePnmAtomically(folder.temporary() / entry.file, image.width, image.height, 1,
+                                      image.maxValue, image.samples);
+        }
+    }
+    proto::writeScanManifest(folder.temporary(), manifest);
+    folder.commit();
+
+    const std::int64_t doneNs = scanClockNs();
+    report.waitMs = waitMs;
+    report.litFraction = check.litFraction();
+    report.noiseSigma = check.noiseSigma();
+    report.scanSeconds = msBetween(scanBeginNs, doneNs) / 1000.0;
+    report.seconds = msBetween(processStartNs, doneNs) / 1000.0;
+    if (waitMs > scan.latencyMs) {
+        playerLog("scan: the projector needed " + numberText(waitMs) + " ms after a pattern (" +
+                  board.source + ":scan.latency_ms is " + numberText(scan.latencyMs) +
+                  "): raise it");
+    }
+    return report;
+}
+
+std::string ScanReport::summaryLine() const {
+    char taken[32];
+    std::snprintf(taken, sizeof taken, "%.1f", scanSeconds);
+    return "scan: " + std::to_string(patterns) + " patterns, " + std::to_string(captures) +
+           " captures (" + std::to_string(retried) + " retried) in " + taken + " s -> " +
+           out.string() + " (" + camera.source + ", " + sizeText(camera.width, camera.height) +
+           ", " + std::to_string(camera.bits) + " bits)";
+}
+
+std::string ScanReport::json() const {
+    nlohmann::ordered_json rejectedJson = nlohmann::ordered_json::object();
+    for (int p = 1; p < kFrameProblemCount; ++p) {
+        rejectedJson[frameProblemName(static_cast<FrameProblem>(p))] =
+            rejected[static_cast<std::size_t>(p)];
+    }
+    nlohmann::ordered_json json = {
+        {"out", out.string()},
+        {"patterns", patterns},
+        {"captures", captures},
+        {"retried", retried},
+        {"rejected", rejectedJson},
+        {"projector",
+         {{"width", projectorWidth},
+          {"height", projectorHeight},
+          {"phase_period", phasePeriod},
+          {"phase_steps", phaseSteps}}},
+        {"camera",
+         {{"source", camera.source},
+          {"description", camera.description},
+          {"width", camera.width},
+          {"height", camera.height},
+          {"bits", camera.bits},
+          {"exposure_us", camera.exposureUs},
+          {"analogue_gain", camera.analogueGain}}},
+        {"platform", platform},
+        {"latency_ms", latencyMs},
+        {"wait_ms", waitMs},
+    };
+    if (simulated) {
+        json["simulated_latency_ms"] = simulatedLatencyMs;
+    }
+    json["lit_fraction"] = litFraction;
+    json["noise_sigma"] = noiseSigma;
+    json["setup_ms"] = {{"camera", cameraSetupMs}, {"display", displaySetupMs}};
+    json["capture_ms"] = {{"p50", nearestRankPercentile(captureMs, 0.5)},
+                          {"max", nearestRankPercentile(captureMs, 1.0)}};
+    json["scan_seconds"] = scanSeconds;
+    json["seconds"] = seconds;
+    return json.dump(2);
+}
+
+}  // namespace vpe::firmware
