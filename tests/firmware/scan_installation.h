@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// A small simulated installation for the scan tests: a plaster ball in front of a wall (one
+// OBJ), a 320 × 180 projector and a 320 × 240 camera beside it, written as a scene file
+// (renderer/procam's writeSceneFile, what vpe synth-procam writes) and a headless board whose
+// [scan] simulates its camera.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "vpe/renderer/procam/procam_scene.h"
+
+namespace vpe::firmware::testing {
+
+struct ScanInstallation {
+    std::filesystem::path sceneFile;  // folder/installation.toml (and folder/ball-wall.obj)
+    renderer::procam::ProcamScene scene;
+    renderer::procam::SimulatedCamera camera;
+};
+
+// Writes the OBJ and the scene file into `folder` (which must exist). `bits`: 8 or 10.
+ScanInstallation writeScanInstallation(const std::filesystem::path& folder, int bits = 8);
+
+// The OBJ's text: a UV sphere of `radius` about (0, radius, 0) on a wall at z = −wallDistance.
+std::string ballAndWallObj(double radius, double wallDistance);
+
+}  // namespace vpe::firmware::testing
