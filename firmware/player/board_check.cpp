@@ -108,6 +108,23 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     } else {
         out << "  camera: off\n";
     }
+    if (board.scan) {
+        const ScanConfig& scan = *board.scan;
+        out << "  scan: ";
+        if (scan.simulate) {
+            out << "simulated camera " << scan.simulate->string()
+                << (std::filesystem::exists(*scan.simulate) ? "" : " (absent)");
+        } else {
+            out << "camera " << (inputs.camera ? inputs.camera->id : std::string("(no [camera])"))
+                << (inputs.camera && inputs.camera->enabled ? "" : " (disabled: --scan refuses)")
+                << ", still " << scan.cameraWidth << "x" << scan.cameraHeight << ", exposure "
+                << scan.exposureUs << " us, gain " << scan.analogueGain;
+        }
+        out << "; latency " << scan.latencyMs << " ms, " << scan.retries << " retries, period "
+            << scan.phasePeriod << ", " << scan.phaseSteps << " steps\n";
+    } else {
+        out << "  scan: none (no [scan] section)\n";
+    }
     if (inputs.osc && inputs.osc->enabled) {
         out << "  osc: udp " << inputs.osc->address << ":" << inputs.osc->port << "\n";
     } else {

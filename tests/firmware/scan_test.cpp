@@ -249,6 +249,18 @@ TEST_F(ScanTest, ReportsAnAbsentCameraInOneLine) {
     expectNoTemporaryFolders();
 }
 
+TEST_F(ScanTest, CheckDescribesTheScan) {
+    const fs::path board = scanBoard("latency_ms = 40\nretries = 2\n");
+    const PlayerRun run = play({"--board", board.string(), "--check"});
+    ASSERT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.out.find("  scan: simulated camera " + installation_.sceneFile.string() +
+                           "; latency 40 ms, 2 retries, period 32, 8 steps\n"),
+              std::string::npos)
+        << run.out;
+    const PlayerRun none = play({"--board", headless_.string(), "--check"});
+    EXPECT_NE(none.out.find("  scan: none (no [scan] section)\n"), std::string::npos) << none.out;
+}
+
 TEST_F(ScanTest, RefusesBadScanKeys) {
     const auto refused = [this](const std::string& keys, const std::string& needle) {
         const fs::path board = scanBoard(keys);
