@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+// Scan manifests and their images: what the device writes is what the offline tools read, and
+// every malformed manifest is refused in one line naming the key.
+#include "vpe/proto/scan_manifest.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "vpe/proto/pnm_image.h"
+
+namespace vpe::proto {
+namespace {
+
+ScanManifest smallManifest() {
+    ScanManifest m;
+    m.patterns = {64, 48, 8, 3};
+    m.camera = {80, 60, 10, 20000, 2.0, "simulated:test"};
+    m.createdBy = "test";
+    m.projectorLatencyMs = 120;
+    const StructuredLightSequence sequence(m.patterns);
+    for (std::size_t i = 0; i < sequence.patterns().size(); ++i) {
+        m.images.push_back({std::to_string(i) + "-" + sequence.patterns()[i].name() + ".pgm",
+                            sequence.patterns()[i].name(), i == 3 ? 2 : 1});
+    }
+    return m;
+}
+
+std::string errorOf(const std::string& json) {
+    try {
+        parseScanManifest(json, "scan.json");
+    } catch (const ScanManifestError& error) {
+        return error.what();
+    }
+    return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+}
+
+TEST(ScanManifest, RoundTripsThroughJson) {
+    const ScanManifest m = smallManifest();
+    const ScanManifest back = parseScanManifest(scanManifestJson(m), "scan.json");
+    EXPECT_EQ(back.patterns.width, 64);
+    EXPECT_EQ(back.patterns.phasePeriod, 8);
+    EXPECT_EQ(back.camera.bits, 10);
+    EXPECT_EQ(back.camera.exposureUs, 20000);
+    EXPECT_EQ(back.camera.source, "simulated:test");
+    EXPECT_EQ(back.projectorLatencyMs, 120);
+    ASSERT_EQ(back.images.size(), m.images.size());
+    EXPECT_EQ(back.images[3].attempts, 2);
+    EXPECT_EQ(back.images[5].file, m.images[5].file);
+}
+
+TEST(ScanManifest, RefusesEachMalformedManifestNamingTheKey) {
+    const std::string good = scanManifestJson(smallManifest());
+    EXPECT_EQ(errorOf(good), "");
+    EXPECT_EQ(errorOf("{"),
+              "scan.json: not JSON (parse error at line 1, column 2: syntax error "
+              "while parsing object key - unexpected end of input; expected string "
+              "literal)");
+    EXPECT_EQ(errorOf(replaced(good, "\"vpe-scan\"", "\"other\"")),
+              "scan.json: format: expected \"vpe-scan\"");
+    EXPECT_EQ(errorOf(replaced(good, "\"version\": 1", "\"version\": 2")),
+              "scan.json: version 2: this reader reads version 1");
+    EXPECT_EQ(errorOf(replaced(good, "\"bits\": 10", "\"bits\": 12")),
+              "scan.json: camera: bits: 12 (8 or 10)");
+    EXPECT_EQ(errorOf(replaced(good, "\"phase_period\": 8", "\"phase_period\": 12")),
+              "scan.json: projector: phase period 12 is not a power of two in 8..1024");
+    EXPECT_EQ(errorOf(replaced(good, "\"file\":\"0-white.pgm\"", "\"file\":\"../white.pgm\"")),
+              "scan.json: images[0]: file: '../white.pgm' is not a file name inside the folder");
+    EXPECT_EQ(errorOf(replaced(good, "\"pattern\":\"black\"", "\"pattern\":\"white\"")),
+              "scan.json: images[1]: pattern 'white', expected 'black' (the sequence's order)");
+    // A missing image names the first missing pattern; an extra one is refused.
+    const std::string last = ",\n    {\"file\":\"27-phase-y-s2.pgm\",\"pattern\":\"phase-y-s2\"}";
+    const std::string shorter = replaced(good, last, "");
+    EXPECT_EQ(errorOf(shorter),
+              "scan.json: images: 27 of the sequence's 28 patterns (the first missing is "
+              "'phase-y-s2')");
+    EXPECT_EQ(errorOf(replaced(good, last, last + ",\n    {\"file\":\"x.pgm\",\"pattern\":\"x\"}")),
+              "scan.json: images[28]: an extra image ('x.pgm'): the sequence has 28 patterns");
+}
+
+TEST(ScanManifest, WritesAndReadsAFolder) {
+    const auto folder = std::filesystem::temp_directory_path() / "vpe-scan-manifest-test";
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    writeScanManifest(folder, smallManifest());
+    EXPECT_EQ(readScanManifest(folder).images.size(), 28u);
+    EXPECT_EQ(readScanManifest(folder / kScanManifestName).images.size(), 28u);
+    EXPECT_EQ(scanFolderOf(folder / kScanManifestName), folder);
+    try {
+        readScanManifest(folder / "missing");
+        FAIL();
+    } catch (const ScanManifestError& error) {
+        EXPECT_EQ(std::string(error.what()),
+                  (folder / "missing").string() + ": cannot open the scan manifest (no such file)");
+    }
+    std::filesystem::remove_all(folder);
+}
+
+TEST(PnmImage, WritesEightAndTenBitGreyAndColour) {
+    const auto folder = std::filesystem::temp_directory_path() / "vpe-pnm-test";
+    std::filesystem::create_directories(folder);
+    const std::vector<std::uint16_t> ten{0, 512, 1023, 7, 100, 1000};
+    writePnmAtomically(folder / "ten.pgm", 3, 2, 1, 1023, ten);
+    std::ifstream in(folder / "ten.pgm", std::ios::binary);
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    const std::string text = bytes.str();
+    ASSERT_EQ(text.substr(0, 12), std::string("P5\n3 2\n1023\n"));
+    EXPECT_EQ(text.size(), 12u + 12u);
+    EXPECT_EQ(static_cast<unsigned char>(text[12 + 2]), 512 >> 8);  // big-endian
+    const std::vector<std::uint8_t> rgb(2 * 2 * 3, 200);
+    writePnmAtomically(folder / "rgb.ppm", 2, 2, 3, rgb);
+    EXPECT_EQ(std::filesystem::file_size(folder / "rgb.ppm"), 11u + 12u);
+    EXPECT_THROW(writePnmAtomically(folder / "bad.pgm", 3, 2, 1, 255, ten), std::invalid_argument);
+    EXPECT_THROW(writePnmAtomically(folder / "bad.pgm", 4, 2, 1, 1023, ten), std::invalid_argument);
+    EXPECT_FALSE(std::filesystem::exists(folder / "bad.pgm"));
+    EXPECT_THROW(writePnmAtomically(folder / "missing" / "x.pgm", 3, 2, 1, 1023, ten),
+                 std::runtime_error);
+    std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace vpe::proto
