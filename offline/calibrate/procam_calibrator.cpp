@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vpe/common/input_error.h"
+#include "vpe/proto/srgb.h"
 
 namespace vpe::calibrate {
 
@@ -24,10 +25,10 @@ cv::Mat detectorImage(const std::vector<float>& white, int width, int height) {
     cv::Mat image(height, width, CV_8UC1);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            const float v = std::clamp(white[static_cast<std::size_t>(y) * width + x], 0.0f, 1.0f);
-            const float encoded =
-                v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-            image.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(std::lround(255 * encoded));
+            const double v =
+                std::clamp(double(white[static_cast<std::size_t>(y) * width + x]), 0.0, 1.0);
+            image.at<std::uint8_t>(y, x) =
+                static_cast<std::uint8_t>(std::lround(255 * proto::linearToSrgb(v)));
         }
     }
     return image;

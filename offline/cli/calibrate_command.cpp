@@ -12,6 +12,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/progress_bar.h"
 #include "vpe/image/contact_sheet.h"
+#include "vpe/proto/srgb.h"
 #include "vpe/scene/projector_calibration.h"
 
 #include "cli/commands.h"
@@ -89,9 +90,8 @@ void writePoseSheet(const std::vector<calibrate::BoardPose>& poses,
         SheetTile tile{pose.folder.filename().string(), pose.cameraWidth, pose.cameraHeight, 3, {}};
         tile.pixels.resize(pose.white.size() * 3);
         for (std::size_t p = 0; p < pose.white.size(); ++p) {
-            const float v = std::clamp(pose.white[p], 0.0f, 1.0f);
-            const float encoded =
-                v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+            const auto encoded = static_cast<float>(
+                proto::linearToSrgb(std::clamp(double(pose.white[p]), 0.0, 1.0)));
             tile.pixels[3 * p] = tile.pixels[3 * p + 1] = tile.pixels[3 * p + 2] = encoded;
         }
         const int radius = std::max(2, pose.cameraWidth / 200);

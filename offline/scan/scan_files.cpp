@@ -12,6 +12,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/srgb.h"
 
 namespace vpe::scan {
 
@@ -124,8 +125,8 @@ void writeScanSheet(const structured_light::DecodedScan& d, const ProjectorSurfa
     SheetTile white{"camera, white frame", d.width, d.height, 1, {}};
     white.pixels.resize(cameraPixels);
     for (std::size_t p = 0; p < cameraPixels; ++p) {
-        const float v = std::clamp(d.white[p], 0.0f, 1.0f);
-        white.pixels[p] = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+        white.pixels[p] =
+            static_cast<float>(proto::linearToSrgb(std::clamp(double(d.white[p]), 0.0, 1.0)));
     }
     tiles.push_back(std::move(white));
     SheetTile status{
