@@ -7,31 +7,6 @@
 
 namespace vpe::bake {
 
-proto::PinholeCamera inObjectFrame(const proto::PinholeCamera& device,
-                                   const registration::Pose& objectToCamera) {
-    // X_device = R_d·(R_o·X + t_o) + T_d.
-    proto::PinholeCamera out = device;
-    const auto& Rd = device.R;
-    const auto& Ro = objectToCamera.R;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            double sum = 0;
-            for (int k = 0; k < 3; ++k) {
-                sum += Rd[static_cast<std::size_t>(3 * i + k)] *
-                       Ro[static_cast<std::size_t>(3 * k + j)];
-            }
-            out.R[static_cast<std::size_t>(3 * i + j)] = sum;
-        }
-        double moved = device.T[static_cast<std::size_t>(i)];
-        for (int k = 0; k < 3; ++k) {
-            moved += Rd[static_cast<std::size_t>(3 * i + k)] *
-                     objectToCamera.t[static_cast<std::size_t>(k)];
-        }
-        out.T[static_cast<std::size_t>(i)] = moved;
-    }
-    return out;
-}
-
 ScanPlacement placeFromScan(const std::filesystem::path& scan,
                             const std::optional<scene::ScreenMesh>& mesh,
                             const registration::RegistrationOptions& options) {
@@ -61,8 +36,8 @@ ScanPlacement placeFromScan(const std::filesystem::path& scan,
         placement.chart = surface.chart;
         placement.mesh = std::move(surface.mesh);
     }
-    placement.projector = inObjectFrame(projector, placement.objectToCamera);
-    placement.camera = inObjectFrame(*camera, placement.objectToCamera);
+    placement.projector = registration::inObjectFrame(projector, placement.objectToCamera);
+    placement.camera = registration::inObjectFrame(*camera, placement.objectToCamera);
     return placement;
 }
 

@@ -32,6 +32,11 @@ constexpr double kInlierDistance = 0.001;
 // Mesh samples per square metre for the fine fit: one every 0.5 mm.
 constexpr double kMeshDensity = 4e6;
 constexpr std::size_t kMaxFineScanPoints = 60000;
+// A global candidate whose ICP on the thinned clouds puts this share of the scan within two
+// voxels of the mesh is taken without more trials.
+constexpr double kGoodCoarseFit = 0.95;
+// The turn search's points: every so many of the fine fit's.
+constexpr std::size_t kSearchStride = 12;
 
 Eigen::Matrix4d matrixOf(const Pose& pose) {
     Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
@@ -126,52 +131,104 @@ Pose faceTowards(const Pose& pose, const std::array<double, 3>& axisIn,
     return poseOf(out);
 }
 
-FreeMotions freeMotions(const std::vector<std::array<double, 3>>& points,
-                        const std::vector<std::array<double, 3>>& normals, double degeneracy) {
-    FreeMotions free;
-    if (points.empty()) {
-        return free;
-    }
+namespace {
+
+// The point-to-plane information matrix about the points' centroid, rotations scaled by their
+// RMS radius, its eigen-decomposition, and that centre and radius.
+struct Information {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver;
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius = 1;
+};
+
+Information informationOf(const std::vector<std::array<double, 3>>& points,
+                          const std::vector<std::array<double, 3>>& normals) {
+    Information info;
     for (const auto& p : points) {
-        centre += eigen(p);
+        info.centre += eigen(p);
     }
-    centre /= double(points.size());
+    info.centre /= double(points.size());
     double radius = 0;
     for (const auto& p : points) {
-        radius += (eigen(p) - centre).squaredNorm();
+        radius += (eigen(p) - info.centre).squaredNorm();
     }
-    radius = std::sqrt(radius / double(points.size()));
+    info.radius = std::sqrt(radius / double(points.size()));
     Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Eigen::Vector3d n = eigen(normals[i]);
         Eigen::Matrix<double, 6, 1> J;
-        J.head<3>() = (eigen(points[i]) - centre).cross(n) / radius;
+        J.head<3>() = (eigen(points[i]) - info.centre).cross(n) / info.radius;
         J.tail<3>() = n;
         information += J * J.transpose();
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> solver(information);
-    const Eigen::Matrix<double, 6, 1> values = solver.eigenvalues();
-    for (int i = 0; i < 6; ++i) {
-        free.count += values(i) < degeneracy * values(5) ? 1 : 0;
-    }
-    if (free.count != 1) {
-        return free;
-    }
-    // A turn ω about an axis through c moves X by ω × (X − c) = ω × (X − c_0) + ω × (c_0 − c):
-    // velocity = ω × (c_0 − c), with no component along ω (a screw otherwise); a slide has ω ≈ 0.
-    const Eigen::Matrix<double, 6, 1> motion = solver.eigenvectors().col(0);
-    const Eigen::Vector3d omega = motion.head<3>() / radius, velocity = motion.tail<3>();
+    info.solver.compute(information);
+    return info;
+}
+
+// The eigenvector `index` as a turn: ω × (X − c_0) + v = ω × (X − c) with v = ω × (c_0 − c),
+// refused (false) for a slide (ω ≈ 0) or a screw (v along ω).
+bool asTurn(const Information& info, int index, std::array<double, 3>& axis,
+            std::array<double, 3>& axisPoint) {
+    const Eigen::Matrix<double, 6, 1> motion = info.solver.eigenvectors().col(index);
+    const Eigen::Vector3d omega = motion.head<3>() / info.radius, velocity = motion.tail<3>();
     const double pitch = omega.dot(velocity) / omega.squaredNorm();
-    if (motion.head<3>().norm() < 0.2 || std::abs(pitch) > 0.1 * radius) {
+    if (motion.head<3>().norm() < 0.2 || std::abs(pitch) > 0.1 * info.radius) {
+        return false;
+    }
+    const Eigen::Vector3d a = omega.normalized();
+    const Eigen::Vector3d point = info.centre - velocity.cross(omega) / omega.squaredNorm();
+    axis = {a.x(), a.y(), a.z()};
+    axisPoint = {point.x(), point.y(), point.z()};
+    return true;
+}
+
+}  // namespace
+
+FreeMotions freeMotions(const std::vector<std::array<double, 3>>& points,
+                        const std::vector<std::array<double, 3>>& normals, double maxShare) {
+    FreeMotions free;
+    if (points.empty()) {
         return free;
     }
-    const Eigen::Vector3d axis = omega.normalized();
-    const Eigen::Vector3d point = centre - velocity.cross(omega) / omega.squaredNorm();
-    free.turn = true;
-    free.axis = {axis.x(), axis.y(), axis.z()};
-    free.axisPoint = {point.x(), point.y(), point.z()};
+    const Information info = informationOf(points, normals);
+    const Eigen::Matrix<double, 6, 1> values = info.solver.eigenvalues();
+    for (int i = 0; i < 6; ++i) {
+        free.count += values(i) < maxShare * values(5) ? 1 : 0;
+    }
+    free.turn = free.count == 1 && asTurn(info, 0, free.axis, free.axisPoint);
     return free;
+}
+
+WeakestTurn weakestTurn(const std::vector<std::array<double, 3>>& points,
+                        const std::vector<std::array<double, 3>>& normals) {
+    WeakestTurn weakest;
+    if (points.empty()) {
+        return weakest;
+    }
+    const Information info = informationOf(points, normals);
+    weakest.share = info.solver.eigenvalues()(0) / info.solver.eigenvalues()(5);
+    weakest.turn = asTurn(info, 0, weakest.axis, weakest.axisPoint);
+    return weakest;
+}
+
+proto::PinholeCamera inObjectFrame(const proto::PinholeCamera& device, const Pose& objectToCamera) {
+    const Pose moved = compose(poseOfDevice(device), objectToCamera);
+    proto::PinholeCamera out = device;
+    out.R = moved.R;
+    out.T = moved.t;
+    return out;
+}
+
+Pose poseOfDevice(const proto::PinholeCamera& device) {
+    return {device.R, device.T};
+}
+
+Pose compose(const Pose& outer, const Pose& inner) {
+    return poseOf(matrixOf(outer) * matrixOf(inner));
+}
+
+Pose inverse(const Pose& pose) {
+    return poseOf(matrixOf(pose).inverse());
 }
 
 double rotationDifferenceDeg(const Pose& a, const Pose& b) {
@@ -259,12 +316,59 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh,
             bestScore = score;
             best = coarse.transformation_;
         }
+        if (coarse.fitness_ > kGoodCoarseFit) {
+            break;  // nearly every scan point on the mesh: further trials only cost time
+        }
     }
-    for (const double threshold : {2 * kInlierDistance, kInlierDistance, 0.5 * kInlierDistance}) {
-        best = reg::RegistrationICP(fine, *dense, threshold, best,
-                                    reg::TransformationEstimationPointToPlane(),
-                                    reg::ICPConvergenceCriteria(1e-9, 1e-9, 40))
-                   .transformation_;
+    // ICP from a start, at decreasing distances, on `points` (all of `fine`, or a sparse of them
+    // while searching).
+    const auto refine = [&](const o3d::geometry::PointCloud& points, const Eigen::Matrix4d& start,
+                            int iterations) {
+        Eigen::Matrix4d transformation = start;
+        for (const double threshold :
+             {2 * kInlierDistance, kInlierDistance, 0.5 * kInlierDistance}) {
+            transformation =
+                reg::RegistrationICP(points, *dense, threshold, transformation,
+                                     reg::TransformationEstimationPointToPlane(),
+                                     reg::ICPConvergenceCriteria(1e-9, 1e-9, iterations))
+                    .transformation_;
+        }
+        return transformation;
+    };
+    // Inliers first (the right place: a lug out of place is a patch of outliers), then the
+    // point-to-plane residual.
+    const auto score = [&](const o3d::geometry::PointCloud& points, const Eigen::Matrix4d& t) {
+        const FitQuality q = measureFit(points, *dense, denseTree, t);
+        return q.inlierShare - 0.01 * q.rms / kInlierDistance;
+    };
+    best = refine(fine, best, 40);
+    // A nearly symmetric object (a vase with a lug): ICP keeps the turn it started with, so the
+    // turns about the near-axis are tried and the best fit kept.
+    const FitQuality first = measureFit(fine, *dense, denseTree, best);
+    const WeakestTurn weakest = weakestTurn(first.points, first.normals);
+    if (weakest.turn && weakest.share < options.nearSymmetry && first.inlierShare > 0.5) {
+        o3d::geometry::PointCloud sparse;
+        for (std::size_t i = 0; i < fine.points_.size(); i += kSearchStride) {
+            sparse.points_.push_back(fine.points_[i]);
+            sparse.normals_.push_back(fine.normals_[i]);
+        }
+        const Eigen::Vector3d a = eigen(weakest.axis), c = eigen(weakest.axisPoint);
+        Eigen::Matrix4d winner = best;
+        double winnerScore = score(sparse, best);
+        for (double turn = options.turnSearchDeg; turn < 359.9; turn += options.turnSearchDeg) {
+            // Turned about its axis in the object frame, after the camera → object map.
+            Eigen::Matrix4d spin = Eigen::Matrix4d::Identity();
+            const Eigen::Matrix3d r = Eigen::AngleAxisd(turn * kPi / 180, a).toRotationMatrix();
+            spin.block<3, 3>(0, 0) = r;
+            spin.block<3, 1>(0, 3) = c - r * c;
+            const Eigen::Matrix4d candidate = refine(sparse, spin * best, 10);
+            const double candidateScore = score(sparse, candidate);
+            if (candidateScore > winnerScore) {
+                winnerScore = candidateScore;
+                winner = candidate;
+            }
+        }
+        best = refine(fine, winner, 40);
     }
 
     // The fit's quality, and what the scan leaves free.
@@ -282,7 +386,7 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh,
                          " mm — is it this object's mesh, in metres (--mesh-scale)?");
     }
     result.objectToCamera = poseOf(best.inverse());
-    const FreeMotions free = freeMotions(quality.points, quality.normals, options.degeneracy);
+    const FreeMotions free = freeMotions(quality.points, quality.normals, options.freeShare);
     if (free.count > 1) {
         throw InputError("registration: the scan leaves " + std::to_string(free.count) +
                          " motions of the mesh unmeasured (a sphere, a plane?): scan more of the "

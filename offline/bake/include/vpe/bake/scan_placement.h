@@ -31,9 +31,4 @@ ScanPlacement placeFromScan(const std::filesystem::path& scan,
                             const std::optional<scene::ScreenMesh>& mesh,
                             const registration::RegistrationOptions& options = {});
 
-// A device seen from the camera's frame (X_device = R·X_camera + T), re-expressed for the
-// object's frame through objectToCamera.
-proto::PinholeCamera inObjectFrame(const proto::PinholeCamera& device,
-                                   const registration::Pose& objectToCamera);
-
 }  // namespace vpe::bake

@@ -27,9 +27,16 @@ struct RegistrationOptions {
     int ransacIterations = 30000;
     double maxRmsMm = 0.5;         // refused above: the mesh is not this object, or not its scale
     double minInlierShare = 0.85;  // of the scan's points within 1 mm of the mesh after ICP
-    // The smallest eigenvalue of the point-to-plane information matrix, relative to the largest
-    // (rotations scaled by the object's radius), below which a motion is not measured.
-    double degeneracy = 2e-4;
+    // A motion whose information is below this share of the strongest is not measured
+    // (freeMotions): a turned vase's is below 1e-5 (its facets), a lug of half a percent of the
+    // surface lifts it to 1e-3.
+    double freeShare = 1e-4;
+    // Nearly a surface of revolution (the smallest eigenvalue of the information matrix below
+    // this share of the largest: a lug, a spout): the turn about that axis is searched in steps
+    // of turnSearchDeg from the best fit, each refined, since ICP alone keeps the turn it started
+    // with.
+    double nearSymmetry = 0.02;
+    double turnSearchDeg = 30;
     std::uint64_t seed = 1;
 };
 
@@ -46,16 +53,27 @@ struct RegistrationResult {
 };
 
 // The motions of a surface that move it along itself: from the point-to-plane information
-// matrix of its points and normals (rotations about their centroid scaled by their RMS radius),
-// the eigenvectors whose eigenvalue is below `degeneracy` times the largest. One such motion
-// that is a turn about an axis (no slide along it) is a surface of revolution's free turn.
+// matrix of its points and normals (rotations about their centroid scaled by their RMS radius,
+// so that every motion is in metres at the surface), the eigenvectors whose eigenvalue is below
+// maxShare of the largest. One such motion that is a turn about an axis (no slide along it) is a
+// surface of revolution's free turn.
 struct FreeMotions {
     int count = 0;
     bool turn = false;  // count == 1 and it is a turn
     std::array<double, 3> axis{}, axisPoint{};
 };
 FreeMotions freeMotions(const std::vector<std::array<double, 3>>& points,
-                        const std::vector<std::array<double, 3>>& normals, double degeneracy);
+                        const std::vector<std::array<double, 3>>& normals, double maxShare = 1e-4);
+
+// The motion a surface is least sure of — the eigenvector of the smallest eigenvalue — when it
+// is a turn about an axis, with that eigenvalue's share of the largest (object frame).
+struct WeakestTurn {
+    bool turn = false;
+    double share = 1;
+    std::array<double, 3> axis{}, axisPoint{};
+};
+WeakestTurn weakestTurn(const std::vector<std::array<double, 3>>& points,
+                        const std::vector<std::array<double, 3>>& normals);
 
 // Throws InputError for a registration that does not converge (too few inliers, too large a
 // residual) or a pose the scan leaves undetermined other than by a turn about an axis (a
@@ -70,6 +88,17 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh, const scan::Proje
 Pose faceTowards(const Pose& pose, const std::array<double, 3>& axis,
                  const std::array<double, 3>& axisPoint, const proto::Vec3d& target,
                  double* turnDeg = nullptr);
+
+// A device seen from the camera's frame (X_device = R·X_camera + T), re-expressed for the
+// object's frame through objectToCamera: X_device = R·(R_o·X + t_o) + T.
+proto::PinholeCamera inObjectFrame(const proto::PinholeCamera& device, const Pose& objectToCamera);
+
+// The pose of a device (X_device = R·X + T) as a Pose, and back into a device's R, T.
+Pose poseOfDevice(const proto::PinholeCamera& device);
+
+// (outer ∘ inner)(X) = outer(inner(X)), and the inverse.
+Pose compose(const Pose& outer, const Pose& inner);
+Pose inverse(const Pose& pose);
 
 // The rotation angle between two poses (degrees) and the distance between where they put the
 // object's origin (metres).
