@@ -146,7 +146,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     gallery.objectScene.object = screenObjectOf(gallery.object, pose);
 
     // The boards: a 10 × 7 board of 18 mm squares held at poses spread over what both devices
-    // see, tilted up to 25° each way, nearer and further — inside the projector's light, as the
+    // see, tilted up to 30° each way, nearer and further — inside the projector's light, as the
     // technician holds it (docs/install.md): a pose whose board would leave the projector's image
     // (with a 4% margin) is brought in towards the middle until it fits.
     CheckerBoard board;
@@ -173,16 +173,19 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         return true;
     };
     for (int k = 0; k < options.boardPoses; ++k) {
-        const double phase = 2 * kPi * k / options.boardPoses;
+        // Spread over the projector's field (a 3 × 3 walk), three depths, and tilts that turn
+        // the board towards each side in turn: what constrains the lenses and the pair.
+        const int column = k % 3 - 1, row = (k / 3) % 3 - 1, depth = (k * 2) % 3 - 1;
+        const double turnSign = k % 2 == 0 ? 1 : -1;
         CheckerBoard posed = board;
-        for (double reach = 1.0; reach > 0.05; reach *= 0.8) {
-            const double yaw = reach * (25 * std::sin(phase) + 5 * (uniform(seed, 100 + k) - 0.5));
+        for (double reach = 1.0; reach > 0.05; reach *= 0.85) {
+            const double yaw =
+                reach * (-column * 22 + turnSign * 10 + 4 * (uniform(seed, 100 + k) - 0.5));
             const double pitch =
-                reach * (20 * std::cos(1.7 * phase) + 5 * (uniform(seed, 200 + k) - 0.5));
-            const double roll = reach * 12 * std::sin(2.3 * phase + 0.5);
-            const Vec3d at{centre.x + reach * 0.05 * std::cos(phase),
-                           centre.y + reach * 0.03 * std::sin(2 * phase),
-                           centre.z + reach * 0.07 * std::sin(1.3 * phase + 1.0) - 0.02};
+                reach * (row * 18 - turnSign * 8 + 4 * (uniform(seed, 200 + k) - 0.5));
+            const double roll = reach * 10 * std::sin(2.3 * k + 0.5);
+            const Vec3d at{centre.x + reach * 0.09 * column, centre.y - reach * 0.045 * row,
+                           centre.z + 0.07 * depth};
             posed.pose.R =
                 multiply(multiply(rotationAbout({0, 1, 0}, yaw), rotationAbout({1, 0, 0}, pitch)),
                          multiply(rotationAbout({0, 0, 1}, roll), facing));

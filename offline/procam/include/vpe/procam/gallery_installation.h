@@ -17,7 +17,7 @@ namespace vpe::procam {
 struct GalleryOptions {
     int projectorWidth = 1920, projectorHeight = 1080;
     int cameraWidth = 1640, cameraHeight = 1232;
-    int boardPoses = 10;
+    int boardPoses = 15;
     bool noise = true;
     // Chooses the object's pose (a turn about its axis, a lean, an offset) and the noise.
     std::uint64_t seed = 1;
