@@ -2,6 +2,7 @@
 // vpe synth-procam --out DIR                       a complete simulated installation
 // vpe synth-procam --scene FILE --out DIR          a scan of a scene file, with its truth
 // vpe synth-procam --scene FILE --show IMAGE --out IMAGE   what the camera sees of one image
+// vpe synth-procam --scene FILE --check BUNDLE --out DIR   a measured bundle against the truth
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -13,8 +14,10 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
+#include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
 #include "vpe/procam/gallery_installation.h"
+#include "vpe/procam/installation_check.h"
 #include "vpe/procam/simulated_capture.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/proto/scan_manifest.h"
@@ -32,9 +35,9 @@ namespace {
 namespace sim = renderer::procam;
 
 struct Arguments {
-    std::string out, scene, show;
+    std::string out, scene, show, check;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
-    int poses = 10;
+    int poses = 15;
     std::uint64_t seed = 1;
     std::string noise = "camera";
     bool stains = false;
@@ -170,6 +173,80 @@ void runGallery(const Arguments& args) {
     }
 }
 
+// --check: a bundle measured on the installation against its truth, with a contact sheet of what
+// a visitor sees.
+void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
+    const auto start = std::chrono::steady_clock::now();
+    proto::BundleFile bundle = [&] {
+        try {
+            return proto::BundleFile::open(args.check);
+        } catch (const proto::BundleError& error) {
+            throw InputError(error.what());
+        }
+    }();
+    procam::InstallationCheckOptions options;
+    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    const procam::InstallationCheck check =
+        procam::checkInstallation(file.scene, file.camera.camera, bundle.view(), options);
+    std::vector<SheetTile> tiles;
+    for (const procam::VisitorComparison& view : check.views) {
+        const auto tileOf = [](const Rgb8Image& image, std::string label) {
+            SheetTile tile{std::move(label), image.width, image.height, 3, {}};
+            tile.pixels.reserve(image.values.size());
+            for (const std::uint8_t v : image.values) {
+                tile.pixels.push_back(static_cast<float>(v) / 255.0f);
+            }
+            return tile;
+        };
+        char light[96];
+        std::snprintf(light, sizeof light, "light %.2f,%.2f,%.2f: measured, %.1f dB", view.light.x,
+                      view.light.y, view.light.z, view.psnr);
+        tiles.push_back(tileOf(view.measured, light));
+        tiles.push_back(tileOf(view.truth, "the true geometry"));
+        Rgb8Image difference = view.truth;
+        for (std::size_t i = 0; i < difference.values.size(); ++i) {
+            difference.values[i] = static_cast<std::uint8_t>(std::min(
+                255, 8 * std::abs(int(view.measured.values[i]) - int(view.truth.values[i]))));
+        }
+        tiles.push_back(tileOf(difference, "difference x8"));
+    }
+    std::filesystem::create_directories(args.out);
+    const std::filesystem::path sheet = std::filesystem::path(args.out) / "visitor-check.png";
+    writeContactSheet(sheet, tiles, 3, 320);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "%s against %s: visitor views %.2f dB (worst %.2f) over %zu lights; pose off by "
+                 "%.3f mm and %.4f°%s; texture lands %.3f mm from its place (RMS; p95 %.3f, max "
+                 "%.3f, %zu points); %s in %.1f s\n",
+                 args.check.c_str(), args.scene.c_str(), check.psnrMean, check.psnrMin,
+                 check.views.size(), check.poseErrorMm, check.poseErrorDeg,
+                 check.turnFree ? " (the mesh's free turn set by the same rule on both)" : "",
+                 check.misregistrationRmsMm, check.misregistrationP95Mm, check.misregistrationMaxMm,
+                 check.misregistrationPoints, sheet.c_str(), seconds);
+    if (args.json) {
+        nlohmann::json json;
+        json["psnr"] = check.psnrMean;
+        json["psnr_min"] = check.psnrMin;
+        nlohmann::json perLight = nlohmann::json::array();
+        for (const procam::VisitorComparison& view : check.views) {
+            perLight.push_back(
+                {{"light", {view.light.x, view.light.y, view.light.z}}, {"psnr", view.psnr}});
+        }
+        json["views"] = perLight;
+        json["pose_error_mm"] = check.poseErrorMm;
+        json["pose_error_deg"] = check.poseErrorDeg;
+        json["turn_free"] = check.turnFree;
+        json["misregistration_mm"] = check.misregistrationRmsMm;
+        json["misregistration_p95_mm"] = check.misregistrationP95Mm;
+        json["misregistration_max_mm"] = check.misregistrationMaxMm;
+        json["misregistration_points"] = check.misregistrationPoints;
+        json["sheet"] = sheet.string();
+        json["seconds"] = seconds;
+        printJson(json.dump());
+    }
+}
+
 void runScene(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     renderer::procam::SceneFile file;
@@ -177,6 +254,10 @@ void runScene(const Arguments& args) {
         file = renderer::procam::readSceneFile(args.scene);
     } catch (const renderer::procam::SceneFileError& error) {
         throw InputError(error.what());
+    }
+    if (!args.check.empty()) {
+        runCheck(args, file);
+        return;
     }
     const int threads = static_cast<int>(resolveThreadCount(args.threads));
     const sim::ProcamSimulator simulator(file.scene, file.camera, threads);
@@ -251,6 +332,9 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
                         "A scene file (installation.toml) to simulate instead of the gallery");
     command->add_option("--show", args->show,
                         "With --scene: a projector image; writes what the camera records of it");
+    command->add_option("--check", args->check,
+                        "With --scene: a bundle baked from measurements of that installation; "
+                        "report what a visitor sees of it against the truth (--out: pictures)");
     command->add_option("--projector-size", args->projectorSize, "Projector resolution WxH")
         ->capture_default_str();
     command->add_option("--camera-size", args->cameraSize, "Camera resolution WxH")
@@ -271,8 +355,8 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
     addJsonFlag(command, args->json);
     command->callback([args, &action] {
         action = [args] {
-            if (!args->show.empty() && args->scene.empty()) {
-                throw InputError("--show needs --scene FILE");
+            if ((!args->show.empty() || !args->check.empty()) && args->scene.empty()) {
+                throw InputError("--show and --check need --scene FILE");
             }
             if (args->scene.empty()) {
                 runGallery(*args);
