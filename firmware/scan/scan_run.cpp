@@ -233,7 +233,6 @@ ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
     manifest.camera.analogueGain = report.camera.analogueGain;
     manifest.camera.source = report.camera.source;
     manifest.createdBy = "vpe-player";
-    manifest.projectorLatencyMs = scan.latencyMs;
     manifest.images.resize(patterns.size());
     for (proto::ScanImage& image : manifest.images) {
         image.attempts = 0;  // counted below, capture by capture
@@ -302,6 +301,9 @@ ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
                                       image.maxValue, image.samples);
         }
     }
+    // How long the captures waited after their patterns: the board's latency, or the longer
+    // wait the retries settled on (the longest any accepted capture used).
+    manifest.projectorLatencyMs = waitMs;
     proto::writeScanManifest(folder.temporary(), manifest);
     folder.commit();
 

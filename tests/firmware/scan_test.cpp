@@ -138,6 +138,7 @@ TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
     const proto::ScanManifest manifest = proto::readScanManifest(out_);
     ASSERT_GE(manifest.images.size(), 3u);
+    EXPECT_EQ(manifest.projectorLatencyMs, 350.0);  // the wait the captures used
     EXPECT_EQ(manifest.images[0].attempts, 2);
     EXPECT_EQ(manifest.images[1].attempts, 2);
     for (std::size_t i = 2; i < manifest.images.size(); ++i) {
