@@ -20,6 +20,7 @@ namespace {
 
 namespace sim = renderer::procam;
 using registration::Pose;
+using sim::ScreenObject;
 using renderer::Vec3d;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -65,6 +66,21 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
         bundleProjector.height != trueProjectorRoom.height) {
         throw InputError("the bundle's projector is not the installation's size");
     }
+    // The bundle's mesh must be the installation's object (a bundle baked with --scan and the
+    // object's mesh): the truth's pose and texture are the object's.
+    const proto::MeshView& bundleMesh = bundle.mesh();
+    const ScreenObject& object = *scene.object;
+    bool sameMesh = bundleMesh.vertexCount() == object.positions.size() &&
+                    bundleMesh.indices.size() == object.indices.size();
+    for (std::size_t v = 0; sameMesh && v < object.positions.size(); ++v) {
+        sameMesh = std::abs(bundleMesh.positions[3 * v] - object.positions[v].x) < 1e-6f &&
+                   std::abs(bundleMesh.positions[3 * v + 1] - object.positions[v].y) < 1e-6f &&
+                   std::abs(bundleMesh.positions[3 * v + 2] - object.positions[v].z) < 1e-6f;
+    }
+    if (!sameMesh) {
+        throw InputError("the bundle's mesh is not the installation's object: --check compares "
+                         "bundles baked with the object's own mesh (vpe bake --scan DIR --mesh)");
+    }
     InstallationCheck check;
 
     // Poses: the measured one (the bundle's camera), the true one (room → camera ∘ object →
@@ -72,7 +88,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     const Pose measured = registration::poseOfDevice(proto::cameraOf(*bundle.camera()));
     const Pose roomToCamera = registration::poseOfDevice(camera);
     Pose truth = registration::compose(roomToCamera, poseOf(scene.object->pose));
-    const proto::MeshView& mesh = bundle.mesh();
+    const proto::MeshView& mesh = bundleMesh;
     std::vector<std::array<double, 3>> points, normals;
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
         points.push_back(

@@ -45,8 +45,8 @@ struct InstallationCheck {
 
 // `scene` is the true installation (its room frame; scene.object at its true pose) and `camera`
 // its camera (room frame): what vpe synth-procam's installation.toml holds. The bundle must carry
-// the camera (its pose is the measured one). Throws InputError for a bundle without a camera or
-// whose projector is not the scene's size.
+// the camera (its pose is the measured one) and the object's own mesh. Throws InputError for a
+// bundle without a camera, with another mesh, or whose projector is not the scene's size.
 InstallationCheck checkInstallation(const renderer::procam::ProcamScene& scene,
                                     const proto::PinholeCamera& camera,
                                     const proto::BundleView& bundle,
