@@ -213,6 +213,9 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
     std::filesystem::create_directories(args.out);
     const std::filesystem::path sheet = std::filesystem::path(args.out) / "visitor-check.png";
     writeContactSheet(sheet, tiles, 3, 320);
+    // The true camera in the object's frame, for the tracked lamp's error (vpe_lamp_direction).
+    const std::filesystem::path trueCamera = std::filesystem::path(args.out) / "true-camera.yml";
+    scene::writeCameraCalibration(check.trueCamera, trueCamera);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr,
@@ -242,6 +245,7 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
         json["misregistration_max_mm"] = check.misregistrationMaxMm;
         json["misregistration_points"] = check.misregistrationPoints;
         json["sheet"] = sheet.string();
+        json["true_camera"] = trueCamera.string();
         json["seconds"] = seconds;
         printJson(json.dump());
     }
@@ -334,7 +338,8 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
                         "With --scene: a projector image; writes what the camera records of it");
     command->add_option("--check", args->check,
                         "With --scene: a bundle baked from measurements of that installation; "
-                        "report what a visitor sees of it against the truth (--out: pictures)");
+                        "report what a visitor sees of it against the truth (--out: pictures, "
+                        "the true camera)");
     command->add_option("--projector-size", args->projectorSize, "Projector resolution WxH")
         ->capture_default_str();
     command->add_option("--camera-size", args->cameraSize, "Camera resolution WxH")

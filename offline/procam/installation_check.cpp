@@ -20,8 +20,8 @@ namespace {
 
 namespace sim = renderer::procam;
 using registration::Pose;
-using sim::ScreenObject;
 using renderer::Vec3d;
+using sim::ScreenObject;
 
 constexpr double kPi = 3.14159265358979323846;
 // The share of the true view's brightest object pixels that the exposure puts at 0.9.
@@ -78,8 +78,9 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
                    std::abs(bundleMesh.positions[3 * v + 2] - object.positions[v].z) < 1e-6f;
     }
     if (!sameMesh) {
-        throw InputError("the bundle's mesh is not the installation's object: --check compares "
-                         "bundles baked with the object's own mesh (vpe bake --scan DIR --mesh)");
+        throw InputError(
+            "the bundle's mesh is not the installation's object: --check compares "
+            "bundles baked with the object's own mesh (vpe bake --scan DIR --mesh)");
     }
     InstallationCheck check;
 
@@ -108,6 +109,9 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     check.poseErrorMm = 1000 * registration::originDistanceM(measured, truth);
     const proto::PinholeCamera trueProjector =
         registration::inObjectFrame(trueProjectorCamera, truth);
+    check.trueCamera = camera;
+    check.trueCamera.R = truth.R;
+    check.trueCamera.T = truth.t;
 
     // Misregistration: each vertex the bundle's projector lights goes to its projector pixel;
     // the true projector's ray through that pixel meets the true object somewhere: the distance.

@@ -41,6 +41,9 @@ struct InstallationCheck {
     std::size_t misregistrationPoints = 0;
     std::vector<VisitorComparison> views;
     double psnrMean = 0, psnrMin = 0;
+    // The installation's true camera in the object's frame (the truth's, turned as above): what
+    // the bundle's camera should have been, for the tracked lamp's error (vpe_lamp_direction).
+    proto::PinholeCamera trueCamera;
 };
 
 // `scene` is the true installation (its room frame; scene.object at its true pose) and `camera`
