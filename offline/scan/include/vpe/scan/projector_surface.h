@@ -36,7 +36,7 @@ struct TriangulationOptions {
     // camera pixel spans several projector pixels), takes the depth the measured neighbours'
     // plane gives along its own ray — when the camera sees projector light where that point
     // falls. Its confidence is halved. 0: none.
-    int fillRadius = 2;
+    int fillRadius = 3;
     // ... and only where the neighbours' distances along their rays fit their plane to this RMS
     // (metres): a smooth patch, not a step or noise.
     double maxFillResidual = 5e-5;
