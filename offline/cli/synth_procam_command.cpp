@@ -38,6 +38,7 @@ struct Arguments {
     std::string out, scene, show, check;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
     int poses = 15;
+    double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06;
     std::uint64_t seed = 1;
     std::string noise = "camera";
     bool stains = false;
@@ -77,6 +78,15 @@ void runGallery(const Arguments& args) {
     options.cameraWidth = camera.width;
     options.cameraHeight = camera.height;
     options.boardPoses = args.poses;
+    options.cameraOffsetM = args.cameraOffset;
+    options.exposure = args.exposure;
+    options.roomLight = args.roomLight;
+    if (!(args.cameraOffset > 0.02 && args.cameraOffset < 2) || !(args.exposure > 0) ||
+        !(args.roomLight >= 0) || !std::isfinite(args.exposure + args.roomLight)) {
+        throw InputError(
+            "--camera-offset must be in (0.02, 2) m, --exposure positive, "
+            "--room-light ≥ 0");
+    }
     options.seed = args.seed;
     options.noise = args.noise == "camera";
     options.stains = args.stains;
@@ -129,7 +139,7 @@ void runGallery(const Arguments& args) {
         procam::writeSimulatedScan(simulator, root / "calibration" / name, scan, &progress);
         boards.push_back(poseJson(roomToCamera.compose(gallery.boardScenes[k].board->pose)));
     }
-    const sim::CheckerBoard& board = *gallery.boardScenes.front().board;
+    const sim::CheckerBoard& board = gallery.board;
     truth["board"] = {{"squares", {board.squaresX, board.squaresY}},
                       {"square_mm", board.squareM * 1000},
                       {"poses_to_camera", boards}};
@@ -344,9 +354,23 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
         ->capture_default_str();
     command->add_option("--camera-size", args->cameraSize, "Camera resolution WxH")
         ->capture_default_str();
-    command->add_option("--poses", args->poses, "Checkerboard poses for the calibration")
+    command
+        ->add_option("--poses", args->poses,
+                     "Checkerboard poses for the calibration (0: none, the object only)")
         ->capture_default_str();
     command->add_option("--seed", args->seed, "Chooses the object's pose and the noise")
+        ->capture_default_str();
+    command
+        ->add_option("--camera-offset", args->cameraOffset,
+                     "The camera's distance to the projector's left (m)")
+        ->capture_default_str();
+    command
+        ->add_option("--exposure", args->exposure,
+                     "The camera's exposure (signal per unit radiance; 1 = full well)")
+        ->capture_default_str();
+    command
+        ->add_option("--room-light", args->roomLight,
+                     "The room's irradiance on the object, in the projector's units")
         ->capture_default_str();
     command->add_option("--noise", args->noise, "camera (shot + read noise) or none")
         ->check(CLI::IsMember({"camera", "none"}))

@@ -86,7 +86,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     };
     checkSize(options.projectorWidth, options.projectorHeight, "projector");
     checkSize(options.cameraWidth, options.cameraHeight, "camera");
-    if (options.boardPoses < 3 || options.boardPoses > 64) {
+    if ((options.boardPoses != 0 && options.boardPoses < 3) || options.boardPoses > 64) {
         throw InputError("board poses: " + std::to_string(options.boardPoses) +
                          " (a calibration needs 3..64)");
     }
@@ -117,7 +117,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     room.projector.blackLevel = {0.003, 0.003, 0.004};
     room.projector.peakIrradiance = 1.0;
     room.projector.blurPixels = 0.7 * pw / 1920.0 + 0.3;
-    room.room.ambient = {0.06, 0.06, 0.055};
+    room.room.ambient = {options.roomLight, options.roomLight, 0.92 * options.roomLight};
     room.room.interreflection = true;
     room.room.interreflectionGrid = 48;
     if (options.stains) {
@@ -126,16 +126,18 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         room.albedo.seed = seed;
     }
 
-    // The camera: a Raspberry Pi camera (IMX219) in its 2×2-binned raw mode, 27 cm to the left.
+    // The camera: a Raspberry Pi camera (IMX219) in its 2×2-binned raw mode, to the projector's
+    // left (21 cm by default), 4 cm higher and 3 cm nearer the object.
     const int cw = options.cameraWidth, chh = options.cameraHeight;
     const double cameraFocal = 1360.0 * cw / 1640.0;
     renderer::procam::SimulatedCamera& camera = gallery.camera;
-    camera.camera = deviceSeeing(cw, chh, cameraFocal, 0.5 * (cw - 1) + 7.0 * cw / 1640.0,
-                                 0.5 * (chh - 1) - 5.0 * chh / 1232.0,
-                                 {0.085, -0.16, 0.0006, -0.0004, 0}, {-0.16, 0.15, 0.58}, centre);
+    camera.camera =
+        deviceSeeing(cw, chh, cameraFocal, 0.5 * (cw - 1) + 7.0 * cw / 1640.0,
+                     0.5 * (chh - 1) - 5.0 * chh / 1232.0, {0.085, -0.16, 0.0006, -0.0004, 0},
+                     {0.05 - options.cameraOffsetM, 0.15, 0.58}, centre);
     camera.response = renderer::procam::CameraResponse::kLinear;
     camera.bits = 10;
-    camera.exposure = 0.85;
+    camera.exposure = options.exposure;
     camera.fullWellElectrons = options.noise ? 10000 : 0;
     camera.readNoiseElectrons = options.noise ? 5 : 0;
     camera.samples = 2;
@@ -154,6 +156,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     board.squaresY = 7;
     board.squareM = 0.018;
     board.marginM = 0.018;  // a quiet zone of one square, as printed boards have
+    gallery.board = board;
     const Vec3d boardCentre{(board.squaresX - 2) * board.squareM / 2,
                             (board.squaresY - 2) * board.squareM / 2, 0};
     // Board x → room +x, y → room −y (rows downwards), z → room −z (printed face to the devices).

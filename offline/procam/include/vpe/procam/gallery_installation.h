@@ -17,7 +17,10 @@ namespace vpe::procam {
 struct GalleryOptions {
     int projectorWidth = 1920, projectorHeight = 1080;
     int cameraWidth = 1640, cameraHeight = 1232;
-    int boardPoses = 15;
+    int boardPoses = 15;          // 0: no calibration captures
+    double cameraOffsetM = 0.21;  // the camera's distance to the projector's left
+    double exposure = 0.85;       // the camera's (SimulatedCamera::exposure)
+    double roomLight = 0.06;      // the room's irradiance on the object (Room::ambient)
     bool noise = true;
     // Chooses the object's pose (a turn about its axis, a lean, an offset) and the noise.
     std::uint64_t seed = 1;
@@ -28,11 +31,12 @@ struct GalleryInstallation {
     scene::ScreenMesh object;                                // the vase in its own frame
     renderer::procam::ProcamScene objectScene;               // the vase at its pose
     std::vector<renderer::procam::ProcamScene> boardScenes;  // the board at each pose, alone
+    renderer::procam::CheckerBoard board;                    // the printed board (its pose unset)
     renderer::procam::SimulatedCamera camera;
     renderer::procam::RigidPose objectPose;  // object frame → room (the truth)
 };
 
-// Throws InputError for sizes out of range (8..8192) or fewer than 3 board poses.
+// Throws InputError for sizes out of range (8..8192) or 1 or 2 board poses.
 GalleryInstallation makeGalleryInstallation(const GalleryOptions& options);
 
 // The ScreenMesh as the simulator's object at `pose`.
