@@ -8,10 +8,12 @@
 # weight maps, bakes a device bundle for a vase and a projector, renders frames for a moving
 # light with the CPU reference (projector, visitor and material views), plays the bundle on
 # the device program (vpe-player: OpenGL ES, headless) along its idle path, and lays the
-# results out as contact sheets; then does the same on real captures when ../shared/data (or
-# $VPE_DATA) has them. Installs missing Debian packages itself (the test ones too: the release
-# build it shares with scripts/test.sh configures the tests and benchmarks, and the demo runs
-# two of the benchmarks on its bundle), and ffmpeg for its animation.
+# results out as contact sheets; installs vpe on a simulated gallery (calibrate, scan,
+# register, bake, check: scripts/install-report.sh); then does the same fits on real captures
+# when ../shared/data (or $VPE_DATA) has them. Installs missing Debian packages itself (the
+# test ones too: the release build it shares with scripts/test.sh configures the tests and
+# benchmarks, and the demo runs two of the benchmarks on its bundle), and ffmpeg for its
+# animation.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh --test --demo
@@ -210,6 +212,16 @@ printf '%-28s transfer fidelity, 8 new lights and views: %.2f dB, SSIM %.4f (ext
     "$(jq .psnr "$synthetic/transfer/transfer.json")" "$(jq .ssim "$synthetic/transfer/transfer.json")" \
     | tee -a "$summary"
 
+step "installing on a simulated gallery (scripts/install-report.sh): calibrate → scan → register → bake → what a visitor sees"
+scripts/install-report.sh --out "$out/install" | tail -1 > "$out/install.json"
+mv "$out/install.json" "$out/install/install.json"
+printf '%-28s calibration %.3f px, scan coverage %.1f%% / depth RMS %.3f mm / %.1f s; visitor view %.1f dB, texture %.2f mm from its place; lamp %.2f deg\n' \
+    "install (simulated)" "$(jq .calibration_rms_px "$out/install/install.json")" \
+    "$(jq '.scan_coverage * 100' "$out/install/install.json")" "$(jq .depth_rms_mm "$out/install/install.json")" \
+    "$(jq .scan_seconds "$out/install/install.json")" "$(jq .psnr "$out/install/install.json")" \
+    "$(jq .misregistration_mm "$out/install/install.json")" "$(jq .lamp_error_deg "$out/install/install.json")" \
+    | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -260,6 +272,11 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
                                       under 8 new lights and views (docs/transfer-fidelity.md);
                                       transfer-fidelity/contact-sheet.png: truth | pipeline |
                                       difference | without relief
+  install/                            vpe installed on a simulated gallery (docs/install.md):
+                                      procam-poses.png (the calibration's corners),
+                                      scan-true/contact-sheet.png (the scan), check/visitor-check.png
+                                      (what a visitor sees of the measured bundle vs the truth),
+                                      install.json (the figures), room/ (the captures)
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above
