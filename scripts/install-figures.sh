@@ -6,6 +6,7 @@
 #   - where to put the camera: coverage and depth error of a scan with the camera 10, 21 and
 #     33 cm from the projector;
 #   - what a bad scan looks like: a camera that saturates (exposure too long) and a bright room.
+# Pictures go to the --out folder; the table and the bad scans' figures to stdout.
 #   scripts/install-figures.sh [--from REPORT_DIR] [--out docs/install]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -49,7 +50,8 @@ scan_variant() {
     jq -r '"\(.scan_coverage) \(.depth_rms_mm) \(1 - .decoded_share)"' "$work/$name.json"
 }
 
-table="$out/camera-offset.txt"
+# The tables and figures for docs/install.md go to stdout.
+table="$work/camera-offset.txt"
 printf '| camera to the projector | coverage of what the camera sees | depth RMS |\n' > "$table"
 printf '|---|---|---|\n' >> "$table"
 for offset in 0.10 0.21 0.33; do
@@ -57,16 +59,16 @@ for offset in 0.10 0.21 0.33; do
     printf '| %.0f cm | %.2f %% | %.3f mm |\n' "$(awk -v o="$offset" 'BEGIN { print o * 100 }')" \
         "$(awk -v c="$coverage" 'BEGIN { print 100 * c }')" "$depth" >> "$table"
 done
-cat "$table" >&2
+cat "$table"
 
 read -r coverage depth undecoded < <(scan_variant saturated --exposure 1.3)
 picture "$work/saturated/result/contact-sheet.png" "$out/scan-saturated.png" 1200
 printf 'saturated (exposure 1.3): coverage %.2f %%, undecoded %.1f %%\n' \
     "$(awk -v c="$coverage" 'BEGIN { print 100 * c }')" \
-    "$(awk -v u="$undecoded" 'BEGIN { print 100 * u }')" | tee "$out/scan-saturated.txt" >&2
+    "$(awk -v u="$undecoded" 'BEGIN { print 100 * u }')"
 read -r coverage depth undecoded < <(scan_variant bright-room --room-light 1.2)
 picture "$work/bright-room/result/contact-sheet.png" "$out/scan-bright-room.png" 1200
 printf 'bright room (room light 1.2): coverage %.2f %%, depth RMS %.3f mm, undecoded %.1f %%\n' \
     "$(awk -v c="$coverage" 'BEGIN { print 100 * c }')" "$depth" \
-    "$(awk -v u="$undecoded" 'BEGIN { print 100 * u }')" | tee "$out/scan-bright-room.txt" >&2
+    "$(awk -v u="$undecoded" 'BEGIN { print 100 * u }')"
 echo "wrote $out" >&2
