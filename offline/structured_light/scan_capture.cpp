@@ -6,6 +6,7 @@
 
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/luminance.h"
 
 namespace vpe::structured_light {
 
@@ -58,6 +59,22 @@ ScanCapture::ScanCapture(const std::filesystem::path& folderOrManifest)
     }
 }
 
+std::vector<float> greyPixels(FloatImage picture, const std::filesystem::path& source) {
+    if (picture.channels == 1) {
+        return std::move(picture.pixels);
+    }
+    if (picture.channels < 3) {
+        throw InputError(
+            source, std::to_string(picture.channels) + " channels (a scan image is grey or RGB)");
+    }
+    std::vector<float> grey(static_cast<std::size_t>(picture.width) * picture.height);
+    for (std::size_t p = 0; p < grey.size(); ++p) {
+        const float* rgb = &picture.pixels[p * static_cast<std::size_t>(picture.channels)];
+        grey[p] = static_cast<float>(proto::luminance709(rgb[0], rgb[1], rgb[2]));
+    }
+    return grey;
+}
+
 std::filesystem::path ScanCapture::imagePath(std::size_t index) const {
     return folder_ / manifest_.images.at(index).file;
 }
@@ -70,19 +87,7 @@ std::vector<float> ScanCapture::image(std::size_t index) const {
                                    ", but the manifest's camera is " + std::to_string(width()) +
                                    "x" + std::to_string(height()));
     }
-    if (image.channels == 1) {
-        return std::move(image.pixels);
-    }
-    if (image.channels < 3) {
-        throw InputError(
-            path, std::to_string(image.channels) + " channels (a scan image is grey or RGB)");
-    }
-    std::vector<float> grey(static_cast<std::size_t>(width()) * height());
-    for (std::size_t p = 0; p < grey.size(); ++p) {
-        const float* rgb = &image.pixels[p * static_cast<std::size_t>(image.channels)];
-        grey[p] = 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
-    }
-    return grey;
+    return greyPixels(std::move(image), path);
 }
 
 std::vector<float> ScanCapture::image(const char* name) const {

@@ -7,9 +7,14 @@
 #include <filesystem>
 #include <vector>
 
+#include "vpe/image/image_file.h"
 #include "vpe/proto/scan_manifest.h"
 
 namespace vpe::structured_light {
+
+// A picture's grey values (Rec. 709 luminance of a colour one). Throws InputError naming `source`
+// for a picture of 2 channels.
+std::vector<float> greyPixels(FloatImage picture, const std::filesystem::path& source);
 
 class ScanCapture {
 public:

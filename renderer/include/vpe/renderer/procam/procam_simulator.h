@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "vpe/proto/luminance.h"
 #include "vpe/renderer/image_buffers.h"
 #include "vpe/renderer/procam/procam_scene.h"
 
@@ -78,9 +79,6 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-// Rec. 709 luminance of linear RGB: what a monochrome sensor integrates.
-inline double luminance709(double r, double g, double b) {
-    return 0.2126 * r + 0.7152 * g + 0.0722 * b;
-}
+using proto::luminance709;
 
 }  // namespace vpe::renderer::procam
