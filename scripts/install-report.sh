@@ -5,8 +5,7 @@
 # lens shift, distortion, per-channel gammas, black level, defocus), a Raspberry Pi camera
 # beside it (1640 × 1232, raw, noisy), a lit room, interreflection. The chain is the
 # technician's (docs/install.md):
-#   vpe synth-procam  the room: 15 checkerboard poses under the projector, 12 board photos for the
-#                     camera alone, and the object, captured as the device would
+#   vpe synth-procam  the room: 15 checkerboard poses and the object, captured as the device would
 #   vpe calibrate     projector and camera (Moreno & Taubin) → the calibration's errors
 #   vpe scan          the object's surface per projector pixel → coverage, depth, wrong decodes,
 #                     and the decoding + triangulation time at 1080p × 1640 × 1232
@@ -49,9 +48,8 @@ room="$out/room"
 "$vpe" synth-procam --out "$room" --seed "$seed" --poses "$poses" --json | tail -1 > "$out/room.json"
 board=$(json .board "$out/room.json")
 
-step "calibrate (vpe calibrate --board $board, the camera's own board photos too)"
+step "calibrate (vpe calibrate --board $board)"
 "$vpe" calibrate "$room"/calibration/pose* --board "$board" --out "$out/procam.yml" \
-    --camera-poses "$room"/calibration/camera/*.pgm \
     --truth "$room/truth/truth.json" --json | tail -1 > "$out/calibrate.json"
 
 step "scan with the true calibration: the scan's own accuracy and time"

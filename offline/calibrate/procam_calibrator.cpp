@@ -67,53 +67,6 @@ proto::PinholeCamera cameraOf(const cv::Mat& K, const cv::Mat& distortion, int w
 
 }  // namespace
 
-std::vector<proto::Vec2d> findBoardCorners(const std::vector<float>& image, int w, int h,
-                                           const BoardSpec& board,
-                                           const std::filesystem::path& source) {
-    std::vector<cv::Point2f> corners;
-    const cv::Size pattern(board.cornersX(), board.cornersY());
-    const cv::Mat picture = detectorImage(image, w, h);
-    // The sector-based detector (sub-pixel by itself), with its upsampled refinement when it
-    // succeeds (it gives up on some poses that the plain pass finds); the classic detector with
-    // cornerSubPix last.
-    bool found = false;
-    for (const int flags :
-         {int(cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY), int(cv::CALIB_CB_EXHAUSTIVE)}) {
-        found = found || cv::findChessboardCornersSB(picture, pattern, corners, flags);
-    }
-    if (!found) {
-        found = cv::findChessboardCorners(
-            picture, pattern, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
-        if (found) {
-            cv::cornerSubPix(
-                picture, corners, cv::Size(7, 7), cv::Size(-1, -1),
-                cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
-        }
-    }
-    if (!found || static_cast<int>(corners.size()) != board.cornerCount()) {
-        throw InputError(source, "the board's " + std::to_string(board.cornersX()) + "x" +
-                                     std::to_string(board.cornersY()) +
-                                     " inner corners were not found in the white frame "
-                                     "(whole board in view, in focus, lit?)");
-    }
-    // The first corner is the one whose up-left square is dark (BoardSpec: square (0, 0) is
-    // dark); the detector may have started from the opposite corner (a half turn).
-    const cv::Point2d p00 = corners[0];
-    const cv::Point2d alongX = cv::Point2d(corners[1]) - p00;
-    const cv::Point2d alongY =
-        cv::Point2d(corners[static_cast<std::size_t>(board.cornersX())]) - p00;
-    const double firstSquare = sample(image, w, h, p00 - 0.5 * alongX - 0.5 * alongY);
-    const double secondSquare = sample(image, w, h, p00 + 0.5 * alongX - 0.5 * alongY);
-    if (firstSquare > secondSquare) {
-        std::reverse(corners.begin(), corners.end());
-    }
-    std::vector<proto::Vec2d> out;
-    for (const cv::Point2f& c : corners) {
-        out.push_back({c.x, c.y});
-    }
-    return out;
-}
-
 BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
                            const structured_light::DecodedScan& decoded, const BoardSpec& board,
                            const CornerOptions& options) {
@@ -125,7 +78,46 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
     pose.projectorHeight = decoded.projectorHeight;
     pose.white = decoded.white;
     const int w = decoded.width, h = decoded.height;
-    pose.cameraCorners = findBoardCorners(decoded.white, w, h, board, pose.folder);
+    std::vector<cv::Point2f> corners;
+    const cv::Size pattern(board.cornersX(), board.cornersY());
+    const cv::Mat image = detectorImage(decoded.white, w, h);
+    // The sector-based detector (sub-pixel by itself), with its upsampled refinement when it
+    // succeeds (it gives up on some poses that the plain pass finds); the classic detector with
+    // cornerSubPix last.
+    bool found = false;
+    for (const int flags :
+         {int(cv::CALIB_CB_EXHAUSTIVE | cv::CALIB_CB_ACCURACY), int(cv::CALIB_CB_EXHAUSTIVE)}) {
+        found = found || cv::findChessboardCornersSB(image, pattern, corners, flags);
+    }
+    if (!found) {
+        found = cv::findChessboardCorners(
+            image, pattern, corners, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+        if (found) {
+            cv::cornerSubPix(
+                image, corners, cv::Size(7, 7), cv::Size(-1, -1),
+                cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-4));
+        }
+    }
+    if (!found || static_cast<int>(corners.size()) != board.cornerCount()) {
+        throw InputError(pose.folder, "the board's " + std::to_string(board.cornersX()) + "x" +
+                                          std::to_string(board.cornersY()) +
+                                          " inner corners were not found in the white frame "
+                                          "(whole board in view, in focus, lit?)");
+    }
+    // The first corner is the one whose up-left square is dark (BoardSpec: square (0, 0) is
+    // dark); the detector may have started from the opposite corner (a half turn).
+    const cv::Point2d p00 = corners[0];
+    const cv::Point2d alongX = cv::Point2d(corners[1]) - p00;
+    const cv::Point2d alongY =
+        cv::Point2d(corners[static_cast<std::size_t>(board.cornersX())]) - p00;
+    const double firstSquare = sample(decoded.white, w, h, p00 - 0.5 * alongX - 0.5 * alongY);
+    const double secondSquare = sample(decoded.white, w, h, p00 + 0.5 * alongX - 0.5 * alongY);
+    if (firstSquare > secondSquare) {
+        std::reverse(corners.begin(), corners.end());
+    }
+    for (const cv::Point2f& c : corners) {
+        pose.cameraCorners.push_back({c.x, c.y});
+    }
 
     // Local homographies: decoded camera pixels around each corner → their projector pixels.
     std::size_t reached = 0;
@@ -199,8 +191,7 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
     return pose;
 }
 
-ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const BoardSpec& board,
-                                  const std::vector<CameraPose>& cameraOnly) {
+ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const BoardSpec& board) {
     if (poses.size() < 3) {
         throw InputError("vpe calibrate needs at least 3 board poses, got " +
                          std::to_string(poses.size()));
@@ -242,20 +233,6 @@ ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const Boa
         stereoCamera.push_back(sc);
         stereoProjector.push_back(sp);
     }
-    for (const CameraPose& pose : cameraOnly) {
-        if (pose.width != first.cameraWidth || pose.height != first.cameraHeight) {
-            throw InputError(pose.source, std::to_string(pose.width) + "x" +
-                                              std::to_string(pose.height) + ", but the camera is " +
-                                              std::to_string(first.cameraWidth) + "x" +
-                                              std::to_string(first.cameraHeight));
-        }
-        std::vector<cv::Point2f> view;
-        for (const proto::Vec2d& c : pose.corners) {
-            view.emplace_back(static_cast<float>(c.x), static_cast<float>(c.y));
-        }
-        cameraObjects.push_back(all);
-        cameraImages.push_back(view);
-    }
     const cv::Size cameraSize(first.cameraWidth, first.cameraHeight);
     const cv::Size projectorSize(first.projectorWidth, first.projectorHeight);
     const int flags = cv::CALIB_FIX_K3;
@@ -267,11 +244,9 @@ ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const Boa
                             flags, criteria);
         cv::calibrateCamera(projectorObjects, projectorImages, projectorSize, projectorK,
                             projectorD, rvecs, tvecs, flags, criteria);
-        cv::stereoCalibrate(
-            stereoObjects, stereoCamera, stereoProjector, cameraK, cameraD, projectorK, projectorD,
-            cameraSize, R, T, E, F, perView,
-            (cameraOnly.empty() ? cv::CALIB_USE_INTRINSIC_GUESS : cv::CALIB_FIX_INTRINSIC) | flags,
-            criteria);
+        cv::stereoCalibrate(stereoObjects, stereoCamera, stereoProjector, cameraK, cameraD,
+                            projectorK, projectorD, cameraSize, R, T, E, F, perView,
+                            cv::CALIB_USE_INTRINSIC_GUESS | flags, criteria);
     } catch (const cv::Exception& error) {
         throw InputError("the board poses do not determine a calibration (" + error.err +
                          "): more poses, tilted more, over more of both images");

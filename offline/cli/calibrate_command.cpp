@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
-// vpe calibrate POSE... --board 10x7:18mm --out procam.yml [--camera-poses IMAGE...] [--truth
-// truth.json]
+// vpe calibrate POSE... --board 10x7:25mm --out procam.yml [--truth truth.json]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,7 +12,6 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/progress_bar.h"
 #include "vpe/image/contact_sheet.h"
-#include "vpe/image/image_file.h"
 #include "vpe/proto/srgb.h"
 #include "vpe/scene/projector_calibration.h"
 
@@ -27,7 +25,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 struct Arguments {
-    std::vector<std::string> poses, cameraPoses;
+    std::vector<std::string> poses;
     std::string board, out, truth;
     int threads = 0;
     bool json = false;
@@ -136,29 +134,8 @@ void runCalibrate(const Arguments& args) {
         poses.push_back(calibrate::measureBoardPose(capture, decoded, board));
         progress.advance();
     }
-    std::vector<calibrate::CameraPose> cameraOnly;
-    for (const std::string& source : args.cameraPoses) {
-        // A scan folder's white frame, or any picture of the board.
-        calibrate::CameraPose pose;
-        pose.source = source;
-        std::vector<float> image;
-        if (std::filesystem::is_directory(source)) {
-            const structured_light::ScanCapture capture(source);
-            image = capture.image("white");
-            pose.width = capture.width();
-            pose.height = capture.height();
-        } else {
-            const FloatImage picture = readImage(source);
-            pose.width = picture.width;
-            pose.height = picture.height;
-            image = structured_light::greyPixels(picture, source);
-        }
-        pose.corners = calibrate::findBoardCorners(image, pose.width, pose.height, board, source);
-        cameraOnly.push_back(std::move(pose));
-    }
     progress.setPhase("calibrating");
-    const calibrate::ProcamCalibration calibration =
-        calibrate::calibrateProcam(poses, board, cameraOnly);
+    const calibrate::ProcamCalibration calibration = calibrate::calibrateProcam(poses, board);
     progress.finish();
     scene::writeProcamCalibration(calibration.projector, calibration.camera, calibration.stereoRms,
                                   args.out);
@@ -236,9 +213,6 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
                      "Calibration to write (.yml: procam keys + cam_K, cam_kc; what vpe scan "
                      "and vpe bake --projector read)")
         ->required();
-    command->add_option("--camera-poses", args->cameraPoses,
-                        "Pictures of the board for the camera alone (images or scan folders), "
-                        "anywhere in its view: its lens out to the corners");
     command->add_option("--truth", args->truth,
                         "A simulation's truth.json (vpe synth-procam): report the errors");
     addThreadsOption(command, args->threads);

@@ -37,7 +37,7 @@ namespace sim = renderer::procam;
 struct Arguments {
     std::string out, scene, show, check;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
-    int poses = 15, cameraPoses = 12;
+    int poses = 15;
     double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06;
     std::uint64_t seed = 1;
     std::string noise = "camera";
@@ -78,7 +78,6 @@ void runGallery(const Arguments& args) {
     options.cameraWidth = camera.width;
     options.cameraHeight = camera.height;
     options.boardPoses = args.poses;
-    options.cameraPoses = args.poses == 0 ? 0 : args.cameraPoses;
     options.cameraOffsetM = args.cameraOffset;
     options.exposure = args.exposure;
     options.roomLight = args.roomLight;
@@ -140,23 +139,6 @@ void runGallery(const Arguments& args) {
         procam::writeSimulatedScan(simulator, root / "calibration" / name, scan, &progress);
         boards.push_back(poseJson(roomToCamera.compose(gallery.boardScenes[k].board->pose)));
     }
-    // The camera's own board poses: one photo each, the room's lights on, the projector black.
-    if (!gallery.cameraScenes.empty()) {
-        std::filesystem::create_directories(root / "calibration" / "camera");
-    }
-    for (std::size_t k = 0; k < gallery.cameraScenes.size(); ++k) {
-        progress.setPhase("camera pose " + std::to_string(k + 1));
-        renderer::procam::SimulatedCamera boardCamera = gallery.camera;
-        boardCamera.samples = 3;
-        const sim::ProcamSimulator simulator(gallery.cameraScenes[k], boardCamera, threads);
-        const proto::PinholeCamera& p = gallery.cameraScenes[k].projector.camera;
-        const std::vector<std::uint8_t> black(static_cast<std::size_t>(p.width) * p.height, 0);
-        const sim::CameraFrame frame = simulator.expose(simulator.radiance(black), 5000 + k);
-        char name[32];
-        std::snprintf(name, sizeof name, "board%02zu.pgm", k + 1);
-        proto::writePnmAtomically(root / "calibration" / "camera" / name, frame.width, frame.height,
-                                  frame.channels, frame.maxValue(), frame.samples);
-    }
     const sim::CheckerBoard& board = gallery.board;
     truth["board"] = {{"squares", {board.squaresX, board.squaresY}},
                       {"square_mm", board.squareM * 1000},
@@ -183,11 +165,9 @@ void runGallery(const Arguments& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr,
                  "wrote %s: a simulated installation — %zu calibration poses and an object scan "
-                 "of %zu images each, %zu board photos for the camera (projector %dx%d, camera "
-                 "%dx%d), the truth, in %.1f s\n",
-                 args.out.c_str(), gallery.boardScenes.size(), patterns,
-                 gallery.cameraScenes.size(), projector.width, projector.height, camera.width,
-                 camera.height, seconds);
+                 "of %zu images each (projector %dx%d, camera %dx%d), the truth, in %.1f s\n",
+                 args.out.c_str(), gallery.boardScenes.size(), patterns, projector.width,
+                 projector.height, camera.width, camera.height, seconds);
     std::fprintf(stderr, "board: %dx%d squares of %.0f mm (vpe calibrate --board %dx%d:%.0fmm)\n",
                  board.squaresX, board.squaresY, board.squareM * 1000, board.squaresX,
                  board.squaresY, board.squareM * 1000);

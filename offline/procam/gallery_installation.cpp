@@ -86,9 +86,6 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     };
     checkSize(options.projectorWidth, options.projectorHeight, "projector");
     checkSize(options.cameraWidth, options.cameraHeight, "camera");
-    if (options.cameraPoses < 0 || options.cameraPoses > 64) {
-        throw InputError("camera poses: " + std::to_string(options.cameraPoses) + " (0..64)");
-    }
     if ((options.boardPoses != 0 && options.boardPoses < 3) || options.boardPoses > 64) {
         throw InputError("board poses: " + std::to_string(options.boardPoses) +
                          " (a calibration needs 3..64)");
@@ -205,53 +202,6 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         scene.room.interreflection = false;  // a flat board does not light itself
         scene.board = posed;
         gallery.boardScenes.push_back(scene);
-    }
-    // The camera's own poses: a 4 × 3 walk over its image, the board turned towards the camera
-    // and tilted, nearer and further; every corner inside the image with a 4% margin.
-    const proto::PinholeCamera& c = camera.camera;
-    const auto insideCamera = [&](const CheckerBoard& b) {
-        const double x0 = -b.squareM - b.marginM, y0 = x0;
-        const double x1 = (b.squaresX - 1) * b.squareM + b.marginM;
-        const double y1 = (b.squaresY - 1) * b.squareM + b.marginM;
-        for (const auto& [x, y] : {std::pair{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}) {
-            const auto pixel = proto::projectToPixel(c, b.pose.apply({x, y, 0}));
-            if (!pixel || pixel->x < 0.04 * cw || pixel->x > 0.96 * cw || pixel->y < 0.04 * chh ||
-                pixel->y > 0.96 * chh) {
-                return false;
-            }
-        }
-        return true;
-    };
-    const Vec3d eye = c.center();
-    // Board axes along the camera's (x right, y down, z forward: the printed face towards it).
-    const std::array<double, 9> towardsCamera{c.R[0], c.R[3], c.R[6], c.R[1], c.R[4],
-                                              c.R[7], c.R[2], c.R[5], c.R[8]};
-    for (int k = 0; k < options.cameraPoses; ++k) {
-        const double column = (k % 4) / 1.5 - 1, row = ((k / 4) % 3) - 1.0;
-        const double distance = 0.42 + 0.08 * ((k * 5) % 3);
-        CheckerBoard posed = board;
-        for (double reach = 1.0; reach > 0.05; reach *= 0.85) {
-            const double yaw = 25 * (k % 2 == 0 ? 1 : -1) * reach - 10 * column;
-            const double pitch = 20 * ((k / 2) % 2 == 0 ? 1 : -1) * reach - 8 * row;
-            const Vec3d ray =
-                proto::pixelRayDirection(c, {0.5 * (cw - 1) * (1 + 0.62 * reach * column),
-                                             0.5 * (chh - 1) * (1 + 0.55 * reach * row)});
-            const double n = std::sqrt(proto::dot(ray, ray));
-            const Vec3d at{eye.x + distance * ray.x / n, eye.y + distance * ray.y / n,
-                           eye.z + distance * ray.z / n};
-            posed.pose.R = multiply(towardsCamera, multiply(rotationAbout({0, 1, 0}, yaw),
-                                                            rotationAbout({1, 0, 0}, pitch)));
-            const Vec3d offset = posed.pose.rotate(boardCentre);
-            posed.pose.t = {at.x - offset.x, at.y - offset.y, at.z - offset.z};
-            if (insideCamera(posed)) {
-                break;
-            }
-        }
-        ProcamScene scene = room;
-        scene.room.interreflection = false;
-        scene.room.ambient = {1.0, 1.0, 0.95};  // the room's lights on
-        scene.board = posed;
-        gallery.cameraScenes.push_back(scene);
     }
     return gallery;
 }

@@ -39,22 +39,6 @@ struct BoardPose {
     std::vector<float> white;  // the camera's white frame, for pictures
 };
 
-// The board's inner corners in a picture of it (linear values in [0, 1]), row by row from the
-// board's first corner (square (0, 0) dark). Throws InputError naming `source` when the board is
-// not found.
-std::vector<proto::Vec2d> findBoardCorners(const std::vector<float>& image, int width, int height,
-                                           const BoardSpec& board,
-                                           const std::filesystem::path& source);
-
-// A pose for the camera alone: the board anywhere in the camera's view, lit by the room, the
-// projector's light not needed — what constrains the camera's lens out to its image's corners,
-// where the projector's light (and so the projector–camera poses) cannot reach.
-struct CameraPose {
-    std::filesystem::path source;
-    int width = 0, height = 0;
-    std::vector<proto::Vec2d> corners;
-};
-
 // Finds the board and carries its corners into the projector. Throws InputError naming the
 // pose's folder when the board is not found, or when fewer than half its corners reach the
 // projector.
@@ -79,11 +63,7 @@ struct ProcamCalibration {
 
 // Needs at least 3 poses, each with corners in both devices. Lens models: k1, k2, p1, p2 (k3
 // fixed at 0, as procam-calibration does: k3 overfits boards that do not reach the corners).
-// With camera-only poses the camera is calibrated on all its poses and kept while the pair is
-// (its intrinsics then rest on the whole image, not only where the projector lights); without,
-// the stereo calibration refines both devices' intrinsics with the pair. Throws InputError when
-// the poses cannot determine a calibration.
-ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const BoardSpec& board,
-                                  const std::vector<CameraPose>& cameraOnly = {});
+// Throws InputError when the poses cannot determine a calibration.
+ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const BoardSpec& board);
 
 }  // namespace vpe::calibrate

@@ -17,9 +17,7 @@ namespace vpe::procam {
 struct GalleryOptions {
     int projectorWidth = 1920, projectorHeight = 1080;
     int cameraWidth = 1640, cameraHeight = 1232;
-    int boardPoses = 15;  // 0: no calibration captures
-    // Board poses for the camera alone (lit by the room, anywhere in the camera's view).
-    int cameraPoses = 12;
+    int boardPoses = 15;          // 0: no calibration captures
     double cameraOffsetM = 0.21;  // the camera's distance to the projector's left
     double exposure = 0.85;       // the camera's (SimulatedCamera::exposure)
     double roomLight = 0.06;      // the room's irradiance on the object (Room::ambient)
@@ -33,10 +31,7 @@ struct GalleryInstallation {
     scene::ScreenMesh object;                                // the vase in its own frame
     renderer::procam::ProcamScene objectScene;               // the vase at its pose
     std::vector<renderer::procam::ProcamScene> boardScenes;  // the board at each pose, alone
-    // The board for the camera alone: over the camera's whole view, the room's lights on, the
-    // projector dark (show it black).
-    std::vector<renderer::procam::ProcamScene> cameraScenes;
-    renderer::procam::CheckerBoard board;  // the printed board (its pose unset)
+    renderer::procam::CheckerBoard board;                    // the printed board (its pose unset)
     renderer::procam::SimulatedCamera camera;
     renderer::procam::RigidPose objectPose;  // object frame → room (the truth)
 };
