@@ -152,12 +152,7 @@ void runGallery(const Arguments& args) {
     progress.setPhase("truth");
     procam::writeSimulationTruth(simulator, root / "truth");
     writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
-    // The true calibration in vpe calibrate's own file: scans can be decoded with it alone.
-    proto::PinholeCamera cameraAtOrigin = c;
-    cameraAtOrigin.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    cameraAtOrigin.T = {0, 0, 0};
-    scene::writeProcamCalibration(inCameraFrame(gallery.objectScene.projector.camera, c),
-                                  cameraAtOrigin, std::nullopt, root / "truth" / "calibration.yml");
+
     progress.finish();
     folder.commit();
 

@@ -6,6 +6,8 @@
 #include "vpe/image/image_file.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/proto/scan_manifest.h"
+#include "vpe/registration/mesh_registration.h"
+#include "vpe/scene/projector_calibration.h"
 
 namespace vpe::procam {
 
@@ -97,6 +99,15 @@ void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
         folder / "projector-truth.exr", projector.width, projector.height, 7, projectorValues,
         PixelFormat::kFloat,
         {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "seen"});
+    // The true calibration in vpe calibrate's own file, in the camera's frame: scans can be
+    // decoded with it alone.
+    const registration::Pose cameraToRoom = registration::inverse(registration::poseOfDevice(c));
+    proto::PinholeCamera cameraAtOrigin = c;
+    cameraAtOrigin.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    cameraAtOrigin.T = {0, 0, 0};
+    scene::writeProcamCalibration(
+        registration::inObjectFrame(simulator.scene().projector.camera, cameraToRoom),
+        cameraAtOrigin, std::nullopt, folder / "calibration.yml");
 }
 
 }  // namespace vpe::procam

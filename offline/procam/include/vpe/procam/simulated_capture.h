@@ -34,7 +34,8 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
 //     light-weighted mean over its area, CameraTruth), its centre ray's (centre.x/y) and the
 //     point that ray meets (point.X/Y/Z); NaN elsewhere;
 //   projector-truth.exr: per projector pixel, the point it lights (position.X/Y/Z), the normal
-//     there (normal.X/Y/Z) and whether the camera sees it (seen, 0 or 1).
+//     there (normal.X/Y/Z) and whether the camera sees it (seen, 0 or 1);
+//   calibration.yml: the true projector and camera as vpe calibrate writes them.
 void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
                           const std::filesystem::path& folder);
 
