@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "vpe/common/input_error.h"
+#include "vpe/common/quantile.h"
 #include "vpe/image/image_metrics.h"
 #include "vpe/registration/mesh_registration.h"
 #include "vpe/renderer/bundle_scene.h"
@@ -35,17 +36,6 @@ Vec3d apply(const Pose& pose, const Vec3d& p) {
     return {pose.R[0] * p.x + pose.R[1] * p.y + pose.R[2] * p.z + pose.t[0],
             pose.R[3] * p.x + pose.R[4] * p.y + pose.R[5] * p.z + pose.t[1],
             pose.R[6] * p.x + pose.R[7] * p.y + pose.R[8] * p.z + pose.t[2]};
-}
-
-double quantile(std::vector<double> values, double q) {
-    if (values.empty()) {
-        return 0;
-    }
-    const auto at =
-        values.begin() + static_cast<std::ptrdiff_t>(std::min(
-                             values.size() - 1, static_cast<std::size_t>(q * values.size())));
-    std::nth_element(values.begin(), at, values.end());
-    return *at;
 }
 
 }  // namespace

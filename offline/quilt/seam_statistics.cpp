@@ -9,19 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/quantile.h"
 
 namespace vpe::quilt {
-
-namespace {
-
-double quantile(std::vector<double> values, double share) {
-    std::sort(values.begin(), values.end());
-    const auto at =
-        static_cast<std::size_t>(std::lround(share * static_cast<double>(values.size() - 1)));
-    return values[at];
-}
-
-}  // namespace
 
 SeamStatistics measureSeam(std::span<const float> values, int width, int height, int channels,
                            std::span<const unsigned char> valid) {

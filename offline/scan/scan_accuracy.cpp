@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "vpe/common/input_error.h"
+#include "vpe/common/quantile.h"
 #include "vpe/image/image_file.h"
 
 namespace vpe::scan {
@@ -13,17 +14,6 @@ namespace vpe::scan {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double quantile(std::vector<double> values, double q) {
-    if (values.empty()) {
-        return 0;
-    }
-    const auto at =
-        values.begin() + static_cast<std::ptrdiff_t>(std::min(
-                             values.size() - 1, static_cast<std::size_t>(q * values.size())));
-    std::nth_element(values.begin(), at, values.end());
-    return *at;
-}
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/quantile.h"
 
 namespace vpe::structured_light {
 
@@ -26,15 +27,6 @@ constexpr int kTooManyUncertainBits = -2;
 // A frame whose median over the lit pixels sits this far from where it must (its pair's sum, or
 // inside white and black) was captured wrong: black (the camera missed it) or saturated.
 constexpr double kFrameTolerance = 0.4;
-
-double median(std::vector<double> values) {
-    if (values.empty()) {
-        return std::numeric_limits<double>::quiet_NaN();
-    }
-    const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), middle, values.end());
-    return *middle;
-}
 
 struct AxisState {
     std::vector<std::uint32_t> code;  // the Gray bits read so far, above the lowest shown
@@ -175,12 +167,12 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             if (values.size() < 64) {
                 continue;
             }
-            const double centre = median(values);
+            const double centre = quantile(values, 0.5);
             for (double& v : values) {
                 v = std::abs(v - centre);
             }
-            const double sigma = 1.4826 * median(values);
-            const double x = median(levels[static_cast<std::size_t>(b)]);
+            const double sigma = 1.4826 * quantile(values, 0.5);
+            const double x = quantile(levels[static_cast<std::size_t>(b)], 0.5);
             const double y = sigma * sigma;
             sx += x;
             sy += y;
@@ -224,7 +216,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                 (double(p[q]) + double(i[q]) - double(scan.white[q]) - double(scan.black[q])) /
                 contrast);
         }
-        const double m = median(ratio);
+        const double m = quantile(ratio, 0.5);
         if (std::abs(m) > kFrameTolerance) {
             // The frame that departs from its own expectation most is the wrong one.
             double darkP = 0, darkI = 0;
@@ -288,7 +280,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                 share.push_back((double(image[q]) - double(scan.black[q])) /
                                 (double(scan.white[q]) - double(scan.black[q])));
             }
-            const double m = median(share);
+            const double m = quantile(share, 0.5);
             if (!(m > 0.02 && m < 0.98)) {
                 throw InputError(pathOf(pattern),
                                  std::string(m <= 0.02 ? "black" : "saturated") +
