@@ -147,7 +147,7 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     Json json;
     try {
         json = Json::parse(text);
-    } catch (const Json::parse_error& error) {
+    } catch (const Json::exception& error) {  // parse_error, and out_of_range for 1e99999
         std::string what = error.what();
         if (const std::size_t at = what.find("] "); at != std::string::npos) {
             what = what.substr(at + 2);

@@ -64,6 +64,9 @@ TEST(ScanManifest, RefusesEachMalformedManifestNamingTheKey) {
               "scan.json: not JSON (parse error at line 1, column 2: syntax error "
               "while parsing object key - unexpected end of input; expected string "
               "literal)");
+    // A number beyond a double's range (found by the fuzzer).
+    EXPECT_EQ(errorOf(replaced(good, "\"latency_ms\": 120", "\"latency_ms\": 1e30848")),
+              "scan.json: not JSON (number overflow parsing '1e30848')");
     EXPECT_EQ(errorOf(replaced(good, "\"vpe-scan\"", "\"other\"")),
               "scan.json: format: expected \"vpe-scan\"");
     EXPECT_EQ(errorOf(replaced(good, "\"version\": 1", "\"version\": 2")),
