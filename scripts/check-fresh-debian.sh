@@ -69,12 +69,25 @@ fi
 aptopt="$work/apt.conf"
 apt-config dump | grep -E '^Acquire::(Check-Valid-Until|Check-Date|http::Proxy|https::Proxy)' >"$aptopt" || true
 
-mounted=()
-cleanup() {
+# The root holds bind mounts of the host's /dev, /proc, /sys and ../shared. A run killed with
+# SIGKILL skips its trap and leaves them behind; removing such a root naively deletes the
+# host's /dev nodes. So every mount under the root is undone first (a stale one included), and
+# the removal never crosses into another file system.
+unmount_below() {
     local m
-    for ((i = ${#mounted[@]} - 1; i >= 0; i--)); do umount -l "${mounted[i]}" 2>/dev/null || true; done
-    if [[ $keep -eq 0 ]]; then rm -rf "$root"; fi
+    awk -v r="$1" '$2 == r || index($2, r "/") == 1 { print $2 }' /proc/self/mounts | sort -r |
+        while read -r m; do umount -l "$m" 2>/dev/null || true; done
 }
+remove_root() {
+    unmount_below "$root"
+    if awk -v r="$root" 'index($2, r "/") == 1 { found = 1 } END { exit !found }' /proc/self/mounts; then
+        echo "check-fresh-debian: $root still has mounts; leaving it in place" >&2
+        return
+    fi
+    rm -rf --one-file-system "$root"
+}
+cleanup() { if [[ $keep -eq 0 ]]; then remove_root; else unmount_below "$root"; fi; }
+[[ -e "$root" ]] && remove_root
 trap cleanup EXIT
 
 echo "check-fresh-debian: building a Debian 12 root in $root" >&2
@@ -89,12 +102,12 @@ git clone -q --no-local "$top" "$root/work/main"
 git -C "$root/work/main" checkout -q "$commit"
 if [[ -d "$top/../shared" ]]; then
     mkdir -p "$root/work/shared"
-    mount --bind "$top/../shared" "$root/work/shared" && mounted+=("$root/work/shared")
+    mount --bind "$top/../shared" "$root/work/shared"
     mount -o remount,bind,ro "$root/work/shared"
 fi
 for fs in proc sys dev dev/pts; do
     mkdir -p "$root/$fs"
-    mount --bind "/$fs" "$root/$fs" && mounted+=("$root/$fs")
+    mount --bind "/$fs" "$root/$fs"
 done
 cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
 
