@@ -156,6 +156,11 @@ std::string checkProcamScene(const ProcamScene& scene) {
             return "projector: black level must be in [0, 1)";
         }
     }
+    for (const double m : p.mixing) {
+        if (!(m >= 0 && m <= 1)) {
+            return "projector: mixing must be 9 numbers in [0, 1]";
+        }
+    }
     if (!(p.peakIrradiance > 0) || !std::isfinite(p.peakIrradiance)) {
         return "projector: peak irradiance must be positive";
     }

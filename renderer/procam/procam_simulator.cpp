@@ -301,6 +301,14 @@ CameraFrame ProcamSimulator::expose(const RgbImage& radiance, std::uint64_t fram
     return exposeSensor(impl_->camera, radiance, frame, impl_->threads);
 }
 
+CameraFrame ProcamSimulator::expose(const RgbImage& radiance, std::uint64_t frame,
+                                    const SimulatedCamera& sensor) const {
+    if (auto problem = checkSimulatedCamera(sensor); !problem.empty()) {
+        throw std::invalid_argument("procam simulator: " + problem);
+    }
+    return exposeSensor(sensor, radiance, frame, impl_->threads);
+}
+
 CameraTruth ProcamSimulator::cameraTruth() const {
     const Impl& s = *impl_;
     const proto::PinholeCamera& c = s.camera.camera;

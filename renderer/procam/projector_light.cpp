@@ -76,6 +76,15 @@ ProjectorLight::ProjectorLight(const SimulatedProjector& projector, const RgbIma
                 ? table[static_cast<std::size_t>(channel)][static_cast<std::size_t>(rounded)]
                 : relative(channel, level);
     }
+    const auto& m = projector.mixing;
+    if (m != std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}) {
+        for (std::size_t i = 0; i < output_.size(); i += 3) {
+            const double r = output_[i], g = output_[i + 1], b = output_[i + 2];
+            for (std::size_t k = 0; k < 3; ++k) {
+                output_[i + k] = static_cast<float>(m[3 * k] * r + m[3 * k + 1] * g + m[3 * k + 2] * b);
+            }
+        }
+    }
     if (projector.blurPixels > 0) {
         const double sigma = projector.blurPixels;
         const int radius = std::max(1, static_cast<int>(std::ceil(3 * sigma)));

@@ -106,6 +106,19 @@ public:
         return values;
     }
 
+    // An array of 2..1024 finite numbers.
+    std::optional<std::vector<double>> sampledNumbers(const char* key) const {
+        const toml::node* node = find(key);
+        if (node == nullptr) {
+            return std::nullopt;
+        }
+        const toml::array* array = node->as_array();
+        if (array == nullptr || array->size() < 2 || array->size() > 1024) {
+            fail(key, "expected an array of 2 to 1024 numbers");
+        }
+        return numbers(key, array->size());
+    }
+
     std::vector<double> required(const char* key, std::size_t count) const {
         auto values = numbers(key, count);
         if (!values) {
@@ -303,7 +316,8 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
     }
 
     const Section projector(root["projector"].as_table(), source, "projector",
-                            {"size", "K", "distortion", "R", "T", "gamma", "black_level",
+                            {"size", "K", "distortion", "R", "T", "gamma", "curve_red",
+                             "curve_green", "curve_blue", "black_level", "mixing",
                              "peak_irradiance", "blur_px"});
     if (!projector.present()) {
         throw SceneFileError(source + ": projector: missing section");
@@ -311,6 +325,30 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
     scene.projector.camera = cameraOf(projector);
     scene.projector.response =
         proto::ResponseFunction::gamma(rgbOf(projector, "gamma", {2.2, 2.2, 2.2}));
+    // Or sampled curves (all three), sample i of N at level i / (N − 1): a response that is not
+    // a gamma, as real projectors' are.
+    const auto curve = [&](const char* key) { return projector.sampledNumbers(key); };
+    const auto red = curve("curve_red"), green = curve("curve_green"), blue = curve("curve_blue");
+    if (red || green || blue) {
+        if (!red || !green || !blue) {
+            projector.fail(red ? (green ? "curve_blue" : "curve_green") : "curve_red",
+                           "missing: curves are given for all three channels or none");
+        }
+        std::array<std::vector<double>, 3> levels, outputs{*red, *green, *blue};
+        for (std::size_t c = 0; c < 3; ++c) {
+            for (std::size_t i = 0; i < outputs[c].size(); ++i) {
+                levels[c].push_back(static_cast<double>(i) / static_cast<double>(outputs[c].size() - 1));
+            }
+        }
+        try {
+            scene.projector.response = proto::ResponseFunction::sampled(levels, outputs);
+        } catch (const std::invalid_argument& error) {
+            projector.fail("curve_red", error.what());
+        }
+    }
+    if (const auto mixing = projector.numbers("mixing", 9)) {
+        scene.projector.mixing = toArray<9>(*mixing);
+    }
     scene.projector.blackLevel = rgbOf(projector, "black_level", scene.projector.blackLevel);
     scene.projector.peakIrradiance = projector.number("peak_irradiance", 1.0, 1e-6, 1e6);
     scene.projector.blurPixels = projector.number("blur_px", 0.7, 0.0, 20.0);
@@ -378,18 +416,30 @@ void writeSceneFile(const std::filesystem::path& path, const ProcamScene& scene,
                                          {"rotation", arrayOf(b.pose.R)}});
     }
     const SimulatedProjector& p = scene.projector;
-    if (!p.response.isGamma()) {
-        throw SceneFileError(path.string() +
-                             ": a scene file stores the projector's response as "
-                             "gammas; this one is a sampled curve");
-    }
     toml::table projector = cameraTable(p.camera);
-    // A gamma's exponent is what its output says at one level: level^γ = output.
-    std::array<double, 3> gamma{};
-    for (int c = 0; c < 3; ++c) {
-        gamma[static_cast<std::size_t>(c)] = std::log(p.response.output(c, 0.5)) / std::log(0.5);
+    if (p.response.isGamma()) {
+        // A gamma's exponent is what its output says at one level: level^γ = output.
+        std::array<double, 3> gamma{};
+        for (int c = 0; c < 3; ++c) {
+            gamma[static_cast<std::size_t>(c)] =
+                std::log(p.response.output(c, 0.5)) / std::log(0.5);
+        }
+        projector.insert("gamma", arrayOf(gamma));
+    } else {
+        // Sampled at 33 levels: the curves a scene file can hold are piecewise linear through
+        // their samples, so a curve made here from 33 or fewer even samples reads back exactly.
+        const char* keys[3] = {"curve_red", "curve_green", "curve_blue"};
+        for (int c = 0; c < 3; ++c) {
+            std::vector<double> samples;
+            for (int i = 0; i <= 32; ++i) {
+                samples.push_back(p.response.output(c, i / 32.0));
+            }
+            projector.insert(keys[c], arrayOf(samples));
+        }
     }
-    projector.insert("gamma", arrayOf(gamma));
+    if (p.mixing != std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1}) {
+        projector.insert("mixing", arrayOf(p.mixing));
+    }
     projector.insert("black_level", arrayOf(p.blackLevel));
     projector.insert("peak_irradiance", p.peakIrradiance);
     projector.insert("blur_px", p.blurPixels);

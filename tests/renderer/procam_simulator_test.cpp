@@ -112,6 +112,23 @@ TEST(ProcamSimulator, ARampShowsEachPixelItsProjectorCoordinate) {
     EXPECT_GT(compared, 2000);
 }
 
+TEST(ProcamSimulator, CrosstalkLeaksEachPrimaryIntoTheOtherChannels) {
+    ProcamScene scene = planeScene();
+    scene.projector.mixing = {0.9, 0.08, 0.0, 0.06, 0.85, 0.05, 0.0, 0.1, 0.95};
+    const ProcamSimulator simulator(scene, quietCamera(), 2);
+    RgbImage red(64, 48);
+    for (std::size_t i = 0; i < red.values.size(); i += 3) {
+        red.values[i] = 1.0f;
+    }
+    const RgbImage lit = simulator.radiance(red);
+    const RgbImage white = ProcamSimulator(planeScene(), quietCamera(), 2).radiance(flat(64, 48, 1.0f));
+    const std::size_t p = 30 * 80 + 40;
+    // Channel k of red light: mixing[3k] of what a pure white primary gives that channel.
+    EXPECT_NEAR(lit.values[3 * p] / white.values[3 * p], 0.9, 1e-5);
+    EXPECT_NEAR(lit.values[3 * p + 1] / white.values[3 * p + 1], 0.06, 1e-5);
+    EXPECT_NEAR(lit.values[3 * p + 2] / white.values[3 * p + 2], 0.0, 1e-6);
+}
+
 TEST(ProcamSimulator, TheSensorHasShotAndReadNoise) {
     SimulatedCamera camera = quietCamera();
     camera.fullWellElectrons = 2000;
@@ -276,6 +293,23 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
     EXPECT_EQ(back.camera.seed, 42u);
     EXPECT_DOUBLE_EQ(back.scene.albedo.stainStrength, 0.2);
     EXPECT_NEAR(back.scene.projector.response.output(1, 0.5), 0.5, 1e-12);
+
+    // A response that is not a gamma, and crosstalk, read back as written.
+    scene.projector.response =
+        proto::ResponseFunction::sampled(std::vector<double>{0.0, 0.25, 0.5, 1.0},
+                                         std::array<std::vector<double>, 3>{
+                                             std::vector<double>{0, 0.1, 0.3, 1},
+                                             std::vector<double>{0, 0.05, 0.2, 1},
+                                             std::vector<double>{0, 0.08, 0.25, 1}});
+    scene.projector.mixing = {0.9, 0.08, 0, 0.06, 0.85, 0.05, 0, 0.1, 0.95};
+    writeSceneFile(folder / "curves.toml", scene, camera, "object.obj");
+    const SceneFile curves = readSceneFile(folder / "curves.toml");
+    EXPECT_FALSE(curves.scene.projector.response.isGamma());
+    for (const double level : {0.1, 0.4, 0.8}) {
+        EXPECT_NEAR(curves.scene.projector.response.output(1, level),
+                    scene.projector.response.output(1, level), 1e-12);
+    }
+    EXPECT_EQ(curves.scene.projector.mixing, scene.projector.mixing);
 
     const auto errorOf = [&](const std::string& text) {
         std::ofstream(folder / "bad.toml") << text;

@@ -86,6 +86,10 @@ struct SimulatedProjector {
     // light a projector leaks at level 0 (a fraction of full output).
     proto::ResponseFunction response = proto::ResponseFunction::gamma(2.2);
     std::array<double, 3> blackLevel{0.002, 0.002, 0.002};
+    // Crosstalk between the primaries, row-major: the light in channel k is
+    // Σ_c mixing[3k + c] · output_c. Identity: each primary lights its own channel alone. A real
+    // projector's colour wheel or LCD filters leak: its red carries some green, and so on.
+    std::array<double, 9> mixing{1, 0, 0, 0, 1, 0, 0, 0, 1};
     // Irradiance on a surface 1 m away at normal incidence, full white.
     double peakIrradiance = 1.0;
     // Defocus: the light of each pixel spread by a Gaussian of this σ (projector pixels) on top

@@ -70,6 +70,12 @@ public:
     // The sensor: exposure, shot and read noise (deterministic in the camera's seed and
     // `frame`), response, quantization.
     CameraFrame expose(const RgbImage& radiance, std::uint64_t frame) const;
+    // The same through another sensor on the same optics: `sensor`'s exposure, noise, response,
+    // bits and colour (its geometry must be the simulator camera's size). The radiometric
+    // capture photographs in colour and brackets exposures with the camera that scanned in
+    // monochrome. Throws std::invalid_argument for a sensor checkSimulatedCamera refuses.
+    CameraFrame expose(const RgbImage& radiance, std::uint64_t frame,
+                       const SimulatedCamera& sensor) const;
 
     CameraTruth cameraTruth() const;
     ProjectorTruth projectorTruth() const;
