@@ -12,93 +12,14 @@
 #include <nlohmann/json.hpp>
 
 #include "atomic_file.h"
+#include "json_fields.h"
 
 namespace vpe::proto {
 
 namespace {
 
-using Json = nlohmann::json;
-
-class Fields {
-public:
-    Fields(const Json& object, std::string source, std::string where)
-        : object_(object), source_(std::move(source)), where_(std::move(where)) {
-        if (!object_.is_object()) {
-            fail("expected an object");
-        }
-    }
-
-    [[noreturn]] void fail(const std::string& problem) const {
-        throw ScanManifestError(source_ + ": " + (where_.empty() ? "" : where_ + ": ") + problem);
-    }
-
-    const Json* find(const char* key) const {
-        const auto it = object_.find(key);
-        return it == object_.end() ? nullptr : &*it;
-    }
-
-    const Json& required(const char* key) const {
-        const Json* value = find(key);
-        if (value == nullptr) {
-            fail(std::string(key) + ": missing");
-        }
-        return *value;
-    }
-
-    int integer(const char* key, int low, int high) const {
-        const Json& value = required(key);
-        if (!value.is_number_integer()) {
-            fail(std::string(key) + ": expected a whole number");
-        }
-        const auto number = value.get<long long>();
-        if (number < low || number > high) {
-            fail(std::string(key) + ": " + std::to_string(number) + " outside " +
-                 std::to_string(low) + ".." + std::to_string(high));
-        }
-        return static_cast<int>(number);
-    }
-
-    double number(const char* key, double fallback, double low, double high) const {
-        const Json* value = find(key);
-        if (value == nullptr) {
-            return fallback;
-        }
-        if (!value->is_number()) {
-            fail(std::string(key) + ": expected a number");
-        }
-        const double number = value->get<double>();
-        if (!std::isfinite(number) || number < low || number > high) {
-            fail(std::string(key) + ": " + value->dump() + " outside [" + Json(low).dump() + ", " +
-                 Json(high).dump() + "]");
-        }
-        return number;
-    }
-
-    std::string text(const char* key, bool needed) const {
-        const Json* value = needed ? &required(key) : find(key);
-        if (value == nullptr) {
-            return "";
-        }
-        if (!value->is_string()) {
-            fail(std::string(key) + ": expected a string");
-        }
-        return value->get<std::string>();
-    }
-
-    Fields child(const char* key) const {
-        return Fields(required(key), source_, where_.empty() ? key : where_ + "." + key);
-    }
-
-private:
-    const Json& object_;
-    std::string source_;
-    std::string where_;
-};
-
-bool plainFileName(const std::string& name) {
-    return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
-           name.find('\\') == std::string::npos && name.find('\0') == std::string::npos;
-}
+using detail::Json;
+using Fields = detail::JsonFields;
 
 }  // namespace
 
@@ -144,16 +65,7 @@ std::string scanManifestJson(const ScanManifest& m) {
 }
 
 ScanManifest parseScanManifest(std::string_view text, const std::string& source) {
-    Json json;
-    try {
-        json = Json::parse(text);
-    } catch (const Json::exception& error) {  // parse_error, and out_of_range for 1e99999
-        std::string what = error.what();
-        if (const std::size_t at = what.find("] "); at != std::string::npos) {
-            what = what.substr(at + 2);
-        }
-        throw ScanManifestError(source + ": not JSON (" + what + ")");
-    }
+    const Json json = detail::parseJsonText(text, source);
     const Fields root(json, source, "");
     if (root.text("format", true) != "vpe-scan") {
         root.fail("format: expected \"vpe-scan\"");
@@ -199,7 +111,7 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
         entry.file = image.text("file", true);
         entry.pattern = image.text("pattern", true);
         entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
-        if (!plainFileName(entry.file)) {
+        if (!detail::plainFileName(entry.file)) {
             image.fail("file: '" + entry.file + "' is not a file name inside the folder");
         }
         if (i >= patterns.size()) {
@@ -227,19 +139,10 @@ std::filesystem::path scanFolderOf(const std::filesystem::path& folderOrFile) {
 }
 
 ScanManifest readScanManifest(const std::filesystem::path& folderOrFile) {
-    std::error_code error;
-    const std::filesystem::path path = std::filesystem::is_directory(folderOrFile, error)
-                                           ? folderOrFile / kScanManifestName
-                                           : folderOrFile;
-    std::ifstream stream(path, std::ios::binary);
-    if (!stream) {
-        throw ScanManifestError(
-            path.string() + ": cannot open the scan manifest (" +
-            (std::filesystem::exists(path, error) ? "unreadable" : "no such file") + ")");
-    }
-    std::ostringstream text;
-    text << stream.rdbuf();
-    return parseScanManifest(text.str(), path.string());
+    std::filesystem::path path;
+    const std::string text =
+        detail::readManifestText(folderOrFile, kScanManifestName, "scan manifest", path);
+    return parseScanManifest(text, path.string());
 }
 
 void writeScanManifest(const std::filesystem::path& folder, const ScanManifest& manifest) {
@@ -255,5 +158,36 @@ std::string scanImageName(std::size_t index, const PatternSpec& pattern) {
     std::snprintf(number, sizeof number, "%03zu", index);
     return std::string(number) + "-" + pattern.name() + ".pgm";
 }
+
+namespace detail {
+
+Json parseJsonText(std::string_view text, const std::string& source) {
+    try {
+        return Json::parse(text);
+    } catch (const Json::exception& error) {  // parse_error, and out_of_range for 1e99999
+        std::string what = error.what();
+        if (const std::size_t at = what.find("] "); at != std::string::npos) {
+            what = what.substr(at + 2);
+        }
+        throw ScanManifestError(source + ": not JSON (" + what + ")");
+    }
+}
+
+std::string readManifestText(const std::filesystem::path& folderOrFile, const char* name,
+                             const char* what, std::filesystem::path& path) {
+    std::error_code error;
+    path = std::filesystem::is_directory(folderOrFile, error) ? folderOrFile / name : folderOrFile;
+    std::ifstream stream(path, std::ios::binary);
+    if (!stream) {
+        throw ScanManifestError(
+            path.string() + ": cannot open the " + what + " (" +
+            (std::filesystem::exists(path, error) ? "unreadable" : "no such file") + ")");
+    }
+    std::ostringstream text;
+    text << stream.rdbuf();
+    return text.str();
+}
+
+}  // namespace detail
 
 }  // namespace vpe::proto

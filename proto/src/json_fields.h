@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// JsonFields: reading a capture manifest's JSON object key by key, each problem one
+// ScanManifestError line naming the manifest, where in it, and what is wrong. Shared by the scan
+// manifest (scan.json) and the radiometric capture's (radiometry.json).
+#pragma once
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/proto/scan_manifest.h"
+
+namespace vpe::proto::detail {
+
+using Json = nlohmann::json;
+
+class JsonFields {
+public:
+    JsonFields(const Json& object, std::string source, std::string where)
+        : object_(object), source_(std::move(source)), where_(std::move(where)) {
+        if (!object_.is_object()) {
+            fail("expected an object");
+        }
+    }
+
+    [[noreturn]] void fail(const std::string& problem) const {
+        throw ScanManifestError(source_ + ": " + (where_.empty() ? "" : where_ + ": ") + problem);
+    }
+
+    const Json* find(const char* key) const {
+        const auto it = object_.find(key);
+        return it == object_.end() ? nullptr : &*it;
+    }
+
+    const Json& required(const char* key) const {
+        const Json* value = find(key);
+        if (value == nullptr) {
+            fail(std::string(key) + ": missing");
+        }
+        return *value;
+    }
+
+    int integer(const char* key, int low, int high) const {
+        const Json& value = required(key);
+        if (!value.is_number_integer()) {
+            fail(std::string(key) + ": expected a whole number");
+        }
+        const auto number = value.get<long long>();
+        if (number < low || number > high) {
+            fail(std::string(key) + ": " + std::to_string(number) + " outside " +
+                 std::to_string(low) + ".." + std::to_string(high));
+        }
+        return static_cast<int>(number);
+    }
+
+    double number(const char* key, double fallback, double low, double high) const {
+        const Json* value = find(key);
+        if (value == nullptr) {
+            return fallback;
+        }
+        if (!value->is_number()) {
+            fail(std::string(key) + ": expected a number");
+        }
+        const double number = value->get<double>();
+        if (!std::isfinite(number) || number < low || number > high) {
+            fail(std::string(key) + ": " + value->dump() + " outside [" + Json(low).dump() + ", " +
+                 Json(high).dump() + "]");
+        }
+        return number;
+    }
+
+    std::string text(const char* key, bool needed) const {
+        const Json* value = needed ? &required(key) : find(key);
+        if (value == nullptr) {
+            return "";
+        }
+        if (!value->is_string()) {
+            fail(std::string(key) + ": expected a string");
+        }
+        return value->get<std::string>();
+    }
+
+    JsonFields child(const char* key) const {
+        return JsonFields(required(key), source_, where_.empty() ? key : where_ + "." + key);
+    }
+
+private:
+    const Json& object_;
+    std::string source_;
+    std::string where_;
+};
+
+// A file name inside the manifest's folder: no directory part.
+inline bool plainFileName(const std::string& name) {
+    return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
+           name.find('\\') == std::string::npos && name.find('\0') == std::string::npos;
+}
+
+// Parses JSON text, a ScanManifestError naming `source` when it is not JSON.
+Json parseJsonText(std::string_view text, const std::string& source);
+
+// The text of FOLDER/name (or of the file itself), a ScanManifestError naming it and `what` it
+// should be when it cannot be read; `path` is set to the file read.
+std::string readManifestText(const std::filesystem::path& folderOrFile, const char* name,
+                             const char* what, std::filesystem::path& path);
+
+}  // namespace vpe::proto::detail
