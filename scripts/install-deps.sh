@@ -21,6 +21,7 @@ packages=(
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     libopencv-imgproc-dev                     # streak widths (exact distance transform)
     libopencv-calib3d-dev                     # vpe calibrate: checkerboards, camera + stereo calibration
+    libopencv-photo-dev                       # camera response from exposure brackets (Debevec)
     libopen3d-dev                             # vpe bake --scan: global registration (FPFH + RANSAC), ICP
     fonts-dejavu-core                         # labels on contact sheets
     libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri  # GLES 3.1 renderer, headless (llvmpipe)
