@@ -8,7 +8,56 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "frame_measures.h"
+
 namespace vpe::firmware {
+
+using frame_measures::percent;
+
+namespace frame_measures {
+
+std::string percent(double fraction) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f%%", 100.0 * fraction);
+    return text;
+}
+
+std::vector<std::uint32_t> litPixels(std::span<const float> white, std::span<const float> black,
+                                     float floor) {
+    std::vector<std::uint32_t> lit;
+    for (std::size_t p = 0; p < white.size(); ++p) {
+        if (white[p] - black[p] >= floor) {
+            lit.push_back(static_cast<std::uint32_t>(p));
+        }
+    }
+    return lit;
+}
+
+FrameVerdict litVerdict(std::size_t lit, std::size_t pixels, const FrameCheckSettings& settings) {
+    const double fraction =
+        pixels > 0 ? static_cast<double>(lit) / static_cast<double>(pixels) : 0.0;
+    if (lit == 0 || fraction < settings.minLitFraction) {
+        return {FrameProblem::kNotLit,
+                "white − black reaches " + percent(settings.minContrast) + " of full scale on " +
+                    percent(fraction) + " of the camera's pixels (needs " +
+                    percent(settings.minLitFraction) +
+                    "): white or black was captured before the projector showed it, or the "
+                    "projector's light does not reach the camera"};
+    }
+    return {};
+}
+
+FrameVerdict changedVerdict(double changed, const std::string& what) {
+    if (changed < kMinChangedFraction) {
+        return {FrameProblem::kUnchanged,
+                "only " + percent(changed) + " of the lit pixels changed since the previous " +
+                    "capture (" + what + " changes at least " + percent(kMinChangedFraction) +
+                    "): captured before the projector showed it"};
+    }
+    return {};
+}
+
+}  // namespace frame_measures
 
 namespace {
 
@@ -21,12 +70,6 @@ constexpr double kBimodalLow = 0.25, kBimodalHigh = 0.75;
 constexpr float kPairResidual = 0.4f;
 // σ of a normal distribution from the median absolute deviation.
 constexpr double kMadToSigma = 1.4826;
-
-std::string percent(double fraction) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.1f%%", 100.0 * fraction);
-    return text;
-}
 
 std::vector<float> floatsOf(const CameraImage& image) {
     return std::vector<float>(image.samples.begin(), image.samples.end());
@@ -86,8 +129,10 @@ FrameVerdict ScanFrameCheck::check(std::size_t index, const CameraImage& image) 
         throw std::invalid_argument("scan frame check: pattern " + std::to_string(index) +
                                     " is not in the sequence");
     }
-    if (image.samples.size() != image.pixelCount() || image.pixelCount() == 0) {
-        throw std::invalid_argument("scan frame check: an image's samples are not its size");
+    if (image.channels != 1 || image.samples.size() != image.pixelCount() ||
+        image.pixelCount() == 0) {
+        throw std::invalid_argument(
+            "scan frame check: an image's samples are not its size (one channel)");
     }
     if (width_ == 0) {
         width_ = image.width;
@@ -134,21 +179,11 @@ FrameVerdict ScanFrameCheck::check(std::size_t index, const CameraImage& image) 
 
 FrameVerdict ScanFrameCheck::checkLit(const std::vector<float>& white,
                                       const std::vector<float>& black) {
-    const auto floor = static_cast<float>(settings_.minContrast * maxValue_);
-    std::vector<std::uint32_t> lit;
-    for (std::size_t p = 0; p < white.size(); ++p) {
-        if (white[p] - black[p] >= floor) {
-            lit.push_back(static_cast<std::uint32_t>(p));
-        }
-    }
-    const double fraction = static_cast<double>(lit.size()) / static_cast<double>(white.size());
-    if (lit.empty() || fraction < settings_.minLitFraction) {
-        return {FrameProblem::kNotLit,
-                "white − black reaches " + percent(settings_.minContrast) + " of full scale on " +
-                    percent(fraction) + " of the camera's pixels (needs " +
-                    percent(settings_.minLitFraction) +
-                    "): white or black was captured before the projector showed it, or the "
-                    "projector's light does not reach the camera"};
+    std::vector<std::uint32_t> lit = frame_measures::litPixels(
+        white, black, static_cast<float>(settings_.minContrast * maxValue_));
+    if (FrameVerdict verdict = frame_measures::litVerdict(lit.size(), white.size(), settings_);
+        !verdict.passed()) {
+        return verdict;
     }
     candidateLit_ = std::move(lit);
     candidateWhite_ = white;
@@ -208,21 +243,9 @@ FrameVerdict ScanFrameCheck::checkChanged(const std::vector<float>& image) const
     if (lit_.empty() || previous_.empty()) {
         return {};
     }
-    // The difference of two frames has √2 σ of noise; at least one sample step.
-    const auto threshold = static_cast<float>(std::max(3.0 * std::sqrt(2.0) * noiseSigma_, 1.0));
-    std::size_t changed = 0;
-    for (const std::uint32_t p : lit_) {
-        changed += std::abs(image[p] - previous_[p]) > threshold ? 1 : 0;
-    }
-    const double fraction = static_cast<double>(changed) / static_cast<double>(lit_.size());
-    if (fraction < kMinChangedFraction) {
-        return {FrameProblem::kUnchanged,
-                "only " + percent(fraction) +
-                    " of the lit pixels changed since the previous capture (a new phase step "
-                    "changes at least " +
-                    percent(kMinChangedFraction) + "): captured before the projector showed it"};
-    }
-    return {};
+    const double changed = frame_measures::changedShare<float>(
+        image, previous_, 1, lit_, frame_measures::changeThreshold(noiseSigma_));
+    return frame_measures::changedVerdict(changed, "a new phase step");
 }
 
 void ScanFrameCheck::accept(const std::vector<std::size_t>& group) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// PatternProjector: upload, blit, present, and on KMS wait for the flip.
+// PatternProjector: upload (grey or RGB), blit, present, and on KMS wait for the flip.
 #include "vpe/firmware/scan/pattern_projector.h"
 
 #include <cerrno>
@@ -69,6 +69,27 @@ std::int64_t PatternProjector::show(std::span<const std::uint8_t> codes) {
         rgba_[4 * i] = rgba_[4 * i + 1] = rgba_[4 * i + 2] = codes[i];
         rgba_[4 * i + 3] = 255;
     }
+    return present();
+}
+
+std::int64_t PatternProjector::showRgb(std::span<const std::uint8_t> codes) {
+    const int width = target_.width(), height = target_.height();
+    if (codes.size() != rgba_.size() / 4 * 3) {
+        throw gles::GraphicsError("scan: an RGB image of " + std::to_string(codes.size() / 3) +
+                                  " pixels for a " + std::to_string(width) + "x" +
+                                  std::to_string(height) + " display");
+    }
+    for (std::size_t i = 0; 3 * i < codes.size(); ++i) {
+        rgba_[4 * i] = codes[3 * i];
+        rgba_[4 * i + 1] = codes[3 * i + 1];
+        rgba_[4 * i + 2] = codes[3 * i + 2];
+        rgba_[4 * i + 3] = 255;
+    }
+    return present();
+}
+
+std::int64_t PatternProjector::present() {
+    const int width = target_.width(), height = target_.height();
     // Texture row 0 is the image's top row; the target's GL origin is its top row (an FBO read
     // back top-first) or its bottom row (a scanout surface): the blit flips in the latter case.
     glBindTexture(GL_TEXTURE_2D, texture_);

@@ -23,11 +23,11 @@ bool isPowerOfTwo(int value) {
 }  // namespace
 
 ScanConfig parseScanConfig(const toml::table& scan, const std::string& source) {
-    checkKeys(
-        scan, source, kSection,
-        {"latency_ms", "settle_ms", "retries", "retry_wait_ms", "exposure_us", "analogue_gain",
-         "colour_gains", "camera_size", "phase_period", "phase_steps", "min_contrast",
-         "min_lit_fraction", "tolerance", "simulate", "simulated_latency_ms"});
+    checkKeys(scan, source, kSection,
+              {"latency_ms", "settle_ms", "retries", "retry_wait_ms", "exposure_us",
+               "analogue_gain", "colour_gains", "camera_size", "phase_period", "phase_steps",
+               "min_contrast", "min_lit_fraction", "tolerance", "radiometry", "radiometry_levels",
+               "simulate", "simulated_latency_ms"});
     ScanConfig config;
     config.latencyMs =
         numberIn(scan, source, kSection, "latency_ms", 0.0, false, 10000.0, config.latencyMs);
@@ -84,6 +84,10 @@ ScanConfig parseScanConfig(const toml::table& scan, const std::string& source) {
         }
         config.tolerance = *tolerance;
     }
+    config.radiometry =
+        optionalBool(scan, source, kSection, "radiometry").value_or(config.radiometry);
+    config.radiometryLevels =
+        integerIn(scan, source, kSection, "radiometry_levels", 2, 64, config.radiometryLevels);
     if (auto simulate = optionalString(scan, source, kSection, "simulate")) {
         if (simulate->empty()) {
             fail(source, "scan.simulate",

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
-// runScan: the camera, the display, the sequence, the loop over pattern groups with their
-// checks and retries, and the folder.
+// runScan: the camera, the display, the sequence through the capture loop, the radiometric
+// capture after it, and the folder.
 #include "vpe/firmware/scan/scan_run.h"
 
 #include <algorithm>
-#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -16,12 +15,15 @@
 #include "vpe/firmware/player/frame_report.h"
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/player/player_log.h"
+#include "vpe/firmware/scan/capture_loop.h"
 #include "vpe/firmware/scan/libcamera_scan_camera.h"
 #include "vpe/firmware/scan/pattern_projector.h"
+#include "vpe/firmware/scan/radiometric_capture.h"
 #include "vpe/firmware/scan/scan_folder.h"
 #include "vpe/firmware/scan/simulated_scan_camera.h"
 #include "vpe/firmware/tracking/camera_config.h"
 #include "vpe/proto/pnm_image.h"
+#include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
 #include "vpe/proto/structured_light.h"
 
@@ -99,6 +101,8 @@ CameraStreamSettings stillStreamOf(const CameraConfig& camera, const ScanConfig&
     settings.frameDurationUs = std::array<std::int64_t, 2>{
         scan.exposureUs, std::max<std::int64_t>(scan.exposureUs, kLongestFrameUs)};
     settings.minBuffers = kStillBuffers;
+    // The radiometric capture photographs in colour: a stream with chroma (the scan reads its Y).
+    settings.colour = scan.radiometry;
     return settings;
 }
 
@@ -140,14 +144,18 @@ std::array<int, 2> projectorSizeOf(const gles::GraphicsPlatform& platform,
     return size;
 }
 
-void stopOnSignal(SignalWatch& signals) {
-    while (const int signal = signals.next()) {
-        if (signal == SIGINT || signal == SIGTERM) {
-            throw ScanError(std::string("scan: stopped by ") +
-                            (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; nothing written");
-        }
-        // SIGHUP reloads a bundle; a scan has none.
+const char* responseName(proto::CameraResponseKind response) {
+    return response == proto::CameraResponseKind::kLinear ? "linear" : "unknown";
+}
+
+nlohmann::ordered_json rejectedJsonOf(
+    const std::array<std::uint64_t, kFrameProblemCount>& rejected) {
+    nlohmann::ordered_json json = nlohmann::ordered_json::object();
+    for (int p = 1; p < kFrameProblemCount; ++p) {
+        json[frameProblemName(static_cast<FrameProblem>(p))] =
+            rejected[static_cast<std::size_t>(p)];
     }
+    return json;
 }
 
 }  // namespace
@@ -234,89 +242,74 @@ ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
     manifest.camera.source = report.camera.source;
     manifest.createdBy = "vpe-player";
     manifest.images.resize(patterns.size());
-    for (proto::ScanImage& image : manifest.images) {
-        image.attempts = 0;  // counted below, capture by capture
-    }
 
-    std::vector<std::uint8_t> codes(static_cast<std::size_t>(size[0]) *
-                                    static_cast<std::size_t>(size[1]));
     const std::int64_t scanBeginNs = scanClockNs();
+    CaptureLoop loop(*projector, *camera, signals, size[0], size[1],
+                     {scan.latencyMs, scan.retries, scan.retryWaitMs});
     // Black first, for as long as the projector needs to take the new mode: the first pattern's
     // latency is then the projector's usual one.
-    const double settleMs =
-        scan.settleMs.value_or(board.display.backend == DisplayBackend::kKms ? kKmsSettleMs : 0.0);
-    const std::int64_t blackNs = projector->show(codes);
-    if (camera->needsShownImage()) {
-        camera->patternShown(projector->readBack(), size[0], size[1], blackNs);
+    loop.showBlack(
+        scan.settleMs.value_or(board.display.backend == DisplayBackend::kKms ? kKmsSettleMs : 0.0));
+    std::vector<Shot> shots;
+    for (const proto::PatternSpec& pattern : patterns) {
+        shots.push_back({pattern.name(), 1, CaptureRequest{}});
     }
-    sleepUntilNs(blackNs + static_cast<std::int64_t>(settleMs * kNsPerMs));
-    stopOnSignal(signals);
-    double waitMs = scan.latencyMs;
-    for (const std::vector<std::size_t>& group : check.groups()) {
-        std::vector<CameraImage> images(group.size());
-        FrameVerdict failure;
-        std::size_t failedAt = group.front();
-        bool accepted = false;
-        for (int attempt = 0; attempt <= scan.retries && !accepted; ++attempt) {
-            const double wait = waitMs + attempt * scan.retryWaitMs;
-            failure = {};
-            for (std::size_t k = 0; k < group.size() && failure.passed(); ++k) {
-                const std::size_t index = group[k];
-                sequence->render(patterns[index], codes);
-                const std::int64_t shownNs = projector->show(codes);
-                if (camera->needsShownImage()) {
-                    camera->patternShown(projector->readBack(), size[0], size[1], shownNs);
-                }
-                images[k] = camera->capture(shownNs + static_cast<std::int64_t>(wait * kNsPerMs));
-                report.captureMs.push_back(msBetween(shownNs, scanClockNs()));
-                ++report.captures;
-                ++manifest.images[index].attempts;
-                stopOnSignal(signals);
-                failure = check.check(index, images[k]);
-                if (!failure.passed()) {
-                    ++report.rejected[static_cast<std::size_t>(failure.problem)];
-                    failedAt = index;
-                }
-            }
-            if (failure.passed()) {
-                accepted = true;
-                waitMs = wait;  // a projector slower than the board says is slow for every pattern
-            }
-        }
-        if (!accepted) {
-            throw ScanError("scan: " + patterns[failedAt].name() + ": " + failure.detail + " (" +
-                            std::to_string(manifest.images[failedAt].attempts) +
-                            " captures, the last " +
-                            numberText(waitMs + scan.retries * scan.retryWaitMs) +
-                            " ms after the pattern; raise [scan] latency_ms or retries)");
-        }
-        for (std::size_t k = 0; k < group.size(); ++k) {
-            const std::size_t index = group[k];
+    const CaptureTally tally = loop.run(
+        shots, check,
+        [&sequence, &patterns](std::size_t index, std::span<std::uint8_t> codes) {
+            sequence->render(patterns[index], codes);
+        },
+        [&](std::size_t index, const CameraImage& image, int attempts) {
             proto::ScanImage& entry = manifest.images[index];
             entry.file = proto::scanImageName(index, patterns[index]);
             entry.pattern = patterns[index].name();
-            report.retried += entry.attempts > 1 ? 1 : 0;
-            const CameraImage& image = images[k];
+            entry.attempts = attempts;
             proto::writePnmAtomically(folder.temporary() / entry.file, image.width, image.height, 1,
                                       image.maxValue, image.samples);
-        }
-    }
+        });
+    report.captures = tally.captures;
+    report.retried = tally.retried;
+    report.rejected = tally.rejected;
+    report.captureMs = tally.captureMs;
+    const double waitMs = loop.waitMs();
     // How long the captures waited after their patterns: the board's latency, or the longer
     // wait the retries settled on (the longest any accepted capture used).
     manifest.projectorLatencyMs = waitMs;
     proto::writeScanManifest(folder.temporary(), manifest);
+
+    // The radiometric capture, in the same session: the camera and the projector where the scan
+    // left them.
+    if (!scan.radiometry) {
+        report.radiometry.skipped = board.source + ":scan.radiometry is false";
+    } else if (const ColourCapture colour = camera->colourCapture(); !colour.available()) {
+        report.radiometry.skipped = colour.unavailable;
+        playerLog("scan: no radiometric capture: " + colour.unavailable);
+    } else {
+        if (!colour.note.empty()) {
+            playerLog("scan: radiometry: " + colour.note);
+        }
+        RadiometrySettings settings;
+        settings.projectorWidth = size[0];
+        settings.projectorHeight = size[1];
+        settings.levels = scan.radiometryLevels;
+        settings.check = {scan.minContrast, scan.minLitFraction, scan.tolerance};
+        settings.scanNoiseSigma = check.noiseSigma();
+        settings.scanMaxValue = (1 << report.camera.bits) - 1;
+        report.radiometry = captureRadiometry(loop, *camera, colour, settings,
+                                              folder.temporary() / proto::kRadiometryFolderName);
+    }
     folder.commit();
 
     const std::int64_t doneNs = scanClockNs();
-    report.waitMs = waitMs;
+    report.waitMs = loop.waitMs();
     report.litFraction = check.litFraction();
     report.noiseSigma = check.noiseSigma();
     report.scanSeconds = msBetween(scanBeginNs, doneNs) / 1000.0;
     report.seconds = msBetween(processStartNs, doneNs) / 1000.0;
-    if (waitMs > scan.latencyMs) {
-        playerLog("scan: the projector needed " + numberText(waitMs) + " ms after a pattern (" +
-                  board.source + ":scan.latency_ms is " + numberText(scan.latencyMs) +
-                  "): raise it");
+    if (report.waitMs > scan.latencyMs) {
+        playerLog("scan: the projector needed " + numberText(report.waitMs) +
+                  " ms after a pattern (" + board.source + ":scan.latency_ms is " +
+                  numberText(scan.latencyMs) + "): raise it");
     }
     return report;
 }
@@ -324,18 +317,23 @@ ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
 std::string ScanReport::summaryLine() const {
     char taken[32];
     std::snprintf(taken, sizeof taken, "%.1f", scanSeconds);
-    return "scan: " + std::to_string(patterns) + " patterns, " + std::to_string(captures) +
-           " captures (" + std::to_string(retried) + " retried) in " + taken + " s -> " +
-           out.string() + " (" + camera.source + ", " + sizeText(camera.width, camera.height) +
-           ", " + std::to_string(camera.bits) + " bits)";
+    std::string line = "scan: " + std::to_string(patterns) + " patterns, " +
+                       std::to_string(captures) + " captures (" + std::to_string(retried) +
+                       " retried) in " + taken + " s -> " + out.string() + " (" + camera.source +
+                       ", " + sizeText(camera.width, camera.height) + ", " +
+                       std::to_string(camera.bits) + " bits); radiometry: ";
+    if (!radiometry.captured) {
+        return line + "none";
+    }
+    return line + std::to_string(radiometry.fields) + " flat fields, " +
+           std::to_string(radiometry.tally.captures) + " captures (" +
+           std::to_string(radiometry.tally.retried) + " retried), response " +
+           responseName(radiometry.colour.response) + ", " +
+           std::to_string(radiometry.colour.bits) + " bits";
 }
 
 std::string ScanReport::json() const {
-    nlohmann::ordered_json rejectedJson = nlohmann::ordered_json::object();
-    for (int p = 1; p < kFrameProblemCount; ++p) {
-        rejectedJson[frameProblemName(static_cast<FrameProblem>(p))] =
-            rejected[static_cast<std::size_t>(p)];
-    }
+    const nlohmann::ordered_json rejectedJson = rejectedJsonOf(rejected);
     nlohmann::ordered_json json = {
         {"out", out.string()},
         {"patterns", patterns},
@@ -367,6 +365,25 @@ std::string ScanReport::json() const {
     json["setup_ms"] = {{"camera", cameraSetupMs}, {"display", displaySetupMs}};
     json["capture_ms"] = {{"p50", nearestRankPercentile(captureMs, 0.5)},
                           {"max", nearestRankPercentile(captureMs, 1.0)}};
+    nlohmann::ordered_json radiometryJson = {{"captured", radiometry.captured}};
+    if (!radiometry.captured) {
+        radiometryJson["skipped"] = radiometry.skipped;
+    } else {
+        radiometryJson["out"] = (out / proto::kRadiometryFolderName).string();
+        radiometryJson["fields"] = radiometry.fields;
+        radiometryJson["captures"] = radiometry.tally.captures;
+        radiometryJson["retried"] = radiometry.tally.retried;
+        radiometryJson["rejected"] = rejectedJsonOf(radiometry.tally.rejected);
+        radiometryJson["response"] = responseName(radiometry.colour.response);
+        radiometryJson["bits"] = radiometry.colour.bits;
+        radiometryJson["description"] = radiometry.colour.description;
+        radiometryJson["lit_fraction"] = radiometry.litFraction;
+        radiometryJson["capture_ms"] = {
+            {"p50", nearestRankPercentile(radiometry.tally.captureMs, 0.5)},
+            {"max", nearestRankPercentile(radiometry.tally.captureMs, 1.0)}};
+        radiometryJson["seconds"] = radiometry.seconds;
+    }
+    json["radiometry"] = radiometryJson;
     json["scan_seconds"] = scanSeconds;
     json["seconds"] = seconds;
     return json.dump(2);

@@ -25,7 +25,7 @@ std::string numberText(double value) {
 }  // namespace
 
 SimulatedScanCamera::SimulatedScanCamera(const std::filesystem::path& sceneFile, double latencyMs)
-    : latencyNs_(static_cast<std::int64_t>(latencyMs * 1e6)) {
+    : sceneFile_(sceneFile), latencyNs_(static_cast<std::int64_t>(latencyMs * 1e6)) {
     try {
         scene_ = procam::readSceneFile(sceneFile);
     } catch (const procam::SceneFileError& error) {
@@ -87,7 +87,31 @@ void SimulatedScanCamera::patternShown(const std::vector<std::uint8_t>& rgba, in
     }
 }
 
-CameraImage SimulatedScanCamera::capture(std::int64_t notBeforeNs) {
+ColourCapture SimulatedScanCamera::colourCapture() const {
+    const procam::SimulatedCamera& camera = scene_.camera;
+    ColourCapture colour;
+    colour.bits = camera.bits;
+    if (camera.response == procam::CameraResponse::kLinear) {
+        colour.response = proto::CameraResponseKind::kLinear;
+        colour.description =
+            "simulated colour sensor, linear, " + std::to_string(camera.bits) + " bits";
+        return colour;
+    }
+    colour.response = proto::CameraResponseKind::kUnknown;
+    if (camera.bits != 8) {
+        colour.unavailable = sceneFile_.string() + ":camera: a gamma response at " +
+                             std::to_string(camera.bits) +
+                             " bits; a camera response that is not linear is measured with an "
+                             "8-bit bracket (set camera.bits = 8, or camera.response = "
+                             "\"linear\")";
+        return colour;
+    }
+    colour.description =
+        "simulated colour sensor, gamma (response unknown: a bracketed ramp), 8 bits";
+    return colour;
+}
+
+CameraImage SimulatedScanCamera::capture(std::int64_t notBeforeNs, const CaptureRequest& request) {
     sleepUntilNs(notBeforeNs);
     const std::int64_t startNs = scanClockNs();
     // The newest pattern the projector has had time to show; before any, it shows black.
@@ -99,13 +123,22 @@ CameraImage SimulatedScanCamera::capture(std::int64_t notBeforeNs) {
         }
     }
     const renderer::RgbImage black(projectorWidth(), projectorHeight());
-    const procam::CameraFrame frame =
-        simulator_->expose(simulator_->radiance(visible ? visible->levels : black), captures_++);
+    const renderer::RgbImage radiance = simulator_->radiance(visible ? visible->levels : black);
+    procam::CameraFrame frame;
+    if (request.colour || request.exposureScale != 1.0) {
+        procam::SimulatedCamera sensor = scene_.camera;
+        sensor.monochrome = !request.colour;
+        sensor.exposure = scene_.camera.exposure * request.exposureScale;
+        frame = simulator_->expose(radiance, captures_++, sensor);
+    } else {
+        frame = simulator_->expose(radiance, captures_++);
+    }
     CameraImage image;
     image.width = frame.width;
     image.height = frame.height;
+    image.channels = frame.channels;
     image.maxValue = frame.maxValue();
-    image.samples = frame.samples;
+    image.samples = std::move(frame.samples);
     return image;
 }
 

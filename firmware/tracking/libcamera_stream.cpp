@@ -3,7 +3,8 @@
 // and acquire the camera, generate/validate/configure, allocate and map the buffers, create
 // the requests, start, queue — and undone in reverse. Completed requests come back on
 // libcamera's thread; they are handed to the owner's thread through a mutex-protected list and
-// an eventfd, so frames are read where they are used.
+// an eventfd, so frames are read where they are used. With colour asked for, a YUV 4:2:0 format
+// comes first and every plane of the buffers is mapped.
 #include "vpe/firmware/tracking/libcamera_stream.h"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 
 #include <libcamera/camera.h>
 #include <libcamera/camera_manager.h>
+#include <libcamera/color_space.h>
 #include <libcamera/control_ids.h>
 #include <libcamera/formats.h>
 #include <libcamera/framebuffer.h>
@@ -39,9 +41,22 @@ const std::array<libcamera::PixelFormat, 5> kLuminanceFirstFormats{
     libcamera::formats::R8, libcamera::formats::YUV420, libcamera::formats::NV12,
     libcamera::formats::NV21, libcamera::formats::YVU420};
 
+// The same with colour wanted: the YUV 4:2:0 ones first.
+const std::array<libcamera::PixelFormat, 5> kColourFirstFormats{
+    libcamera::formats::YUV420, libcamera::formats::NV12, libcamera::formats::NV21,
+    libcamera::formats::YVU420, libcamera::formats::R8};
+
 bool isLuminanceFirst(const libcamera::PixelFormat& format) {
     return std::find(kLuminanceFirstFormats.begin(), kLuminanceFirstFormats.end(), format) !=
            kLuminanceFirstFormats.end();
+}
+
+bool isInterleavedChroma(const libcamera::PixelFormat& format) {
+    return format == libcamera::formats::NV12 || format == libcamera::formats::NV21;
+}
+
+bool isCrFirst(const libcamera::PixelFormat& format) {
+    return format == libcamera::formats::NV21 || format == libcamera::formats::YVU420;
 }
 
 // libcamera returns −errno.
@@ -75,12 +90,15 @@ public:
     int width_ = 0;
     int height_ = 0;
     bool exposureFixed_ = false;
+    std::string colourAbsence_;
+    std::optional<std::int32_t> exposureUs_;  // set on every request queued again
 
 private:
+    // One buffer's planes, mapped (planes sharing a dmabuf share one mapping).
     struct Mapping {
-        void* base = nullptr;
-        std::size_t length = 0;
-        std::span<const std::uint8_t> luminance;  // the first plane
+        std::vector<std::pair<void*, std::size_t>> regions;  // to unmap
+        std::span<const std::uint8_t> luminance;             // the first plane
+        std::span<const std::uint8_t> cb, cr;                // the chroma, at their first samples
     };
 
     [[noreturn]] void fail(const std::string& problem) const;
@@ -100,7 +118,10 @@ private:
     bool started_ = false;
     std::unique_ptr<libcamera::CameraConfiguration> configuration_;
     libcamera::Stream* stream_ = nullptr;
+    libcamera::PixelFormat format_;
     int stride_ = 0;
+    bool colour_ = false;  // colour asked for
+    ChromaView chroma_;    // the geometry and encoding (spans per buffer)
     std::unique_ptr<libcamera::FrameBufferAllocator> allocator_;
     std::map<const libcamera::FrameBuffer*, Mapping> mappings_;
     std::vector<std::unique_ptr<libcamera::Request>> requests_;
@@ -119,7 +140,9 @@ LibcameraStream::Session::~Session() {
     }
     requests_.clear();
     for (const auto& [buffer, mapping] : mappings_) {
-        ::munmap(mapping.base, mapping.length);
+        for (const auto& [base, length] : mapping.regions) {
+            ::munmap(base, length);
+        }
     }
     mappings_.clear();
     allocator_.reset();
@@ -207,12 +230,14 @@ void LibcameraStream::Session::configure(const CameraStreamSettings& settings) {
     }
     libcamera::StreamConfiguration& stream = configuration_->at(0);
     const std::vector<libcamera::PixelFormat> offered = stream.formats().pixelformats();
-    const auto preferred =
-        std::find_if(kLuminanceFirstFormats.begin(), kLuminanceFirstFormats.end(),
-                     [&offered](const libcamera::PixelFormat& format) {
-                         return std::find(offered.begin(), offered.end(), format) != offered.end();
-                     });
-    if (preferred == kLuminanceFirstFormats.end()) {
+    colour_ = settings.colour;
+    const std::array<libcamera::PixelFormat, 5>& formats =
+        colour_ ? kColourFirstFormats : kLuminanceFirstFormats;
+    const auto preferred = std::find_if(
+        formats.begin(), formats.end(), [&offered](const libcamera::PixelFormat& format) {
+            return std::find(offered.begin(), offered.end(), format) != offered.end();
+        });
+    if (preferred == formats.end()) {
         std::string list;
         for (const libcamera::PixelFormat& format : offered) {
             list += (list.empty() ? "" : ", ") + format.toString();
@@ -239,11 +264,34 @@ void LibcameraStream::Session::configure(const CameraStreamSettings& settings) {
         fail("refuses the configuration " + stream.toString() + " (" + errorText(result) + ")");
     }
     stream_ = stream.stream();
+    format_ = stream.pixelFormat;
     width_ = static_cast<int>(stream.size.width);
     height_ = static_cast<int>(stream.size.height);
     stride_ = static_cast<int>(stream.stride);
     if (width_ <= 0 || height_ <= 0 || stride_ < width_) {
         fail("configured an unusable stream " + stream.toString());
+    }
+
+    if (!colour_) {
+        colourAbsence_ = "was not asked for colour";
+    } else if (format_ == libcamera::formats::R8) {
+        colourAbsence_ = "streams R8, which has no colour";
+    } else {
+        chroma_.width = (width_ + 1) / 2;
+        chroma_.height = (height_ + 1) / 2;
+        // libcamera's strides for 4:2:0: planar chroma rows are half the luminance's, an
+        // interleaved CbCr row as long as it.
+        chroma_.step = isInterleavedChroma(format_) ? 2 : 1;
+        chroma_.stride = isInterleavedChroma(format_) ? stride_ : stride_ / 2;
+        if (stream.colorSpace) {
+            using Encoding = libcamera::ColorSpace::YcbcrEncoding;
+            chroma_.encoding = stream.colorSpace->ycbcrEncoding == Encoding::Rec709
+                                   ? ChromaView::Encoding::kRec709
+                               : stream.colorSpace->ycbcrEncoding == Encoding::Rec2020
+                                   ? ChromaView::Encoding::kRec2020
+                                   : ChromaView::Encoding::kRec601;
+            chroma_.fullRange = stream.colorSpace->range == libcamera::ColorSpace::Range::Full;
+        }
     }
 
     const std::optional<std::string> model =
@@ -266,23 +314,78 @@ void LibcameraStream::Session::mapBuffers() {
     const std::size_t needed =
         static_cast<std::size_t>(stride_) * static_cast<std::size_t>(height_ - 1) +
         static_cast<std::size_t>(width_);
+    // One chroma plane's bytes (interleaved: the CbCr plane's, from its first Cb).
+    const std::size_t chromaNeeded =
+        chroma_.width == 0
+            ? 0
+            : static_cast<std::size_t>(chroma_.stride) *
+                      static_cast<std::size_t>(chroma_.height - 1) +
+                  static_cast<std::size_t>(chroma_.width) * static_cast<std::size_t>(chroma_.step);
     for (const std::unique_ptr<libcamera::FrameBuffer>& buffer : allocator_->buffers(stream_)) {
-        const libcamera::FrameBuffer::Plane& plane = buffer->planes().front();
+        const std::vector<libcamera::FrameBuffer::Plane>& planes = buffer->planes();
+        const libcamera::FrameBuffer::Plane& plane = planes.front();
         if (plane.length < needed) {
             fail("gives a " + std::to_string(plane.length) + "-byte first plane, needs " +
                  std::to_string(needed));
         }
-        // mmap offsets must be page-aligned and a plane's need not be: map from the start of
-        // the dmabuf and point into it.
-        const std::size_t length = static_cast<std::size_t>(plane.offset) + plane.length;
-        void* base = ::mmap(nullptr, length, PROT_READ, MAP_SHARED, plane.fd.get(), 0);
-        if (base == MAP_FAILED) {
-            fail(std::string("cannot map a frame buffer (") + std::strerror(errno) + ")");
-        }
         Mapping& mapping = mappings_[buffer.get()];
-        mapping.base = base;
-        mapping.length = length;
-        mapping.luminance = {static_cast<const std::uint8_t*>(base) + plane.offset, plane.length};
+        // mmap offsets must be page-aligned and a plane's need not be: map each dmabuf from its
+        // start, far enough for every plane in it, and point into it.
+        std::map<int, const std::uint8_t*> bases;
+        for (const libcamera::FrameBuffer::Plane& each : planes) {
+            const int fd = each.fd.get();
+            if (bases.contains(fd)) {
+                continue;
+            }
+            std::size_t length = 0;
+            for (const libcamera::FrameBuffer::Plane& other : planes) {
+                if (other.fd.get() == fd) {
+                    length =
+                        std::max(length, static_cast<std::size_t>(other.offset) + other.length);
+                }
+            }
+            void* base = ::mmap(nullptr, length, PROT_READ, MAP_SHARED, fd, 0);
+            if (base == MAP_FAILED) {
+                fail(std::string("cannot map a frame buffer (") + std::strerror(errno) + ")");
+            }
+            mapping.regions.emplace_back(base, length);
+            bases[fd] = static_cast<const std::uint8_t*>(base);
+        }
+        const auto spanOf = [&bases](const libcamera::FrameBuffer::Plane& each, std::size_t skip) {
+            return std::span<const std::uint8_t>(bases.at(each.fd.get()) + each.offset + skip,
+                                                 each.length - skip);
+        };
+        mapping.luminance = spanOf(plane, 0);
+        if (chroma_.width == 0) {
+            continue;
+        }
+        // The chroma planes: their own (YUV420: Y, U, V; NV12: Y, UV), or, when the pipeline
+        // gives one plane for the whole image, after the luminance in the same bytes.
+        std::span<const std::uint8_t> first, second;
+        const std::size_t lumaBytes =
+            static_cast<std::size_t>(stride_) * static_cast<std::size_t>(height_);
+        const std::size_t planeBytes =
+            static_cast<std::size_t>(chroma_.stride) * static_cast<std::size_t>(chroma_.height);
+        if (planes.size() >= (chroma_.step == 2 ? 2u : 3u)) {
+            first = spanOf(planes[1], 0);
+            second = chroma_.step == 2 ? first.subspan(std::min<std::size_t>(1, first.size()))
+                                       : spanOf(planes[2], 0);
+        } else if (planes.size() == 1 && plane.length >= lumaBytes) {
+            const std::span<const std::uint8_t> rest = spanOf(plane, lumaBytes);
+            first = rest;
+            second = chroma_.step == 2 ? rest.subspan(std::min<std::size_t>(1, rest.size()))
+                                       : rest.subspan(std::min(planeBytes, rest.size()));
+        }
+        // Interleaved: the second component starts one byte in, so it needs one byte less.
+        if (first.size() < chromaNeeded || second.size() + (chroma_.step - 1) < chromaNeeded) {
+            colourAbsence_ = "gives buffers whose planes do not hold the " + format_.toString() +
+                             " chroma (" + std::to_string(planes.size()) + " planes)";
+            chroma_.width = 0;
+            continue;
+        }
+        const bool crFirst = isCrFirst(format_);
+        mapping.cb = crFirst ? second : first;
+        mapping.cr = crFirst ? first : second;
     }
 }
 
@@ -378,10 +481,23 @@ void LibcameraStream::Session::drain(const std::function<void(const CameraFrameV
         frame.timestampNs = request->metadata()
                                 .get(libcamera::controls::SensorTimestamp)
                                 .value_or(static_cast<std::int64_t>(buffer->metadata().timestamp));
+        if (chroma_.width > 0) {
+            ChromaView chroma = chroma_;
+            chroma.cb = mapping.cb;
+            chroma.cr = mapping.cr;
+            frame.chroma = chroma;
+        }
+        if (const std::optional<std::int32_t> exposure =
+                request->metadata().get(libcamera::controls::ExposureTime)) {
+            frame.exposureUs = *exposure;
+        }
         onFrame(frame);
     }
     for (libcamera::Request* request : completed) {
         request->reuse(libcamera::Request::ReuseBuffers);
+        if (exposureUs_ && exposureFixed_) {
+            request->controls().set(libcamera::controls::ExposureTime, *exposureUs_);
+        }
         // A failure means the camera went away: frames stop, and the owner notices.
         camera_->queueRequest(request);
     }
@@ -416,6 +532,14 @@ int LibcameraStream::height() const {
 
 bool LibcameraStream::exposureFixed() const {
     return session_->exposureFixed_;
+}
+
+const std::string& LibcameraStream::colourAbsence() const {
+    return session_->colourAbsence_;
+}
+
+void LibcameraStream::setExposureUs(std::int32_t exposureUs) {
+    session_->exposureUs_ = exposureUs;
 }
 
 void LibcameraStream::drain(const std::function<void(const CameraFrameView&)>& onFrame,

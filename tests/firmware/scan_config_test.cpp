@@ -45,6 +45,8 @@ TEST(ScanConfigTest, Defaults) {
     EXPECT_EQ(scan.minContrast, 0.05);
     EXPECT_EQ(scan.minLitFraction, 0.005);
     EXPECT_EQ(scan.tolerance, 0.2);
+    EXPECT_TRUE(scan.radiometry);
+    EXPECT_EQ(scan.radiometryLevels, 16);
     EXPECT_FALSE(scan.simulate.has_value());
     EXPECT_EQ(scan.simulatedLatencyMs, 0.0);
 }
@@ -54,7 +56,8 @@ TEST(ScanConfigTest, ReadsEveryKey) {
         "latency_ms = 80\nsettle_ms = 2500\nretries = 5\nretry_wait_ms = 40\nexposure_us = 30000\n"
         "analogue_gain = 2\ncolour_gains = [1.8, 1.5]\ncamera_size = \"2304x1296\"\n"
         "phase_period = 16\nphase_steps = 4\nmin_contrast = 0.1\nmin_lit_fraction = 0.02\n"
-        "tolerance = 0.1\nsimulate = \"rehearsal/installation.toml\"\n"
+        "tolerance = 0.1\nradiometry = false\nradiometry_levels = 8\n"
+        "simulate = \"rehearsal/installation.toml\"\n"
         "simulated_latency_ms = 120\n",
         "boards/site/board.toml");
     const ScanConfig& scan = *board.scan;
@@ -74,6 +77,8 @@ TEST(ScanConfigTest, ReadsEveryKey) {
     EXPECT_EQ(scan.minContrast, 0.1);
     EXPECT_EQ(scan.minLitFraction, 0.02);
     EXPECT_EQ(scan.tolerance, 0.1);
+    EXPECT_FALSE(scan.radiometry);
+    EXPECT_EQ(scan.radiometryLevels, 8);
     // Relative to the board file's folder.
     EXPECT_EQ(scan.simulate, std::filesystem::path("boards/site/rehearsal/installation.toml"));
     EXPECT_EQ(scan.simulatedLatencyMs, 120.0);
@@ -85,8 +90,8 @@ TEST(ScanConfigTest, RefusesWithOneLineNamingTheKey) {
     EXPECT_EQ(refusal("latency = 3\n"),
               "boards/x.toml:scan.latency: unknown key (known: analogue_gain, camera_size, "
               "colour_gains, exposure_us, latency_ms, min_contrast, min_lit_fraction, "
-              "phase_period, phase_steps, retries, retry_wait_ms, settle_ms, simulate, "
-              "simulated_latency_ms, tolerance)");
+              "phase_period, phase_steps, radiometry, radiometry_levels, retries, "
+              "retry_wait_ms, settle_ms, simulate, simulated_latency_ms, tolerance)");
     EXPECT_EQ(refusal("latency_ms = 20000\n"),
               "boards/x.toml:scan.latency_ms: expected a number in [0, 10000], got 20000");
     EXPECT_EQ(refusal("settle_ms = 70000\n"),
@@ -122,6 +127,10 @@ TEST(ScanConfigTest, RefusesWithOneLineNamingTheKey) {
               "projector's latency is its own)");
     EXPECT_EQ(refusal("simulate = \"a.toml\"\nsimulated_latency_ms = -5\n"),
               "boards/x.toml:scan.simulated_latency_ms: expected a number in [0, 10000], got -5");
+    EXPECT_EQ(refusal("radiometry = 1\n"),
+              "boards/x.toml:scan.radiometry: expected a boolean, got an integer");
+    EXPECT_EQ(refusal("radiometry_levels = 65\n"),
+              "boards/x.toml:scan.radiometry_levels: expected an integer in 2…64, got 65");
     EXPECT_EQ(refusal("retries = \"3\"\n"),
               "boards/x.toml:scan.retries: expected an integer, got a string");
 }

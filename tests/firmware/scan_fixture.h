@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // ScanTest: vpe-player --scan run for real (PlayerTest's binary and folder) on the scan tests'
-// installation (scan_installation.h), with what the tests read back: PGM images, the JSON
-// report, folder listings.
+// installation (scan_installation.h), with what the tests read back: PGM and PPM images, the
+// JSON report, folder listings.
 #pragma once
 
 #include <algorithm>
@@ -15,15 +15,16 @@
 
 namespace vpe::firmware::testing {
 
-struct Pgm {
-    int width = 0, height = 0, maxValue = 0;
-    std::vector<std::uint16_t> samples;
+struct Pnm {
+    int width = 0, height = 0, channels = 0, maxValue = 0;
+    std::vector<std::uint16_t> samples;  // width·height·channels, interleaved
 };
 
-// Binary PGM as proto::writePnmAtomically writes it ("P5\nW H\nMAX\n", big-endian above 255).
-inline Pgm readPgm(const fs::path& path) {
+// Binary PGM or PPM as proto::writePnmAtomically writes it ("P5\nW H\nMAX\n" or "P6…",
+// big-endian above 255); empty when it is neither.
+inline Pnm readPnm(const fs::path& path) {
     const std::string bytes = readAll(path);
-    Pgm pgm;
+    Pnm pnm;
     std::size_t at = 0;
     const auto field = [&]() {
         const std::size_t end = bytes.find_first_of(" \n", at);
@@ -31,23 +32,25 @@ inline Pgm readPgm(const fs::path& path) {
         at = end + 1;
         return text;
     };
-    if (field() != "P5") {
-        return pgm;
+    const std::string magic = field();
+    if (magic != "P5" && magic != "P6") {
+        return pnm;
     }
-    pgm.width = std::stoi(field());
-    pgm.height = std::stoi(field());
-    pgm.maxValue = std::stoi(field());
-    const std::size_t count = static_cast<std::size_t>(pgm.width) * pgm.height;
-    const std::size_t size = pgm.maxValue > 255 ? 2 : 1;
+    pnm.channels = magic == "P5" ? 1 : 3;
+    pnm.width = std::stoi(field());
+    pnm.height = std::stoi(field());
+    pnm.maxValue = std::stoi(field());
+    const std::size_t count = static_cast<std::size_t>(pnm.width) * pnm.height * pnm.channels;
+    const std::size_t size = pnm.maxValue > 255 ? 2 : 1;
     if (bytes.size() != at + count * size) {
         return {};
     }
-    pgm.samples.resize(count);
+    pnm.samples.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
         const auto* p = reinterpret_cast<const unsigned char*>(bytes.data() + at + i * size);
-        pgm.samples[i] = size == 2 ? static_cast<std::uint16_t>(p[0] << 8 | p[1]) : p[0];
+        pnm.samples[i] = size == 2 ? static_cast<std::uint16_t>(p[0] << 8 | p[1]) : p[0];
     }
-    return pgm;
+    return pnm;
 }
 
 // The JSON object that ends stdout.

@@ -65,7 +65,8 @@ std::string ballAndWallObj(double radius, double wallDistance) {
     return obj.str();
 }
 
-ScanInstallation writeScanInstallation(const std::filesystem::path& folder, int bits) {
+ScanInstallation writeScanInstallation(const std::filesystem::path& folder, int bits,
+                                       renderer::procam::CameraResponse response) {
     const double radius = 0.07;
     std::ofstream(folder / "ball-wall.obj") << ballAndWallObj(radius, 0.12);
     ScanInstallation installation;
@@ -81,6 +82,7 @@ ScanInstallation writeScanInstallation(const std::filesystem::path& folder, int 
     camera.camera = proto::cameraLookingAt(320, 240, 40.0, {-0.16, 0.16, 0.52}, target);
     camera.exposure = 0.9;
     camera.bits = bits;
+    camera.response = response;
     camera.samples = 2;
     camera.monochrome = true;
     camera.seed = 7;

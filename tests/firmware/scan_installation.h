@@ -18,8 +18,11 @@ struct ScanInstallation {
     renderer::procam::SimulatedCamera camera;
 };
 
-// Writes the OBJ and the scene file into `folder` (which must exist). `bits`: 8 or 10.
-ScanInstallation writeScanInstallation(const std::filesystem::path& folder, int bits = 8);
+// Writes the OBJ and the scene file into `folder` (which must exist). `bits`: 8 or 10;
+// `response`: the camera's (linear, or a 2.2 gamma as an ISP's output).
+ScanInstallation writeScanInstallation(
+    const std::filesystem::path& folder, int bits = 8,
+    renderer::procam::CameraResponse response = renderer::procam::CameraResponse::kLinear);
 
 // The OBJ's text: a UV sphere of `radius` about (0, radius, 0) on a wall at z = −wallDistance.
 std::string ballAndWallObj(double radius, double wallDistance);

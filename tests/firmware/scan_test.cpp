@@ -3,14 +3,16 @@
 // ball before a wall; projector 320 × 180, camera 320 × 240): the manifest, every image equal
 // to what ProcamSimulator renders for its pattern (what the display showed reached the
 // simulated projector exactly), a previous scan replaced whole; stale captures retried and
-// counted, retries running out (exit 1, nothing written); and bad input (exit 2, one line).
-// The runs SKIP without headless EGL.
+// counted (the radiometric capture after the scan keeping the longer wait), retries running out
+// (exit 1, nothing written); and bad input (exit 2, one line). The radiometric capture itself:
+// scan_radiometry_test.cpp. The runs SKIP without headless EGL.
 #include <algorithm>
 #include <csignal>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
 #include "vpe/proto/structured_light.h"
 #include "vpe/renderer/procam/procam_simulator.h"
@@ -54,7 +56,8 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
     const proto::StructuredLightSequence sequence(manifest.patterns);
     const std::vector<proto::PatternSpec>& patterns = sequence.patterns();
     ASSERT_EQ(manifest.images.size(), patterns.size());
-    std::set<std::string> expected{proto::kScanManifestName};
+    // The radiometric capture's folder beside the patterns (scan_radiometry_test.cpp).
+    std::set<std::string> expected{proto::kScanManifestName, proto::kRadiometryFolderName};
     for (std::size_t i = 0; i < patterns.size(); ++i) {
         EXPECT_EQ(manifest.images[i].file, proto::scanImageName(i, patterns[i]));
         EXPECT_EQ(manifest.images[i].pattern, patterns[i].name());
@@ -74,7 +77,7 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
     for (std::size_t i = 0; i < patterns.size(); ++i) {
         sequence.render(patterns[i], codes);
         const renderer::procam::CameraFrame truth = simulator.expose(simulator.radiance(codes), i);
-        const Pgm image = readPgm(out_ / manifest.images[i].file);
+        const Pnm image = readPnm(out_ / manifest.images[i].file);
         ASSERT_EQ(image.width, 320) << manifest.images[i].file;
         ASSERT_EQ(image.height, 240);
         EXPECT_EQ(image.maxValue, 255);
@@ -94,8 +97,9 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
     EXPECT_EQ(report["projector"]["width"], 320);
     EXPECT_GT(report["lit_fraction"].get<double>(), 0.2);
     EXPECT_GT(report["noise_sigma"].get<double>(), 0.0);
+    EXPECT_EQ(report["radiometry"]["captured"], true);
     for (const char* key : {"rejected", "platform", "latency_ms", "wait_ms", "simulated_latency_ms",
-                            "setup_ms", "capture_ms", "scan_seconds", "seconds"}) {
+                            "setup_ms", "capture_ms", "radiometry", "scan_seconds", "seconds"}) {
         EXPECT_TRUE(report.contains(key)) << key;
     }
 }
@@ -114,7 +118,7 @@ TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
     EXPECT_EQ(manifest.camera.bits, 10);
     EXPECT_EQ(manifest.patterns.phasePeriod, 64);
     EXPECT_EQ(manifest.patterns.phaseSteps, 3);
-    const Pgm white = readPgm(out_ / manifest.images[0].file);
+    const Pnm white = readPnm(out_ / manifest.images[0].file);
     EXPECT_EQ(white.maxValue, 1023);
     EXPECT_GT(*std::max_element(white.samples.begin(), white.samples.end()), 255);
 }
@@ -126,10 +130,11 @@ TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
     }
     // The projector takes 300 ms, the board waits 0: the first white and black are captured
     // before they are shown (both black: nothing is lit); the retry waits 350 ms, and so does
-    // every pattern after it.
+    // every pattern after it, and every flat field of the radiometric capture after them (the
+    // shortest ladder: two levels per primary).
     const fs::path board = scanBoard(
         "latency_ms = 0\nretries = 2\nretry_wait_ms = 350\nsimulated_latency_ms = 300\n"
-        "phase_period = 64\nphase_steps = 3\n");
+        "phase_period = 64\nphase_steps = 3\nradiometry_levels = 2\n");
     const PlayerRun run = play({"--board", board.string(), "--scan", out_.string(), "--json"});
     ASSERT_EQ(run.status, 0) << run.err;
     // One line: the wait the projector needed.
@@ -150,6 +155,16 @@ TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
     EXPECT_EQ(report["rejected"]["not_lit"], 1);
     EXPECT_EQ(report["wait_ms"], 350.0);
     EXPECT_EQ(report["latency_ms"], 0.0);
+
+    const proto::RadiometryManifest radiometry =
+        proto::readRadiometryManifest(out_ / proto::kRadiometryFolderName);
+    EXPECT_EQ(radiometry.projectorLatencyMs, 350.0);
+    EXPECT_EQ(radiometry.images.size(), 8u);  // black, white, 2 levels × 3 primaries
+    for (const proto::RadiometryImage& image : radiometry.images) {
+        EXPECT_EQ(image.attempts, 1) << image.pattern;
+    }
+    EXPECT_EQ(report["radiometry"]["captures"], 8);
+    EXPECT_EQ(report["radiometry"]["retried"], 0);
 }
 
 TEST_F(ScanTest, StopsWhenRetriesRunOutAndWritesNothing) {

@@ -10,7 +10,8 @@
 //   phase step     it differs from the previous capture beyond the camera's noise (measured on
 //                  the Gray pairs), as every step moves the sinusoid.
 // Patterns are checked in groups that are captured, and retried, together: white with black, a
-// Gray pattern with its inverse, each phase step alone.
+// Gray pattern with its inverse, each phase step alone. FrameCheck is what the capture loop
+// (capture_loop.h) asks of this check and of the radiometric capture's (flat_field_check.h).
 #pragma once
 
 #include <cstddef>
@@ -48,23 +49,36 @@ struct FrameVerdict {
     bool passed() const { return problem == FrameProblem::kNone; }
 };
 
+// What the capture loop asks of a check: the sequence's indices in the groups that are captured,
+// and retried, together, in the order they are captured; and a verdict on each capture.
+class FrameCheck {
+public:
+    virtual ~FrameCheck() = default;
+
+    virtual const std::vector<std::vector<std::size_t>>& groups() const = 0;
+    // Checks the capture of image `index`, given in the groups' order; the first of a group
+    // starts it afresh (a retry gives the group again from its first), and the group's last,
+    // when it passes, makes the group accepted: what later checks compare with.
+    virtual FrameVerdict check(std::size_t index, const CameraImage& image) = 0;
+};
+
 // A phase step passes when at least this share of the lit pixels changed beyond the noise (a
 // stale capture changes none but noise: ~0.3%).
 inline constexpr double kMinChangedFraction = 0.05;
 
-class ScanFrameCheck {
+class ScanFrameCheck final : public FrameCheck {
 public:
     ScanFrameCheck(const proto::StructuredLightSequence& sequence,
                    const FrameCheckSettings& settings);
 
     // The sequence's indices in groups, in order.
-    const std::vector<std::vector<std::size_t>>& groups() const { return groups_; }
+    const std::vector<std::vector<std::size_t>>& groups() const override { return groups_; }
 
     // Checks the capture of pattern `index`. Patterns are given in the sequence's order; the
     // first pattern of a group starts it afresh (a retry gives the group again from its first),
     // and a group's last pattern, when it passes, makes the group accepted: its captures are
-    // what later checks compare with. All images must have one size.
-    FrameVerdict check(std::size_t index, const CameraImage& image);
+    // what later checks compare with. All images must have one size, and one channel.
+    FrameVerdict check(std::size_t index, const CameraImage& image) override;
 
     // Known once white and black were accepted: the lit share of the camera's pixels.
     double litFraction() const;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// PatternProjector: a scan's patterns on the board's display — 8-bit grey codes copied into a
-// texture and blitted full-screen into the render target, the same level on all three channels
-// (no shader, no filtering: the projector shows exactly the codes), then presented: headless,
-// the GPU has finished; KMS, the page flip has completed (the pattern is being scanned out).
+// PatternProjector: a scan's patterns on the board's display — 8-bit codes copied into a texture
+// and blitted full-screen into the render target (no shader, no filtering: the projector shows
+// exactly the codes), grey (the structured-light patterns: the same level on all three
+// channels) or RGB (the radiometric capture's flat fields), then presented: headless, the GPU
+// has finished; KMS, the page flip has completed (the pattern is being scanned out).
 #pragma once
 
 #include <cstdint>
@@ -26,11 +27,16 @@ public:
     // the CLOCK_MONOTONIC time then, from which the projector's latency is counted. Throws
     // GraphicsError (a GL error, or no page flip within a second).
     std::int64_t show(std::span<const std::uint8_t> codes);
+    // The same with three codes per pixel (R, G, B).
+    std::int64_t showRgb(std::span<const std::uint8_t> codes);
 
     // What the target holds, RGBA8 rows from the top (headless only: a scanout is not read).
     std::vector<std::uint8_t> readBack() const { return target_.readRgba8(); }
 
 private:
+    // Uploads rgba_, blits and presents; returns once displayed.
+    std::int64_t present();
+
     renderer::gles::RenderTarget& target_;
     unsigned texture_ = 0;
     unsigned framebuffer_ = 0;

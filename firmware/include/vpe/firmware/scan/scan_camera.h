@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// ScanCamera: what photographs a scan's patterns — the board's libcamera camera
-// (LibcameraScanCamera) or the projector–camera simulator (SimulatedScanCamera) — behind one
-// interface, so that the scan's loop, its checks and its folder are the same for both.
+// ScanCamera: what photographs a scan's patterns and the radiometric capture's flat fields —
+// the board's libcamera camera (LibcameraScanCamera) or the projector–camera simulator
+// (SimulatedScanCamera) — behind one interface, so that the loop, its checks and the folder
+// are the same for both.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "vpe/firmware/scan/camera_image.h"
+#include "vpe/proto/radiometry_capture.h"
 
 namespace vpe::firmware {
 
@@ -29,11 +31,33 @@ struct ScanCameraInfo {
     double analogueGain = 1;
 };
 
+// How one capture is taken: the structured-light patterns in luminance at the fixed exposure
+// (the default), the radiometric capture's flat fields in colour, its bracketed ramp at a
+// fraction of the exposure.
+struct CaptureRequest {
+    bool colour = false;       // three channels (R, G, B) instead of one
+    double exposureScale = 1;  // × the fixed exposure (proto::FlatField::exposureScale)
+};
+
+// Whether and how the camera photographs in colour for the radiometric capture
+// (proto/RADIOMETRY.md's camera: response and bits; a response that is not known to be linear
+// is measured with a bracketed ramp, so the exposure must then be scalable and the codes 8-bit).
+struct ColourCapture {
+    std::string unavailable;  // why the camera cannot, one line; "" when it can
+    proto::CameraResponseKind response = proto::CameraResponseKind::kLinear;
+    int bits = 8;
+    std::string description;  // what it records, for the report
+    std::string note;         // a line to log when the capture starts ("" for none)
+
+    bool available() const { return unavailable.empty(); }
+};
+
 class ScanCamera {
 public:
     virtual ~ScanCamera() = default;
 
     virtual const ScanCameraInfo& info() const = 0;
+    virtual ColourCapture colourCapture() const = 0;
 
     // True when the camera must be told what the display shows (a simulation renders it).
     virtual bool needsShownImage() const { return false; }
@@ -42,9 +66,10 @@ public:
     virtual void patternShown(const std::vector<std::uint8_t>& /*rgba*/, int /*width*/,
                               int /*height*/, std::int64_t /*shownNs*/) {}
 
-    // One image whose exposure starts at or after `notBeforeNs` (CLOCK_MONOTONIC). Throws
+    // One image whose exposure starts at or after `notBeforeNs` (CLOCK_MONOTONIC), taken as
+    // `request` says (a colour request only when colourCapture() is available). Throws
     // ScanError when the camera delivers none.
-    virtual CameraImage capture(std::int64_t notBeforeNs) = 0;
+    virtual CameraImage capture(std::int64_t notBeforeNs, const CaptureRequest& request) = 0;
 };
 
 // CLOCK_MONOTONIC now, nanoseconds (the clock of libcamera's timestamps and of page flips).

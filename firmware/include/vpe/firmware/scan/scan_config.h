@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The board file's [scan] section: how vpe-player --scan shows the structured-light patterns
 // and photographs them — the projector's latency, the retries, the camera's fixed exposure and
-// stream, the pattern sequence's phase, the frame check's limits, or a simulated camera
-// (boards/README.md, firmware/README.md "Scanning").
+// stream, the pattern sequence's phase, the frame check's limits, the radiometric capture
+// beside the scan, or a simulated camera (boards/README.md, firmware/README.md "Scanning").
 #pragma once
 
 #include <array>
@@ -39,6 +39,10 @@ struct ScanConfig {
     double minContrast = 0.05;
     double minLitFraction = 0.005;
     double tolerance = 0.2;
+    // The radiometric capture after the scan (proto::radiometrySequence's flat fields, in colour,
+    // into OUT/radiometry/), and its levels per primary.
+    bool radiometry = true;
+    int radiometryLevels = 16;
     // A simulated camera instead of libcamera: a scene file (vpe synth-procam's
     // installation.toml), resolved against the board file's folder; headless display only.
     std::optional<std::filesystem::path> simulate;

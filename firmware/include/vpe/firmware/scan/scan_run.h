@@ -4,7 +4,10 @@
 // frame check compares it with what the pattern implies and, when it fails, the pattern group
 // is shown again and captured after a longer wait (the wait that worked is kept for the rest);
 // the images and scan.json (proto/SCAN.md) go into a temporary folder renamed to OUT at the
-// end. What `vpe scan` and `vpe calibrate` read (firmware/README.md, "Scanning").
+// end. What `vpe scan` and `vpe calibrate` read (firmware/README.md, "Scanning"). Then, in the
+// same session and through the same loop, the radiometric capture's flat fields in colour
+// (radiometric_capture.h) into OUT/radiometry/, unless [scan] radiometry is false or the camera
+// cannot photograph them in colour (one line says why; the scan is written all the same).
 #pragma once
 
 #include <array>
@@ -16,6 +19,7 @@
 #include "vpe/firmware/board_config.h"
 #include "vpe/firmware/player_options.h"
 #include "vpe/firmware/scan/frame_check.h"
+#include "vpe/firmware/scan/radiometric_capture.h"
 #include "vpe/firmware/scan/scan_camera.h"
 
 namespace vpe::firmware {
@@ -41,8 +45,10 @@ struct ScanReport {
     std::vector<double> captureMs;  // per capture: pattern on screen → image in hand
     double scanSeconds = 0;         // the first pattern shown → OUT in place
     double seconds = 0;             // process start → OUT in place
+    RadiometryReport radiometry;    // the flat fields after the patterns, or why none
 
-    // "scan: 40 patterns, 40 captures (0 retried) in 2.1 s → OUT (…)".
+    // "scan: 40 patterns, 40 captures (0 retried) in 2.1 s → OUT (…); radiometry: 50 flat
+    // fields, 50 captures (0 retried), linear" (or "radiometry: none").
     std::string summaryLine() const;
     // One JSON object (firmware/README.md, "Scanning").
     std::string json() const;

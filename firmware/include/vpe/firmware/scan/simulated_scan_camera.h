@@ -4,7 +4,10 @@
 // headless render target — is what the simulated projector throws; ProcamSimulator renders
 // what the camera records, with fresh noise per capture. A projector latency may be simulated:
 // a capture starting sooner than it after a pattern change sees the pattern shown before, as a
-// real projector that is slower than the board says would show it.
+// real projector that is slower than the board says would show it. The radiometric capture's
+// colour frames come from the same optics through a colour copy of the scene's sensor (its
+// exposure × the request's scale, its bits, noise and response): ProcamSimulator's expose with
+// another sensor.
 #pragma once
 
 #include <cstdint>
@@ -28,13 +31,16 @@ public:
     ~SimulatedScanCamera() override;
 
     const ScanCameraInfo& info() const override { return info_; }
+    // Linear when the scene's camera response is linear; a gamma response is "unknown" and
+    // needs 8 bits (unavailable at 10: the bracket reads 8-bit codes).
+    ColourCapture colourCapture() const override;
     bool needsShownImage() const override { return true; }
     void patternShown(const std::vector<std::uint8_t>& rgba, int width, int height,
                       std::int64_t shownNs) override;
     // Sleeps until notBeforeNs, then exposes what the projector shows then; the simulator's
     // frame number is the capture's index in the run (0, 1, …), so noise differs between
     // captures and a test can render the same frame.
-    CameraImage capture(std::int64_t notBeforeNs) override;
+    CameraImage capture(std::int64_t notBeforeNs, const CaptureRequest& request) override;
 
     int projectorWidth() const;
     int projectorHeight() const;
@@ -46,6 +52,7 @@ private:
         std::int64_t shownNs = 0;
     };
 
+    std::filesystem::path sceneFile_;
     renderer::procam::SceneFile scene_;
     std::unique_ptr<renderer::procam::ProcamSimulator> simulator_;
     ScanCameraInfo info_;

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // LibcameraStream: one libcamera 0.0.3 camera streaming its luminance plane at a fixed exposure
 // and gain — the session the tracked lamp (LibcameraLamp) and the scan (vpe-player --scan)
-// share. libcamera's thread hands completed requests over through a mutex-protected list and
-// an eventfd; the owner's thread reads the frames and queues the requests again. The libcamera
-// objects stay out of this header (and out of every room but tracking/).
+// share; for the scan's radiometric capture also the colour planes of a YUV 4:2:0 stream and an
+// exposure that can be changed while streaming. libcamera's thread hands completed requests over
+// through a mutex-protected list and an eventfd; the owner's thread reads the frames and queues the
+// requests again. The libcamera objects stay out of this header (and out of every room but
+// tracking/).
 #pragma once
 
 #include <array>
@@ -11,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -47,6 +50,33 @@ struct CameraStreamSettings {
     std::optional<std::array<std::int64_t, 2>> frameDurationUs;
     // At least this many frame buffers (0: the pipeline's count; a still stream may have one).
     unsigned minBuffers = 0;
+    // Colour wanted too: a YUV 4:2:0 format (luminance first, then the chroma planes) is
+    // preferred to R8, and frames carry their chroma (CameraFrameView::chroma).
+    bool colour = false;
+};
+
+// The chroma of a YUV 4:2:0 frame, lent with it: Cb and Cr at half the luminance's width and
+// height (rounded up), sample (x, y) of each at byte y·stride + x·step of its span (step 1 for
+// planar YUV420/YVU420, 2 for interleaved NV12/NV21), and how Y'CbCr encodes R'G'B' (the
+// stream's colour space; Rec. 601 full range, as JPEG, when the camera does not say).
+struct ChromaView {
+    enum class Encoding : std::uint8_t { kRec601, kRec709, kRec2020 };
+
+    int width = 0, height = 0;
+    int stride = 0;
+    int step = 1;
+    std::span<const std::uint8_t> cb, cr;
+    Encoding encoding = Encoding::kRec601;
+    bool fullRange = true;
+
+    std::uint8_t cbAt(int x, int y) const {
+        return cb[static_cast<std::size_t>(y) * static_cast<std::size_t>(stride) +
+                  static_cast<std::size_t>(x) * static_cast<std::size_t>(step)];
+    }
+    std::uint8_t crAt(int x, int y) const {
+        return cr[static_cast<std::size_t>(y) * static_cast<std::size_t>(stride) +
+                  static_cast<std::size_t>(x) * static_cast<std::size_t>(step)];
+    }
 };
 
 // A completed frame, lent for the duration of a callback.
@@ -55,6 +85,10 @@ struct CameraFrameView {
     // The start of the exposure of the first row (SensorTimestamp; else the buffer's
     // timestamp), CLOCK_MONOTONIC nanoseconds.
     std::int64_t timestampNs = 0;
+    // With CameraStreamSettings::colour and a YUV 4:2:0 stream whose buffers hold the chroma.
+    std::optional<ChromaView> chroma;
+    // The frame's exposure as the camera reports it (ExposureTime metadata), when it does.
+    std::optional<std::int32_t> exposureUs;
 };
 
 class LibcameraStream {
@@ -81,6 +115,13 @@ public:
     int height() const;
     // True when the camera lists ExposureTime (the exposure really is fixed).
     bool exposureFixed() const;
+    // Why frames carry no chroma ("" when they do: colour was asked for and the stream is YUV
+    // 4:2:0 with buffers that hold it), one phrase after the camera: "streams R8, which has no
+    // colour".
+    const std::string& colourAbsence() const;
+    // Requests queued from now on ask for this exposure (ExposureTime; only when the camera
+    // lists it). The pipeline applies it some frames later: CameraFrameView::exposureUs tells.
+    void setExposureUs(std::int32_t exposureUs);
 
     // Takes the requests completed since the last call, hands their good frames to `onFrame`
     // in capture order (only the newest when `newestOnly`: latency over completeness), then
