@@ -35,6 +35,13 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
         throw std::invalid_argument("renderProjectorFrame: gain must be positive");
     }
     const int width = scene.projector.camera.width, height = scene.projector.camera.height;
+    if (scene.measuredLight &&
+        (scene.measuredLight->width != width || scene.measuredLight->height != height ||
+         scene.measuredLight->irradiance.size() != 3 * static_cast<std::size_t>(width) * height ||
+         scene.measuredLight->floor.size() != scene.measuredLight->irradiance.size())) {
+        throw std::invalid_argument("renderProjectorFrame: the measured light's maps are not the "
+                                    "projector's size");
+    }
     if (pixels.width() != width || pixels.height() != height) {
         throw std::invalid_argument("renderProjectorFrame: the traced pixels are " +
                                     std::to_string(pixels.width()) + "x" +
@@ -57,9 +64,15 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
             }
             const std::array<double, 3> target =
                 targetRadiance(scene, traced->point, scene.viewer, options.gain);
+            const MeasuredLightMaps* measured = scene.measuredLight.get();
+            const std::size_t at = 3 * (static_cast<std::size_t>(y) * width + x);
             const CompensatedPixel pixel =
-                compensatePixel(scene.surface, scene.projector.response, traced->irradianceScale,
-                                target, options.gain);
+                measured != nullptr
+                    ? compensateMeasuredPixel(&measured->irradiance[at], &measured->floor[at],
+                                              measured->mixingInverse, scene.projector.response,
+                                              target, options.gain)
+                    : compensatePixel(scene.surface, scene.projector.response,
+                                      traced->irradianceScale, target, options.gain);
             float* level = frame.level.pixel(x, y);
             float* radiance = frame.targetRadiance.pixel(x, y);
             for (std::size_t c = 0; c < 3; ++c) {

@@ -3,7 +3,10 @@
 // options of a render call.
 #pragma once
 
+#include <memory>
+
 #include "vpe/renderer/material_textures.h"
+#include "vpe/renderer/measured_light.h"
 #include "vpe/renderer/projector_model.h"
 #include "vpe/renderer/render_mesh.h"
 #include "vpe/renderer/screen_surface.h"
@@ -18,6 +21,10 @@ struct RenderScene {
     MaterialTextures material;
     VirtualLight light;
     Vec3d viewer{0, 0, 1};  // the eye the view-dependent terms are rendered for, metres
+    // The light measured on site (bundle 1.4): when set, the compensation inverts it instead of
+    // `surface` and the projector's irradiance scale, and projector.response is the response
+    // above black. Shared: the maps are the projector's size, the same for every frame.
+    std::shared_ptr<const MeasuredLightMaps> measuredLight;
 };
 
 struct RenderOptions {

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: MIT
+// MeasuredLight: the compensation from what vpe radiometry measured on site instead of assumed
+// albedo, gamma and ambient (offline/radiometry/: C = D + F · X · g). Per projector pixel the
+// irradiance factor F and the floor D; for the projector the crosstalk X and, in the scene's
+// ResponseFunction, the response above black g.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "vpe/proto/response_function.h"
+#include "vpe/renderer/lambertian_screen.h"
+
+namespace vpe::renderer {
+
+struct MeasuredLightMaps {
+    int width = 0, height = 0;       // the projector's
+    std::vector<float> irradiance;   // F: width·height·3, radiance per unit of a primary's output
+    std::vector<float> floor;        // D: width·height·3, radiance at level 0
+    std::array<double, 9> mixingInverse{1, 0, 0, 0, 1, 0, 0, 0, 1};  // X⁻¹, row-major
+};
+
+// The share of a primary's full output up to which a pixel is compensated exactly; above it the
+// wanted outputs roll off smoothly to full output (below).
+inline constexpr double kHighlightKnee = 0.9;
+
+// The inverse of a row-major 3 × 3; std::invalid_argument when it is singular.
+std::array<double, 9> inverse3x3(const std::array<double, 9>& m);
+
+// Where a highlight needs more than the projector has: the outputs w (per primary, above black)
+// scaled together — the hue kept — so that their largest, t, follows
+//   t' = κ + (1 − κ) · tanh((t − κ) / (1 − κ))  for t > κ (κ = kHighlightKnee),
+// continuous with its slope at κ and never reaching 1: no plateau, no band at the edge of
+// the clipped region. Returns whether it rolled off.
+bool rollOffHighlight(std::array<double, 3>& outputs);
+
+// The inverse of the measured model at one projector pixel: the mixed output per camera channel
+//   y = (L − D) / F,
+// the primaries' outputs above black w = X⁻¹ · y, the highlight rolled off (clippedHigh: t > κ),
+// negative outputs raised to 0 (clippedLow: the floor is brighter than the target), then
+// level = g⁻¹(w). F ≤ 0 in a channel (no projector light measured) clips that channel like
+// compensatePixel's S = 0. gainLimit: the largest gain at which t ≤ κ (+∞ when no primary
+// grows with the gain).
+CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* floor,
+                                         const std::array<double, 9>& mixingInverse,
+                                         const proto::ResponseFunction& response,
+                                         const std::array<double, 3>& target, double gain);
+
+}  // namespace vpe::renderer
