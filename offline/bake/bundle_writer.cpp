@@ -49,6 +49,9 @@ public:
         if (c_.camera) {
             ruleFromProto(proto::checkBundleCamera(*c_.camera));
         }
+        if (c_.radiometry) {
+            radiometry(*c_.radiometry);
+        }
         ruleFromProto(proto::checkSettings(c_.settings));
         ruleFromProto(proto::checkModel(c_.model));
         mesh();
@@ -100,6 +103,30 @@ private:
         if (actual != expected) {
             fail(what + ": " + std::to_string(actual) + " values, expected " +
                  std::to_string(expected));
+        }
+    }
+
+    void radiometry(const BundleRadiometry& r) const {
+        const std::size_t values = 3 * static_cast<std::size_t>(c_.projector.width) *
+                                   c_.projector.height;
+        count(r.irradiance.size(), values, "radiometry irradiance");
+        count(r.floor.size(), values, "radiometry floor");
+        for (const std::vector<float>* map : {&r.irradiance, &r.floor}) {
+            for (const float v : *map) {
+                if (!std::isfinite(v) || v < 0 || v > 65504.0f) {
+                    fail("radiometry: a map value outside [0, 65504] (half floats)");
+                }
+            }
+        }
+        for (std::size_t k = 0; k < 3; ++k) {
+            if (r.mixing[4 * k] != 1) {
+                fail("radiometry: mixing: its diagonal must be 1");
+            }
+        }
+        for (const double v : r.mixing) {
+            if (!std::isfinite(v) || v < 0) {
+                fail("radiometry: mixing: expected finite values ≥ 0");
+            }
         }
     }
 
@@ -398,6 +425,7 @@ struct PayloadIndex {
     std::vector<MapPayloads> regions;
     std::optional<MapPayloads> composed;
     std::vector<std::size_t> presets;
+    std::optional<std::array<std::size_t, 2>> radiometry;  // irradiance, floor
 };
 
 PayloadIndex planPayloads(const BundleContents& c, PayloadPlan& payloads) {
@@ -444,6 +472,24 @@ PayloadIndex planPayloads(const BundleContents& c, PayloadPlan& payloads) {
         index.presets.push_back(
             addAlpha(payloads, preset, c.regions.size(), c.textureWidth, c.textureHeight));
     }
+    if (c.radiometry) {
+        // r, g, b and a zero per projector pixel: an RGBA16F texture the device samples as is.
+        const auto rgba = [](const std::vector<float>& rgb) {
+            return [&rgb](BundleOutput& out) {
+                std::vector<std::uint16_t> halves(rgb.size() / 3 * 4, 0);
+                for (std::size_t p = 0; 3 * p < rgb.size(); ++p) {
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        halves[4 * p + k] = proto::floatToHalf(rgb[3 * p + k]);
+                    }
+                }
+                out.write(halves);
+            };
+        };
+        const std::vector<std::uint32_t> shape{c.projector.height, c.projector.width, 4};
+        index.radiometry = std::array<std::size_t, 2>{
+            addPayload(payloads, fb::ElementType::Float16, shape, rgba(c.radiometry->irradiance)),
+            addPayload(payloads, fb::ElementType::Float16, shape, rgba(c.radiometry->floor))};
+    }
     return index;
 }
 
@@ -488,8 +534,14 @@ public:
             fb::CreateTexturesDirect(b, static_cast<std::uint32_t>(c_.textureWidth),
                                      static_cast<std::uint32_t>(c_.textureHeight), &regions,
                                      composed, &presets, c_.textureWrapsU);
-        fb::FinishBundleBuffer(
-            b, fb::CreateBundle(b, mesh, projector, settings, model, textures, camera));
+        flatbuffers::Offset<fb::Radiometry> radiometry;
+        if (c_.radiometry) {
+            const fb::Mat3d mixing(flatbuffers::make_span(c_.radiometry->mixing));
+            radiometry = fb::CreateRadiometry(b, &mixing, ref(b, (*index_.radiometry)[0]),
+                                              ref(b, (*index_.radiometry)[1]));
+        }
+        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures,
+                                                   camera, radiometry));
         return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
     }
 

@@ -109,6 +109,10 @@ nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle
     json["projector"] = pinholeJson(projector);
     // Format 1.3: the installation's camera; null when the bundle carries none.
     json["camera"] = bundle.camera() ? pinholeJson(*bundle.camera()) : nlohmann::json(nullptr);
+    // Format 1.4: the measured light's crosstalk; null when the bundle assumes its light.
+    json["radiometry"] = bundle.radiometry()
+                             ? nlohmann::json{{"mixing", bundle.radiometry()->mixing}}
+                             : nlohmann::json(nullptr);
     json["settings"] = {{"viewer_position", decimals(settings.viewerPosition)},
                         {"screen_albedo", decimals(settings.screenAlbedo)},
                         {"ambient_irradiance", decimals(settings.ambientIrradiance)},
@@ -189,8 +193,17 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
         std::printf("camera     none\n");
     }
     std::printf("viewer     %s m\n", triple(s.viewerPosition).c_str());
-    std::printf("screen     albedo %s, ambient %s\n", triple(s.screenAlbedo).c_str(),
-                triple(s.ambientIrradiance).c_str());
+    if (const auto& r = bundle.radiometry()) {
+        // Format 1.4: the light measured on site replaces the assumed albedo and ambient.
+        const auto& x = r->mixing;
+        std::printf("radiometry measured per projector pixel (F, D: RGBA16F, 16 bytes); "
+                    "crosstalk R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f; the "
+                    "response is above black\n",
+                    x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]);
+    } else {
+        std::printf("screen     albedo %s, ambient %s\n", triple(s.screenAlbedo).c_str(),
+                    triple(s.ambientIrradiance).c_str());
+    }
     if (s.response.kind == proto::ResponseKind::kGamma) {
         std::printf("response   gamma %s", triple(s.response.gamma).c_str());
     } else {

@@ -4,6 +4,8 @@
 // type, shape, size, alignment and bounds. Nothing is read that has not been checked.
 #include "vpe/proto/bundle.h"
 
+#include "vpe/proto/half_float.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -112,6 +114,7 @@ public:
         decodeModel(view, root);
         decodeProjector(view, root);
         decodeCamera(view, root);
+        decodeRadiometry(view, root);
         decodeSettings(view, root);
         decodeMesh(view, root);
         decodeTextures(view, root);
@@ -192,6 +195,52 @@ private:
             fail(problem);
         }
         view.camera_ = camera;
+    }
+
+    // 1.4's measured light: absent in older bundles and optional in newer ones. Its maps have
+    // the projector's size; every value finite, F and D not negative, X's diagonal 1 and X
+    // invertible (the device inverts it).
+    void decodeRadiometry(BundleView& view, const fb::Bundle& root) {
+        const fb::Radiometry* table = root.radiometry();
+        if (table == nullptr) {
+            return;
+        }
+        RadiometryView r;
+        if (table->mixing() == nullptr) {
+            fail("radiometry: mixing missing");
+        }
+        for (flatbuffers::uoffset_t i = 0; i < 9; ++i) {
+            r.mixing[i] = table->mixing()->m()->Get(i);
+            if (!std::isfinite(r.mixing[i]) || r.mixing[i] < 0) {
+                fail("radiometry: mixing: expected finite values ≥ 0");
+            }
+        }
+        const double determinant =
+            r.mixing[0] * (r.mixing[4] * r.mixing[8] - r.mixing[5] * r.mixing[7]) -
+            r.mixing[1] * (r.mixing[3] * r.mixing[8] - r.mixing[5] * r.mixing[6]) +
+            r.mixing[2] * (r.mixing[3] * r.mixing[7] - r.mixing[4] * r.mixing[6]);
+        if (r.mixing[0] != 1 || r.mixing[4] != 1 || r.mixing[8] != 1 || !(determinant > 1e-6)) {
+            fail("radiometry: mixing: its diagonal must be 1 and it must be invertible");
+        }
+        const std::vector<std::uint64_t> shape{view.projector_.height, view.projector_.width, 4};
+        if (table->irradiance() == nullptr || table->floor() == nullptr) {
+            fail("radiometry: irradiance or floor missing");
+        }
+        r.irradiance = typed<std::uint16_t>(table->irradiance(), "radiometry irradiance",
+                                            {fb::ElementType::Float16}, shape);
+        r.floor = typed<std::uint16_t>(table->floor(), "radiometry floor",
+                                       {fb::ElementType::Float16}, shape);
+        for (const auto& [values, what] : {std::pair{r.irradiance, "irradiance"},
+                                           std::pair{r.floor, "floor"}}) {
+            for (const std::uint16_t half : values) {
+                const float v = halfToFloat(half);
+                if (!std::isfinite(v) || v < 0) {
+                    fail(std::string("radiometry ") + what + ": a value that is negative or not "
+                         "finite");
+                }
+            }
+        }
+        view.radiometry_ = r;
     }
 
     // A Projector table (the projector's or the camera's) into its struct, unchecked.

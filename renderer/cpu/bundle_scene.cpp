@@ -100,6 +100,22 @@ BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& pre
         surface_.albedo[ch] = static_cast<double>(settings.screenAlbedo[ch]);
         surface_.ambientIrradiance[ch] = static_cast<double>(settings.ambientIrradiance[ch]);
     }
+    if (const auto& measured = bundle.radiometry()) {
+        auto maps = std::make_shared<MeasuredLightMaps>();
+        maps->width = static_cast<int>(bundle.projector().width);
+        maps->height = static_cast<int>(bundle.projector().height);
+        const std::size_t pixels = static_cast<std::size_t>(maps->width) * maps->height;
+        maps->irradiance.resize(3 * pixels);
+        maps->floor.resize(3 * pixels);
+        for (std::size_t p = 0; p < pixels; ++p) {
+            for (std::size_t k = 0; k < 3; ++k) {
+                maps->irradiance[3 * p + k] = proto::halfToFloat(measured->irradiance[4 * p + k]);
+                maps->floor[3 * p + k] = proto::halfToFloat(measured->floor[4 * p + k]);
+            }
+        }
+        maps->mixingInverse = inverse3x3(measured->mixing);
+        measuredLight_ = std::move(maps);
+    }
 }
 
 Vec3d BundleScene::bundleViewer() const {
@@ -124,6 +140,7 @@ RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) c
     }
     scene.light = light;
     scene.viewer = viewer;
+    scene.measuredLight = measuredLight_;
     return scene;
 }
 

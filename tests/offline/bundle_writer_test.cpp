@@ -338,6 +338,49 @@ TEST_F(BundleWriter, WritesTheCameraWhenThereIsOneAndRefusesABadOne) {
     expectNothingWritten(folder_.path());
 }
 
+TEST_F(BundleWriter, WritesTheMeasuredLightAndRefusesBadMaps) {
+    EXPECT_FALSE((bake::writeBundle(path(), contents_),
+                  BundleFile::open(path())->radiometry().has_value()));
+    const std::size_t pixels =
+        static_cast<std::size_t>(contents_.projector.width) * contents_.projector.height;
+    bake::BundleRadiometry radiometry;
+    radiometry.mixing = {1, 0.076, 0.011, 0.068, 1, 0.057, 0.011, 0.097, 1};
+    for (std::size_t p = 0; p < pixels; ++p) {
+        for (const float base : {0.25f, 0.5f, 0.75f}) {
+            radiometry.irradiance.push_back(base + 0.001f * static_cast<float>(p % 7));
+            radiometry.floor.push_back(0.01f * base);
+        }
+    }
+    contents_.radiometry = radiometry;
+    bake::writeBundle(path(), contents_);
+    {
+        const BundleFile file = BundleFile::open(path());
+        ASSERT_TRUE(file->radiometry().has_value());
+        EXPECT_EQ(file->radiometry()->mixing, radiometry.mixing);
+        ASSERT_EQ(file->radiometry()->irradiance.size(), 4 * pixels);
+        for (std::size_t p = 0; p < pixels; p += 97) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                EXPECT_NEAR(proto::halfToFloat(file->radiometry()->irradiance[4 * p + c]),
+                            radiometry.irradiance[3 * p + c], 5e-4);
+                EXPECT_NEAR(proto::halfToFloat(file->radiometry()->floor[4 * p + c]),
+                            radiometry.floor[3 * p + c], 1e-5);
+            }
+            EXPECT_EQ(file->radiometry()->irradiance[4 * p + 3], 0);
+        }
+    }
+    std::filesystem::remove(path());
+    contents_.radiometry->floor[5] = -0.5f;
+    EXPECT_EQ(refusal(contents_),
+              path().string() + ": radiometry: a map value outside [0, 65504] (half floats)");
+    contents_.radiometry->floor[5] = 0;
+    contents_.radiometry->mixing[4] = 0.9;
+    EXPECT_EQ(refusal(contents_), path().string() + ": radiometry: mixing: its diagonal must be 1");
+    contents_.radiometry->mixing[4] = 1;
+    contents_.radiometry->irradiance.pop_back();
+    EXPECT_NE(refusal(contents_).find("radiometry irradiance"), std::string::npos);
+    expectNothingWritten(folder_.path());
+}
+
 TEST_F(BundleWriter, KeepsTheOldBundleWhenANewOneIsRefused) {
     bake::writeBundle(path(), contents_);
     const auto before = std::filesystem::file_size(path());

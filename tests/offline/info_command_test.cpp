@@ -53,7 +53,7 @@ TEST_F(InfoCommand, DescribesTheBundle) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const std::string& out = result.out;
     for (const std::string& expected : std::vector<std::string>{
-             path_.string() + ": vpe bundle 1.3, ", "checksum 0x", " OK\n",
+             path_.string() + ": vpe bundle 1.4, ", "checksum 0x", " OK\n",
              "mesh       4 vertices, 2 triangles\n", "projector  1280 x 800, fx 1500.5 fy 1498 ",
              "camera     none\n", "viewer     (0, 0.25, 1.75) m\n",
              "response   curve, 4/4/4 samples",
@@ -74,7 +74,7 @@ TEST_F(InfoCommand, ReportsJson) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json json = nlohmann::json::parse(result.out);
     EXPECT_EQ(json["file"], path_.string());
-    EXPECT_EQ(json["format_version"], "1.3");
+    EXPECT_EQ(json["format_version"], "1.4");
     EXPECT_TRUE(json["camera"].is_null());
     EXPECT_EQ(json["textures"]["wrap_u"], true);
     EXPECT_EQ(json["file_bytes"], std::filesystem::file_size(path_));

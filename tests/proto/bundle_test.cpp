@@ -494,7 +494,7 @@ TEST_F(BundleReader, ReadsTheInstallationsCamera) {
     RawBundleSpec spec;
     spec.camera = testCamera();
     const BundleFile file = BundleFile::open(writeBytes(path(), buildRawBundle(spec)));
-    EXPECT_EQ(file->header().minorVersion, 3);
+    EXPECT_EQ(file->header().minorVersion, kBundleMinorVersion);
     ASSERT_TRUE(file->camera().has_value());
     const ProjectorCalibration& camera = *file->camera();
     EXPECT_EQ(camera.width, 1640u);

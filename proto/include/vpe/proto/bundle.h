@@ -6,6 +6,7 @@
 // plain structs.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -74,6 +75,14 @@ struct WeightPresetView {
     int bytesPerTexel() const { return layers * (encoding == AlphaEncoding::kUnorm8 ? 1 : 2); }
 };
 
+// Format 1.4: the light measured on site, per projector pixel (BUNDLE.md, `Radiometry`).
+struct RadiometryView {
+    std::array<double, 9> mixing{};  // X, row-major, diagonal 1
+    // Binary16 bits, [(row·width + x)·4, +4): r, g, b, 0 at the projector's width × height.
+    std::span<const std::uint16_t> irradiance;  // F
+    std::span<const std::uint16_t> floor;       // D
+};
+
 struct BundleOpenOptions {
     // The CRC-32 pass reads every byte of the file. A device that verified the bundle once
     // after installing it may skip it; every structural check still runs, so a bad file is
@@ -101,6 +110,8 @@ public:
     // camera frame in the projector's conventions; checked like the projector. Empty: the
     // bundle carries none (every bundle before 1.3).
     const std::optional<ProjectorCalibration>& camera() const { return camera_; }
+    // Format 1.4, optional: the light measured on site; empty: the settings' assumptions.
+    const std::optional<RadiometryView>& radiometry() const { return radiometry_; }
     const RenderSettings& settings() const { return settings_; }
     const BundleModel& model() const { return model_; }
     int textureWidth() const { return textureWidth_; }
@@ -125,6 +136,7 @@ private:
     MeshView mesh_;
     ProjectorCalibration projector_;
     std::optional<ProjectorCalibration> camera_;
+    std::optional<RadiometryView> radiometry_;
     RenderSettings settings_;
     BundleModel model_;
     int textureWidth_ = 0;

@@ -6,6 +6,7 @@
 // points into it.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,7 @@ private:
     std::vector<std::vector<float>> detailNormals_;  // per region, x and y per texel, or none
     ProjectorModel projector_;
     ScreenSurface surface_;
+    std::shared_ptr<const MeasuredLightMaps> measuredLight_;  // format 1.4's, when it has one
 };
 
 // A coefficient map decoded to floats (C per texel, bundleCoefficientIndex order).

@@ -49,12 +49,21 @@ struct WeightPreset {
     std::vector<float> alpha;
 };
 
+// Format 1.4: the light measured on site (vpe radiometry), per projector pixel.
+struct BundleRadiometry {
+    std::array<double, 9> mixing{1, 0, 0, 0, 1, 0, 0, 0, 1};  // X, diagonal 1, invertible
+    std::vector<float> irradiance;  // F: projector width·height·3, finite, ≥ 0
+    std::vector<float> floor;       // D: likewise
+};
+
 struct BundleContents {
     BundleMesh mesh;
     proto::ProjectorCalibration projector;
     // Format 1.3: the installation's camera (object frame → camera, the projector's
     // conventions), for the device's lamp tracker; empty: the field stays absent.
     std::optional<proto::ProjectorCalibration> camera;
+    // Format 1.4: the measured light; settings.response is then the response above black.
+    std::optional<BundleRadiometry> radiometry;
     proto::RenderSettings settings;
     proto::BundleModel model;  // M, λ and the θs basis (empty: none, rendered exactly)
     int textureWidth = 0;      // 1..4096
