@@ -9,6 +9,7 @@
 #include "vpe/bake/bake_inputs.h"
 #include "vpe/bake/bundle_writer.h"
 #include "vpe/bake/low_rank_encoder.h"
+#include "vpe/bake/measured_light_maps.h"
 #include "vpe/bake/theta_basis_fit.h"
 #include "vpe/common/input_error.h"
 #include "vpe/proto/bundle_format.h"
@@ -172,8 +173,20 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         }
     }
     contents.mesh = toBundleMesh(mesh);
-
     BakeReport report;
+    if (!options.radiometry.empty()) {
+        const radiometry::ProjectorRadiometry measured = radiometry::readRadiometry(options.radiometry);
+        MeasuredLightBake baked =
+            bakeMeasuredLight(measured, contents.mesh, contents.projector, options.radiometry);
+        contents.radiometry = std::move(baked.radiometry);
+        report.radiometryCovered = baked.covered;
+        report.radiometryCompleted = baked.completed;
+        // The response above black, at 33 even levels: the measured ladder, linear between.
+        contents.settings.response = toBundleResponse(
+            scene::readProjectorResponseCsv(options.radiometry / radiometry::kResponseFile), 33);
+        contents.settings.ambientIrradiance = {0, 0, 0};
+    }
+
     report.placement = placement;
     report.vertices = mesh.vertexCount();
     report.triangles = mesh.triangleCount();

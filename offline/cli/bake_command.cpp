@@ -223,6 +223,10 @@ void addBakeCommand(CLI::App& app, Action& action) {
                      "Projector response: a gamma, r,g,b gammas, or a CSV curve "
                      "(level,r,g,b)")
         ->capture_default_str();
+    command->add_option("--radiometry", args->options.radiometry,
+                        "The light measured on site (vpe radiometry's --out): the bundle "
+                        "compensates with its maps, crosstalk and response instead of "
+                        "--albedo, --ambient and --response");
     command
         ->add_option("--peak-irradiance", args->options.settings.peakIrradiance,
                      "Projector irradiance at 1 m, normal incidence, full level")

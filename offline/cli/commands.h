@@ -29,6 +29,7 @@ void addRenderCommand(CLI::App& app, Action& action);
 void addTransferCommand(CLI::App& app, Action& action);
 void addSynthProcamCommand(CLI::App& app, Action& action);
 void addScanCommand(CLI::App& app, Action& action);
+void addRadiometryCommand(CLI::App& app, Action& action);
 void addCalibrateCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.

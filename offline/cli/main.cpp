@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
     vpe::cli::addSynthProcamCommand(app, action);
     vpe::cli::addCalibrateCommand(app, action);
     vpe::cli::addScanCommand(app, action);
+    vpe::cli::addRadiometryCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -6,10 +6,12 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
+#include "vpe/common/quantile.h"
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
@@ -18,8 +20,10 @@
 #include "vpe/image/image_file.h"
 #include "vpe/procam/gallery_installation.h"
 #include "vpe/procam/installation_check.h"
+#include "vpe/procam/radiometry_check.h"
 #include "vpe/procam/simulated_capture.h"
 #include "vpe/proto/pnm_image.h"
+#include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
 #include "vpe/renderer/procam/scene_file.h"
 #include "vpe/scene/projector_calibration.h"
@@ -35,13 +39,15 @@ namespace {
 namespace sim = renderer::procam;
 
 struct Arguments {
-    std::string out, scene, show, check;
+    std::string out, scene, show, check, checkLight, baseline;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
     int poses = 15;
     double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06;
     std::uint64_t seed = 1;
     std::string noise = "camera";
     bool stains = false;
+    bool realisticLight = false;
+    int capture = 0;  // which capture of the installation: fresh noise for each
     int phasePeriod = 32, phaseSteps = 8;
     int threads = 0;
     bool json = false;
@@ -90,6 +96,7 @@ void runGallery(const Arguments& args) {
     options.seed = args.seed;
     options.noise = args.noise == "camera";
     options.stains = args.stains;
+    options.realisticLight = args.realisticLight;
     const procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
     const int threads = static_cast<int>(resolveThreadCount(args.threads));
 
@@ -109,7 +116,10 @@ void runGallery(const Arguments& args) {
     } catch (const proto::StructuredLightError& error) {
         throw InputError(std::string("--phase-period/--phase-steps: ") + error.what());
     }
-    ProgressBar progress("synth-procam", patterns * (gallery.boardScenes.size() + 1));
+    const std::size_t flatFields =
+        proto::radiometrySequence({projector.width, projector.height}).size();
+    ProgressBar progress("synth-procam",
+                         patterns * (gallery.boardScenes.size() + 1) + flatFields);
     procam::SimulatedScanOptions scan;
     scan.phasePeriod = args.phasePeriod;
     scan.phaseSteps = args.phaseSteps;
@@ -149,6 +159,11 @@ void runGallery(const Arguments& args) {
     scan.firstFrame = 0;
     scan.source = "simulated:installation.toml";
     procam::writeSimulatedScan(simulator, root / "scan", scan, &progress);
+    progress.setPhase("radiometry");
+    procam::SimulatedRadiometryOptions flat;
+    flat.source = scan.source;
+    procam::writeSimulatedRadiometry(simulator, root / "scan" / proto::kRadiometryFolderName,
+                                     flat, &progress);
     progress.setPhase("truth");
     procam::writeSimulationTruth(simulator, root / "truth");
     writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
@@ -173,6 +188,105 @@ void runGallery(const Arguments& args) {
         json["images_per_capture"] = patterns;
         json["board"] = std::to_string(board.squaresX) + "x" + std::to_string(board.squaresY) +
                         ":" + std::to_string(static_cast<int>(board.squareM * 1000)) + "mm";
+        json["seconds"] = seconds;
+        printJson(json.dump());
+    }
+}
+
+proto::BundleFile openBundle(const std::string& path) {
+    try {
+        return proto::BundleFile::open(path);
+    } catch (const proto::BundleError& error) {
+        throw InputError(error.what());
+    }
+}
+
+// A camera view for people: the linear signal divided by `white`, sRGB-encoded.
+SheetTile linearTile(std::string label, const renderer::RgbImage& image, double white) {
+    SheetTile tile{std::move(label), image.width, image.height, 3, {}};
+    tile.pixels.reserve(image.values.size());
+    for (const float v : image.values) {
+        const double x = std::clamp(double(v) / white, 0.0, 1.0);
+        tile.pixels.push_back(static_cast<float>(
+            x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055));
+    }
+    return tile;
+}
+
+// --check-light: how closely a bundle's compensation gives its target on the true installation,
+// as the camera sees it (and a --baseline bundle's, e.g. today's assumed radiometry, beside it).
+void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
+    const auto start = std::chrono::steady_clock::now();
+    procam::RadiometryCheckOptions options;
+    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    const proto::BundleFile bundle = openBundle(args.checkLight);
+    const procam::RadiometryCheck check =
+        procam::checkRadiometry(file.scene, file.camera, bundle.view(), options);
+    std::optional<procam::RadiometryCheck> baseline;
+    if (!args.baseline.empty()) {
+        const proto::BundleFile other = openBundle(args.baseline);
+        baseline = procam::checkRadiometry(file.scene, file.camera, other.view(), options);
+    }
+    std::vector<SheetTile> tiles;
+    for (std::size_t i = 0; i < check.views.size(); ++i) {
+        const procam::RadiometryView& view = check.views[i];
+        std::vector<double> luminance;
+        for (std::size_t p = 0; p < view.target.pixelCount(); ++p) {
+            luminance.push_back(double(view.target.values[3 * p + 1]));
+        }
+        const double white = std::max(1e-9, quantile(luminance, 0.998));
+        char label[128];
+        std::snprintf(label, sizeof label, "light %.2f,%.2f,%.2f: the target", view.light.x,
+                      view.light.y, view.light.z);
+        tiles.push_back(linearTile(label, view.target, white));
+        std::snprintf(label, sizeof label, "%s: %.2f levels RMS", args.checkLight.c_str(),
+                      view.rmsLevels);
+        tiles.push_back(linearTile(label, view.seen, white));
+        if (baseline) {
+            const procam::RadiometryView& other = baseline->views[i];
+            std::snprintf(label, sizeof label, "%s: %.2f levels RMS",
+                          args.baseline.c_str(), other.rmsLevels);
+            // On the target's scale: the baseline's units are its own.
+            tiles.push_back(linearTile(label, other.seen, white * other.scale));
+        }
+    }
+    std::filesystem::create_directories(args.out);
+    const std::filesystem::path sheet = std::filesystem::path(args.out) / "light-check.png";
+    writeContactSheet(sheet, tiles, baseline ? 3 : 2, 360);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "%s on %s: %.2f levels RMS (worst light %.2f), clipped %.2f%%%s; pictures in %s; "
+                 "%.1f s\n",
+                 args.checkLight.c_str(), args.scene.c_str(), check.rmsLevels, check.worstRmsLevels,
+                 100 * check.clippedShare,
+                 baseline ? (", the baseline " + std::to_string(baseline->rmsLevels).substr(0, 5) +
+                             " levels")
+                                .c_str()
+                          : "",
+                 sheet.c_str(), seconds);
+    if (args.json) {
+        nlohmann::json json;
+        json["rms_levels"] = check.rmsLevels;
+        json["worst_rms_levels"] = check.worstRmsLevels;
+        json["clipped_share"] = check.clippedShare;
+        json["below_floor_share"] = check.belowFloorShare;
+        nlohmann::json views = nlohmann::json::array();
+        for (const procam::RadiometryView& view : check.views) {
+            views.push_back({{"light", {view.light.x, view.light.y, view.light.z}},
+                             {"rms_levels", view.rmsLevels},
+                             {"scale", view.scale},
+                             {"clipped_share", view.clippedShare},
+                             {"below_floor_share", view.belowFloorShare},
+                             {"pixels", view.pixels}});
+        }
+        json["views"] = views;
+        if (baseline) {
+            json["baseline_rms_levels"] = baseline->rmsLevels;
+            json["baseline_worst_rms_levels"] = baseline->worstRmsLevels;
+            json["baseline_clipped_share"] = baseline->clippedShare;
+            json["difference_levels"] = procam::viewDifferenceLevels(check, *baseline);
+        }
         json["seconds"] = seconds;
         printJson(json.dump());
     }
@@ -268,6 +382,10 @@ void runScene(const Arguments& args) {
         runCheck(args, file);
         return;
     }
+    if (!args.checkLight.empty()) {
+        runLightCheck(args, file);
+        return;
+    }
     const int threads = static_cast<int>(resolveThreadCount(args.threads));
     const sim::ProcamSimulator simulator(file.scene, file.camera, threads);
     if (!args.show.empty()) {
@@ -311,19 +429,39 @@ void runScene(const Arguments& args) {
                                                 file.scene.projector.camera.height,
                                                 args.phasePeriod, args.phaseSteps};
     ProgressBar progress("synth-procam",
-                         proto::StructuredLightSequence(parameters).patterns().size());
+                         proto::StructuredLightSequence(parameters).patterns().size() +
+                             proto::radiometrySequence({parameters.width, parameters.height}).size());
     procam::SimulatedScanOptions scan;
     scan.phasePeriod = args.phasePeriod;
     scan.phaseSteps = args.phaseSteps;
     scan.source = "simulated:" + args.scene;
+    // Each capture of the same installation draws fresh noise.
+    scan.firstFrame = 100000 * static_cast<std::uint64_t>(args.capture);
     AtomicFolder folder(args.out, proto::kScanManifestName, "vpe synth-procam");
     procam::writeSimulatedScan(simulator, folder.temporaryPath(), scan, &progress);
+    procam::SimulatedRadiometryOptions flat;
+    flat.source = scan.source;
+    flat.firstFrame = scan.firstFrame + 1000;
+    const auto flatStart = std::chrono::steady_clock::now();
+    procam::writeSimulatedRadiometry(
+        simulator, folder.temporaryPath() / proto::kRadiometryFolderName, flat, &progress);
+    const double flatSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - flatStart).count();
     procam::writeSimulationTruth(simulator, folder.temporaryPath() / "truth");
     progress.finish();
     folder.commit();
-    std::fprintf(stderr, "wrote %s: a simulated scan of %s and its truth in %.1f s\n",
-                 args.out.c_str(), args.scene.c_str(),
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr,
+                 "wrote %s: a simulated scan of %s, its radiometric capture (%.1f s) and its "
+                 "truth in %.1f s\n",
+                 args.out.c_str(), args.scene.c_str(), flatSeconds, seconds);
+    if (args.json) {
+        printJson(nlohmann::json{{"out", args.out},
+                                 {"radiometry_capture_seconds", flatSeconds},
+                                 {"seconds", seconds}}
+                      .dump());
+    }
 }
 
 }  // namespace
@@ -345,6 +483,13 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
                         "With --scene: a bundle baked from measurements of that installation; "
                         "report what a visitor sees of it against the truth (--out: pictures, "
                         "the true camera)");
+    command->add_option("--check-light", args->checkLight,
+                        "With --scene: a bundle for that installation; report how closely its "
+                        "frames give their target on it, as its camera sees them (--out: "
+                        "pictures)");
+    command->add_option("--baseline", args->baseline,
+                        "With --check-light: a second bundle to compare, e.g. baked with the "
+                        "assumed albedo, ambient and response");
     command->add_option("--projector-size", args->projectorSize, "Projector resolution WxH")
         ->capture_default_str();
     command->add_option("--camera-size", args->cameraSize, "Camera resolution WxH")
@@ -371,6 +516,13 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
         ->check(CLI::IsMember({"camera", "none"}))
         ->capture_default_str();
     command->add_flag("--stains", args->stains, "Non-uniform plaster: a greyer foot and stains");
+    command->add_flag("--realistic-light", args->realisticLight,
+                      "A gallery's light: plaster stained ±30 %, a projector response that is no "
+                      "gamma, crosstalk between its primaries, room light at 2 % of its white");
+    command
+        ->add_option("--capture", args->capture,
+                     "With --scene: which capture of the installation (fresh noise for each)")
+        ->capture_default_str();
     command->add_option("--phase-period", args->phasePeriod, "Projector pixels per sinusoid")
         ->capture_default_str();
     command->add_option("--phase-steps", args->phaseSteps, "Phase shifts per axis")
@@ -379,8 +531,9 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
     addJsonFlag(command, args->json);
     command->callback([args, &action] {
         action = [args] {
-            if ((!args->show.empty() || !args->check.empty()) && args->scene.empty()) {
-                throw InputError("--show and --check need --scene FILE");
+            if ((!args->show.empty() || !args->check.empty() || !args->checkLight.empty()) &&
+                args->scene.empty()) {
+                throw InputError("--show, --check and --check-light need --scene FILE");
             }
             if (args->scene.empty()) {
                 runGallery(*args);

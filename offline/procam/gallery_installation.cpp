@@ -120,10 +120,36 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     room.room.ambient = {options.roomLight, options.roomLight, 0.92 * options.roomLight};
     room.room.interreflection = true;
     room.room.interreflectionGrid = 48;
-    if (options.stains) {
+    if (options.stains || options.realisticLight) {
         room.albedo.footShade = 0.15;
         room.albedo.stainStrength = 0.25;
         room.albedo.seed = seed;
+    }
+    if (options.realisticLight) {
+        // Stains take up to 46 % of the albedo: 0.54..1 of the base, ±30 % about the middle.
+        room.albedo.stainStrength = 0.46;
+        room.albedo.footShade = 0.1;
+        // Curves with a toe and a shoulder: a mix of a steep power and a smoothstep, weighted
+        // differently per channel, so no single gamma fits any of them.
+        std::array<std::vector<double>, 3> curves;
+        std::vector<double> levels;
+        const double power[3] = {2.6, 2.3, 2.8}, share[3] = {0.35, 0.2, 0.45};
+        for (int i = 0; i <= 64; ++i) {
+            const double v = i / 64.0;
+            levels.push_back(v);
+            for (std::size_t c = 0; c < 3; ++c) {
+                curves[c].push_back((1 - share[c]) * std::pow(v, power[c]) +
+                                    share[c] * v * v * (3 - 2 * v));
+            }
+        }
+        room.projector.response = proto::ResponseFunction::sampled(levels, curves);
+        room.projector.mixing = {0.92, 0.07, 0.01, 0.06, 0.88, 0.05, 0.01, 0.09, 0.93};
+        // 2 % of full white at the object's centre, at normal incidence.
+        const proto::Vec3d p = room.projector.camera.center();
+        const double d2 = (p.x - centre.x) * (p.x - centre.x) + (p.y - centre.y) * (p.y - centre.y) +
+                          (p.z - centre.z) * (p.z - centre.z);
+        const double ambient = 0.02 * room.projector.peakIrradiance / d2;
+        room.room.ambient = {ambient, ambient, 0.92 * ambient};
     }
 
     // The camera: a Raspberry Pi camera (IMX219) in its 2×2-binned raw mode, to the projector's

@@ -5,6 +5,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 #include "vpe/proto/pnm_image.h"
+#include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
 #include "vpe/registration/mesh_registration.h"
 #include "vpe/scene/projector_calibration.h"
@@ -59,6 +60,73 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     }
     try {
         proto::writeScanManifest(folder, manifest);
+    } catch (const std::exception& failure) {
+        throw InputError(failure.what());
+    }
+}
+
+void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator,
+                              const std::filesystem::path& folder,
+                              const SimulatedRadiometryOptions& options, ProgressBar* progress) {
+    const proto::PinholeCamera& projector = simulator.scene().projector.camera;
+    renderer::procam::SimulatedCamera sensor = simulator.camera();
+    sensor.monochrome = false;
+    const bool linear = sensor.response == renderer::procam::CameraResponse::kLinear;
+    if (!linear) {
+        sensor.bits = 8;
+    }
+    proto::RadiometryManifest manifest;
+    manifest.fields.width = projector.width;
+    manifest.fields.height = projector.height;
+    manifest.fields.levels = options.levels;
+    manifest.fields.cameraResponse =
+        linear ? proto::CameraResponseKind::kLinear : proto::CameraResponseKind::kUnknown;
+    manifest.camera.width = sensor.camera.width;
+    manifest.camera.height = sensor.camera.height;
+    manifest.camera.bits = sensor.bits;
+    manifest.camera.channels = 3;
+    manifest.camera.response = manifest.fields.cameraResponse;
+    manifest.camera.source = options.source;
+    manifest.createdBy = "vpe synth-procam";
+    std::vector<proto::FlatField> fields;
+    try {
+        fields = proto::radiometrySequence(manifest.fields);
+    } catch (const proto::StructuredLightError& error) {
+        throw InputError(error.what());
+    }
+    std::error_code error;
+    std::filesystem::create_directories(folder, error);
+    if (error) {
+        throw InputError(folder, "cannot create the radiometry folder (" + error.message() + ")");
+    }
+    renderer::RgbImage levels(projector.width, projector.height);
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+        for (int y = 0; y < projector.height; ++y) {
+            for (int x = 0; x < projector.width; ++x) {
+                const std::array<std::uint8_t, 3> codes = fields[i].codes(x, projector.width);
+                for (std::size_t c = 0; c < 3; ++c) {
+                    levels.pixel(x, y)[c] = static_cast<float>(codes[c]) / 255.0f;
+                }
+            }
+        }
+        renderer::procam::SimulatedCamera exposed = sensor;
+        exposed.exposure = sensor.exposure * fields[i].exposureScale();
+        const renderer::procam::CameraFrame frame =
+            simulator.expose(simulator.radiance(levels), options.firstFrame + i, exposed);
+        const std::string name = proto::radiometryImageName(i, fields[i]);
+        try {
+            proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
+                                      frame.maxValue(), frame.samples);
+        } catch (const std::exception& failure) {
+            throw InputError(failure.what());
+        }
+        manifest.images.push_back({name, fields[i].name(), 1});
+        if (progress != nullptr) {
+            progress->advance();
+        }
+    }
+    try {
+        proto::writeRadiometryManifest(folder, manifest);
     } catch (const std::exception& failure) {
         throw InputError(failure.what());
     }

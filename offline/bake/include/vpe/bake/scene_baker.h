@@ -45,6 +45,9 @@ struct BakeOptions {
     // origin (a procam file's object frame is its camera's); else none.
     std::optional<proto::PinholeCamera> camera;
     std::string response = "2.2";  // gamma, r,g,b gammas, or a CSV curve
+    // The light measured on site (vpe radiometry's --out): the bundle carries its maps
+    // (format 1.4) and its response replaces `response`, albedo and ambient.
+    std::filesystem::path radiometry;
     proto::RenderSettings settings;
     // Carry the textures' relief (detail normal maps) into the bundle when they have one.
     bool relief = true;
@@ -78,6 +81,9 @@ struct BakeReport {
     // The bundle carries the installation's camera (at this resolution).
     bool camera = false;
     int cameraWidth = 0, cameraHeight = 0;
+    // With measured light: the projector pixels the mesh covers, and how many of them were
+    // completed from their neighbours (the camera did not see them).
+    std::size_t radiometryCovered = 0, radiometryCompleted = 0;
     // With a scan: where the object stands in the camera's frame, and how it was found.
     std::optional<ScanPlacement> placement;
     std::uint64_t bytes = 0;

@@ -29,6 +29,23 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
                         const std::filesystem::path& folder, const SimulatedScanOptions& options,
                         ProgressBar* progress = nullptr);
 
+struct SimulatedRadiometryOptions {
+    int levels = 16;  // per primary (proto::RadiometryParameters::levels)
+    // Frames are numbered from here for the noise (after the scan's own).
+    std::uint64_t firstFrame = 1000;
+    std::string source = "simulated";
+};
+
+// The radiometric capture (proto/RADIOMETRY.md) the device takes beside the scan: every flat
+// field of the sequence rendered for the simulator's projector and photographed in colour by its
+// camera's sensor (the same optics, exposure, noise and response; RGB), the ramp at its bracket's
+// exposures when the camera's response is not linear; NNN-<name>.ppm and radiometry.json in
+// `folder`. An 8-bit sensor when the response is a gamma (the bracket reads 8-bit codes).
+void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator,
+                              const std::filesystem::path& folder,
+                              const SimulatedRadiometryOptions& options,
+                              ProgressBar* progress = nullptr);
+
 // The truth of the simulator's installation, in the camera's frame:
 //   camera-truth.exr: per camera pixel, the projector coordinate it sees (projector.x/y: the
 //     light-weighted mean over its area, CameraTruth), its centre ray's (centre.x/y) and the

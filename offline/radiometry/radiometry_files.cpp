@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: MIT
+// What vpe radiometry writes: the maps as OpenEXR, the response as the CSV vpe bake --response
+// reads, the rest as JSON, and a contact sheet.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "vpe/common/atomic_output.h"
+#include "vpe/common/input_error.h"
+#include "vpe/common/quantile.h"
+#include "vpe/image/contact_sheet.h"
+#include "vpe/image/image_file.h"
+#include "vpe/radiometry/projector_radiometry.h"
+#include "vpe/scene/response_input.h"
+
+namespace vpe::radiometry {
+
+namespace {
+
+nlohmann::json arrayJson(const auto& values) {
+    nlohmann::json json = nlohmann::json::array();
+    for (const double v : values) {
+        json.push_back(v);
+    }
+    return json;
+}
+
+template <std::size_t N>
+std::array<double, N> arrayOf(const nlohmann::json& json, const std::filesystem::path& path,
+                              const char* key) {
+    if (!json.contains(key) || !json[key].is_array() || json[key].size() != N) {
+        throw InputError(path, std::string(key) + ": expected " + std::to_string(N) + " numbers");
+    }
+    std::array<double, N> values{};
+    for (std::size_t i = 0; i < N; ++i) {
+        if (!json[key][i].is_number()) {
+            throw InputError(path, std::string(key) + ": expected numbers");
+        }
+        values[i] = json[key][i].get<double>();
+    }
+    return values;
+}
+
+// A plot of the three response curves (and the identity, grey) on a square tile.
+SheetTile responseTile(const ProjectorRadiometry& r) {
+    constexpr int kSize = 256;
+    SheetTile tile{"response above black (r, g, b)", kSize, kSize, 3,
+                   std::vector<float>(kSize * kSize * 3, 0.08f)};
+    const auto plot = [&](double x, double y, std::array<float, 3> colour) {
+        const int px = std::clamp(static_cast<int>(std::lround(x * (kSize - 1))), 0, kSize - 1);
+        const int py =
+            std::clamp(static_cast<int>(std::lround((1 - y) * (kSize - 1))), 0, kSize - 1);
+        std::copy(colour.begin(), colour.end(),
+                  tile.pixels.begin() + 3 * (static_cast<std::ptrdiff_t>(py) * kSize + px));
+    };
+    for (int i = 0; i < 4 * kSize; ++i) {
+        const double t = i / (4.0 * kSize - 1);
+        plot(t, t, {0.35f, 0.35f, 0.35f});
+        for (std::size_t c = 0; c < 3; ++c) {
+            // Linear between the measured levels, as the device interpolates.
+            std::size_t l = 1;
+            while (l + 1 < r.levels.size() && r.levels[l] < t) {
+                ++l;
+            }
+            const double t0 = r.levels[l - 1], t1 = r.levels[l];
+            const double g = r.response[c][l - 1] +
+                             (t - t0) / (t1 - t0) * (r.response[c][l] - r.response[c][l - 1]);
+            std::array<float, 3> colour{0.2f, 0.2f, 0.2f};
+            colour[c] = 1.0f;
+            plot(t, g, colour);
+        }
+    }
+    return tile;
+}
+
+// An RGB map shown for the eye: divided by a high quantile of its luminance, then sRGB.
+SheetTile rgbTile(std::string label, int width, int height, const std::vector<float>& values) {
+    std::vector<double> luminance;
+    for (std::size_t p = 0; 3 * p < values.size(); ++p) {
+        if (!std::isnan(values[3 * p])) {
+            luminance.push_back(double(values[3 * p] + values[3 * p + 1] + values[3 * p + 2]) / 3);
+        }
+    }
+    const double scale = luminance.empty() ? 1.0 : 1.0 / std::max(1e-12, quantile(luminance, 0.99));
+    SheetTile tile{std::move(label), width, height, 3, std::vector<float>(values.size(), 0.0f)};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const double v = std::isnan(values[i]) ? 0.0 : std::clamp(double(values[i]) * scale, 0.0, 1.0);
+        tile.pixels[i] = static_cast<float>(v <= 0.0031308 ? 12.92 * v
+                                                           : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+    }
+    return tile;
+}
+
+}  // namespace
+
+void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& folder) {
+    writeImage(folder / kIrradianceFile, r.width, r.height, 3, r.irradiance, PixelFormat::kFloat);
+    writeImage(folder / kFloorFile, r.width, r.height, 3, r.floor, PixelFormat::kFloat);
+    std::ostringstream csv;
+    csv << "# the projector's response above its black level, per channel, measured by vpe "
+           "radiometry\nlevel,r,g,b\n";
+    char line[128];
+    for (std::size_t l = 0; l < r.levels.size(); ++l) {
+        std::snprintf(line, sizeof line, "%.6f,%.7f,%.7f,%.7f\n", r.levels[l], r.response[0][l],
+                      r.response[1][l], r.response[2][l]);
+        csv << line;
+    }
+    writeTextFileAtomically(folder / kResponseFile, csv.str());
+    nlohmann::json json;
+    json["format"] = "vpe-measured-radiometry";
+    json["version"] = 1;
+    json["projector"] = {r.width, r.height};
+    json["mixing"] = arrayJson(r.mixing);
+    json["mixing_spread"] = arrayJson(r.mixingSpread);
+    json["mixing_noise"] = arrayJson(r.mixingNoise);
+    json["black_level"] = arrayJson(r.blackLevel);
+    json["ambient"] = arrayJson(r.ambient);
+    json["measured_pixels"] = r.measured;
+    json["white_saturated_share"] = r.whiteSaturatedShare;
+    json["white_signal"] = r.whiteSignal;
+    json["camera_linear"] = r.cameraLinear;
+    json["exposure_us"] = r.exposureUs;
+    writeTextFileAtomically(folder / kMeasuredFile, json.dump(2) + "\n");
+}
+
+ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
+    ProjectorRadiometry r;
+    const std::filesystem::path measured = folder / kMeasuredFile;
+    std::ifstream stream(measured);
+    if (!stream) {
+        throw InputError(measured, "cannot open (a folder vpe radiometry wrote?)");
+    }
+    nlohmann::json json;
+    try {
+        json = nlohmann::json::parse(stream);
+    } catch (const nlohmann::json::exception&) {
+        throw InputError(measured, "not JSON");
+    }
+    if (json.value("format", "") != "vpe-measured-radiometry" || json.value("version", 0) != 1) {
+        throw InputError(measured, "format: expected vpe-measured-radiometry version 1");
+    }
+    r.mixing = arrayOf<9>(json, measured, "mixing");
+    r.mixingSpread = arrayOf<9>(json, measured, "mixing_spread");
+    r.mixingNoise = arrayOf<9>(json, measured, "mixing_noise");
+    r.blackLevel = arrayOf<3>(json, measured, "black_level");
+    r.ambient = arrayOf<3>(json, measured, "ambient");
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (!(std::abs(r.mixing[4 * k] - 1) < 1e-9)) {
+            throw InputError(measured, "mixing: its diagonal must be 1");
+        }
+    }
+    for (const double v : r.mixing) {
+        if (!std::isfinite(v) || v < 0) {
+            throw InputError(measured, "mixing: expected finite numbers ≥ 0");
+        }
+    }
+    const FloatImage irradiance = readImageChannels(folder / kIrradianceFile, {"R", "G", "B"});
+    const FloatImage floor = readImageChannels(folder / kFloorFile, {"R", "G", "B"});
+    if (floor.width != irradiance.width || floor.height != irradiance.height) {
+        throw InputError(folder / kFloorFile, "not the size of " + std::string(kIrradianceFile));
+    }
+    r.width = irradiance.width;
+    r.height = irradiance.height;
+    r.irradiance = irradiance.pixels;
+    r.floor = floor.pixels;
+    for (std::size_t p = 0; 3 * p < r.irradiance.size(); ++p) {
+        r.measured += std::isnan(r.irradiance[3 * p]) ? 0 : 1;
+    }
+    // The response through the reader vpe bake uses, so both refuse the same files.
+    const scene::ResponseInput response = scene::readProjectorResponseCsv(folder / kResponseFile);
+    (void)response;
+    std::ifstream csv(folder / kResponseFile);
+    std::string line;
+    while (std::getline(csv, line)) {
+        double level = 0, g[3] = {0, 0, 0};
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &level, &g[0], &g[1], &g[2]) == 4) {
+            r.levels.push_back(level);
+            for (std::size_t c = 0; c < 3; ++c) {
+                r.response[c].push_back(g[c]);
+            }
+        }
+    }
+    return r;
+}
+
+void writeRadiometrySheet(const ProjectorRadiometry& r, const scan::ProjectorSurface& surface,
+                          const proto::PinholeCamera& projector,
+                          const std::filesystem::path& path) {
+    std::vector<float> albedo(r.irradiance.size(), std::nanf(""));
+    for (std::size_t p = 0; 3 * p < r.irradiance.size(); ++p) {
+        const double geometry =
+            projectorGeometry(projector, &surface.position[3 * p], &surface.normal[3 * p]);
+        if (geometry > 0 && !std::isnan(r.irradiance[3 * p])) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                albedo[3 * p + c] = static_cast<float>(double(r.irradiance[3 * p + c]) / geometry);
+            }
+        }
+    }
+    std::vector<SheetTile> tiles;
+    tiles.push_back(rgbTile("irradiance factor F (albedo x geometry)", r.width, r.height,
+                            r.irradiance));
+    tiles.push_back(rgbTile("albedo: F / (cos / d^2)", r.width, r.height, albedo));
+    tiles.push_back(rgbTile("floor D (room light + projector black)", r.width, r.height, r.floor));
+    tiles.push_back(responseTile(r));
+    writeContactSheet(path, tiles, 2);
+}
+
+}  // namespace vpe::radiometry
