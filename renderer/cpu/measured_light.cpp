@@ -63,14 +63,19 @@ CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* f
     std::array<double, 3> outputs{};
     CompensatedPixel pixel;
     pixel.gainLimit = kInfinity;
-    // No light measured in some channel: nothing to unmix; each primary clips on its own, as
-    // compensatePixel does where the projector cannot reach (S = 0).
+    // No light measured in some channel: nothing to unmix; each primary full where its channel
+    // wants light, none elsewhere, as compensatePixel does where the projector cannot reach.
     const bool unmeasured = !(irradiance[0] > 0 && irradiance[1] > 0 && irradiance[2] > 0);
-    for (std::size_t c = 0; c < 3 && unmeasured; ++c) {
-        outputs[c] = mixed[c];
-        if (target[c] > 0) {
-            pixel.gainLimit = 0;
+    if (unmeasured) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const bool wants = target[c] - static_cast<double>(floor[c]) > 0;
+            pixel.level[c] = wants ? 1.0 : 0.0;
+            pixel.clippedHigh = pixel.clippedHigh || wants;
+            if (target[c] > 0) {
+                pixel.gainLimit = 0;
+            }
         }
+        return pixel;
     }
     for (std::size_t c = 0; c < 3 && !unmeasured; ++c) {
         double w = 0, a = 0, b = 0;

@@ -90,6 +90,13 @@ std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
     std::string s = kPrecision;
     s += shadingStepsGlsl();
     s += projectorLevelGlsl(settings.response);
+    if (layout.measuredLight) {
+        s += measuredLightGlsl();
+        s += R"GLSL(uniform highp sampler2D uMeasuredIrradiance;  // F per projector pixel (rgb)
+uniform highp sampler2D uMeasuredFloor;       // D per projector pixel (rgb)
+uniform mat3 uMixingInverse;                  // X⁻¹
+)GLSL";
+    }
     s += kGeometryUniforms;
     s += R"GLSL(
 uniform highp sampler2D uThetaTable;  // h_j(x), row r holds j = 4r … 4r+3 (linear)
@@ -97,7 +104,7 @@ uniform bool uTopRowAtOrigin;
 uniform int uHeight;
 uniform vec3 uLightPosition;
 uniform vec3 uViewer;
-uniform vec3 uRadianceScale;  // gain · intensity · π/ρ (· d_ref² with the inverse square)
+uniform vec3 uRadianceScale;  // gain · intensity (· π/ρ when assumed) (· d_ref² with 1/d²)
 uniform float uFalloff;       // 1: inverse-square falloff, 0: none
 uniform vec3 uAmbient;        // room light on the plaster (E_ambient)
 uniform float uFade;          // fading: 0 the old material or weights, 1 the new
@@ -195,6 +202,19 @@ void main() {
         s += "\n        + " + rgb(1 + j) + " * h" + str(j / 4) + "." + component(j % 4);
     }
     s += ";\n";
+    if (layout.measuredLight) {
+        s += R"GLSL(
+    // L = max(gain · H · E · f, 0) (renderer's targetRadiance), then compensateMeasuredPixel
+    // with the pixel's measured F and D.
+    float irradiance = horizon * mix(1.0, inverseLightDistance * inverseLightDistance, uFalloff);
+    vec3 target = max(uRadianceScale * (irradiance * f), 0.0);
+    vec3 relative = vpeMeasuredOutputs(target, texelFetch(uMeasuredIrradiance, pixel, 0).rgb,
+                                       texelFetch(uMeasuredFloor, pixel, 0).rgb, uMixingInverse);
+    outLevel = vec4(vpeProjectorLevel(relative), 1.0);
+}
+)GLSL";
+        return s;
+    }
     s += R"GLSL(
     // π/ρ·L, L = max(gain · H · E · f, 0) (renderer's targetRadiance), then compensatePixel:
     // r = (π·L/ρ − E_ambient) / S (S = 0: 1/S is kNoProjectorLight, clipping either way).
@@ -321,13 +341,22 @@ std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant var
         s += "uniform highp usampler2DArray uMaterial;\nuniform highp usampler2DArray "
              "uMaterialFrom;\n";
     }
+    if (layout.measuredLight) {
+        s += "uniform highp sampler2D uMeasuredIrradiance;\nuniform highp sampler2D "
+             "uMeasuredFloor;\n";
+    }
     s += R"GLSL(layout(location = 0) out vec4 outLevel;
 
 void main() {
     ivec2 pixel = ivec2(int(gl_FragCoord.x),
                         uTopRowAtOrigin ? int(gl_FragCoord.y) : uHeight - 1 - int(gl_FragCoord.y));
     vec4 sum = texelFetch(uGeometry0, pixel, 0);
-    uvec4 bits = texelFetch(uGeometry1, pixel, 0);
+)GLSL";
+    if (layout.measuredLight) {
+        s += "    sum += texelFetch(uMeasuredIrradiance, pixel, 0) + "
+             "texelFetch(uMeasuredFloor, pixel, 0);\n";
+    }
+    s += R"GLSL(    uvec4 bits = texelFetch(uGeometry1, pixel, 0);
     float x = fract(sum.x * 7.0);  // a table coordinate that varies as θs does
 )GLSL";
     for (int r = 0; r < layout.tableRows(); ++r) {

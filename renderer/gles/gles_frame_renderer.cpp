@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -17,15 +18,31 @@
 #include "vpe/renderer/gles/relief_pass.h"
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
+#include "vpe/renderer/measured_light.h"
 #include "vpe/renderer/projector_pixels.h"
 
 namespace vpe::renderer::gles {
 
 namespace {
 
-// Texture units of the frame: geometry 0–1, uv 2, the θs table 3, weights 4–5, materials from 6.
+// Texture units of the frame: geometry 0–1, uv 2, the θs table 3, weights 4–5, the measured
+// light 6–7, materials from 8.
 constexpr int kUnitGeometry0 = 0, kUnitGeometry1 = 1, kUnitUv = 2, kUnitTable = 3, kUnitWeights = 4,
-              kUnitWeightsFrom = 5, kUnitMaterials = 6;
+              kUnitWeightsFrom = 5, kUnitMeasuredIrradiance = 6, kUnitMeasuredFloor = 7,
+              kUnitMaterials = 8;
+
+// A projector-sized RGBA16F texture from a bundle's half floats (4 a pixel, rows from the top:
+// the frame fetches it at the pixel it shades, as the geometry buffer).
+GlObject halfTexture(int width, int height, std::span<const std::uint16_t> halves) {
+    GlObject texture = GlObject::texture();
+    glBindTexture(GL_TEXTURE_2D, texture.get());
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA16F, width, height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_HALF_FLOAT, halves.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return texture;
+}
 constexpr double kPi = 3.14159265358979323846;
 
 using Clock = std::chrono::steady_clock;
@@ -121,6 +138,18 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     }
     loadTimes_.materialMs = msSince(start);
 
+    if (const auto& measured = bundle.radiometry()) {
+        measuredIrradiance_ = halfTexture(width_, height_, measured->irradiance);
+        measuredFloor_ = halfTexture(width_, height_, measured->floor);
+        const std::array<double, 9> inverse = inverse3x3(measured->mixing);
+        for (std::size_t row = 0; row < 3; ++row) {
+            for (std::size_t column = 0; column < 3; ++column) {
+                mixingInverse_[3 * column + row] = static_cast<float>(inverse[3 * row + column]);
+            }
+        }
+        measuredLight_ = true;
+    }
+
     start = Clock::now();
     tiles_ = std::make_unique<TileCover>(width_, height_, geometry_->coveredTiles());
     materialPass_ = std::make_unique<MaterialPass>(*textures_, *geometry_, *tiles_, viewer_);
@@ -179,6 +208,11 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
     glUniform1i(location("uThetaTable"), kUnitTable);
     glUniform1i(location("uWeights"), kUnitWeights);
     glUniform1i(location("uWeightsFrom"), kUnitWeightsFrom);
+    glUniform1i(location("uMeasuredIrradiance"), kUnitMeasuredIrradiance);
+    glUniform1i(location("uMeasuredFloor"), kUnitMeasuredFloor);
+    if (measuredLight_) {
+        glUniformMatrix3fv(location("uMixingInverse"), 1, GL_FALSE, mixingInverse_.data());
+    }
     glUniform1i(location("uMaterial"), kUnitMaterials);
     glUniform1i(location("uMaterialFrom"), kUnitMaterials + 1);
     for (int r = 0; r < textures_->layout().regions; ++r) {
@@ -209,7 +243,7 @@ void GlesFrameRenderer::buildFramePrograms() {
                              : std::vector{FrameVariant::kStatic, FrameVariant::kFade};
     for (const FrameVariant variant : variants) {
         programs_.push_back(
-            linkFrameProgram(variant, frameShaderSource(textures_->layout(), variant, settings_),
+            linkFrameProgram(variant, frameShaderSource(frameLayout(), variant, settings_),
                              std::string("frame-") + frameVariantName(variant) + ".frag"));
     }
 }
@@ -224,7 +258,13 @@ GlesFrameRenderer::FrameProgram& GlesFrameRenderer::program(FrameVariant variant
 }
 
 std::string GlesFrameRenderer::frameShader(FrameVariant variant) const {
-    return frameShaderSource(textures_->layout(), variant, settings_);
+    return frameShaderSource(frameLayout(), variant, settings_);
+}
+
+ShaderLayout GlesFrameRenderer::frameLayout() const {
+    ShaderLayout layout = textures_->layout();
+    layout.measuredLight = measuredLight_;
+    return layout;
 }
 
 FrameVariant GlesFrameRenderer::nextVariant() const {
@@ -333,7 +373,8 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
     beginTiles(target, frame);
     glUniform3fv(frame.light, 1, inputs.lightPosition.data());
     glUniform3fv(frame.viewer, 1, viewer_.data());
-    // π/ρ·L = max(gain · I · (d_ref/d)² · H · f, 0) · π/ρ: the constants folded per channel.
+    // π/ρ·L = max(gain · I · (d_ref/d)² · H · f, 0) · π/ρ: the constants folded per channel;
+    // with measured light L itself (its F carries the albedo).
     std::array<float, 3> scale{};
     const double reference = inputs.inverseSquare
                                  ? static_cast<double>(inputs.referenceDistance) *
@@ -342,7 +383,9 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
     for (std::size_t c = 0; c < 3; ++c) {
         scale[c] = static_cast<float>(static_cast<double>(inputs.gain) *
                                       static_cast<double>(inputs.lightIntensity[c]) * reference *
-                                      kPi / static_cast<double>(settings_.screenAlbedo[c]));
+                                      (measuredLight_ ? 1.0
+                                                      : kPi / static_cast<double>(
+                                                                  settings_.screenAlbedo[c])));
     }
     glUniform3fv(frame.radianceScale, 1, scale.data());
     glUniform1f(frame.falloff, inputs.inverseSquare ? 1.0f : 0.0f);
@@ -377,6 +420,10 @@ void GlesFrameRenderer::bindFrameTextures() {
     bind(kUnitGeometry1, GL_TEXTURE_2D, geometry_->geometry1().get());
     bind(kUnitUv, GL_TEXTURE_2D, geometry_->uv().get());
     bind(kUnitTable, GL_TEXTURE_2D, textures_->table().get());
+    if (measuredLight_) {
+        bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, measuredIrradiance_.get());
+        bind(kUnitMeasuredFloor, GL_TEXTURE_2D, measuredFloor_.get());
+    }
     if (options_.liveWeights) {
         if (textures_->presetCount() > 0) {
             bind(kUnitWeights, GL_TEXTURE_2D_ARRAY, textures_->weights(preset_).get());
@@ -402,7 +449,7 @@ void GlesFrameRenderer::renderPassThrough(RenderTarget& target) {
     }
     if (floor == nullptr) {
         passThroughPrograms_.push_back(
-            linkFrameProgram(variant, passThroughShaderSource(textures_->layout(), variant),
+            linkFrameProgram(variant, passThroughShaderSource(frameLayout(), variant),
                              std::string("floor-") + frameVariantName(variant) + ".frag"));
         floor = passThroughPrograms_.back().get();
     }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vpe/proto/surface_horizon.h"
+#include "vpe/renderer/measured_light.h"
 
 namespace vpe::renderer::gles {
 
@@ -106,6 +107,36 @@ Vec3d decodeOctahedralNormal(std::uint32_t packed) {
     const double dx = x, dy = y, dz = z;
     const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
     return {dx / length, dy / length, dz / length};
+}
+
+std::string measuredLightGlsl() {
+    return "const float VPE_KNEE = " + glslFloat(static_cast<float>(kHighlightKnee)) + ";\n" +
+           R"GLSL(
+// renderer::rollOffHighlight: above the knee, the outputs scaled together so that their
+// largest follows κ + (1 − κ)·tanh((t − κ)/(1 − κ)).
+vec3 vpeRollOffHighlight(vec3 w) {
+    float t = max(w.x, max(w.y, w.z));
+    if (t <= VPE_KNEE) {
+        return w;
+    }
+    float span = 1.0 - VPE_KNEE;
+    float x = (t - VPE_KNEE) / span;
+    // tanh without overflow: 1 − 2/(e^{2x} + 1).
+    float rolled = VPE_KNEE + span * (1.0 - 2.0 / (exp(min(2.0 * x, 80.0)) + 1.0));
+    return w * (rolled / t);
+}
+
+// renderer::compensateMeasuredPixel up to the response inverse: y = (L − D)/F, w = X⁻¹·y, the
+// highlight rolled off, negatives raised to 0. A pixel without light in some channel (F ≤ 0)
+// gets each primary full where its channel wants light, none elsewhere.
+vec3 vpeMeasuredOutputs(vec3 target, vec3 irradiance, vec3 floorLight, mat3 mixingInverse) {
+    vec3 wanted = target - floorLight;
+    if (any(lessThanEqual(irradiance, vec3(0.0)))) {
+        return vec3(greaterThan(wanted, vec3(0.0)));
+    }
+    return max(vpeRollOffHighlight(mixingInverse * (wanted / irradiance)), 0.0);
+}
+)GLSL";
 }
 
 std::string projectorLevelGlsl(const proto::ResponseCurves& response) {

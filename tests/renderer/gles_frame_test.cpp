@@ -155,6 +155,18 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithCurveResponse) {
     }
 }
 
+TEST_F(GlesFrameTest, MatchesCpuReferenceWithMeasuredLight) {
+    GlesBundleSpec spec;
+    spec.curveResponse = true;
+    spec.measuredLight = true;
+    for (const FrameCase& frame : {frameCases()[0], frameCases()[3], frameCases()[4]}) {
+        EXPECT_GE(comparePsnr(spec, {frame.name + "_measured", frame.light, frame.viewer,
+                                     frame.preset, frame.inverseSquare, frame.gain}),
+                  68.5);  // measured 69.3, 74.2, 76.1 dB; no pixel more than 1 level apart
+        EXPECT_EQ(largeDifferences_, 0u);
+    }
+}
+
 TEST_F(GlesFrameTest, MatchesCpuReferenceWithoutDistortionAndMoreHarmonics) {
     GlesBundleSpec spec;
     spec.distortion = false;

@@ -23,6 +23,7 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/measured_light.h"
 
 #include "gles_test_platform.h"
 
@@ -300,6 +301,72 @@ TEST_F(GlesShadingGlslTest, ProjectorLevelMatchesTheResponseInverse) {
             }
         }
     }
+}
+
+// vpeMeasuredOutputs then vpeProjectorLevel against compensateMeasuredPixel: the inverse of
+// the measured model, the highlight's roll-off, the floor, an unmeasured channel.
+TEST_F(GlesShadingGlslTest, MeasuredLightMatchesItsCompensation) {
+    const std::array<double, 9> mixing{1, 0.076, 0.011, 0.068, 1, 0.057, 0.011, 0.097, 1};
+    const std::array<double, 9> inverse = inverse3x3(mixing);
+    proto::ResponseCurves curve;
+    curve.kind = proto::ResponseKind::kCurve;
+    for (int c = 0; c < 3; ++c) {
+        for (int i = 0; i <= 32; ++i) {
+            curve.curve[static_cast<std::size_t>(c)].push_back(
+                static_cast<float>(std::pow(i / 32.0, 2.0 + 0.3 * c)));
+        }
+    }
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<float> inputs;  // target, F, D per sample
+    for (int s = 0; s < 4000; ++s) {
+        const float scale = s % 4 == 0 ? 2.0f : 0.4f;  // some past the knee
+        for (int c = 0; c < 3; ++c) {
+            inputs.push_back(scale * unit(random));
+        }
+        for (int c = 0; c < 3; ++c) {
+            inputs.push_back(s % 97 == 0 && c == 1 ? 0.0f : 0.2f + 0.6f * unit(random));
+        }
+        for (int c = 0; c < 3; ++c) {
+            inputs.push_back(0.05f * unit(random));
+        }
+    }
+    std::string prelude = gles::projectorLevelGlsl(curve) + gles::measuredLightGlsl();
+    prelude += "const mat3 kMixingInverse = mat3(";
+    for (int column = 0; column < 3; ++column) {
+        for (int row = 0; row < 3; ++row) {
+            prelude += (column + row == 0 ? "" : ", ") +
+                       gles::glslFloat(static_cast<float>(inverse[static_cast<std::size_t>(3 * row + column)]));
+        }
+    }
+    prelude += ");\n";
+    const std::vector<float> gpu = runOnGpu(
+        prelude,
+        "    vec3 target = vec3(in_[base], in_[base + 1], in_[base + 2]);\n"
+        "    vec3 f = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);\n"
+        "    vec3 d = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);\n"
+        "    result.xyz = vpeProjectorLevel(vpeMeasuredOutputs(target, f, d, kMixingInverse));\n",
+        inputs, 9);
+    const proto::ResponseFunction response = proto::responseFunctionOf(curve);
+    std::array<double, 9> inverseOfFloats{};
+    for (std::size_t i = 0; i < 9; ++i) {
+        inverseOfFloats[i] = static_cast<double>(static_cast<float>(inverse[i]));
+    }
+    int rolled = 0, floored = 0;
+    for (std::size_t s = 0; 9 * s < inputs.size(); ++s) {
+        const float* in = &inputs[9 * s];
+        const std::array<double, 3> target{in[0], in[1], in[2]};
+        const CompensatedPixel cpu =
+            compensateMeasuredPixel(in + 3, in + 6, inverseOfFloats, response, target, 1.0);
+        rolled += cpu.clippedHigh ? 1 : 0;
+        floored += cpu.clippedLow ? 1 : 0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            // Float against double through a steep inverse near black: a few 1e-4 of a level.
+            ASSERT_NEAR(gpu[4 * s + c], cpu.level[c], 3e-4) << "sample " << s << " channel " << c;
+        }
+    }
+    EXPECT_GT(rolled, 500);
+    EXPECT_GT(floored, 50);
 }
 
 }  // namespace

@@ -40,6 +40,9 @@ struct GlesBundleSpec {
     // The installation's camera (format 1.3, Bundle.camera), object frame → camera; none when
     // unset.
     std::optional<proto::PinholeCamera> camera;
+    // Format 1.4's measured light: irradiance and floor maps that vary across the projector
+    // (a stain, a brighter corner), crosstalk, and the curve response taken as above black.
+    bool measuredLight = false;
 };
 
 std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec = {});

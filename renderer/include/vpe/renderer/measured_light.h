@@ -38,8 +38,8 @@ bool rollOffHighlight(std::array<double, 3>& outputs);
 //   y = (L − D) / F,
 // the primaries' outputs above black w = X⁻¹ · y, the highlight rolled off (clippedHigh: t > κ),
 // negative outputs raised to 0 (clippedLow: the floor is brighter than the target), then
-// level = g⁻¹(w). F ≤ 0 in a channel (no projector light measured) clips that channel like
-// compensatePixel's S = 0. gainLimit: the largest gain at which t ≤ κ (+∞ when no primary
+// level = g⁻¹(w). F ≤ 0 in some channel (no projector light measured there): each primary at
+// level 1 where its channel's target is above the floor (clippedHigh), else 0. gainLimit: the largest gain at which t ≤ κ (+∞ when no primary
 // grows with the gain).
 CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* floor,
                                          const std::array<double, 9>& mixingInverse,

@@ -25,6 +25,9 @@ struct ShaderLayout {
     int basisSize = 0;  // K: θs functions (proto::ThetaBasis::size)
     int regions = 0;
     int tableSamples = 0;  // samples of the θs table (proto::ThetaTable::samples)
+    // The bundle carries the light measured on site (format 1.4): the frame compensates with
+    // its maps (renderer::compensateMeasuredPixel) instead of the assumed albedo and ambient.
+    bool measuredLight = false;
     int tableRows() const { return (basisSize + 3) / 4; }
     // A material is proto::thetaMaterialSize(K) values: kd (RGB), then u_j (RGB) per function.
     int materialValues() const { return 3 * (1 + basisSize); }

@@ -134,6 +134,8 @@ private:
     // With a relief: folds the selected preset's into geometry1 (and, with live weights,
     // recomposes the regions' materials, whose viewer horizon follows the shading normal).
     void foldRelief();
+    // The layout the frame's shaders are generated for: the textures' and the measured light.
+    ShaderLayout frameLayout() const;
 
     std::string bundleName_;
     proto::RenderSettings settings_;
@@ -158,6 +160,11 @@ private:
     std::vector<std::unique_ptr<FrameProgram>> programs_;             // per FrameVariant
     std::vector<std::unique_ptr<FrameProgram>> passThroughPrograms_;  // built when first asked
     std::unique_ptr<TileCover> tiles_;
+    // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and X⁻¹
+    // column-major for GLSL's mat3. Empty without one.
+    GlObject measuredIrradiance_, measuredFloor_;
+    std::array<float, 9> mixingInverse_{};
+    bool measuredLight_ = false;
     LoadTimes loadTimes_;
 };
 

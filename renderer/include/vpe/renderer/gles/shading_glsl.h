@@ -28,6 +28,11 @@ std::string shadingStepsGlsl();
 //                                                   — proto::applyDetailNormal in frame (t, b, n)
 std::string reliefStepsGlsl();
 
+// compensateMeasuredPixel's outputs before the response inverse, and rollOffHighlight:
+//   vec3 vpeMeasuredOutputs(vec3 target, vec3 irradiance, vec3 floorLight, mat3 mixingInverse)
+// (renderer/measured_light.h), the knee kHighlightKnee baked in.
+std::string measuredLightGlsl();
+
 // GLSL defining vec3 vpeProjectorLevel(vec3 relative): the drive levels for wanted relative
 // outputs, ResponseFunction::level with compensatePixel's clipping (below the black level →
 // 0, above 1 → 1), for this bundle's response only: a gamma compiles to a pow, a sampled
