@@ -2,6 +2,8 @@
 // ResponseFunction: gamma or sampled curve, and its clamped inverse.
 #include "vpe/proto/response_function.h"
 
+#include "vpe/proto/half_float.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -127,6 +129,32 @@ double ResponseFunction::level(int channel, double fraction) const {
     const double f = (std::min(fraction, 1.0) - outputs[k - 1]) / (outputs[k] - outputs[k - 1]);
     const auto& levels = levels_[c];
     return std::clamp(levels[k - 1] + f * (levels[k] - levels[k - 1]), 0.0, 1.0);
+}
+
+InverseResponseTable::InverseResponseTable(const ResponseFunction& response, int samples)
+    : samples_(samples) {
+    if (samples < 2) {
+        throw std::invalid_argument("an inverse response table needs at least 2 samples");
+    }
+    for (int c = 0; c < 3; ++c) {
+        std::vector<float>& levels = levels_[static_cast<std::size_t>(c)];
+        for (int i = 0; i < samples; ++i) {
+            const double u = static_cast<double>(i) / (samples - 1);
+            // Held to half precision, as the device's RGBA16F texture (filterable in GLES 3.0,
+            // unlike RGBA32F) holds it: CPU and GPU look up the same numbers.
+            levels.push_back(halfToFloat(floatToHalf(static_cast<float>(response.level(c, u * u)))));
+        }
+    }
+}
+
+double InverseResponseTable::level(int channel, double relative) const {
+    const double r = std::isnan(relative) ? 0.0 : std::clamp(relative, 0.0, 1.0);
+    const double x = std::sqrt(r) * (samples_ - 1);
+    const int i = std::min(static_cast<int>(x), samples_ - 2);
+    const double f = x - i;
+    const std::vector<float>& levels = levels_[static_cast<std::size_t>(channel)];
+    return static_cast<double>(levels[static_cast<std::size_t>(i)]) * (1 - f) +
+           static_cast<double>(levels[static_cast<std::size_t>(i) + 1]) * f;
 }
 
 ResponseFunction responseFunctionOf(const ResponseCurves& curves) {

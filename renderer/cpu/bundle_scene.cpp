@@ -114,6 +114,7 @@ BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& pre
             }
         }
         maps->mixingInverse = inverse3x3(measured->mixing);
+        maps->inverseResponse = proto::InverseResponseTable(projector_.response);
         measuredLight_ = std::move(maps);
     }
 }

@@ -44,7 +44,7 @@ bool rollOffHighlight(std::array<double, 3>& outputs) {
 
 CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* floor,
                                          const std::array<double, 9>& mixingInverse,
-                                         const proto::ResponseFunction& response,
+                                         const proto::InverseResponseTable& inverseResponse,
                                          const std::array<double, 3>& target, double gain) {
     constexpr double kInfinity = std::numeric_limits<double>::infinity();
     std::array<double, 3> mixed{}, perGain{}, fromFloor{};
@@ -69,7 +69,7 @@ CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* f
     if (unmeasured) {
         for (std::size_t c = 0; c < 3; ++c) {
             const bool wants = target[c] - static_cast<double>(floor[c]) > 0;
-            pixel.level[c] = wants ? 1.0 : 0.0;
+            pixel.level[c] = inverseResponse.level(static_cast<int>(c), wants ? 1.0 : 0.0);
             pixel.clippedHigh = pixel.clippedHigh || wants;
             if (target[c] > 0) {
                 pixel.gainLimit = 0;
@@ -99,7 +99,7 @@ CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* f
             outputs[c] = 0;
             pixel.clippedLow = true;
         }
-        pixel.level[c] = response.level(static_cast<int>(c), outputs[c]);
+        pixel.level[c] = inverseResponse.level(static_cast<int>(c), outputs[c]);
     }
     return pixel;
 }

@@ -69,7 +69,7 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
             const CompensatedPixel pixel =
                 measured != nullptr
                     ? compensateMeasuredPixel(&measured->irradiance[at], &measured->floor[at],
-                                              measured->mixingInverse, scene.projector.response,
+                                              measured->mixingInverse, measured->inverseResponse,
                                               target, options.gain)
                     : compensatePixel(scene.surface, scene.projector.response,
                                       traced->irradianceScale, target, options.gain);

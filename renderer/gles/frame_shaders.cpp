@@ -89,11 +89,12 @@ std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
     const int values = layout.materialValues();
     std::string s = kPrecision;
     s += shadingStepsGlsl();
-    s += projectorLevelGlsl(settings.response);
-    if (layout.measuredLight) {
-        s += measuredLightGlsl();
-        s += R"GLSL(uniform highp sampler2D uMeasuredIrradiance;  // F per projector pixel (rgb)
-uniform highp sampler2D uMeasuredFloor;       // D per projector pixel (rgb)
+    if (!layout.measuredLight) {
+        s += projectorLevelGlsl(settings.response);
+    } else {
+        s += measuredLightGlsl(kInverseResponseSamples);
+        s += R"GLSL(uniform highp sampler2D uMeasuredIrradiance;  // RGBA16F: F per projector pixel
+uniform highp sampler2D uMeasuredFloor;       // RGBA16F: D per projector pixel
 uniform mat3 uMixingInverse;                  // X⁻¹
 )GLSL";
     }
@@ -210,7 +211,7 @@ void main() {
     vec3 target = max(uRadianceScale * (irradiance * f), 0.0);
     vec3 relative = vpeMeasuredOutputs(target, texelFetch(uMeasuredIrradiance, pixel, 0).rgb,
                                        texelFetch(uMeasuredFloor, pixel, 0).rgb, uMixingInverse);
-    outLevel = vec4(vpeProjectorLevel(relative), 1.0);
+    outLevel = vec4(vpeMeasuredLevel(relative), 1.0);
 }
 )GLSL";
         return s;
@@ -342,8 +343,9 @@ std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant var
              "uMaterialFrom;\n";
     }
     if (layout.measuredLight) {
-        s += "uniform highp sampler2D uMeasuredIrradiance;\nuniform highp sampler2D "
-             "uMeasuredFloor;\n";
+        s += "uniform highp sampler2D uMeasuredIrradiance;  // RGBA16F\n"
+             "uniform highp sampler2D uMeasuredFloor;  // RGBA16F\n"
+             "uniform highp sampler2D uInverseResponse;  // RGBA16F\n";
     }
     s += R"GLSL(layout(location = 0) out vec4 outLevel;
 
@@ -355,6 +357,10 @@ void main() {
     if (layout.measuredLight) {
         s += "    sum += texelFetch(uMeasuredIrradiance, pixel, 0) + "
              "texelFetch(uMeasuredFloor, pixel, 0);\n";
+        for (int c = 0; c < 3; ++c) {  // the response inverse: one filtered fetch a channel
+            s += "    sum += texture(uInverseResponse, vec2(fract(sum.w * " + str(3 + c) +
+                 ".0), 0.5));\n";
+        }
     }
     s += R"GLSL(    uvec4 bits = texelFetch(uGeometry1, pixel, 0);
     float x = fract(sum.x * 7.0);  // a table coordinate that varies as θs does

@@ -11,6 +11,7 @@
 
 #include <GLES3/gl31.h>
 
+#include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
@@ -26,10 +27,10 @@ namespace vpe::renderer::gles {
 namespace {
 
 // Texture units of the frame: geometry 0–1, uv 2, the θs table 3, weights 4–5, the measured
-// light 6–7, materials from 8.
+// light 6–8, materials from 9.
 constexpr int kUnitGeometry0 = 0, kUnitGeometry1 = 1, kUnitUv = 2, kUnitTable = 3, kUnitWeights = 4,
               kUnitWeightsFrom = 5, kUnitMeasuredIrradiance = 6, kUnitMeasuredFloor = 7,
-              kUnitMaterials = 8;
+              kUnitInverseResponse = 8, kUnitMaterials = 9;
 
 // A projector-sized RGBA16F texture from a bundle's half floats (4 a pixel, rows from the top:
 // the frame fetches it at the pixel it shades, as the geometry buffer).
@@ -147,6 +148,18 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                 mixingInverse_[3 * column + row] = static_cast<float>(inverse[3 * row + column]);
             }
         }
+        // The response above black, inverted once into the table the frame looks up.
+        const proto::InverseResponseTable table(proto::responseFunctionOf(settings_.response),
+                                                kInverseResponseSamples);
+        std::vector<std::uint16_t> texels(4 * static_cast<std::size_t>(table.samples()), 0);
+        for (int i = 0; i < table.samples(); ++i) {
+            for (int c = 0; c < 3; ++c) {
+                texels[4 * static_cast<std::size_t>(i) + static_cast<std::size_t>(c)] =
+                    proto::floatToHalf(table.levels(c)[static_cast<std::size_t>(i)]);
+            }
+        }
+        inverseResponse_ = makeTexture2D(GL_RGBA16F, table.samples(), 1, GL_RGBA, GL_HALF_FLOAT,
+                                         texels.data(), TextureFilter::kLinear);
         measuredLight_ = true;
     }
 
@@ -210,6 +223,7 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
     glUniform1i(location("uWeightsFrom"), kUnitWeightsFrom);
     glUniform1i(location("uMeasuredIrradiance"), kUnitMeasuredIrradiance);
     glUniform1i(location("uMeasuredFloor"), kUnitMeasuredFloor);
+    glUniform1i(location("uInverseResponse"), kUnitInverseResponse);
     if (measuredLight_) {
         glUniformMatrix3fv(location("uMixingInverse"), 1, GL_FALSE, mixingInverse_.data());
     }
@@ -423,6 +437,7 @@ void GlesFrameRenderer::bindFrameTextures() {
     if (measuredLight_) {
         bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, measuredIrradiance_.get());
         bind(kUnitMeasuredFloor, GL_TEXTURE_2D, measuredFloor_.get());
+        bind(kUnitInverseResponse, GL_TEXTURE_2D, inverseResponse_.get());
     }
     if (options_.liveWeights) {
         if (textures_->presetCount() > 0) {

@@ -109,9 +109,22 @@ Vec3d decodeOctahedralNormal(std::uint32_t packed) {
     return {dx / length, dy / length, dz / length};
 }
 
-std::string measuredLightGlsl() {
+std::string measuredLightGlsl(int tableSamples) {
+    const auto samples = static_cast<float>(tableSamples);
     return "const float VPE_KNEE = " + glslFloat(static_cast<float>(kHighlightKnee)) + ";\n" +
-           R"GLSL(
+           "const float VPE_RESPONSE_SCALE = " + glslFloat((samples - 1.0f) / samples) + ";\n" +
+           "const float VPE_RESPONSE_OFFSET = " + glslFloat(0.5f / samples) + ";\n" +
+           R"GLSL(uniform highp sampler2D uInverseResponse;  // RGBA16F: g⁻¹ at u = √r
+
+// proto::InverseResponseTable::level per channel: sample i at u = i/(N − 1), at texture
+// coordinate (i + ½)/N, so u maps to u·(N − 1)/N + ½/N and the filter interpolates in u.
+vec3 vpeMeasuredLevel(vec3 relative) {
+    vec3 x = sqrt(clamp(relative, 0.0, 1.0)) * VPE_RESPONSE_SCALE + VPE_RESPONSE_OFFSET;
+    return vec3(texture(uInverseResponse, vec2(x.r, 0.5)).r,
+                texture(uInverseResponse, vec2(x.g, 0.5)).g,
+                texture(uInverseResponse, vec2(x.b, 0.5)).b);
+}
+
 // renderer::rollOffHighlight: above the knee, the outputs scaled together so that their
 // largest follows κ + (1 − κ)·tanh((t − κ)/(1 − κ)).
 vec3 vpeRollOffHighlight(vec3 w) {

@@ -131,6 +131,7 @@ struct Scene {
     const char* name;
     bool liveWeights;
     bool fading;
+    bool measuredLight = false;  // format 1.4's maps (two more fetches a pixel), a curve response
 };
 
 }  // namespace
@@ -182,6 +183,33 @@ int main(int argc, char** argv) {
         vpe::bake::writeBundle(path, bundleContents);
         const vpe::proto::BundleFile bundle =
             vpe::proto::BundleFile::open(path, {.verifyChecksum = false});
+        // The same scene with the light measured on site: F and D per projector pixel, the
+        // crosstalk, and the response above black as vpe bake --radiometry writes it (33 samples).
+        const std::filesystem::path measuredPath = folder / "measured.vpeb";
+        {
+            vpe::bake::BundleContents measured = bundleContents;
+            vpe::bake::BundleRadiometry radiometry;
+            radiometry.mixing = {1, 0.076, 0.011, 0.068, 1, 0.057, 0.011, 0.097, 1};
+            const std::size_t pixels = std::size_t{kWidth} * kHeight;
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const float shade = 0.7f + 0.3f * static_cast<float>(p % 1931) / 1931.0f;
+                for (const float f : {0.30f, 0.27f, 0.22f}) {
+                    radiometry.irradiance.push_back(f * shade);
+                    radiometry.floor.push_back(0.02f * f);
+                }
+            }
+            measured.radiometry = std::move(radiometry);
+            measured.settings.response.kind = vpe::proto::ResponseKind::kCurve;
+            for (std::size_t c = 0; c < 3; ++c) {
+                for (int i = 0; i <= 32; ++i) {
+                    measured.settings.response.curve[c].push_back(
+                        static_cast<float>(std::pow(i / 32.0, 2.2 + 0.2 * static_cast<double>(c))));
+                }
+            }
+            vpe::bake::writeBundle(measuredPath, measured);
+        }
+        const vpe::proto::BundleFile measuredBundle =
+            vpe::proto::BundleFile::open(measuredPath, {.verifyChecksum = false});
 
         std::unique_ptr<gles::GraphicsPlatform> platform = gles::createHeadlessEglPlatform();
         std::unique_ptr<gles::RenderTarget> target = platform->createRenderTarget(kWidth, kHeight);
@@ -196,12 +224,14 @@ int main(int argc, char** argv) {
                     "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "pi4 fps", "pi5 fps",
                     "load ms");
         for (const Scene scene : {Scene{"static-preset", false, false}, Scene{"fade", false, true},
-                                  Scene{"live-2-regions", true, false}}) {
+                                  Scene{"live-2-regions", true, false},
+                                  Scene{"measured-light", false, false, true}}) {
             gles::GlesRendererOptions options;
             options.liveWeights = scene.liveWeights;
             options.presetFadeSeconds = 1e9;  // "fade": every timed frame is a fading one
             const auto loadStart = Clock::now();
-            gles::GlesFrameRenderer renderer(bundle.view(), options);
+            gles::GlesFrameRenderer renderer(
+                scene.measuredLight ? measuredBundle.view() : bundle.view(), options);
             const double loadMs =
                 std::chrono::duration<double, std::milli>(Clock::now() - loadStart).count();
             gles::FrameInputs inputs;

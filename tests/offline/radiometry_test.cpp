@@ -6,6 +6,7 @@
 // bad capture refused in one line. The full-size figures are scripts/radiometry-report.sh's.
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -154,6 +155,41 @@ TEST(Radiometry, TheMeasuredBundleGivesItsTargetWhereTheAssumedOneCannot) {
         EXPECT_NEAR(view["scale"].get<double>(), 1.0, 0.03);  // the camera's own units
     }
     EXPECT_TRUE(fs::exists(out / "check" / "light-check.png"));
+    fs::remove_all(out);
+}
+
+TEST(Radiometry, AnIspCameraIsLinearizedFromItsBracket) {
+    // The same installation photographed by an ISP's 8-bit gamma output: the capture brackets a
+    // ramp, vpe radiometry fits the camera's response (Debevec) and measures through it.
+    const fs::path out = scratch("isp");
+    std::ifstream in(gallery() / "room" / "installation.toml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string scene = text.str();
+    const std::size_t at = scene.find("response = 'linear'");
+    ASSERT_NE(at, std::string::npos);
+    scene.replace(at, 19, "response = 'gamma'");
+    std::ofstream(gallery() / "room" / ("isp-" + std::to_string(::getpid()) + ".toml")) << scene;
+    const fs::path toml = gallery() / "room" / ("isp-" + std::to_string(::getpid()) + ".toml");
+    run({"synth-procam", "--scene", toml.string(), "--out", (out / "capture").string()});
+    fs::remove(toml);
+    const proto::RadiometryManifest manifest =
+        proto::readRadiometryManifest(out / "capture" / "radiometry");
+    EXPECT_EQ(manifest.camera.response, proto::CameraResponseKind::kUnknown);
+    EXPECT_EQ(manifest.camera.bits, 8);
+    const nlohmann::json measured = run({"radiometry", (out / "capture").string(), "--scan",
+                                         (gallery() / "scan").string(), "--out",
+                                         (out / "radiometry").string()});
+    EXPECT_FALSE(measured["camera_linear"].get<bool>());
+    EXPECT_NEAR(measured["mixing"][1].get<double>(), 0.07 / 0.92, 0.004);
+    run({"bake", "--texture", (gallery() / "texture.exr").string(), "--scan",
+         (gallery() / "scan").string(), "--mesh", (gallery() / "room" / "object.obj").string(),
+         "--radiometry", (out / "radiometry").string(), "--out", (out / "isp.vpeb").string()});
+    const nlohmann::json check =
+        run({"synth-procam", "--scene", (gallery() / "room" / "installation.toml").string(),
+             "--check-light", (out / "isp.vpeb").string(), "--out", (out / "check").string()});
+    // Measured 0.54 levels at 820 x 616 (0.41 through the raw camera).
+    EXPECT_LT(check["rms_levels"].get<double>(), 1.0);
     fs::remove_all(out);
 }
 

@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "vpe/proto/detail_normal.h"
+#include "vpe/proto/half_float.h"
 #include "vpe/proto/reflection_geometry.h"
 #include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
@@ -331,7 +332,20 @@ TEST_F(GlesShadingGlslTest, MeasuredLightMatchesItsCompensation) {
             inputs.push_back(0.05f * unit(random));
         }
     }
-    std::string prelude = gles::projectorLevelGlsl(curve) + gles::measuredLightGlsl();
+    const proto::ResponseFunction response = proto::responseFunctionOf(curve);
+    const proto::InverseResponseTable table(response, 256);
+    std::vector<std::uint16_t> texels(4 * 256, 0);
+    for (int i = 0; i < 256; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            texels[static_cast<std::size_t>(4 * i + c)] =
+                proto::floatToHalf(table.levels(c)[static_cast<std::size_t>(i)]);
+        }
+    }
+    GlObject texture = gles::makeTexture2D(GL_RGBA16F, 256, 1, GL_RGBA, GL_HALF_FLOAT,
+                                           texels.data(), gles::TextureFilter::kLinear);
+    glActiveTexture(GL_TEXTURE0);  // uInverseResponse's default unit
+    glBindTexture(GL_TEXTURE_2D, texture.get());
+    std::string prelude = gles::measuredLightGlsl(256);
     prelude += "const mat3 kMixingInverse = mat3(";
     for (int column = 0; column < 3; ++column) {
         for (int row = 0; row < 3; ++row) {
@@ -345,9 +359,8 @@ TEST_F(GlesShadingGlslTest, MeasuredLightMatchesItsCompensation) {
         "    vec3 target = vec3(in_[base], in_[base + 1], in_[base + 2]);\n"
         "    vec3 f = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);\n"
         "    vec3 d = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);\n"
-        "    result.xyz = vpeProjectorLevel(vpeMeasuredOutputs(target, f, d, kMixingInverse));\n",
+        "    result.xyz = vpeMeasuredLevel(vpeMeasuredOutputs(target, f, d, kMixingInverse));\n",
         inputs, 9);
-    const proto::ResponseFunction response = proto::responseFunctionOf(curve);
     std::array<double, 9> inverseOfFloats{};
     for (std::size_t i = 0; i < 9; ++i) {
         inverseOfFloats[i] = static_cast<double>(static_cast<float>(inverse[i]));
@@ -357,7 +370,7 @@ TEST_F(GlesShadingGlslTest, MeasuredLightMatchesItsCompensation) {
         const float* in = &inputs[9 * s];
         const std::array<double, 3> target{in[0], in[1], in[2]};
         const CompensatedPixel cpu =
-            compensateMeasuredPixel(in + 3, in + 6, inverseOfFloats, response, target, 1.0);
+            compensateMeasuredPixel(in + 3, in + 6, inverseOfFloats, table, target, 1.0);
         rolled += cpu.clippedHigh ? 1 : 0;
         floored += cpu.clippedLow ? 1 : 0;
         for (std::size_t c = 0; c < 3; ++c) {

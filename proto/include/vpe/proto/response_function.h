@@ -49,6 +49,28 @@ private:
     std::array<std::vector<double>, 3> outputs_;  // normalized, r(1) = 1
 };
 
+// The inverse response as the device looks it up (a texture, one filtered fetch per channel,
+// instead of a search through the curve's samples): the level at u = √r on an even grid of
+// `samples` values of u in [0, 1], linear in u between them. √ spreads the samples where a
+// projector's inverse is steepest, near black (level ≈ r^(1/γ) ≈ u^0.9 is nearly straight in
+// u): with 256 samples it is within 2e-4 of the exact inverse for curves like γ = 2.2–2.8.
+class InverseResponseTable {
+public:
+    // samples ≥ 2; std::invalid_argument otherwise.
+    InverseResponseTable(const ResponseFunction& response, int samples = 256);
+    int samples() const { return samples_; }
+    // The level for relative output r, clamped to [0, 1] (NaN reads as 0).
+    double level(int channel, double relative) const;
+    // Sample i of channel c: the level at u = i / (samples − 1), rounded to a half float.
+    const std::vector<float>& levels(int channel) const {
+        return levels_[static_cast<std::size_t>(channel)];
+    }
+
+private:
+    int samples_ = 0;
+    std::array<std::vector<float>, 3> levels_;
+};
+
 // The function a bundle's response curves describe: a gamma stays a gamma; sample i of a
 // curve of N sits at level i / (N − 1). Throws std::invalid_argument, as gamma() and sampled()
 // do, for values they refuse (a bundle's reader has refused them already: checkSettings).

@@ -11,6 +11,9 @@
 
 namespace vpe::renderer::gles {
 
+// Samples of the measured light's inverse response table (proto::InverseResponseTable).
+inline constexpr int kInverseResponseSamples = 256;
+
 // How a frame finds its material.
 enum class FrameVariant {
     kStatic,    // one composed material (the preset's regions blended once, at load)

@@ -162,7 +162,7 @@ private:
     std::unique_ptr<TileCover> tiles_;
     // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and X⁻¹
     // column-major for GLSL's mat3. Empty without one.
-    GlObject measuredIrradiance_, measuredFloor_;
+    GlObject measuredIrradiance_, measuredFloor_, inverseResponse_;
     std::array<float, 9> mixingInverse_{};
     bool measuredLight_ = false;
     LoadTimes loadTimes_;

@@ -28,10 +28,12 @@ std::string shadingStepsGlsl();
 //                                                   — proto::applyDetailNormal in frame (t, b, n)
 std::string reliefStepsGlsl();
 
-// compensateMeasuredPixel's outputs before the response inverse, and rollOffHighlight:
+// compensateMeasuredPixel (renderer/measured_light.h), the knee kHighlightKnee baked in:
 //   vec3 vpeMeasuredOutputs(vec3 target, vec3 irradiance, vec3 floorLight, mat3 mixingInverse)
-// (renderer/measured_light.h), the knee kHighlightKnee baked in.
-std::string measuredLightGlsl();
+// and the response inverse through proto::InverseResponseTable of `tableSamples` samples, an
+// RGBA16F texture `uInverseResponse` (one filtered fetch per channel):
+//   vec3 vpeMeasuredLevel(vec3 relative)
+std::string measuredLightGlsl(int tableSamples);
 
 // GLSL defining vec3 vpeProjectorLevel(vec3 relative): the drive levels for wanted relative
 // outputs, ResponseFunction::level with compensatePixel's clipping (below the black level →
