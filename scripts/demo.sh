@@ -222,6 +222,15 @@ printf '%-28s calibration %.3f px, scan coverage %.1f%% / depth RMS %.3f mm / %.
     "$(jq .misregistration_mm "$out/install/install.json")" "$(jq .lamp_error_deg "$out/install/install.json")" \
     | tee -a "$summary"
 
+step "measuring the light on a stained gallery (scripts/radiometry-report.sh): flat fields → vpe radiometry → bake → what the camera sees"
+scripts/radiometry-report.sh --out "$out/radiometry" | tail -1 > "$out/radiometry.json"
+mv "$out/radiometry.json" "$out/radiometry/radiometry.json"
+printf '%-28s %.2f levels of 255 RMS against the target (assumed radiometry: %.2f); re-measured: %.2f; %.0f s\n' \
+    "radiometry (simulated)" "$(jq .rms_levels "$out/radiometry/radiometry.json")" \
+    "$(jq .baseline_rms_levels "$out/radiometry/radiometry.json")" \
+    "$(jq .stability_levels "$out/radiometry/radiometry.json")" "$(jq .seconds "$out/radiometry/radiometry.json")" \
+    | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -277,6 +286,10 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
                                       scan-true/contact-sheet.png (the scan), check/visitor-check.png
                                       (what a visitor sees of the measured bundle vs the truth),
                                       install.json (the figures), room/ (the captures)
+  radiometry/                         the light measured on a stained gallery (docs/radiometry.md):
+                                      radiometry1/contact-sheet.png (F, albedo, floor, curves),
+                                      check/light-check.png (target | measured | assumed),
+                                      radiometry.json (the figures)
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above

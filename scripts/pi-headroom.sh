@@ -38,7 +38,7 @@ timing() {
         "| \(.name) | \(.ms_per_frame * 10 | round / 10) | \(.floor_ms * 10 | round / 10) | \(.ratio * 100 | round / 100) | \(.cpu_ms * 10 | round / 10) | \(.load_ms | round) |"' \
         "$work/benchmark.json"
 }
-scenes=(static-preset fade live-2-regions)
+scenes=(static-preset fade live-2-regions measured-light)
 
 {
     cat <<'EOF'
@@ -68,7 +68,10 @@ falloff, the compensation and the response (a pow per channel).
 
 Scenes: **static-preset** (the preset's regions composed once), **fade** (a preset change
 cross-fading: two composed materials mixed), **live-2-regions** (each region's material kept
-apart, blended every frame by the preset's weight maps at the pixel's uv).
+apart, blended every frame by the preset's weight maps at the pixel's uv), **measured-light**
+(static-preset compensated with the light measured on site, bundle 1.4: F and D per pixel, two
+RGBA16F fetches, the crosstalk's 3 × 3, the highlight's roll-off, and the response inverse as
+three filtered fetches of a table instead of a pow; docs/radiometry.md).
 
 ## Work per shaded pixel
 

@@ -74,7 +74,7 @@ capture=$(json .radiometry_capture_seconds "$out/capture1.json")
 fit=$(json .seconds "$out/radiometry1.json")
 jq -c -n \
     --slurpfile check "$out/check.json" --slurpfile stability "$out/stability.json" \
-    --slurpfile measured "$out/radiometry1.json" \
+    --slurpfile measured "$out/radiometry1.json" --slurpfile bake "$out/bake1.json" \
     --argjson capture "$capture" --argjson fit "$fit" \
     '{rms_levels: ($check[0].rms_levels * 1000 | round / 1000),
       baseline_rms_levels: ($check[0].baseline_rms_levels * 1000 | round / 1000),
@@ -85,5 +85,7 @@ jq -c -n \
       baseline_worst_rms_levels: ($check[0].baseline_worst_rms_levels * 1000 | round / 1000),
       below_floor_share: ($check[0].below_floor_share * 10000 | round / 10000),
       capture_seconds: ($capture * 100 | round / 100), fit_seconds: ($fit * 100 | round / 100),
+      completed_share: ($bake[0].radiometry.completed_pixels / $bake[0].radiometry.covered_pixels
+                        * 10000 | round / 10000),
       mixing: $measured[0].mixing, ambient: $measured[0].ambient,
       black_level: $measured[0].black_level}'

@@ -114,6 +114,16 @@ void runBake(const Arguments& args) {
                  report.bytesPerTexel, report.relief ? " + 4 of relief" : "",
                  thetaBasisText(report).c_str(), report.vertices, report.triangles, camera.c_str(),
                  static_cast<double>(report.bytes) / (1024.0 * 1024.0), seconds);
+    if (!options.radiometry.empty()) {
+        std::fprintf(stderr,
+                     "measured light: %zu projector pixels on the mesh, %zu of them (%.2f%%) "
+                     "completed from their neighbours where the camera did not see\n",
+                     report.radiometryCovered, report.radiometryCompleted,
+                     report.radiometryCovered
+                         ? 100.0 * double(report.radiometryCompleted) /
+                               double(report.radiometryCovered)
+                         : 0.0);
+    }
     std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
                  report.meshWrapsU && !report.wrapU
                      ? ": the mesh's u wraps but the textures do not tile, so u = 0 | 1 "
@@ -173,6 +183,10 @@ void runBake(const Arguments& args) {
         json["wrap_u"] = report.wrapU;
         json["mesh_wraps_u"] = report.meshWrapsU;
         json["camera"] = report.camera;
+        if (!options.radiometry.empty()) {
+            json["radiometry"] = {{"covered_pixels", report.radiometryCovered},
+                                  {"completed_pixels", report.radiometryCompleted}};
+        }
         json["bytes"] = report.bytes;
         json["checksum"] = report.checksum;
         json["seconds"] = seconds;
