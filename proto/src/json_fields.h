@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -98,6 +99,14 @@ inline bool plainFileName(const std::string& name) {
     return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
            name.find('\\') == std::string::npos && name.find('\0') == std::string::npos;
 }
+
+// A manifest's text: `head` indented, then "images" with one image a line (readable, diffable).
+std::string manifestText(const Json& head, const std::vector<ScanImage>& images);
+
+// The "images" array of `root`: one entry per expected pattern name, in order, each with a plain
+// file name; `what` names the sequence's items in messages ("patterns", "flat fields").
+std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string& source,
+                                      const std::vector<std::string>& expected, const char* what);
 
 // Parses JSON text, a ScanManifestError naming `source` when it is not JSON.
 Json parseJsonText(std::string_view text, const std::string& source);

@@ -5,9 +5,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vpe/proto/structured_light.h"
+
 #include "atomic_file.h"
 #include "json_fields.h"
-#include "vpe/proto/structured_light.h"
 
 namespace vpe::proto {
 
@@ -57,8 +58,8 @@ std::array<std::uint8_t, 3> FlatField::codes(int x, int width) const {
             return codes;
         }
         case FlatFieldKind::kRamp: {
-            const auto level = static_cast<std::uint8_t>(
-                std::lround(255.0 * x / std::max(1, width - 1)));
+            const auto level =
+                static_cast<std::uint8_t>(std::lround(255.0 * x / std::max(1, width - 1)));
             return {level, level, level};
         }
     }
@@ -67,8 +68,8 @@ std::array<std::uint8_t, 3> FlatField::codes(int x, int width) const {
 
 std::vector<FlatField> radiometrySequence(const RadiometryParameters& p) {
     if (p.width < 8 || p.width > 16384 || p.height < 8 || p.height > 16384) {
-        throw StructuredLightError("radiometry: the projector is " + std::to_string(p.width) +
-                                   "x" + std::to_string(p.height) + ", outside 8..16384");
+        throw StructuredLightError("radiometry: the projector is " + std::to_string(p.width) + "x" +
+                                   std::to_string(p.height) + ", outside 8..16384");
     }
     if (p.levels < 2 || p.levels > 64) {
         throw StructuredLightError("radiometry: " + std::to_string(p.levels) +
@@ -120,21 +121,7 @@ std::string radiometryManifestJson(const RadiometryManifest& m) {
           {"analogue_gain", m.camera.analogueGain},
           {"source", m.camera.source}}},
     };
-    std::string text = json.dump(2);
-    text.erase(text.find_last_of('}'));
-    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) {
-        text.pop_back();
-    }
-    text += ",\n  \"images\": [\n";
-    for (std::size_t i = 0; i < m.images.size(); ++i) {
-        Json entry = {{"file", m.images[i].file}, {"pattern", m.images[i].pattern}};
-        if (m.images[i].attempts != 1) {
-            entry["attempts"] = m.images[i].attempts;
-        }
-        text += "    " + entry.dump() + (i + 1 < m.images.size() ? ",\n" : "\n");
-    }
-    text += "  ]\n}\n";
-    return text;
+    return detail::manifestText(json, m.images);
 }
 
 RadiometryManifest parseRadiometryManifest(std::string_view text, const std::string& source) {
@@ -175,8 +162,9 @@ RadiometryManifest parseRadiometryManifest(std::string_view text, const std::str
     } else if (response == "unknown") {
         m.camera.response = CameraResponseKind::kUnknown;
         if (m.camera.bits != 8) {
-            camera.fail("response: \"unknown\" with 10 bits: bracketing reads 8-bit codes; "
-                        "capture raw (\"linear\") or 8-bit");
+            camera.fail(
+                "response: \"unknown\" with 10 bits: bracketing reads 8-bit codes; "
+                "capture raw (\"linear\") or 8-bit");
         }
     } else {
         camera.fail("response: '" + response + "' (linear or unknown)");
@@ -192,34 +180,11 @@ RadiometryManifest parseRadiometryManifest(std::string_view text, const std::str
     } catch (const StructuredLightError& error) {
         projector.fail(error.what());
     }
-    const Json& images = root.required("images");
-    if (!images.is_array()) {
-        root.fail("images: expected an array");
+    std::vector<std::string> expected;
+    for (const FlatField& field : fields) {
+        expected.push_back(field.name());
     }
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        const Fields image(images[i], source, "images[" + std::to_string(i) + "]");
-        RadiometryImage entry;
-        entry.file = image.text("file", true);
-        entry.pattern = image.text("pattern", true);
-        entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
-        if (!detail::plainFileName(entry.file)) {
-            image.fail("file: '" + entry.file + "' is not a file name inside the folder");
-        }
-        if (i >= fields.size()) {
-            image.fail("an extra image ('" + entry.file + "'): the sequence has " +
-                       std::to_string(fields.size()) + " flat fields");
-        }
-        if (entry.pattern != fields[i].name()) {
-            image.fail("pattern '" + entry.pattern + "', expected '" + fields[i].name() +
-                       "' (the sequence's order)");
-        }
-        m.images.push_back(std::move(entry));
-    }
-    if (m.images.size() < fields.size()) {
-        root.fail("images: " + std::to_string(m.images.size()) + " of the sequence's " +
-                  std::to_string(fields.size()) + " flat fields (the first missing is '" +
-                  fields[m.images.size()].name() + "')");
-    }
+    m.images = detail::parseImageList(root, source, expected, "flat fields");
     return m;
 }
 

@@ -24,14 +24,6 @@ using Fields = detail::JsonFields;
 }  // namespace
 
 std::string scanManifestJson(const ScanManifest& m) {
-    Json images = Json::array();
-    for (const ScanImage& image : m.images) {
-        Json entry = {{"file", image.file}, {"pattern", image.pattern}};
-        if (image.attempts != 1) {
-            entry["attempts"] = image.attempts;
-        }
-        images.push_back(std::move(entry));
-    }
     const Json json = {
         {"format", "vpe-scan"},
         {"version", kScanManifestVersion},
@@ -50,18 +42,7 @@ std::string scanManifestJson(const ScanManifest& m) {
           {"analogue_gain", m.camera.analogueGain},
           {"source", m.camera.source}}},
     };
-    // One image per line keeps the file readable and diffable.
-    std::string text = json.dump(2);
-    text.erase(text.find_last_of('}'));
-    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) {
-        text.pop_back();
-    }
-    text += ",\n  \"images\": [\n";
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        text += "    " + images[i].dump() + (i + 1 < images.size() ? ",\n" : "\n");
-    }
-    text += "  ]\n}\n";
-    return text;
+    return detail::manifestText(json, m.images);
 }
 
 ScanManifest parseScanManifest(std::string_view text, const std::string& source) {
@@ -100,35 +81,11 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     } catch (const StructuredLightError& error) {
         projector.fail(error.what());
     }
-    const Json& images = root.required("images");
-    if (!images.is_array()) {
-        root.fail("images: expected an array");
+    std::vector<std::string> expected;
+    for (const PatternSpec& pattern : sequence->patterns()) {
+        expected.push_back(pattern.name());
     }
-    const std::vector<PatternSpec>& patterns = sequence->patterns();
-    for (std::size_t i = 0; i < images.size(); ++i) {
-        const Fields image(images[i], source, "images[" + std::to_string(i) + "]");
-        ScanImage entry;
-        entry.file = image.text("file", true);
-        entry.pattern = image.text("pattern", true);
-        entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
-        if (!detail::plainFileName(entry.file)) {
-            image.fail("file: '" + entry.file + "' is not a file name inside the folder");
-        }
-        if (i >= patterns.size()) {
-            image.fail("an extra image ('" + entry.file + "'): the sequence has " +
-                       std::to_string(patterns.size()) + " patterns");
-        }
-        if (entry.pattern != patterns[i].name()) {
-            image.fail("pattern '" + entry.pattern + "', expected '" + patterns[i].name() +
-                       "' (the sequence's order)");
-        }
-        m.images.push_back(std::move(entry));
-    }
-    if (m.images.size() < patterns.size()) {
-        root.fail("images: " + std::to_string(m.images.size()) + " of the sequence's " +
-                  std::to_string(patterns.size()) + " patterns (the first missing is '" +
-                  patterns[m.images.size()].name() + "')");
-    }
+    m.images = detail::parseImageList(root, source, expected, "patterns");
     return m;
 }
 
@@ -160,6 +117,57 @@ std::string scanImageName(std::size_t index, const PatternSpec& pattern) {
 }
 
 namespace detail {
+
+std::string manifestText(const Json& head, const std::vector<ScanImage>& images) {
+    std::string text = head.dump(2);
+    text.erase(text.find_last_of('}'));
+    while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) {
+        text.pop_back();
+    }
+    text += ",\n  \"images\": [\n";
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        Json entry = {{"file", images[i].file}, {"pattern", images[i].pattern}};
+        if (images[i].attempts != 1) {
+            entry["attempts"] = images[i].attempts;
+        }
+        text += "    " + entry.dump() + (i + 1 < images.size() ? ",\n" : "\n");
+    }
+    return text + "  ]\n}\n";
+}
+
+std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string& source,
+                                      const std::vector<std::string>& expected, const char* what) {
+    const Json& images = root.required("images");
+    if (!images.is_array()) {
+        root.fail("images: expected an array");
+    }
+    std::vector<ScanImage> list;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const JsonFields image(images[i], source, "images[" + std::to_string(i) + "]");
+        ScanImage entry;
+        entry.file = image.text("file", true);
+        entry.pattern = image.text("pattern", true);
+        entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
+        if (!plainFileName(entry.file)) {
+            image.fail("file: '" + entry.file + "' is not a file name inside the folder");
+        }
+        if (i >= expected.size()) {
+            image.fail("an extra image ('" + entry.file + "'): the sequence has " +
+                       std::to_string(expected.size()) + " " + what);
+        }
+        if (entry.pattern != expected[i]) {
+            image.fail("pattern '" + entry.pattern + "', expected '" + expected[i] +
+                       "' (the sequence's order)");
+        }
+        list.push_back(std::move(entry));
+    }
+    if (list.size() < expected.size()) {
+        root.fail("images: " + std::to_string(list.size()) + " of the sequence's " +
+                  std::to_string(expected.size()) + " " + what + " (the first missing is '" +
+                  expected[list.size()] + "')");
+    }
+    return list;
+}
 
 Json parseJsonText(std::string_view text, const std::string& source) {
     try {

@@ -32,9 +32,9 @@ enum class FlatFieldKind : std::uint8_t {
 
 struct FlatField {
     FlatFieldKind kind = FlatFieldKind::kBlack;
-    int channel = 0;             // kPrimary: 0 red, 1 green, 2 blue
-    int code = 0;                // kPrimary: the 8-bit level shown
-    int exposureStop = 0;        // kRamp: photographed at 2^−stop of the capture's exposure
+    int channel = 0;       // kPrimary: 0 red, 1 green, 2 blue
+    int code = 0;          // kPrimary: the 8-bit level shown
+    int exposureStop = 0;  // kRamp: photographed at 2^−stop of the capture's exposure
     // "flat-black", "flat-white", "flat-red-128", "ramp-e2".
     std::string name() const;
     // The camera exposure relative to the capture's: 2^−exposureStop.
@@ -69,16 +69,13 @@ struct RadiometryCamera {
     int bits = 10;     // 8 or 10
     int channels = 3;  // 3: RGB; the measurement needs colour
     CameraResponseKind response = CameraResponseKind::kLinear;
-    double exposureUs = 0;    // of the whole capture (0: unknown); ramps at fractions of it
+    double exposureUs = 0;  // of the whole capture (0: unknown); ramps at fractions of it
     double analogueGain = 1;
     std::string source;
 };
 
-struct RadiometryImage {
-    std::string file;     // inside the folder
-    std::string pattern;  // FlatField::name()
-    int attempts = 1;
-};
+// As a scan's: a file inside the folder, the flat field's name (FlatField::name()), attempts.
+using RadiometryImage = ScanImage;
 
 struct RadiometryManifest {
     RadiometryParameters fields;
