@@ -107,8 +107,8 @@ private:
     }
 
     void radiometry(const BundleRadiometry& r) const {
-        const std::size_t values = 3 * static_cast<std::size_t>(c_.projector.width) *
-                                   c_.projector.height;
+        const std::size_t values =
+            3 * static_cast<std::size_t>(c_.projector.width) * c_.projector.height;
         count(r.irradiance.size(), values, "radiometry irradiance");
         count(r.floor.size(), values, "radiometry floor");
         for (const std::vector<float>* map : {&r.irradiance, &r.floor}) {
@@ -540,8 +540,8 @@ public:
             radiometry = fb::CreateRadiometry(b, &mixing, ref(b, (*index_.radiometry)[0]),
                                               ref(b, (*index_.radiometry)[1]));
         }
-        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures,
-                                                   camera, radiometry));
+        fb::FinishBundleBuffer(
+            b, fb::CreateBundle(b, mesh, projector, settings, model, textures, camera, radiometry));
         return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
     }
 

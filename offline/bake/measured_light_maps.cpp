@@ -16,7 +16,8 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
                                     const BundleMesh& mesh,
                                     const proto::ProjectorCalibration& projector,
                                     const std::filesystem::path& source) {
-    const int width = static_cast<int>(projector.width), height = static_cast<int>(projector.height);
+    const int width = static_cast<int>(projector.width),
+              height = static_cast<int>(projector.height);
     if (measured.width != width || measured.height != height) {
         throw InputError(source, "maps of " + std::to_string(measured.width) + "x" +
                                      std::to_string(measured.height) + ", the projector is " +
@@ -25,7 +26,8 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
     std::vector<renderer::Vec3f> positions(mesh.positions.size() / 3), normals(positions.size());
     std::vector<renderer::Vec2f> uvs(positions.size());
     for (std::size_t v = 0; v < positions.size(); ++v) {
-        positions[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]};
+        positions[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1],
+                        mesh.positions[3 * v + 2]};
         normals[v] = {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
         uvs[v] = {mesh.uvs[2 * v], mesh.uvs[2 * v + 1]};
     }
@@ -65,8 +67,9 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
         }
     }
     if (out.measured == 0) {
-        throw InputError(source, "no measured pixel falls on the bundle's mesh: is it the "
-                                 "scan's installation?");
+        throw InputError(source,
+                         "no measured pixel falls on the bundle's mesh: is it the "
+                         "scan's installation?");
     }
     // Grow the known values into the unknown covered pixels, one ring a pass: each takes the
     // mean of its known 8-neighbours.

@@ -175,7 +175,8 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
     contents.mesh = toBundleMesh(mesh);
     BakeReport report;
     if (!options.radiometry.empty()) {
-        const radiometry::ProjectorRadiometry measured = radiometry::readRadiometry(options.radiometry);
+        const radiometry::ProjectorRadiometry measured =
+            radiometry::readRadiometry(options.radiometry);
         MeasuredLightBake baked =
             bakeMeasuredLight(measured, contents.mesh, contents.projector, options.radiometry);
         contents.radiometry = std::move(baked.radiometry);

@@ -119,10 +119,9 @@ void runBake(const Arguments& args) {
                      "measured light: %zu projector pixels on the mesh, %zu of them (%.2f%%) "
                      "completed from their neighbours where the camera did not see\n",
                      report.radiometryCovered, report.radiometryCompleted,
-                     report.radiometryCovered
-                         ? 100.0 * double(report.radiometryCompleted) /
-                               double(report.radiometryCovered)
-                         : 0.0);
+                     report.radiometryCovered ? 100.0 * double(report.radiometryCompleted) /
+                                                    double(report.radiometryCovered)
+                                              : 0.0);
     }
     std::fprintf(stderr, "sampling %s in u%s\n", report.wrapU ? "wraps" : "clamps",
                  report.meshWrapsU && !report.wrapU

@@ -196,10 +196,11 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
     if (const auto& r = bundle.radiometry()) {
         // Format 1.4: the light measured on site replaces the assumed albedo and ambient.
         const auto& x = r->mixing;
-        std::printf("radiometry measured per projector pixel (F, D: RGBA16F, 16 bytes); "
-                    "crosstalk R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f; the "
-                    "response is above black\n",
-                    x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]);
+        std::printf(
+            "radiometry measured per projector pixel (F, D: RGBA16F, 16 bytes); "
+            "crosstalk R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f; the "
+            "response is above black\n",
+            x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8]);
     } else {
         std::printf("screen     albedo %s, ambient %s\n", triple(s.screenAlbedo).c_str(),
                     triple(s.ambientIrradiance).c_str());

@@ -34,7 +34,8 @@ void runRadiometry(const Arguments& args) {
                                 proto::kRadiometryManifestName)) {
         capture /= proto::kRadiometryFolderName;
     }
-    const std::filesystem::path calibration = std::filesystem::path(args.scan) / scan::kCalibrationFile;
+    const std::filesystem::path calibration =
+        std::filesystem::path(args.scan) / scan::kCalibrationFile;
     const proto::PinholeCamera projector = scene::readProjectorCalibration(calibration);
     const auto camera = scene::readCameraCalibration(calibration);
     if (!camera) {
@@ -59,22 +60,22 @@ void runRadiometry(const Arguments& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     const auto& x = measured.mixing;
-    std::fprintf(stderr,
-                 "%s: %zu projector pixels measured; crosstalk (camera channel from primary) "
-                 "R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f, one for the whole "
-                 "projector%s; ambient %.4f %.4f %.4f of full output at 1 m; %.1f s\n",
-                 args.out.c_str(), measured.measured, x[0], x[1], x[2], x[3], x[4], x[5], x[6],
-                 x[7], x[8],
-                 [&] {
-                     for (std::size_t i = 0; i < 9; ++i) {
-                         if (measured.mixingSpread[i] > 2 * measured.mixingNoise[i] + 0.005) {
-                             return " (it varies over the object more than noise explains: a "
-                                    "per-pixel matrix would fit better)";
-                         }
-                     }
-                     return "";
-                 }(),
-                 measured.ambient[0], measured.ambient[1], measured.ambient[2], seconds);
+    std::fprintf(
+        stderr,
+        "%s: %zu projector pixels measured; crosstalk (camera channel from primary) "
+        "R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f, one for the whole "
+        "projector%s; ambient %.4f %.4f %.4f of full output at 1 m; %.1f s\n",
+        args.out.c_str(), measured.measured, x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8],
+        [&] {
+            for (std::size_t i = 0; i < 9; ++i) {
+                if (measured.mixingSpread[i] > 2 * measured.mixingNoise[i] + 0.005) {
+                    return " (it varies over the object more than noise explains: a "
+                           "per-pixel matrix would fit better)";
+                }
+            }
+            return "";
+        }(),
+        measured.ambient[0], measured.ambient[1], measured.ambient[2], seconds);
     if (args.json) {
         nlohmann::json json;
         json["out"] = args.out;
@@ -107,8 +108,7 @@ void addRadiometryCommand(CLI::App& app, Action& action) {
                      "folder holding it in radiometry/")
         ->required();
     command
-        ->add_option("--scan", args->scan,
-                     "vpe scan's --out: its surface.exr and calibration.yml")
+        ->add_option("--scan", args->scan, "vpe scan's --out: its surface.exr and calibration.yml")
         ->required();
     command
         ->add_option("--out", args->out,

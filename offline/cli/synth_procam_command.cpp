@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/quantile.h"
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
+#include "vpe/common/quantile.h"
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
 #include "vpe/procam/gallery_installation.h"
@@ -118,8 +118,7 @@ void runGallery(const Arguments& args) {
     }
     const std::size_t flatFields =
         proto::radiometrySequence({projector.width, projector.height}).size();
-    ProgressBar progress("synth-procam",
-                         patterns * (gallery.boardScenes.size() + 1) + flatFields);
+    ProgressBar progress("synth-procam", patterns * (gallery.boardScenes.size() + 1) + flatFields);
     procam::SimulatedScanOptions scan;
     scan.phasePeriod = args.phasePeriod;
     scan.phaseSteps = args.phaseSteps;
@@ -162,8 +161,8 @@ void runGallery(const Arguments& args) {
     progress.setPhase("radiometry");
     procam::SimulatedRadiometryOptions flat;
     flat.source = scan.source;
-    procam::writeSimulatedRadiometry(simulator, root / "scan" / proto::kRadiometryFolderName,
-                                     flat, &progress);
+    procam::writeSimulatedRadiometry(simulator, root / "scan" / proto::kRadiometryFolderName, flat,
+                                     &progress);
     progress.setPhase("truth");
     procam::writeSimulationTruth(simulator, root / "truth");
     writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
@@ -207,8 +206,8 @@ SheetTile linearTile(std::string label, const renderer::RgbImage& image, double 
     tile.pixels.reserve(image.values.size());
     for (const float v : image.values) {
         const double x = std::clamp(double(v) / white, 0.0, 1.0);
-        tile.pixels.push_back(static_cast<float>(
-            x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055));
+        tile.pixels.push_back(
+            static_cast<float>(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055));
     }
     return tile;
 }
@@ -244,8 +243,8 @@ void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& fil
         tiles.push_back(linearTile(label, view.seen, white));
         if (baseline) {
             const procam::RadiometryView& other = baseline->views[i];
-            std::snprintf(label, sizeof label, "%s: %.2f levels RMS",
-                          args.baseline.c_str(), other.rmsLevels);
+            std::snprintf(label, sizeof label, "%s: %.2f levels RMS", args.baseline.c_str(),
+                          other.rmsLevels);
             // On the target's scale: the baseline's units are its own.
             tiles.push_back(linearTile(label, other.seen, white * other.scale));
         }
@@ -428,9 +427,10 @@ void runScene(const Arguments& args) {
     proto::StructuredLightParameters parameters{file.scene.projector.camera.width,
                                                 file.scene.projector.camera.height,
                                                 args.phasePeriod, args.phaseSteps};
-    ProgressBar progress("synth-procam",
-                         proto::StructuredLightSequence(parameters).patterns().size() +
-                             proto::radiometrySequence({parameters.width, parameters.height}).size());
+    ProgressBar progress(
+        "synth-procam",
+        proto::StructuredLightSequence(parameters).patterns().size() +
+            proto::radiometrySequence({parameters.width, parameters.height}).size());
     procam::SimulatedScanOptions scan;
     scan.phasePeriod = args.phasePeriod;
     scan.phaseSteps = args.phaseSteps;
@@ -457,9 +457,8 @@ void runScene(const Arguments& args) {
                  "truth in %.1f s\n",
                  args.out.c_str(), args.scene.c_str(), flatSeconds, seconds);
     if (args.json) {
-        printJson(nlohmann::json{{"out", args.out},
-                                 {"radiometry_capture_seconds", flatSeconds},
-                                 {"seconds", seconds}}
+        printJson(nlohmann::json{
+            {"out", args.out}, {"radiometry_capture_seconds", flatSeconds}, {"seconds", seconds}}
                       .dump());
     }
 }

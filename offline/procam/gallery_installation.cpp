@@ -146,8 +146,8 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         room.projector.mixing = {0.92, 0.07, 0.01, 0.06, 0.88, 0.05, 0.01, 0.09, 0.93};
         // 2 % of full white at the object's centre, at normal incidence.
         const proto::Vec3d p = room.projector.camera.center();
-        const double d2 = (p.x - centre.x) * (p.x - centre.x) + (p.y - centre.y) * (p.y - centre.y) +
-                          (p.z - centre.z) * (p.z - centre.z);
+        const double d2 = (p.x - centre.x) * (p.x - centre.x) +
+                          (p.y - centre.y) * (p.y - centre.y) + (p.z - centre.z) * (p.z - centre.z);
         const double ambient = 0.02 * room.projector.peakIrradiance / d2;
         room.room.ambient = {ambient, ambient, 0.92 * ambient};
     }

@@ -125,7 +125,8 @@ RadiometryCheck checkRadiometry(const sim::ProcamScene& scene, const sim::Simula
         for (const std::size_t p : used) {
             view.used[p] = 1;
         }
-        view.rmsLevels = used.empty() ? 0.0 : 255 * std::sqrt(squares / (3.0 * double(used.size())));
+        view.rmsLevels =
+            used.empty() ? 0.0 : 255 * std::sqrt(squares / (3.0 * double(used.size())));
         for (float& v : view.target.values) {
             v = static_cast<float>(view.scale * double(v));
         }
@@ -155,7 +156,8 @@ double viewDifferenceLevels(const RadiometryCheck& a, const RadiometryCheck& b) 
                 continue;
             }
             for (std::size_t c = 0; c < 3; ++c) {
-                const double d = double(u.seen.values[3 * p + c]) - double(v.seen.values[3 * p + c]);
+                const double d =
+                    double(u.seen.values[3 * p + c]) - double(v.seen.values[3 * p + c]);
                 squares += d * d;
             }
             ++count;

@@ -54,8 +54,7 @@ double robustSigma(const std::vector<double>& values, double centre) {
 FloatImage readField(const std::filesystem::path& path, const proto::RadiometryManifest& m,
                      const CameraLinearization& linearization) {
     FloatImage image = readImage(path);
-    if (image.width != m.camera.width || image.height != m.camera.height ||
-        image.channels != 3) {
+    if (image.width != m.camera.width || image.height != m.camera.height || image.channels != 3) {
         throw InputError(path, "the image is " + std::to_string(image.width) + "x" +
                                    std::to_string(image.height) + "x" +
                                    std::to_string(image.channels) + ", the capture's camera " +
@@ -65,7 +64,8 @@ FloatImage readField(const std::filesystem::path& path, const proto::RadiometryM
     if (!linearization.isLinear()) {
         const int top = linearization.maxValue();
         for (std::size_t i = 0; i < image.pixels.size(); ++i) {
-            const int code = std::clamp(static_cast<int>(std::lround(image.pixels[i] * top)), 0, top);
+            const int code =
+                std::clamp(static_cast<int>(std::lround(image.pixels[i] * top)), 0, top);
             image.pixels[i] =
                 static_cast<float>(linearization.linear(static_cast<int>(i % 3), code));
         }
@@ -108,9 +108,8 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
     if (m.camera.width != camera.width || m.camera.height != camera.height) {
         throw InputError(folder / proto::kRadiometryManifestName,
                          "a " + std::to_string(m.camera.width) + "x" +
-                             std::to_string(m.camera.height) +
-                             " capture, the scan's camera is " + std::to_string(camera.width) +
-                             "x" + std::to_string(camera.height) +
+                             std::to_string(m.camera.height) + " capture, the scan's camera is " +
+                             std::to_string(camera.width) + "x" + std::to_string(camera.height) +
                              ": capture both with the same camera mode");
     }
     for (std::size_t i = 0; i < m.images.size(); ++i) {
@@ -216,10 +215,12 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
     }
     r.whiteSaturatedShare = static_cast<double>(saturated) / static_cast<double>(n);
     if (r.whiteSaturatedShare > options.maxSaturatedShare) {
-        throw InputError(fieldPath(white),
-                         std::to_string(static_cast<int>(std::lround(1000 * r.whiteSaturatedShare)) / 10.0).substr(0, 4) +
-                             "% of the object saturates the camera: shorten the exposure (or "
-                             "lower the gain) until white stays below full scale");
+        throw InputError(
+            fieldPath(white),
+            std::to_string(static_cast<int>(std::lround(1000 * r.whiteSaturatedShare)) / 10.0)
+                    .substr(0, 4) +
+                "% of the object saturates the camera: shorten the exposure (or "
+                "lower the gain) until white stays below full scale");
     }
     {
         std::vector<double> signal(n);
@@ -233,12 +234,13 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
         r.whiteSignal = quantile(std::move(signal), 0.5) / double(top);
     }
     if (r.whiteSignal < options.minWhiteSignal) {
-        throw InputError(fieldPath(black),
-                         "the floor is lost in the camera's noise: white rises only " +
-                             std::to_string(static_cast<int>(std::lround(100 * r.whiteSignal))) +
-                             "% of the range above black on the object (at least " +
-                             std::to_string(static_cast<int>(std::lround(100 * options.minWhiteSignal))) +
-                             "% wanted): lengthen the exposure (or raise the gain)");
+        throw InputError(
+            fieldPath(black),
+            "the floor is lost in the camera's noise: white rises only " +
+                std::to_string(static_cast<int>(std::lround(100 * r.whiteSignal))) +
+                "% of the range above black on the object (at least " +
+                std::to_string(static_cast<int>(std::lround(100 * options.minWhiteSignal))) +
+                "% wanted): lengthen the exposure (or raise the gain)");
     }
 
     // The full-level primaries: per pixel, column c of diag(F)·X is primary c above black.
@@ -300,7 +302,8 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
         std::vector<double> ratios;
         for (std::size_t s = 0; s < n; ++s) {
             if (strong[s]) {
-                ratios.push_back((double(values[field][3 * s + channel]) - double(values[black][3 * s + channel])) /
+                ratios.push_back((double(values[field][3 * s + channel]) -
+                                  double(values[black][3 * s + channel])) /
                                  column(s, channel, channel));
             }
         }
@@ -394,8 +397,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
             r.blackLevel[k] = (sy - r.ambient[k] * sx) / s1;
         }
     }
-    r.fitSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.fitSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }
 

@@ -88,9 +88,10 @@ SheetTile rgbTile(std::string label, int width, int height, const std::vector<fl
     const double scale = luminance.empty() ? 1.0 : 1.0 / std::max(1e-12, quantile(luminance, 0.99));
     SheetTile tile{std::move(label), width, height, 3, std::vector<float>(values.size(), 0.0f)};
     for (std::size_t i = 0; i < values.size(); ++i) {
-        const double v = std::isnan(values[i]) ? 0.0 : std::clamp(double(values[i]) * scale, 0.0, 1.0);
-        tile.pixels[i] = static_cast<float>(v <= 0.0031308 ? 12.92 * v
-                                                           : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+        const double v =
+            std::isnan(values[i]) ? 0.0 : std::clamp(double(values[i]) * scale, 0.0, 1.0);
+        tile.pixels[i] =
+            static_cast<float>(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
     }
     return tile;
 }
@@ -201,8 +202,8 @@ void writeRadiometrySheet(const ProjectorRadiometry& r, const scan::ProjectorSur
         }
     }
     std::vector<SheetTile> tiles;
-    tiles.push_back(rgbTile("irradiance factor F (albedo x geometry)", r.width, r.height,
-                            r.irradiance));
+    tiles.push_back(
+        rgbTile("irradiance factor F (albedo x geometry)", r.width, r.height, r.irradiance));
     tiles.push_back(rgbTile("albedo: F / (cos / d^2)", r.width, r.height, albedo));
     tiles.push_back(rgbTile("floor D (room light + projector black)", r.width, r.height, r.floor));
     tiles.push_back(responseTile(r));

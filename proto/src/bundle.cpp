@@ -4,8 +4,6 @@
 // type, shape, size, alignment and bounds. Nothing is read that has not been checked.
 #include "vpe/proto/bundle.h"
 
-#include "vpe/proto/half_float.h"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -14,6 +12,7 @@
 #include <utility>
 
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/half_float.h"
 
 #include "printable_text.h"
 
@@ -230,12 +229,13 @@ private:
                                             {fb::ElementType::Float16}, shape);
         r.floor = typed<std::uint16_t>(table->floor(), "radiometry floor",
                                        {fb::ElementType::Float16}, shape);
-        for (const auto& [values, what] : {std::pair{r.irradiance, "irradiance"},
-                                           std::pair{r.floor, "floor"}}) {
+        for (const auto& [values, what] :
+             {std::pair{r.irradiance, "irradiance"}, std::pair{r.floor, "floor"}}) {
             for (const std::uint16_t half : values) {
                 const float v = halfToFloat(half);
                 if (!std::isfinite(v) || v < 0) {
-                    fail(std::string("radiometry ") + what + ": a value that is negative or not "
+                    fail(std::string("radiometry ") + what +
+                         ": a value that is negative or not "
                          "finite");
                 }
             }

@@ -2,14 +2,14 @@
 // ResponseFunction: gamma or sampled curve, and its clamped inverse.
 #include "vpe/proto/response_function.h"
 
-#include "vpe/proto/half_float.h"
-
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include "vpe/proto/half_float.h"
 
 namespace vpe::proto {
 
@@ -142,7 +142,8 @@ InverseResponseTable::InverseResponseTable(const ResponseFunction& response, int
             const double u = static_cast<double>(i) / (samples - 1);
             // Held to half precision, as the device's RGBA16F texture (filterable in GLES 3.0,
             // unlike RGBA32F) holds it: CPU and GPU look up the same numbers.
-            levels.push_back(halfToFloat(floatToHalf(static_cast<float>(response.level(c, u * u)))));
+            levels.push_back(
+                halfToFloat(floatToHalf(static_cast<float>(response.level(c, u * u)))));
         }
     }
 }

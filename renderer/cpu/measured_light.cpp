@@ -17,15 +17,9 @@ std::array<double, 9> inverse3x3(const std::array<double, 9>& m) {
         throw std::invalid_argument("the crosstalk matrix is singular");
     }
     const double s = 1.0 / determinant;
-    return {a * s,
-            (m[2] * m[7] - m[1] * m[8]) * s,
-            (m[1] * m[5] - m[2] * m[4]) * s,
-            b * s,
-            (m[0] * m[8] - m[2] * m[6]) * s,
-            (m[2] * m[3] - m[0] * m[5]) * s,
-            c * s,
-            (m[1] * m[6] - m[0] * m[7]) * s,
-            (m[0] * m[4] - m[1] * m[3]) * s};
+    return {a * s, (m[2] * m[7] - m[1] * m[8]) * s, (m[1] * m[5] - m[2] * m[4]) * s,
+            b * s, (m[0] * m[8] - m[2] * m[6]) * s, (m[2] * m[3] - m[0] * m[5]) * s,
+            c * s, (m[1] * m[6] - m[0] * m[7]) * s, (m[0] * m[4] - m[1] * m[3]) * s};
 }
 
 bool rollOffHighlight(std::array<double, 3>& outputs) {

@@ -39,8 +39,9 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
         (scene.measuredLight->width != width || scene.measuredLight->height != height ||
          scene.measuredLight->irradiance.size() != 3 * static_cast<std::size_t>(width) * height ||
          scene.measuredLight->floor.size() != scene.measuredLight->irradiance.size())) {
-        throw std::invalid_argument("renderProjectorFrame: the measured light's maps are not the "
-                                    "projector's size");
+        throw std::invalid_argument(
+            "renderProjectorFrame: the measured light's maps are not the "
+            "projector's size");
     }
     if (pixels.width() != width || pixels.height() != height) {
         throw std::invalid_argument("renderProjectorFrame: the traced pixels are " +

@@ -395,11 +395,10 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
                                        static_cast<double>(inputs.referenceDistance)
                                  : 1.0;
     for (std::size_t c = 0; c < 3; ++c) {
-        scale[c] = static_cast<float>(static_cast<double>(inputs.gain) *
-                                      static_cast<double>(inputs.lightIntensity[c]) * reference *
-                                      (measuredLight_ ? 1.0
-                                                      : kPi / static_cast<double>(
-                                                                  settings_.screenAlbedo[c])));
+        scale[c] = static_cast<float>(
+            static_cast<double>(inputs.gain) * static_cast<double>(inputs.lightIntensity[c]) *
+            reference *
+            (measuredLight_ ? 1.0 : kPi / static_cast<double>(settings_.screenAlbedo[c])));
     }
     glUniform3fv(frame.radianceScale, 1, scale.data());
     glUniform1f(frame.falloff, inputs.inverseSquare ? 1.0f : 0.0f);

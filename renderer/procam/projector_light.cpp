@@ -81,7 +81,8 @@ ProjectorLight::ProjectorLight(const SimulatedProjector& projector, const RgbIma
         for (std::size_t i = 0; i < output_.size(); i += 3) {
             const double r = output_[i], g = output_[i + 1], b = output_[i + 2];
             for (std::size_t k = 0; k < 3; ++k) {
-                output_[i + k] = static_cast<float>(m[3 * k] * r + m[3 * k + 1] * g + m[3 * k + 2] * b);
+                output_[i + k] =
+                    static_cast<float>(m[3 * k] * r + m[3 * k + 1] * g + m[3 * k + 2] * b);
             }
         }
     }

@@ -315,10 +315,10 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
         scene.board = b;
     }
 
-    const Section projector(root["projector"].as_table(), source, "projector",
-                            {"size", "K", "distortion", "R", "T", "gamma", "curve_red",
-                             "curve_green", "curve_blue", "black_level", "mixing",
-                             "peak_irradiance", "blur_px"});
+    const Section projector(
+        root["projector"].as_table(), source, "projector",
+        {"size", "K", "distortion", "R", "T", "gamma", "curve_red", "curve_green", "curve_blue",
+         "black_level", "mixing", "peak_irradiance", "blur_px"});
     if (!projector.present()) {
         throw SceneFileError(source + ": projector: missing section");
     }
@@ -337,7 +337,8 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
         std::array<std::vector<double>, 3> levels, outputs{*red, *green, *blue};
         for (std::size_t c = 0; c < 3; ++c) {
             for (std::size_t i = 0; i < outputs[c].size(); ++i) {
-                levels[c].push_back(static_cast<double>(i) / static_cast<double>(outputs[c].size() - 1));
+                levels[c].push_back(static_cast<double>(i) /
+                                    static_cast<double>(outputs[c].size() - 1));
             }
         }
         try {

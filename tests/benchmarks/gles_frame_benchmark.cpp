@@ -223,9 +223,9 @@ int main(int argc, char** argv) {
         std::printf("%-15s %8s %7s %9s %6s %8s %9s %9s %8s %8s %8s\n", "scene", "frame ms", "fps",
                     "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "pi4 fps", "pi5 fps",
                     "load ms");
-        for (const Scene scene : {Scene{"static-preset", false, false}, Scene{"fade", false, true},
-                                  Scene{"live-2-regions", true, false},
-                                  Scene{"measured-light", false, false, true}}) {
+        for (const Scene scene :
+             {Scene{"static-preset", false, false}, Scene{"fade", false, true},
+              Scene{"live-2-regions", true, false}, Scene{"measured-light", false, false, true}}) {
             gles::GlesRendererOptions options;
             options.liveWeights = scene.liveWeights;
             options.presetFadeSeconds = 1e9;  // "fade": every timed frame is a fading one

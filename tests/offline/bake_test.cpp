@@ -131,7 +131,7 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_EQ(proto::checkThetaBasis(10, view.model().thetaBasis), "");
     // The fit's relief travels into the bundle (format 1.2): x and y of its detail normals.
     EXPECT_TRUE(report["relief"].get<bool>());
-    EXPECT_EQ(view.header().minorVersion, 3);
+    EXPECT_EQ(view.header().minorVersion, proto::kBundleMinorVersion);
     // The demo projector has no camera beside it: none in the bundle.
     EXPECT_FALSE(report["camera"].get<bool>());
     EXPECT_FALSE(view.camera().has_value());

@@ -339,8 +339,8 @@ TEST_F(BundleWriter, WritesTheCameraWhenThereIsOneAndRefusesABadOne) {
 }
 
 TEST_F(BundleWriter, WritesTheMeasuredLightAndRefusesBadMaps) {
-    EXPECT_FALSE((bake::writeBundle(path(), contents_),
-                  BundleFile::open(path())->radiometry().has_value()));
+    EXPECT_FALSE(
+        (bake::writeBundle(path(), contents_), BundleFile::open(path())->radiometry().has_value()));
     const std::size_t pixels =
         static_cast<std::size_t>(contents_.projector.width) * contents_.projector.height;
     bake::BundleRadiometry radiometry;

@@ -82,8 +82,8 @@ TEST(Radiometry, MeasuresTheCrosstalkTheRoomAndTheResponse) {
              (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
     // The scene's crosstalk (gallery_installation.cpp), each camera channel's row divided by its
     // own primary's share: X_kc = m_kc / m_kk.
-    const double truth[9] = {1, 0.07 / 0.92, 0.01 / 0.92, 0.06 / 0.88, 1, 0.05 / 0.88,
-                             0.01 / 0.93, 0.09 / 0.93, 1};
+    const double truth[9] = {
+        1, 0.07 / 0.92, 0.01 / 0.92, 0.06 / 0.88, 1, 0.05 / 0.88, 0.01 / 0.93, 0.09 / 0.93, 1};
     for (std::size_t i = 0; i < 9; ++i) {
         EXPECT_NEAR(measured["mixing"][i].get<double>(), truth[i], 0.003) << i;
     }
@@ -117,8 +117,8 @@ TEST(Radiometry, MeasuresTheCrosstalkTheRoomAndTheResponse) {
     ASSERT_TRUE(found);
     const double power[3] = {2.6, 2.3, 2.8}, share[3] = {0.35, 0.2, 0.45};
     for (std::size_t c = 0; c < 3; ++c) {
-        const double r = (1 - share[c]) * std::pow(level, power[c]) +
-                         share[c] * level * level * (3 - 2 * level);
+        const double r =
+            (1 - share[c]) * std::pow(level, power[c]) + share[c] * level * level * (3 - 2 * level);
         EXPECT_NEAR(g[c], r, 0.004) << c;
     }
     for (const char* file : {"irradiance.exr", "floor.exr", "measured.json", "contact-sheet.png"}) {
@@ -131,8 +131,12 @@ TEST(Radiometry, TheMeasuredBundleGivesItsTargetWhereTheAssumedOneCannot) {
     const fs::path out = scratch("compensate");
     run({"radiometry", (gallery() / "room" / "scan").string(), "--scan",
          (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
-    const std::vector<std::string> bake{"bake", "--texture", (gallery() / "texture.exr").string(),
-                                        "--scan", (gallery() / "scan").string(), "--mesh",
+    const std::vector<std::string> bake{"bake",
+                                        "--texture",
+                                        (gallery() / "texture.exr").string(),
+                                        "--scan",
+                                        (gallery() / "scan").string(),
+                                        "--mesh",
                                         (gallery() / "room" / "object.obj").string()};
     std::vector<std::string> measured = bake;
     measured.insert(measured.end(), {"--radiometry", (out / "radiometry").string(), "--out",
@@ -177,9 +181,9 @@ TEST(Radiometry, AnIspCameraIsLinearizedFromItsBracket) {
         proto::readRadiometryManifest(out / "capture" / "radiometry");
     EXPECT_EQ(manifest.camera.response, proto::CameraResponseKind::kUnknown);
     EXPECT_EQ(manifest.camera.bits, 8);
-    const nlohmann::json measured = run({"radiometry", (out / "capture").string(), "--scan",
-                                         (gallery() / "scan").string(), "--out",
-                                         (out / "radiometry").string()});
+    const nlohmann::json measured =
+        run({"radiometry", (out / "capture").string(), "--scan", (gallery() / "scan").string(),
+             "--out", (out / "radiometry").string()});
     EXPECT_FALSE(measured["camera_linear"].get<bool>());
     EXPECT_NEAR(measured["mixing"][1].get<double>(), 0.07 / 0.92, 0.004);
     run({"bake", "--texture", (gallery() / "texture.exr").string(), "--scan",
@@ -212,8 +216,7 @@ TEST(Radiometry, RefusesABrokenCaptureInOneLine) {
     {  // white saturating the camera: the exposure is too long
         const fs::path out = copiedCapture("saturated");
         const std::vector<std::uint16_t> white(656 * 492 * 3, 1023);
-        proto::writePnmAtomically(out / "capture" / "001-flat-white.ppm", 656, 492, 3, 1023,
-                                  white);
+        proto::writePnmAtomically(out / "capture" / "001-flat-white.ppm", 656, 492, 3, 1023, white);
         expectInputError(runCommand(radiometryCommand(out / "capture", out / "result")),
                          {"001-flat-white.ppm", "saturates", "shorten the exposure"});
         EXPECT_FALSE(fs::exists(out / "result"));

@@ -98,10 +98,13 @@ TEST(RadiometryManifest, RefusesInOneLineNamingTheKey) {
     EXPECT_EQ(errorOf(replaced(good, "\"response\": \"linear\"", "\"response\": \"srgb\"")),
               "radiometry.json: camera: response: 'srgb' (linear or unknown)");
     // A flat field missing from the sequence.
-    EXPECT_EQ(errorOf(replaced(good, "    {\"file\":\"003-flat-red-128.ppm\",\"pattern\":\"flat-red-128\"},\n", "")),
-              "radiometry.json: images[3]: pattern 'flat-red-191', expected 'flat-red-128' (the "
-              "sequence's order)");
-    const std::string lastLine = ",\n    {\"file\":\"013-flat-blue-255.ppm\",\"pattern\":\"flat-blue-255\"}";
+    EXPECT_EQ(
+        errorOf(replaced(
+            good, "    {\"file\":\"003-flat-red-128.ppm\",\"pattern\":\"flat-red-128\"},\n", "")),
+        "radiometry.json: images[3]: pattern 'flat-red-191', expected 'flat-red-128' (the "
+        "sequence's order)");
+    const std::string lastLine =
+        ",\n    {\"file\":\"013-flat-blue-255.ppm\",\"pattern\":\"flat-blue-255\"}";
     EXPECT_EQ(errorOf(replaced(good, lastLine, "")),
               "radiometry.json: images: 13 of the sequence's 14 flat fields (the first missing is "
               "'flat-blue-255')");

@@ -350,7 +350,8 @@ TEST_F(GlesShadingGlslTest, MeasuredLightMatchesItsCompensation) {
     for (int column = 0; column < 3; ++column) {
         for (int row = 0; row < 3; ++row) {
             prelude += (column + row == 0 ? "" : ", ") +
-                       gles::glslFloat(static_cast<float>(inverse[static_cast<std::size_t>(3 * row + column)]));
+                       gles::glslFloat(
+                           static_cast<float>(inverse[static_cast<std::size_t>(3 * row + column)]));
         }
     }
     prelude += ");\n";

@@ -159,12 +159,14 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
     if (spec.measuredLight) {
         const auto pw = static_cast<std::uint32_t>(spec.projectorWidth);
         const auto ph = static_cast<std::uint32_t>(spec.projectorHeight);
-        std::vector<std::uint16_t> irradiance(std::size_t{pw} * ph * 4, 0), floor(irradiance.size(), 0);
+        std::vector<std::uint16_t> irradiance(std::size_t{pw} * ph * 4, 0),
+            floor(irradiance.size(), 0);
         for (std::uint32_t y = 0; y < ph; ++y) {
             for (std::uint32_t x = 0; x < pw; ++x) {
                 const std::size_t p = std::size_t{y} * pw + x;
                 const double u = double(x) / pw, v = double(y) / ph;
-                const double stain = 1.0 - 0.3 * std::exp(-40 * ((u - 0.4) * (u - 0.4) + (v - 0.5) * (v - 0.5)));
+                const double stain =
+                    1.0 - 0.3 * std::exp(-40 * ((u - 0.4) * (u - 0.4) + (v - 0.5) * (v - 0.5)));
                 const double corner = 0.8 + 0.4 * u * v;
                 const double f[3] = {0.9 * stain * corner, 0.8 * stain * corner, 0.7 * corner};
                 for (std::size_t k = 0; k < 3; ++k) {
@@ -256,8 +258,8 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
             flatbuffers::Offset<fb::Radiometry> radiometry;
             if (spec.measuredLight) {
                 const std::size_t first = placed.size() - 2;
-                const std::array<double, 9> mixing{1, 0.076, 0.011, 0.068, 1, 0.057,
-                                                   0.011, 0.097, 1};
+                const std::array<double, 9> mixing{1,     0.076, 0.011, 0.068, 1,
+                                                   0.057, 0.011, 0.097, 1};
                 const fb::Mat3d x(flatbuffers::make_span(mixing));
                 radiometry = fb::CreateRadiometry(b, &x, ref(first), ref(first + 1));
             }

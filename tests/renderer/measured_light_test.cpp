@@ -49,7 +49,8 @@ TEST(MeasuredLight, InvertsTheMeasuredModelWhereTheProjectorCanGiveTheTarget) {
     for (double r = 0.05; r < 0.25; r += 0.04) {
         for (double b = 0.03; b < 0.18; b += 0.05) {
             const std::array<double, 3> target{r, 0.6 * r + 0.3 * b, b};
-            const CompensatedPixel pixel = compensateMeasuredPixel(f, d, inverse, table, target, 1.0);
+            const CompensatedPixel pixel =
+                compensateMeasuredPixel(f, d, inverse, table, target, 1.0);
             if (pixel.clippedHigh || pixel.clippedLow) {
                 continue;
             }
@@ -74,9 +75,9 @@ TEST(MeasuredLight, RollsOffAboveTheKneeWithoutAStep) {
         const bool rolled = rollOffHighlight(w);
         EXPECT_EQ(rolled, t > kHighlightKnee);
         EXPECT_LE(w[0], 1.0);
-        EXPECT_GE(w[0], last - 1e-12);              // monotone
-        EXPECT_LT(w[0] - last, 0.0011);             // continuous, slope ≤ 1
-        EXPECT_NEAR(w[1] / w[0], 0.5, 1e-12);       // the hue kept
+        EXPECT_GE(w[0], last - 1e-12);         // monotone
+        EXPECT_LT(w[0] - last, 0.0011);        // continuous, slope ≤ 1
+        EXPECT_NEAR(w[1] / w[0], 0.5, 1e-12);  // the hue kept
         EXPECT_NEAR(w[2] / w[0], 0.25, 1e-12);
         last = w[0];
         previous = w;
@@ -110,7 +111,8 @@ TEST(MeasuredLight, BelowTheFloorIsBlackAndNoLightMeasuredIsClipped) {
     const proto::InverseResponseTable table(g);
     const std::array<double, 9> inverse = inverse3x3(kMixing);
     const float f[3] = {0.3f, 0.3f, 0.3f}, d[3] = {0.05f, 0.05f, 0.05f};
-    const CompensatedPixel dark = compensateMeasuredPixel(f, d, inverse, table, {0.01, 0.01, 0.01}, 1);
+    const CompensatedPixel dark =
+        compensateMeasuredPixel(f, d, inverse, table, {0.01, 0.01, 0.01}, 1);
     EXPECT_TRUE(dark.clippedLow);
     EXPECT_EQ(dark.level, (std::array<double, 3>{0, 0, 0}));
     const float none[3] = {0, 0, 0};

@@ -121,7 +121,8 @@ TEST(ProcamSimulator, CrosstalkLeaksEachPrimaryIntoTheOtherChannels) {
         red.values[i] = 1.0f;
     }
     const RgbImage lit = simulator.radiance(red);
-    const RgbImage white = ProcamSimulator(planeScene(), quietCamera(), 2).radiance(flat(64, 48, 1.0f));
+    const RgbImage white =
+        ProcamSimulator(planeScene(), quietCamera(), 2).radiance(flat(64, 48, 1.0f));
     const std::size_t p = 30 * 80 + 40;
     // Channel k of red light: mixing[3k] of what a pure white primary gives that channel.
     EXPECT_NEAR(lit.values[3 * p] / white.values[3 * p], 0.9, 1e-5);
@@ -295,12 +296,11 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
     EXPECT_NEAR(back.scene.projector.response.output(1, 0.5), 0.5, 1e-12);
 
     // A response that is not a gamma, and crosstalk, read back as written.
-    scene.projector.response =
-        proto::ResponseFunction::sampled(std::vector<double>{0.0, 0.25, 0.5, 1.0},
-                                         std::array<std::vector<double>, 3>{
-                                             std::vector<double>{0, 0.1, 0.3, 1},
-                                             std::vector<double>{0, 0.05, 0.2, 1},
-                                             std::vector<double>{0, 0.08, 0.25, 1}});
+    scene.projector.response = proto::ResponseFunction::sampled(
+        std::vector<double>{0.0, 0.25, 0.5, 1.0},
+        std::array<std::vector<double>, 3>{std::vector<double>{0, 0.1, 0.3, 1},
+                                           std::vector<double>{0, 0.05, 0.2, 1},
+                                           std::vector<double>{0, 0.08, 0.25, 1}});
     scene.projector.mixing = {0.9, 0.08, 0, 0.06, 0.85, 0.05, 0, 0.1, 0.95};
     writeSceneFile(folder / "curves.toml", scene, camera, "object.obj");
     const SceneFile curves = readSceneFile(folder / "curves.toml");

@@ -14,9 +14,9 @@
 namespace vpe::renderer {
 
 struct MeasuredLightMaps {
-    int width = 0, height = 0;       // the projector's
-    std::vector<float> irradiance;   // F: width·height·3, radiance per unit of a primary's output
-    std::vector<float> floor;        // D: width·height·3, radiance at level 0
+    int width = 0, height = 0;      // the projector's
+    std::vector<float> irradiance;  // F: width·height·3, radiance per unit of a primary's output
+    std::vector<float> floor;       // D: width·height·3, radiance at level 0
     std::array<double, 9> mixingInverse{1, 0, 0, 0, 1, 0, 0, 0, 1};  // X⁻¹, row-major
     // g⁻¹ as the device looks it up (the scene's response above black, tabulated).
     proto::InverseResponseTable inverseResponse{proto::ResponseFunction{}, 2};
@@ -40,9 +40,10 @@ bool rollOffHighlight(std::array<double, 3>& outputs);
 //   y = (L − D) / F,
 // the primaries' outputs above black w = X⁻¹ · y, the highlight rolled off (clippedHigh: t > κ),
 // negative outputs raised to 0 (clippedLow: the floor is brighter than the target), then
-// level = g⁻¹(w) through the table the device uses. F ≤ 0 in some channel (no projector light measured there): each primary at
-// level 1 where its channel's target is above the floor (clippedHigh), else 0. gainLimit: the largest gain at which t ≤ κ (+∞ when no primary
-// grows with the gain).
+// level = g⁻¹(w) through the table the device uses. F ≤ 0 in some channel (no projector light
+// measured there): each primary at level 1 where its channel's target is above the floor
+// (clippedHigh), else 0. gainLimit: the largest gain at which t ≤ κ (+∞ when no primary grows with
+// the gain).
 CompensatedPixel compensateMeasuredPixel(const float* irradiance, const float* floor,
                                          const std::array<double, 9>& mixingInverse,
                                          const proto::InverseResponseTable& inverseResponse,

@@ -44,9 +44,9 @@ struct RadiometryView {
 
 struct RadiometryCheck {
     std::vector<RadiometryView> views;
-    double rmsLevels = 0;      // the mean over the lights
+    double rmsLevels = 0;  // the mean over the lights
     double worstRmsLevels = 0;
-    double clippedShare = 0;   // the mean over the lights
+    double clippedShare = 0;  // the mean over the lights
     double belowFloorShare = 0;
 };
 

@@ -41,9 +41,9 @@ struct RadiometryOptions {
 };
 
 struct ProjectorRadiometry {
-    int width = 0, height = 0;         // the projector's
-    std::vector<float> irradiance;     // F: width·height·3, NaN where not measured
-    std::vector<float> floor;          // D: width·height·3, NaN where not measured
+    int width = 0, height = 0;      // the projector's
+    std::vector<float> irradiance;  // F: width·height·3, NaN where not measured
+    std::vector<float> floor;       // D: width·height·3, NaN where not measured
     std::array<double, 9> mixing{1, 0, 0, 0, 1, 0, 0, 0, 1};  // X, row k camera, column c primary
     std::array<double, 9> mixingSpread{};  // robust σ of the per-pixel X over the object
     std::array<double, 9> mixingNoise{};   // the part of it neighbouring pixels attribute to noise
