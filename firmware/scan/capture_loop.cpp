@@ -5,27 +5,13 @@
 #include <csignal>
 #include <cstdio>
 
+#include "scan_time.h"
+
 namespace vpe::firmware {
 
-namespace {
-
-constexpr double kNsPerMs = 1e6;
-
-double msBetween(std::int64_t fromNs, std::int64_t toNs) {
-    return static_cast<double>(toNs - fromNs) / kNsPerMs;
-}
-
-std::string numberText(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
-    return text;
-}
-
-std::int64_t nsOf(double ms) {
-    return static_cast<std::int64_t>(ms * kNsPerMs);
-}
-
-}  // namespace
+using scan_time::msBetween;
+using scan_time::nsOf;
+using scan_time::numberText;
 
 CaptureLoop::CaptureLoop(PatternProjector& projector, ScanCamera& camera, SignalWatch& signals,
                          int width, int height, const CaptureTiming& timing)

@@ -27,13 +27,17 @@
 #include "vpe/proto/scan_manifest.h"
 #include "vpe/proto/structured_light.h"
 
+#include "scan_time.h"
+
 namespace vpe::firmware {
 
 namespace gles = renderer::gles;
 
 namespace {
 
-constexpr double kNsPerMs = 1e6;
+using scan_time::msBetween;
+using scan_time::numberText;
+
 // The still stream's buffers: one being filled, one completed, one with us.
 constexpr unsigned kStillBuffers = 3;
 // The longest frame the camera may take when the exposure is short (µs): a frame rate that
@@ -41,16 +45,6 @@ constexpr unsigned kStillBuffers = 3;
 constexpr std::int64_t kLongestFrameUs = 100'000;
 // A projector's time to lock onto the mode the display just set (the board may say otherwise).
 constexpr double kKmsSettleMs = 1000;
-
-double msBetween(std::int64_t fromNs, std::int64_t toNs) {
-    return static_cast<double>(toNs - fromNs) / kNsPerMs;
-}
-
-std::string numberText(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
-    return text;
-}
 
 std::string sizeText(int width, int height) {
     return std::to_string(width) + "x" + std::to_string(height);

@@ -15,7 +15,6 @@
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
 #include "vpe/radiometry/projector_radiometry.h"
-#include "vpe/scene/response_input.h"
 
 namespace vpe::radiometry {
 
@@ -171,9 +170,8 @@ ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
     for (std::size_t p = 0; 3 * p < r.irradiance.size(); ++p) {
         r.measured += std::isnan(r.irradiance[3 * p]) ? 0 : 1;
     }
-    // The response through the reader vpe bake uses, so both refuse the same files.
-    const scene::ResponseInput response = scene::readProjectorResponseCsv(folder / kResponseFile);
-    (void)response;
+    // The samples as written; vpe bake reads the file itself through readProjectorResponseCsv,
+    // which refuses a malformed one.
     std::ifstream csv(folder / kResponseFile);
     std::string line;
     while (std::getline(csv, line)) {

@@ -100,6 +100,9 @@ inline bool plainFileName(const std::string& name) {
            name.find('\\') == std::string::npos && name.find('\0') == std::string::npos;
 }
 
+// The manifest's "format" and "version": exactly these, or a ScanManifestError.
+void checkManifestHead(const JsonFields& root, const char* format, int version);
+
 // A manifest's text: `head` indented, then "images" with one image a line (readable, diffable).
 std::string manifestText(const Json& head, const std::vector<ScanImage>& images);
 

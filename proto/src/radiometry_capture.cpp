@@ -127,14 +127,7 @@ std::string radiometryManifestJson(const RadiometryManifest& m) {
 RadiometryManifest parseRadiometryManifest(std::string_view text, const std::string& source) {
     const Json json = detail::parseJsonText(text, source);
     const Fields root(json, source, "");
-    if (root.text("format", true) != "vpe-radiometry") {
-        root.fail("format: expected \"vpe-radiometry\"");
-    }
-    const int version = root.integer("version", 0, 1 << 30);
-    if (version != kRadiometryManifestVersion) {
-        root.fail("version " + std::to_string(version) + ": this reader reads version " +
-                  std::to_string(kRadiometryManifestVersion));
-    }
+    detail::checkManifestHead(root, "vpe-radiometry", kRadiometryManifestVersion);
     RadiometryManifest m;
     m.createdBy = root.text("created_by", false);
     const Fields projector = root.child("projector");

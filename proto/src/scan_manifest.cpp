@@ -48,14 +48,7 @@ std::string scanManifestJson(const ScanManifest& m) {
 ScanManifest parseScanManifest(std::string_view text, const std::string& source) {
     const Json json = detail::parseJsonText(text, source);
     const Fields root(json, source, "");
-    if (root.text("format", true) != "vpe-scan") {
-        root.fail("format: expected \"vpe-scan\"");
-    }
-    const int version = root.integer("version", 0, 1 << 30);
-    if (version != kScanManifestVersion) {
-        root.fail("version " + std::to_string(version) + ": this reader reads version " +
-                  std::to_string(kScanManifestVersion));
-    }
+    detail::checkManifestHead(root, "vpe-scan", kScanManifestVersion);
     ScanManifest m;
     m.createdBy = root.text("created_by", false);
     const Fields projector = root.child("projector");
@@ -117,6 +110,17 @@ std::string scanImageName(std::size_t index, const PatternSpec& pattern) {
 }
 
 namespace detail {
+
+void checkManifestHead(const JsonFields& root, const char* format, int version) {
+    if (root.text("format", true) != format) {
+        root.fail(std::string("format: expected \"") + format + "\"");
+    }
+    const int found = root.integer("version", 0, 1 << 30);
+    if (found != version) {
+        root.fail("version " + std::to_string(found) + ": this reader reads version " +
+                  std::to_string(version));
+    }
+}
 
 std::string manifestText(const Json& head, const std::vector<ScanImage>& images) {
     std::string text = head.dump(2);
