@@ -25,6 +25,7 @@
 #include "vpe/proto/pnm_image.h"
 #include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
+#include "vpe/proto/srgb.h"
 #include "vpe/renderer/procam/scene_file.h"
 #include "vpe/scene/projector_calibration.h"
 
@@ -206,8 +207,7 @@ SheetTile linearTile(std::string label, const renderer::RgbImage& image, double 
     tile.pixels.reserve(image.values.size());
     for (const float v : image.values) {
         const double x = std::clamp(double(v) / white, 0.0, 1.0);
-        tile.pixels.push_back(
-            static_cast<float>(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055));
+        tile.pixels.push_back(static_cast<float>(proto::linearToSrgb(x)));
     }
     return tile;
 }

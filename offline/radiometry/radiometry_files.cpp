@@ -14,6 +14,7 @@
 #include "vpe/common/quantile.h"
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/srgb.h"
 #include "vpe/radiometry/projector_radiometry.h"
 
 namespace vpe::radiometry {
@@ -89,8 +90,7 @@ SheetTile rgbTile(std::string label, int width, int height, const std::vector<fl
     for (std::size_t i = 0; i < values.size(); ++i) {
         const double v =
             std::isnan(values[i]) ? 0.0 : std::clamp(double(values[i]) * scale, 0.0, 1.0);
-        tile.pixels[i] =
-            static_cast<float>(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+        tile.pixels[i] = static_cast<float>(proto::linearToSrgb(v));
     }
     return tile;
 }
