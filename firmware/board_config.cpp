@@ -18,8 +18,9 @@ namespace {
 
 using namespace toml_fields;
 
-// Input sections: parsed by their rooms (knobs/, tracking/, osc/) through BoardConfig::section.
-const std::set<std::string, std::less<>> kInputSections{"gpio", "camera", "osc"};
+// Input sections: parsed by their rooms (knobs/, tracking/, osc/, bus/) through
+// BoardConfig::section.
+const std::set<std::string, std::less<>> kInputSections{"gpio", "camera", "osc", "bus"};
 
 bool parseInt(std::string_view text, int& value) {
     if (text.empty()) {

@@ -26,12 +26,14 @@ long positive(const std::string& option, const std::string& text) {
 const char* playerUsage() {
     return "usage: vpe-player --board FILE --bundle FILE [--frames N] [--size WxH] [--rate HZ]\n"
            "                  [--out DIR] [--every K] [--preset NAME] [--replay EVENTS.jsonl]\n"
-           "                  [--replay-loop] [--json]\n"
+           "                  [--replay-loop] [--light-log FILE] [--json]\n"
            "       vpe-player --board FILE [--bundle FILE] --check\n"
            "       vpe-player --board FILE --scan OUT [--size WxH] [--json]\n"
            "  --frames N   stop after N frames (default: run until SIGTERM or SIGINT)\n"
            "  --rate HZ    headless frame rate (default: the board's render.rate; 0 = unpaced)\n"
            "  --replay F   feed recorded input events (firmware/README.md) through the decoders\n"
+           "  --light-log F  one JSON line per frame: presentation time (CLOCK_REALTIME, us)\n"
+           "               and the light drawn (to compare the nodes of a show)\n"
            "  --scan OUT   show the structured-light patterns, photograph each with the board's\n"
            "               camera ([scan], [camera]) and write the scan folder OUT\n"
            "  SIGHUP, or the bundle file being replaced, reloads the bundle\n";
@@ -60,7 +62,7 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         if (option != "--board" && option != "--bundle" && option != "--frames" &&
             option != "--size" && option != "--out" && option != "--every" &&
             option != "--preset" && option != "--rate" && option != "--replay" &&
-            option != "--scan") {
+            option != "--scan" && option != "--light-log") {
             throw PlayerUsageError(option + ": unknown argument (see vpe-player --help)");
         }
         if (i + 1 >= arguments.size()) {
@@ -83,6 +85,11 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
             options.rate = rate;
         } else if (option == "--replay") {
             options.replay = value;
+        } else if (option == "--light-log") {
+            if (value.empty()) {
+                throw PlayerUsageError("--light-log: expected a file, got \"\"");
+            }
+            options.lightLog = value;
         } else if (option == "--scan") {
             if (value.empty()) {
                 throw PlayerUsageError("--scan: expected a folder, got \"\"");
@@ -114,7 +121,8 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
                 {options.frames != 0, "--frames"},     {options.out.has_value(), "--out"},
                 {options.every != 1, "--every"},       {!options.preset.empty(), "--preset"},
                 {options.rate.has_value(), "--rate"},  {options.replay.has_value(), "--replay"},
-                {options.replayLoop, "--replay-loop"}};
+                {options.replayLoop, "--replay-loop"},
+                {options.lightLog.has_value(), "--light-log"}};
             for (const auto& [given, name] : playing) {
                 if (given) {
                     throw PlayerUsageError(std::string(name) +

@@ -42,7 +42,7 @@ int run(const fw::PlayerOptions& options, std::int64_t startNs) {
     }
     // Parse every input section before opening anything: a bad board file fails at once.
     const fw::InputSettings inputs = fw::readInputSettings(board);
-    fw::Player player(options, board, startNs);
+    fw::Player player(options, board, startNs, fw::showClockFor(inputs));
     fw::addInputs(player, inputs, options);
     const fw::FrameReport report = player.run();
     std::cout << report.summaryLine() << "\n";

@@ -17,6 +17,8 @@ const char* inputSourceName(InputSource source) {
             return "osc";
         case InputSource::kIdle:
             return "idle";
+        case InputSource::kBus:
+            return "bus";
     }
     return "unknown";
 }

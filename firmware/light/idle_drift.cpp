@@ -18,12 +18,21 @@ SphericalPosition IdleDrift::path(double seconds, double distanceM) const {
             between(config_.elevationDeg, std::sin(2.0 * phase)), distanceM};
 }
 
-SphericalPosition IdleDrift::position(const SphericalPosition& from, double seconds) const {
-    const SphericalPosition onPath = path(seconds, from.distanceM);
-    if (config_.handoverSeconds <= 0 || seconds >= config_.handoverSeconds) {
+double IdleDrift::phaseAt(std::int64_t nowNs) const {
+    // In integer nanoseconds: a wall clock's 1.7e18 ns as a double would lose the phase's
+    // sub-microsecond steps.
+    const auto periodNs = std::max<std::int64_t>(std::llround(config_.periodSeconds * 1e9), 1);
+    const std::int64_t within = ((nowNs % periodNs) + periodNs) % periodNs;
+    return static_cast<double>(within) * 1e-9;
+}
+
+SphericalPosition IdleDrift::position(const SphericalPosition& from, double sinceStart,
+                                      double pathSeconds) const {
+    const SphericalPosition onPath = path(pathSeconds, from.distanceM);
+    if (config_.handoverSeconds <= 0 || sinceStart >= config_.handoverSeconds) {
         return onPath;
     }
-    const double t = std::clamp(seconds / config_.handoverSeconds, 0.0, 1.0);
+    const double t = std::clamp(sinceStart / config_.handoverSeconds, 0.0, 1.0);
     const double w = t * t * (3.0 - 2.0 * t);
     // The shortest way round in azimuth, so a light at +170° does not sweep through 0°.
     double dAz = std::remainder(onPath.azimuthDeg - from.azimuthDeg, 360.0);

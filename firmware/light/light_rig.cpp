@@ -11,6 +11,10 @@ namespace {
 
 constexpr double kNsPerSecond = 1e9;
 
+double secondsBetween(std::int64_t fromNs, std::int64_t toNs) {
+    return static_cast<double>(toNs - fromNs) / kNsPerSecond;
+}
+
 // Full-circle azimuth limits wrap; narrower ones clamp.
 bool wraps(const LightLimits& limits) {
     return limits.azimuthDeg.second - limits.azimuthDeg.first >= 360.0;
@@ -37,10 +41,13 @@ LightRig::LightRig(const LightConfig& light, const IdleConfig& idle, const Light
       idleConfig_(idle),
       sphere_(sphere),
       limits_(resolved(light.limits, sphere)),
+      moveStartNs_(nowNs),
       presetCount_(std::max(presetCount, 1)),
-      lastInputNs_(nowNs),
       lastAdvanceNs_(nowNs) {
-    initial_ = target_ = current_ = clamped(initialOf(config_, sphere_));
+    initial_ = from_ = target_ = current_ = clamped(initialOf(config_, sphere_));
+    if (idleConfig_.enabled) {
+        driftAtNs_ = nowNs + static_cast<std::int64_t>(idleConfig_.quietSeconds * kNsPerSecond);
+    }
 }
 
 SphericalPosition LightRig::clamped(SphericalPosition p) const {
@@ -56,39 +63,103 @@ SphericalPosition LightRig::clamped(SphericalPosition p) const {
     return p;
 }
 
-void LightRig::leaveIdle() {
-    if (idleSince_) {
-        // Steering resumes from where the drift brought the light: no jump back.
-        target_ = current_;
-        idleSince_.reset();
+SphericalPosition LightRig::movedAt(std::int64_t nowNs) const {
+    if (config_.smoothingSeconds <= 0) {
+        return target_;
     }
+    if (nowNs <= moveStartNs_) {
+        return from_;
+    }
+    // The exponential approach in closed form: the same light at a given time however many
+    // frames were drawn on the way (a node at 50 Hz and one at 60 Hz agree).
+    const double reached =
+        1.0 - std::exp(-secondsBetween(moveStartNs_, nowNs) / config_.smoothingSeconds);
+    double dAz = target_.azimuthDeg - from_.azimuthDeg;
+    if (wraps(limits_)) {
+        dAz = std::remainder(dAz, 360.0);
+    }
+    return clamped({from_.azimuthDeg + reached * dAz,
+                    from_.elevationDeg + reached * (target_.elevationDeg - from_.elevationDeg),
+                    from_.distanceM + reached * (target_.distanceM - from_.distanceM)});
+}
+
+SphericalPosition LightRig::lightAt(std::int64_t nowNs) const {
+    if (!driftingAt(nowNs)) {
+        return movedAt(nowNs);
+    }
+    return clamped(drift_.position(movedAt(*driftAtNs_), secondsBetween(*driftAtNs_, nowNs),
+                                   drift_.phaseAt(nowNs)));
+}
+
+void LightRig::touched(std::int64_t eventNs) {
+    // Strictly newer than anything seen, so that other nodes take it even when a state from
+    // a node whose clock runs slightly ahead arrived first.
+    revisionNs_ = std::max(eventNs, revisionNs_ + 1);
+}
+
+template <typename Aim>
+void LightRig::steer(InputSource source, std::int64_t eventNs, Aim aim) {
+    // The move starts at the event, or at the frame already shown when that is later: the
+    // light continues from what is on screen.
+    const std::int64_t startNs = std::max({eventNs, lastAdvanceNs_, moveStartNs_});
+    const SphericalPosition here = lightAt(startNs);
+    // Steering resumes from where the drift brought the light (relative knob turns too).
+    const SphericalPosition base = driftingAt(startNs) ? here : target_;
+    from_ = here;
+    target_ = clamped(aim(base));
+    moveStartNs_ = startNs;
+    driftAtNs_.reset();
+    if (idleConfig_.enabled) {
+        driftAtNs_ = startNs + static_cast<std::int64_t>(idleConfig_.quietSeconds * kNsPerSecond);
+    }
+    steeredBy_ = source;
+    touched(startNs);
+}
+
+void LightRig::follow(const SharedLight& state) {
+    if (state.revisionNs <= revisionNs_) {
+        ++staleStates_;  // an echo of this node's own state, or one it has already superseded
+        return;
+    }
+    from_ = clamped(state.from);
+    target_ = clamped(state.target);
+    moveStartNs_ = state.moveStartNs;
+    driftAtNs_ = state.driftAtNs;
+    if (state.preset >= 0 && state.preset < presetCount_) {
+        preset_ = state.preset;
+    }
+    revisionNs_ = state.revisionNs;
+    steeredBy_ = InputSource::kBus;
 }
 
 bool LightRig::apply(const InputEvent& event) {
     bool accepted = true;
-    bool steers = true;  // does the event move the light (and so make its source active)?
+    const std::int64_t t = event.timestampNs;
     std::visit(
         [&](const auto& action) {
             using Action = std::decay_t<decltype(action)>;
             if constexpr (std::is_same_v<Action, TurnLight>) {
-                leaveIdle();
-                target_.azimuthDeg += action.azimuthDeg;
-                target_.elevationDeg += action.elevationDeg;
-                target_.distanceM += action.distanceM;
+                steer(event.source, t, [&](SphericalPosition p) {
+                    p.azimuthDeg += action.azimuthDeg;
+                    p.elevationDeg += action.elevationDeg;
+                    p.distanceM += action.distanceM;
+                    return p;
+                });
             } else if constexpr (std::is_same_v<Action, AimLight>) {
-                leaveIdle();
-                target_.azimuthDeg = action.azimuthDeg.value_or(target_.azimuthDeg);
-                target_.elevationDeg = action.elevationDeg.value_or(target_.elevationDeg);
-                target_.distanceM = action.distanceM.value_or(target_.distanceM);
+                steer(event.source, t, [&](SphericalPosition p) {
+                    p.azimuthDeg = action.azimuthDeg.value_or(p.azimuthDeg);
+                    p.elevationDeg = action.elevationDeg.value_or(p.elevationDeg);
+                    p.distanceM = action.distanceM.value_or(p.distanceM);
+                    return p;
+                });
             } else if constexpr (std::is_same_v<Action, PlaceLight>) {
-                leaveIdle();
-                target_ = sphere_.fromPosition(action.position);
+                steer(event.source, t,
+                      [&](const SphericalPosition&) { return sphere_.fromPosition(action.position); });
             } else if constexpr (std::is_same_v<Action, ResetLight>) {
-                leaveIdle();
-                target_ = initial_;
+                steer(event.source, t, [&](const SphericalPosition&) { return initial_; });
             } else if constexpr (std::is_same_v<Action, SelectPreset>) {
                 // Choosing a material is not steering: the light keeps what it was doing.
-                steers = false;
+                const int before = preset_;
                 if (action.relative) {
                     preset_ =
                         ((preset_ + action.value) % presetCount_ + presetCount_) % presetCount_;
@@ -97,60 +168,49 @@ bool LightRig::apply(const InputEvent& event) {
                 } else {
                     accepted = false;
                 }
+                // The player adopting the renderer's preset (source idle) is no change to share.
+                if (preset_ != before && event.source != InputSource::kIdle) {
+                    touched(t);
+                }
             } else if constexpr (std::is_same_v<Action, ReleaseLight>) {
-                steers = false;
                 // Only the steering source can let go; the drift starts at once, since the
                 // source already waited (a lost lamp holds for its hold time first).
-                if (event.source == active_ && idleConfig_.enabled && !idleSince_) {
-                    idleSince_ = event.timestampNs;
-                    idleFrom_ = current_;
-                    active_ = InputSource::kIdle;
+                const std::int64_t at = std::max({t, lastAdvanceNs_, moveStartNs_});
+                if (event.source == steeredBy_ && idleConfig_.enabled && !driftingAt(at)) {
+                    driftAtNs_ = at;
+                    touched(at);
                 }
+            } else if constexpr (std::is_same_v<Action, FollowLight>) {
+                follow(action.state);
             }
         },
         event.action);
-    if (steers) {
-        target_ = clamped(target_);
-        active_ = event.source;
-        lastInputNs_ = std::max(lastInputNs_, event.timestampNs);
-    }
     if (accepted) {
-        lastEventNs_ = std::max(lastEventNs_, event.timestampNs);
+        lastEventNs_ = std::max(lastEventNs_, t);
     }
     return accepted;
 }
 
 void LightRig::advance(std::int64_t nowNs) {
-    const double dt =
-        static_cast<double>(std::max<std::int64_t>(nowNs - lastAdvanceNs_, 0)) / kNsPerSecond;
     lastAdvanceNs_ = std::max(lastAdvanceNs_, nowNs);
-    if (!idleSince_ && idleConfig_.enabled &&
-        static_cast<double>(nowNs - lastInputNs_) >= idleConfig_.quietSeconds * kNsPerSecond) {
-        idleSince_ = nowNs;
-        idleFrom_ = current_;
-        active_ = InputSource::kIdle;
-    }
-    if (idleSince_) {
-        const double seconds =
-            static_cast<double>(std::max<std::int64_t>(nowNs - *idleSince_, 0)) / kNsPerSecond;
-        target_ = current_ = clamped(drift_.position(idleFrom_, seconds));
-        return;
-    }
-    const double follow =
-        config_.smoothingSeconds <= 0 ? 1.0 : 1.0 - std::exp(-dt / config_.smoothingSeconds);
-    double dAz = target_.azimuthDeg - current_.azimuthDeg;
-    if (wraps(limits_)) {
-        dAz = std::remainder(dAz, 360.0);
-    }
-    current_.azimuthDeg += follow * dAz;
-    current_.elevationDeg += follow * (target_.elevationDeg - current_.elevationDeg);
-    current_.distanceM += follow * (target_.distanceM - current_.distanceM);
-    current_ = clamped(current_);
+    current_ = lightAt(lastAdvanceNs_);
 }
 
 std::array<float, 3> LightRig::position() const {
     const std::array<double, 3> p = sphere_.toPosition(current_);
     return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
+}
+
+SharedLight LightRig::shared() const {
+    SharedLight state;
+    state.from = from_;
+    state.target = target_;
+    state.moveStartNs = moveStartNs_;
+    state.driftAtNs = driftAtNs_;
+    state.preset = preset_;
+    state.revisionNs = revisionNs_;
+    state.steeredBy = steeredBy_;
+    return state;
 }
 
 void LightRig::rebase(const LightSphere& sphere, int presetCount) {
@@ -159,11 +219,9 @@ void LightRig::rebase(const LightSphere& sphere, int presetCount) {
     presetCount_ = std::max(presetCount, 1);
     preset_ = std::min(preset_, presetCount_ - 1);
     initial_ = clamped(initialOf(config_, sphere_));
+    from_ = clamped(from_);
     target_ = clamped(target_);
     current_ = clamped(current_);
-    if (idleSince_) {
-        idleFrom_ = clamped(idleFrom_);
-    }
 }
 
 }  // namespace vpe::firmware

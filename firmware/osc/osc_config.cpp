@@ -28,7 +28,7 @@ OscConfig parseOscConfig(const toml::table* osc, const std::string& source) {
         return config;
     }
     const std::string section = "osc";
-    checkKeys(*osc, source, section, {"enabled", "address", "port", "protocol"});
+    checkKeys(*osc, source, section, {"enabled", "address", "port", "protocol", "allow"});
     config.enabled = optionalBool(*osc, source, section, "enabled").value_or(config.enabled);
     if (const auto address = optionalString(*osc, source, section, "address")) {
         if (!isNumericAddress(*address)) {
@@ -51,6 +51,35 @@ OscConfig parseOscConfig(const toml::table* osc, const std::string& source) {
             fail(source, qualified(section, "protocol"),
                  "expected \"udp\" (the only protocol), got \"" + *protocol + "\"");
         }
+    }
+    if (const toml::node* allow = osc->get("allow")) {
+        const toml::array* entries = allow->as_array();
+        if (entries == nullptr) {
+            fail(source, qualified(section, "allow"),
+                 std::string("expected an array of addresses, got ") + typeName(*allow));
+        }
+        if (entries->empty()) {
+            // An empty list could mean "nobody" or "anybody": neither is guessed.
+            fail(source, qualified(section, "allow"),
+                 "empty; leave the key out to take datagrams from every sender, or set "
+                 "osc.enabled = false");
+        }
+        std::vector<SourceAllowList::Network> networks;
+        for (std::size_t i = 0; i < entries->size(); ++i) {
+            const std::string key = "allow[" + std::to_string(i) + "]";
+            const auto* text = (*entries)[i].as_string();
+            if (text == nullptr) {
+                fail(source, qualified(section, key),
+                     std::string("expected a string, got ") + typeName((*entries)[i]));
+            }
+            std::string problem;
+            auto network = SourceAllowList::parse(text->get(), problem);
+            if (!network) {
+                fail(source, qualified(section, key), problem);
+            }
+            networks.push_back(std::move(*network));
+        }
+        config.allow = SourceAllowList(std::move(networks));
     }
     return config;
 }

@@ -175,6 +175,8 @@ const char* oscRejectionName(OscRejection reason) {
             return "unknown_preset";
         case OscRejection::kMalformedPacket:
             return "malformed_packet";
+        case OscRejection::kSourceNotAllowed:
+            return "source_not_allowed";
     }
     return "unknown";
 }
@@ -227,6 +229,10 @@ OscOutcome OscDispatcher::accept(OscOutcome outcome) {
 
 void OscDispatcher::rejectMalformed(const std::string& problem, std::int64_t timestampNs) {
     reject(OscRejection::kMalformedPacket, problem, timestampNs);
+}
+
+void OscDispatcher::rejectSource(const std::string& problem, std::int64_t timestampNs) {
+    reject(OscRejection::kSourceNotAllowed, problem, timestampNs);
 }
 
 OscOutcome OscDispatcher::dispatch(std::string_view path, std::span<const OscArgument> arguments,

@@ -46,7 +46,7 @@ using MessagePointer = std::unique_ptr<std::remove_pointer_t<lo_message>, Messag
 }  // namespace
 
 OscServer::OscServer(const OscConfig& config, const OscLimits& limits, RateLimitedLog::Sink log)
-    : dispatcher_(limits, std::move(log)), host_(hostForUrl(config.address)) {
+    : dispatcher_(limits, std::move(log)), host_(hostForUrl(config.address)), allow_(config.allow) {
     const auto unavailable = [&](const std::string& problem) {
         return OscUnavailable("osc.udp://" + host_ + ":" + std::to_string(config.port) + ": " +
                               problem);
@@ -99,7 +99,8 @@ OscServer::~OscServer() {
 }
 
 std::string OscServer::description() const {
-    return "osc (" + host_ + ":" + std::to_string(port_) + ")";
+    return "osc (" + host_ + ":" + std::to_string(port_) +
+           (allow_.allowsEverySender() ? "" : ", from " + allow_.describe()) + ")";
 }
 
 void OscServer::setStatusProvider(std::function<OscStatus()> provider) {
@@ -131,6 +132,12 @@ void OscServer::onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& 
 void OscServer::handleDatagram(std::size_t size, const sockaddr_storage& sender,
                                socklen_t senderLength, std::int64_t nowNs,
                                std::vector<InputEvent>& events) {
+    if (!allow_.allows(sender)) {
+        dispatcher_.rejectSource("datagram of " + std::to_string(size) + " bytes from " +
+                                     describeSender(sender) + ": not in [osc] allow",
+                                 nowNs);
+        return;
+    }
     if (size > buffer_.size()) {  // MSG_TRUNC reports the datagram's real size
         dispatcher_.rejectMalformed(
             "datagram of " + std::to_string(size) + " bytes: longer than any UDP payload", nowNs);

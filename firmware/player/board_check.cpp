@@ -130,6 +130,20 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
     } else {
         out << "  osc: off\n";
     }
+    if (inputs.bus && inputs.bus->enabled) {
+        const bus::BusConfig& bus = *inputs.bus;
+        out << "  bus: " << (bus.tls() ? "mqtts://" : "mqtt://")
+            << (bus.host.find(':') == std::string::npos ? bus.host : "[" + bus.host + "]") << ":"
+            << bus.port << ", topic " << bus.topic() << ", " << bus::busRoleName(bus.role) << " \""
+            << bus.clientId << "\", "
+            << (bus.username.empty() ? std::string("no credentials")
+                                     : "user \"" + bus.username + "\"" +
+                                           (bus.password.empty() ? "" : " with a password"))
+            << (bus.tls() ? ", TLS with " + bus.cafile->string() : std::string(", no TLS"))
+            << "; the clock shared with the other nodes: CLOCK_REALTIME (chrony)\n";
+    } else {
+        out << "  bus: off\n";
+    }
     out << "  light: azimuth " << range(board.light.limits.azimuthDeg) << "°, elevation "
         << range(board.light.limits.elevationDeg) << "°, distance "
         << (board.light.limits.distanceM ? range(*board.light.limits.distanceM) + " m"

@@ -111,6 +111,12 @@ std::string FrameReport::json() const {
         json << (first ? "" : ", ") << jsonString(reason) << ": " << count;
         first = false;
     }
+    json << "}, \"counters\": {";
+    first = true;
+    for (const auto& [name, count] : counters) {
+        json << (first ? "" : ", ") << jsonString(name) << ": " << count;
+        first = false;
+    }
     json << "}, \"reloads\": " << reloads << ", \"reloads_refused\": " << reloadsRefused
          << ", \"errors\": " << errors << ", \"written\": " << written
          << ", \"stopped_by\": " << jsonString(stoppedBy)

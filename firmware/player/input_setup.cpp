@@ -5,6 +5,7 @@
 #include <utility>
 #include <variant>
 
+#include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/knobs/gpio_knobs.h"
 #include "vpe/firmware/knobs/knobs_config_parser.h"
 #include "vpe/firmware/osc/osc_server.h"
@@ -49,7 +50,31 @@ void followBundleCamera(Player& player, const CameraConfig& camera, const InputS
     });
 }
 
+// The shared light: an input (other nodes' states) and the publisher of this node's own.
+void addBus(Player& player, const bus::BusConfig& config) {
+    try {
+        auto light = std::make_unique<bus::LightBus>(config, player.rig().limits(),
+                                                     presetNamesOf(player.bundle()), playerLog);
+        bus::LightBus* raw = light.get();
+        playerLog(raw->description());
+        const Player* observed = &player;
+        player.onBundleReloaded([raw, observed] {
+            raw->setPresetNames(presetNamesOf(observed->bundle()));
+            raw->setLimits(observed->rig().limits());
+        });
+        player.setPublisher(raw);
+        player.addInput(std::move(light));
+    } catch (const bus::MqttUnavailable& error) {
+        playerLog(std::string("bus: ") + error.what() + "; playing without it");
+    }
+}
+
 }  // namespace
+
+ShowClock showClockFor(const InputSettings& settings) {
+    return ShowClock(settings.bus && settings.bus->enabled ? ShowClock::Kind::kRealtime
+                                                           : ShowClock::Kind::kMonotonic);
+}
 
 LampDirectionMap lampDirectionFor(const CameraConfig& camera, const InputSettings& settings,
                                   const proto::BundleView& bundle) {
@@ -74,6 +99,9 @@ InputSettings readInputSettings(const BoardConfig& board) {
     if (const toml::table* osc = board.section("osc")) {
         settings.osc = parseOscConfig(osc, board.source);
     }
+    if (const toml::table* bus = board.section("bus")) {
+        settings.bus = bus::parseBusConfig(bus, board.source);
+    }
     return settings;
 }
 
@@ -88,6 +116,10 @@ OscLimits oscLimitsOf(const LightLimits& light) {
 }
 
 void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options) {
+    // The bus is not the board's hardware: a replayed node shares its light like a live one.
+    if (settings.bus && settings.bus->enabled) {
+        addBus(player, *settings.bus);
+    }
     if (options.replay) {
         // A replay stands in for every input: a session reproduced exactly, whatever the
         // machine has attached.

@@ -70,15 +70,17 @@ LightSphere Player::sphereOf(const proto::BundleView& view) {
     return LightSphere(view.mesh().positions, view.settings().viewerPosition);
 }
 
-Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int64_t processStartNs)
+Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int64_t processStartNs,
+               ShowClock clock)
     : options_(options),
       board_(board),
       processStartNs_(processStartNs),
+      clock_(clock),
       headless_(board.display.backend == DisplayBackend::kHeadless),
       platform_(createPlatform(board, options)),
       scene_(loadScene(options)),
       rig_(board.light, board.idle, sphereOf(scene_->view()),
-           static_cast<int>(scene_->view().presets().size()), monotonicNowNs()) {
+           static_cast<int>(scene_->view().presets().size()), clock_.nowNs()) {
     gles::GlesFrameRenderer& renderer = scene_->renderer();
     // The renderer draws the projector's frame at its calibrated size: the target must match.
     int width = renderer.width(), height = renderer.height();
@@ -107,6 +109,13 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
         if (error || !std::filesystem::is_directory(*options_.out)) {
             throw PlayerInputError(options_.out->string() + ": cannot create the output folder (" +
                                    (error ? error.message() : "not a folder") + ")");
+        }
+    }
+    if (options_.lightLog) {
+        try {
+            lightLog_.emplace(*options_.lightLog);
+        } catch (const LightLogError& error) {
+            throw PlayerInputError(error.what());
         }
     }
     adoptRenderersPreset();
@@ -139,10 +148,18 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
     // preset and scene equal the frame on show draws nothing.
     skipUnchanged_ = !(headless_ && rate <= 0);
     if (!headless_) {
+        framePeriodNs_ = static_cast<std::int64_t>(1e9 / kSkipClockHz);  // until flips measure it
         loop_.watch(target_->vsyncDescriptor(), [this] {
             if (target_->onVsyncReadable()) {
                 waitingForFlip_ = false;
                 frameDue_ = true;
+                // Back-to-back flips measure the display's refresh period (a 50 Hz projector).
+                const std::int64_t now = monotonicNowNs();
+                const std::int64_t interval = now - lastFlipNs_;
+                if (lastFlipNs_ != 0 && interval > 5 * kNsPerMs && interval < 40 * kNsPerMs) {
+                    framePeriodNs_ += (interval - framePeriodNs_) / 8;
+                }
+                lastFlipNs_ = now;
             }
         });
         // No flip comes while frames are skipped: this clock ticks at the display's pace then.
@@ -152,7 +169,8 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
             }
         });
     } else if (rate > 0) {
-        frameClock_.arm(monotonicNowNs(), static_cast<std::int64_t>(1e9 / rate));
+        framePeriodNs_ = static_cast<std::int64_t>(1e9 / rate);
+        frameClock_.arm(monotonicNowNs(), framePeriodNs_);
         frameDue_ = false;
         loop_.watch(frameClock_.fd(), [this] {
             if (frameClock_.expirations() > 0) {
@@ -178,15 +196,35 @@ void Player::stopWhen(std::function<bool()> condition, std::string reason) {
 }
 
 void Player::applyEvents(std::vector<InputEvent>& events) {
+    if (events.empty()) {
+        return;
+    }
+    const std::int64_t revision = rig_.revisionNs();
+    bool localChange = false;
     for (const InputEvent& event : events) {
-        if (rig_.apply(event)) {
+        // The rig runs on the show's clock; latency is measured on the inputs' own.
+        InputEvent onShowClock = event;
+        onShowClock.timestampNs = clock_.fromMonotonic(event.timestampNs);
+        const std::int64_t before = rig_.revisionNs();
+        if (rig_.apply(onShowClock)) {
             unshownEvents_.push_back(event.timestampNs);
             ++report_.events[inputSourceName(event.source)];
+            localChange = localChange ||
+                          (event.source != InputSource::kBus && rig_.revisionNs() != before);
         } else {
             ++rigRefusals_;
         }
     }
     events.clear();
+    // What this node's own inputs did goes to the other nodes (another node's state is theirs
+    // already).
+    if (publisher_ != nullptr && localChange && rig_.revisionNs() != revision) {
+        publisher_->offer(rig_.shared(), monotonicNowNs());
+    }
+}
+
+std::int64_t Player::presentationTime() const {
+    return clock_.nowNs() + framePeriodNs_;
 }
 
 void Player::collectRefusals() {
@@ -202,6 +240,15 @@ void Player::collectRefusals() {
     report_.eventsRefused = 0;
     for (const auto& [reason, count] : report_.refusedByReason) {
         report_.eventsRefused += static_cast<long>(count);
+    }
+    report_.counters.clear();
+    for (const auto& device : devices_) {
+        for (const auto& [name, count] : device->counters()) {
+            report_.counters[name] += count;
+        }
+    }
+    if (rig_.staleStates() > 0) {
+        report_.counters["light.stale_states"] = rig_.staleStates();
     }
 }
 
@@ -246,7 +293,8 @@ void Player::adoptRenderersPreset() {
 
 void Player::renderFrame() {
     const std::int64_t beginNs = monotonicNowNs();
-    rig_.advance(beginNs);
+    const std::int64_t presentationNs = presentationTime();
+    rig_.advance(presentationNs);
     if (rig_.preset() != shownPreset_) {
         const auto& presets = scene_->view().presets();
         scene_->renderer().selectPreset(
@@ -254,8 +302,13 @@ void Player::renderFrame() {
         shownPreset_ = rig_.preset();
     }
     const std::array<float, 3> light = rig_.position();
-    if (skipUnchanged_ && !sceneChanged_ && shownLight_ == light &&
-        !scene_->renderer().animating()) {
+    const bool unchanged = skipUnchanged_ && !sceneChanged_ && shownLight_ == light &&
+                           !scene_->renderer().animating();
+    if (lightLog_) {
+        lightLog_->record(clock_.toRealtime(presentationNs), rig_.current(),
+                          inputSourceName(rig_.activeSource()), !unchanged);
+    }
+    if (unchanged) {
         skipFrame(beginNs);
         return;
     }
@@ -367,6 +420,9 @@ FrameReport Player::run() {
         }
     }
     watchdog_.stopping();
+    if (lightLog_) {
+        lightLog_->flush();
+    }
     report_.rssEndKb = residentKilobytes();
     collectRefusals();
     report_.preset = scene_->renderer().presetName();

@@ -52,6 +52,9 @@ public:
         if (c_.radiometry) {
             radiometry(*c_.radiometry);
         }
+        if (c_.blend) {
+            blend(*c_.blend);
+        }
         ruleFromProto(proto::checkSettings(c_.settings));
         ruleFromProto(proto::checkModel(c_.model));
         mesh();
@@ -126,6 +129,20 @@ private:
         for (const double v : r.mixing) {
             if (!std::isfinite(v) || v < 0) {
                 fail("radiometry: mixing: expected finite values ≥ 0");
+            }
+        }
+    }
+
+    void blend(const BundleBlend& b) const {
+        if (b.projectors < 1 || b.projectors > 65535 || b.index < 0 || b.index >= b.projectors) {
+            fail("blend: projector " + std::to_string(b.index) + " of " +
+                 std::to_string(b.projectors));
+        }
+        count(b.share.size(), static_cast<std::size_t>(c_.projector.width) * c_.projector.height,
+              "blend share");
+        for (const float v : b.share) {
+            if (!(v >= 0 && v <= 1)) {
+                fail("blend share: a value outside [0, 1]");
             }
         }
     }
@@ -426,6 +443,7 @@ struct PayloadIndex {
     std::optional<MapPayloads> composed;
     std::vector<std::size_t> presets;
     std::optional<std::array<std::size_t, 2>> radiometry;  // irradiance, floor
+    std::optional<std::size_t> blendShare;
 };
 
 PayloadIndex planPayloads(const BundleContents& c, PayloadPlan& payloads) {
@@ -490,6 +508,15 @@ PayloadIndex planPayloads(const BundleContents& c, PayloadPlan& payloads) {
             addPayload(payloads, fb::ElementType::Float16, shape, rgba(c.radiometry->irradiance)),
             addPayload(payloads, fb::ElementType::Float16, shape, rgba(c.radiometry->floor))};
     }
+    if (c.blend) {
+        index.blendShare = addPayload(
+            payloads, fb::ElementType::Float16, {c.projector.height, c.projector.width},
+            [&share = c.blend->share](BundleOutput& out) {
+                std::vector<std::uint16_t> halves(share.size());
+                std::transform(share.begin(), share.end(), halves.begin(), proto::floatToHalf);
+                out.write(halves);
+            });
+    }
     return index;
 }
 
@@ -540,8 +567,14 @@ public:
             radiometry = fb::CreateRadiometry(b, &mixing, ref(b, (*index_.radiometry)[0]),
                                               ref(b, (*index_.radiometry)[1]));
         }
-        fb::FinishBundleBuffer(
-            b, fb::CreateBundle(b, mesh, projector, settings, model, textures, camera, radiometry));
+        flatbuffers::Offset<fb::Blend> blend;
+        if (c_.blend) {
+            blend = fb::CreateBlend(b, static_cast<std::uint16_t>(c_.blend->projectors),
+                                    static_cast<std::uint16_t>(c_.blend->index),
+                                    ref(b, *index_.blendShare));
+        }
+        fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model, textures,
+                                                   camera, radiometry, blend));
         return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
     }
 

@@ -16,6 +16,8 @@
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/quilt/quilt_folder.h"
+#include "vpe/registration/mesh_registration.h"
+#include "vpe/scan/scan_files.h"
 #include "vpe/scene/procedural_vase.h"
 #include "vpe/scene/surface_scale.h"
 #include "vpe/texture/region_compose.h"
@@ -110,85 +112,99 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
     return map;
 }
 
-}  // namespace
+// Where a projector stands: its calibration and the camera's in the object frame, the mesh
+// (placed by a scan, when there is one).
+struct ProjectorPlacement {
+    scene::ProjectorCalibration projector;
+    std::optional<proto::PinholeCamera> camera;
+    scene::ScreenMesh mesh;
+    std::optional<ScanPlacement> placement;
+};
 
-BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out) {
-    if (options.texture.empty() == options.quilt.empty()) {
-        throw InputError("bake: give either --texture MODEL.exr or --quilt DIR");
+scene::ScreenMesh loadMesh(const BakeOptions& options) {
+    if (options.mesh.empty()) {
+        return scene::makeProceduralVase();
     }
-    if (!options.quilt.empty() && options.presets.empty()) {
-        throw InputError("bake: --quilt needs at least one --preset NAME=WEIGHTS");
-    }
-    if (!options.texture.empty() && !options.presets.empty()) {
-        throw InputError("bake: --preset goes with --quilt (a composed --texture has one region)");
-    }
-    // Cheap checks first: the projector and the response, then the mesh, then the textures.
-    if (!options.scan.empty() && !options.projector.empty()) {
+    scene::ScreenMeshLoadOptions load;
+    load.metresPerUnit = options.meshMetresPerUnit;
+    return scene::loadScreenMesh(options.mesh, load);
+}
+
+// The projector of a calibration file (or the demo one when there is none) or of a scan.
+ProjectorPlacement placeProjector(const BakeOptions& options,
+                                  const std::filesystem::path& projector,
+                                  const std::filesystem::path& scan) {
+    if (!scan.empty() && !projector.empty()) {
         throw InputError("bake: --scan brings its own calibration; leave out --projector");
     }
-    BundleContents contents;
-    std::optional<ScanPlacement> placement;
-    scene::ProjectorCalibration projector;
-    std::optional<proto::PinholeCamera> camera = options.camera;
-    scene::ScreenMesh mesh;
-    if (!options.scan.empty()) {
+    ProjectorPlacement placed;
+    placed.camera = options.camera;
+    if (!scan.empty()) {
         std::optional<scene::ScreenMesh> given;
         if (!options.mesh.empty()) {
-            scene::ScreenMeshLoadOptions load;
-            load.metresPerUnit = options.meshMetresPerUnit;
-            given = scene::loadScreenMesh(options.mesh, load);
+            given = loadMesh(options);
         }
-        placement = placeFromScan(options.scan, given, options.registration);
-        projector = placement->projector;
-        camera = placement->camera;
-        mesh = placement->mesh;
-    } else if (options.projector.empty()) {
-        projector = scene::makeDemoProjector(options.demoDistance);
+        placed.placement = placeFromScan(scan, given, options.registration);
+        placed.projector = placed.placement->projector;
+        placed.camera = placed.placement->camera;
+        placed.mesh = placed.placement->mesh;
+        return placed;
+    }
+    if (projector.empty()) {
+        placed.projector = scene::makeDemoProjector(options.demoDistance);
     } else {
         scene::ProjectorCalibrationOverrides overrides;
         overrides.width = options.projectorWidth;
         overrides.height = options.projectorHeight;
         overrides.metresPerUnit = options.projectorMetresPerUnit;
-        projector = scene::readProjectorCalibration(options.projector, overrides);
+        placed.projector = scene::readProjectorCalibration(projector, overrides);
     }
-    contents.projector = toBundleProjector(projector);
-    if (camera) {
-        scene::validateCameraCalibration(*camera, "camera");
-    } else if (!options.projector.empty()) {
-        camera = scene::readCameraCalibration(options.projector);
+    if (placed.camera) {
+        scene::validateCameraCalibration(*placed.camera, "camera");
+    } else if (!projector.empty()) {
+        placed.camera = scene::readCameraCalibration(projector);
     }
-    if (camera) {
-        contents.camera = toBundleProjector(*camera);
+    placed.mesh = loadMesh(options);
+    return placed;
+}
+
+// The projector's part of a bundle: its calibration, the camera, the response, and the light
+// measured on site when there is one.
+void addProjector(BundleContents& contents, const ProjectorPlacement& placed,
+                  const BakeOptions& options, const std::filesystem::path& radiometryFolder,
+                  BakeReport& report) {
+    contents.projector = toBundleProjector(placed.projector);
+    contents.camera.reset();
+    if (placed.camera) {
+        contents.camera = toBundleProjector(*placed.camera);
     }
     contents.settings = options.settings;
     contents.settings.response = toBundleResponse(scene::parseProjectorResponse(options.response));
-
-    if (!placement) {  // a scan placed its mesh above
-        if (options.mesh.empty()) {
-            mesh = scene::makeProceduralVase();
-        } else {
-            scene::ScreenMeshLoadOptions load;
-            load.metresPerUnit = options.meshMetresPerUnit;
-            mesh = scene::loadScreenMesh(options.mesh, load);
-        }
-    }
-    contents.mesh = toBundleMesh(mesh);
-    BakeReport report;
-    if (!options.radiometry.empty()) {
+    contents.radiometry.reset();
+    if (!radiometryFolder.empty()) {
         const radiometry::ProjectorRadiometry measured =
-            radiometry::readRadiometry(options.radiometry);
+            radiometry::readRadiometry(radiometryFolder);
         MeasuredLightBake baked =
-            bakeMeasuredLight(measured, contents.mesh, contents.projector, options.radiometry);
+            bakeMeasuredLight(measured, contents.mesh, contents.projector, radiometryFolder);
         contents.radiometry = std::move(baked.radiometry);
         report.radiometryCovered = baked.covered;
         report.radiometryCompleted = baked.completed;
         // The response above black, at 33 even levels: the measured ladder, linear between.
         contents.settings.response = toBundleResponse(
-            scene::readProjectorResponseCsv(options.radiometry / radiometry::kResponseFile), 33);
+            scene::readProjectorResponseCsv(radiometryFolder / radiometry::kResponseFile), 33);
         contents.settings.ambientIrradiance = {0, 0, 0};
     }
+    report.placement = placed.placement;
+    report.camera = placed.camera.has_value();
+    if (placed.camera) {
+        report.cameraWidth = placed.camera->width;
+        report.cameraHeight = placed.camera->height;
+    }
+}
 
-    report.placement = placement;
+// The textures, the model and the weight presets: what every projector's bundle shares.
+void addTextures(BundleContents& contents, const BakeOptions& options,
+                 const scene::ScreenMesh& mesh, BakeReport& report) {
     report.vertices = mesh.vertexCount();
     report.triangles = mesh.triangleCount();
     std::vector<CoefficientTexture> textures;
@@ -256,8 +272,6 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
         }
         contents.presets.push_back(std::move(baked));
     }
-
-    const BundleWriteResult written = writeBundle(out, contents);
     report.textureWidth = first.width;
     report.textureHeight = first.height;
     report.harmonics = first.harmonics;
@@ -266,14 +280,116 @@ BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& ou
                              ? std::min(options.rank, contents.model.coefficientsPerTexel())
                              : contents.model.coefficientsPerTexel();
     report.bytesPerTexel = 8 * ((perTexel + 3) / 4);
+}
+
+void checkTextureOptions(const BakeOptions& options) {
+    if (options.texture.empty() == options.quilt.empty()) {
+        throw InputError("bake: give either --texture MODEL.exr or --quilt DIR");
+    }
+    if (!options.quilt.empty() && options.presets.empty()) {
+        throw InputError("bake: --quilt needs at least one --preset NAME=WEIGHTS");
+    }
+    if (!options.texture.empty() && !options.presets.empty()) {
+        throw InputError("bake: --preset goes with --quilt (a composed --texture has one region)");
+    }
+}
+
+void write(const std::filesystem::path& out, const BundleContents& contents, BakeReport& report) {
+    const BundleWriteResult written = writeBundle(out, contents);
     report.bytes = written.bytes;
     report.checksum = written.checksum;
-    report.camera = camera.has_value();
-    if (camera) {
-        report.cameraWidth = camera->width;
-        report.cameraHeight = camera->height;
+}
+
+// The renderer's view of a bundle's mesh (uv with v up) and of a projector.
+struct RenderMeshCopy {
+    std::vector<renderer::Vec3f> positions, normals;
+    std::vector<renderer::Vec2f> uvs;
+    renderer::RenderMesh view;
+
+    explicit RenderMeshCopy(const BundleMesh& mesh) {
+        for (std::size_t v = 0; 3 * v < mesh.positions.size(); ++v) {
+            positions.push_back(
+                {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]});
+            normals.push_back(
+                {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]});
+            uvs.push_back({mesh.uvs[2 * v], 1.0f - mesh.uvs[2 * v + 1]});
+        }
+        view = {positions, normals, uvs, mesh.indices};
     }
+};
+
+}  // namespace
+
+BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out) {
+    checkTextureOptions(options);
+    // Cheap checks first: the projector and the response, then the mesh, then the textures.
+    const ProjectorPlacement placed = placeProjector(options, options.projector, options.scan);
+    BakeReport report;
+    BundleContents contents;
+    contents.mesh = toBundleMesh(placed.mesh);
+    addProjector(contents, placed, options, options.radiometry, report);
+    addTextures(contents, options, placed.mesh, report);
+    write(out, contents, report);
     return report;
+}
+
+ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>& projectors,
+                    const BlendOptions& blendOptions) {
+    checkTextureOptions(options);
+    if (projectors.empty()) {
+        throw InputError("bake: a show needs at least one projector");
+    }
+    std::vector<ProjectorPlacement> placed;
+    for (const ShowProjector& projector : projectors) {
+        if (projector.scan.empty() || placed.empty() || !placed.front().placement) {
+            placed.push_back(placeProjector(options, projector.calibration, projector.scan));
+            continue;
+        }
+        // One camera saw every projector's patterns: the first scan's registration places the
+        // object; this scan's calibration (camera → projector) carries its projector there.
+        if (!projector.calibration.empty()) {
+            throw InputError("bake: --scan brings its own calibration; leave out --projector");
+        }
+        const std::filesystem::path file = projector.scan / scan::kCalibrationFile;
+        ProjectorPlacement next = placed.front();
+        next.projector = registration::inObjectFrame(scene::readProjectorCalibration(file),
+                                                     next.placement->objectToCamera);
+        next.placement->projector = next.projector;
+        placed.push_back(std::move(next));
+    }
+    if (!placed.front().placement) {
+        for (const ProjectorPlacement& p : placed) {
+            if (p.placement) {
+                throw InputError(
+                    "bake: the first projector of a show with scans must be a scan "
+                    "(its registration places the object for all)");
+            }
+        }
+    }
+    BundleContents contents;
+    contents.mesh = toBundleMesh(placed.front().mesh);
+    BakeReport shared;
+    addTextures(contents, options, placed.front().mesh, shared);
+
+    const RenderMeshCopy mesh(contents.mesh);
+    std::vector<renderer::ProjectorModel> models;
+    for (const ProjectorPlacement& p : placed) {
+        renderer::ProjectorModel model;
+        model.camera = p.projector;
+        model.peakIrradiance = static_cast<double>(options.settings.peakIrradiance);
+        models.push_back(model);
+    }
+    ShowReport show;
+    show.blend = blendProjectors(mesh.view, models, blendOptions);
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+        BakeReport report = shared;
+        addProjector(contents, placed[i], options, projectors[i].radiometry, report);
+        contents.blend = BundleBlend{static_cast<int>(placed.size()), static_cast<int>(i),
+                                     show.blend.shares[i].values};
+        write(projectors[i].out, contents, report);
+        show.bundles.push_back(std::move(report));
+    }
+    return show;
 }
 
 }  // namespace vpe::bake

@@ -1,18 +1,24 @@
 // SPDX-License-Identifier: MIT
 // vpe bake (--texture MODEL.exr | --quilt DIR --preset NAME=WEIGHTS...) [--mesh FILE]
 //          [--projector FILE] [--theta-basis K|full] ... --out scene.vpeb
+#include <algorithm>
 #include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <set>
 #include <string>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
 
 #include "vpe/bake/scene_baker.h"
+#include "vpe/common/atomic_folder.h"
+#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/image/image_file.h"
 #include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
@@ -57,8 +63,10 @@ namespace {
 
 struct Arguments {
     bake::BakeOptions options;
-    std::string texture, quilt, mesh, projector, projectorSize, out, scan;
+    std::string texture, quilt, mesh, projectorSize, out;
+    std::vector<std::string> projectors, scans, radiometry;
     std::vector<std::string> presets;
+    double blendFeather = 0;
     std::string viewer = "0,0.075,1", albedo = "0.85", ambient = "0,0,0";
     std::string encoding = "low-rank";
     std::string relief = "on";
@@ -67,6 +75,8 @@ struct Arguments {
     bool json = false;
 };
 
+void runShow(const Arguments& args, const bake::BakeOptions& options);
+
 // What `vpe bake` does once its options are parsed.
 void runBake(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
@@ -74,8 +84,6 @@ void runBake(const Arguments& args) {
     options.texture = args.texture;
     options.quilt = args.quilt;
     options.mesh = args.mesh;
-    options.projector = args.projector;
-    options.scan = args.scan;
     if (!args.projectorSize.empty()) {
         const SizeArgument size = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
         options.projectorWidth = size.width;
@@ -99,6 +107,17 @@ void runBake(const Arguments& args) {
         options.thetaBasis = parseThetaBasis(args.thetaBasis);
     }
     options.threads = resolveThreadCount(args.threads);
+    if (args.projectors.size() + args.scans.size() > 1) {
+        runShow(args, options);
+        return;
+    }
+    if (args.radiometry.size() > 1) {
+        throw InputError("--radiometry: " + std::to_string(args.radiometry.size()) +
+                         " given for one projector");
+    }
+    options.projector = args.projectors.empty() ? "" : args.projectors.front();
+    options.scan = args.scans.empty() ? "" : args.scans.front();
+    options.radiometry = args.radiometry.empty() ? "" : args.radiometry.front();
 
     const bake::BakeReport report = bake::bakeScene(options, args.out);
     const double seconds =
@@ -193,6 +212,124 @@ void runBake(const Arguments& args) {
     }
 }
 
+// The names of a show's bundles: the calibration files' or scans' names, or projector1… when
+// two would clash.
+std::vector<std::string> showNames(const std::vector<std::filesystem::path>& sources) {
+    std::vector<std::string> names;
+    std::set<std::string> seen;
+    bool clash = false;
+    for (const std::filesystem::path& source : sources) {
+        std::filesystem::path path = source;
+        if (!path.has_filename()) {
+            path = path.parent_path();
+        }
+        names.push_back(path.stem().string());
+        clash = clash || names.back().empty() || !seen.insert(names.back()).second;
+    }
+    if (clash) {
+        for (std::size_t i = 0; i < names.size(); ++i) {
+            names[i] = "projector" + std::to_string(i + 1);
+        }
+    }
+    return names;
+}
+
+// The surface's reach in texture space: red where no projector reaches, then grey, blue and
+// green for one, two, three or more; black off the surface.
+std::vector<std::uint8_t> reachPicture(const renderer::ScalarImage<std::uint8_t>& reach) {
+    static constexpr std::uint8_t kColours[5][3] = {
+        {230, 40, 40}, {120, 120, 120}, {70, 130, 210}, {60, 190, 110}, {0, 0, 0}};
+    std::vector<std::uint8_t> out(3 * reach.values.size());
+    for (std::size_t i = 0; i < reach.values.size(); ++i) {
+        const std::uint8_t count = reach.values[i];
+        const auto* colour = kColours[count == 255 ? 4 : std::min<int>(count, 3)];
+        std::copy(colour, colour + 3, &out[3 * i]);
+    }
+    return out;
+}
+
+// A share map as grey levels (s · 255), the projector's size.
+std::vector<std::uint8_t> sharePicture(const renderer::FloatImage& share) {
+    std::vector<std::uint8_t> out(share.values.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        out[i] = static_cast<std::uint8_t>(
+            std::lround(255.0 * std::clamp(static_cast<double>(share.values[i]), 0.0, 1.0)));
+    }
+    return out;
+}
+
+// `vpe bake` with several projectors: one bundle each in the folder --out, with the share maps
+// and the surface's reach as pictures and show.json.
+void runShow(const Arguments& args, const bake::BakeOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    if (!args.projectors.empty() && !args.scans.empty()) {
+        throw InputError(
+            "bake: a show's projectors are all --projector files or all --scan "
+            "folders");
+    }
+    const bool scans = !args.scans.empty();
+    const std::vector<std::string>& sources = scans ? args.scans : args.projectors;
+    if (!args.radiometry.empty() && args.radiometry.size() != sources.size()) {
+        throw InputError("--radiometry: " + std::to_string(args.radiometry.size()) + " given for " +
+                         std::to_string(sources.size()) + " projectors (one each, or none)");
+    }
+    const std::vector<std::string> names = showNames({sources.begin(), sources.end()});
+    AtomicFolder folder(args.out, "show.json", "vpe bake");
+    std::vector<bake::ShowProjector> projectors;
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        bake::ShowProjector projector;
+        (scans ? projector.scan : projector.calibration) = sources[i];
+        if (!args.radiometry.empty()) {
+            projector.radiometry = args.radiometry[i];
+        }
+        projector.out = folder.temporaryPath() / (names[i] + ".vpeb");
+        projectors.push_back(std::move(projector));
+    }
+    bake::BlendOptions blend;
+    blend.featherPixels = args.blendFeather;
+    blend.threads = static_cast<int>(options.threads);
+    if (!(args.blendFeather >= 0) || !std::isfinite(args.blendFeather)) {
+        throw InputError("--blend-feather: expected pixels ≥ 0");
+    }
+    const bake::ShowReport show = bake::bakeShow(options, projectors, blend);
+    nlohmann::json json;
+    json["out"] = args.out;
+    json["projectors"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < projectors.size(); ++i) {
+        const renderer::FloatImage& share = show.blend.shares[i];
+        writeImage8(folder.temporaryPath() / (names[i] + "-share.png"), share.width, share.height,
+                    1, sharePicture(share));
+        std::size_t lit = 0, shared = 0;
+        for (const float s : share.values) {
+            lit += s > 0 ? 1 : 0;
+            shared += s > 0 && s < 0.999f ? 1 : 0;
+        }
+        json["projectors"].push_back({{"name", names[i]},
+                                      {"source", sources[i]},
+                                      {"bundle", names[i] + ".vpeb"},
+                                      {"lit_pixels", lit},
+                                      {"blended_pixels", shared},
+                                      {"bytes", show.bundles[i].bytes},
+                                      {"checksum", show.bundles[i].checksum}});
+    }
+    writeImage8(folder.temporaryPath() / "reach.png", show.blend.reach.width,
+                show.blend.reach.height, 3, reachPicture(show.blend.reach));
+    json["unreached_share"] = show.blend.unreachedShare;
+    json["overlap_share"] = show.blend.overlapShare;
+    json["seconds"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    writeTextFileAtomically(folder.temporaryPath() / "show.json", json.dump(2) + "\n");
+    folder.commit();
+    std::fprintf(stderr,
+                 "%s: %zu projectors, one bundle each; %.2f%% of the surface reached by none "
+                 "(reach.png), %.1f%% by two or more, blended; %.1f s\n",
+                 args.out.c_str(), projectors.size(), 100 * show.blend.unreachedShare,
+                 100 * show.blend.overlapShare, json["seconds"].get<double>());
+    if (args.json) {
+        printJson(json.dump());
+    }
+}
+
 }  // namespace
 
 void addBakeCommand(CLI::App& app, Action& action) {
@@ -208,17 +345,20 @@ void addBakeCommand(CLI::App& app, Action& action) {
     command->add_option("--mesh", args->mesh,
                         "Screen object (OBJ or PLY with UVs); default: the built-in vase, or with "
                         "--scan the scan's own surface");
-    command->add_option("--scan", args->scan,
+    command->add_option("--scan", args->scans,
                         "A scan (vpe scan's --out): its calibration, and the mesh registered to "
-                        "it (or its surface when no --mesh)");
+                        "it (or its surface when no --mesh); repeat for a show of several "
+                        "projectors seen by one camera (the first scan places the object)");
     command
         ->add_option("--mesh-scale", args->options.meshMetresPerUnit,
                      "Metres per mesh unit (0.001 for millimetres)")
         ->capture_default_str();
-    command->add_option("--projector", args->projector,
+    command->add_option("--projector", args->projectors,
                         "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T; with "
                         "cam_K, cam_kc, cam_width, cam_height the bundle carries the camera "
-                        "too); default: a demo projector facing the object");
+                        "too); default: a demo projector facing the object. Repeat for a show "
+                        "of several projectors on one object: --out is then a folder with one "
+                        "bundle per projector, each with its share of the light");
     command->add_option("--projector-size", args->projectorSize,
                         "Projector resolution WxH, when the calibration file has none");
     command
@@ -236,10 +376,16 @@ void addBakeCommand(CLI::App& app, Action& action) {
                      "Projector response: a gamma, r,g,b gammas, or a CSV curve "
                      "(level,r,g,b)")
         ->capture_default_str();
-    command->add_option("--radiometry", args->options.radiometry,
+    command->add_option("--radiometry", args->radiometry,
                         "The light measured on site (vpe radiometry's --out): the bundle "
                         "compensates with its maps, crosstalk and response instead of "
-                        "--albedo, --ambient and --response");
+                        "--albedo, --ambient and --response; in a show, one per projector, "
+                        "in their order");
+    command
+        ->add_option("--blend-feather", args->blendFeather,
+                     "A show's fade at the edge of each projector's reach, in its pixels "
+                     "(0: 4% of its shorter side)")
+        ->capture_default_str();
     command
         ->add_option("--peak-irradiance", args->options.settings.peakIrradiance,
                      "Projector irradiance at 1 m, normal incidence, full level")
@@ -264,7 +410,10 @@ void addBakeCommand(CLI::App& app, Action& action) {
                         "θs functions the device renders in, fitted to the textures "
                         "(proto/MODEL.md); full or 0: none, rendered exactly [default: 4]");
     addThreadsOption(command, args->threads);
-    command->add_option("--out", args->out, "Bundle to write (.vpeb)")->required();
+    command
+        ->add_option("--out", args->out,
+                     "Bundle to write (.vpeb); with several projectors, the show's folder")
+        ->required();
     addJsonFlag(command, args->json);
     command->callback([args, &action] { action = [args] { runBake(*args); }; });
 }

@@ -31,6 +31,8 @@ void addSynthProcamCommand(CLI::App& app, Action& action);
 void addScanCommand(CLI::App& app, Action& action);
 void addRadiometryCommand(CLI::App& app, Action& action);
 void addCalibrateCommand(CLI::App& app, Action& action);
+void addShowCheckCommand(CLI::App& app, Action& action);
+void addProjectorRingCommand(CLI::App& app, Action& action);
 
 // Prints a JSON object as the last thing on stdout.
 void printJson(const std::string& json);

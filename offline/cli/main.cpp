@@ -40,6 +40,8 @@ int main(int argc, char** argv) {
     vpe::cli::addCalibrateCommand(app, action);
     vpe::cli::addScanCommand(app, action);
     vpe::cli::addRadiometryCommand(app, action);
+    vpe::cli::addProjectorRingCommand(app, action);
+    vpe::cli::addShowCheckCommand(app, action);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& error) {

@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -89,12 +91,162 @@ Vec3d meshCentre(const proto::MeshView& mesh) {
 namespace {
 
 struct Arguments {
+    std::vector<std::string> bundles;
     std::string bundle, out, simulate, direct, exr, weights, gain;
     std::string light, viewer, viewSize = "480x360";
     double intensity = 1.0, exposure = 0.0, fov = 30.0, clipTarget = 0.005;
     int threads = 0;
     bool json = false;
 };
+
+proto::BundleFile openBundle(const std::string& path) {
+    try {
+        return proto::BundleFile::open(path);
+    } catch (const proto::BundleError& error) {
+        throw InputError(error.what());
+    }
+}
+
+// `vpe render` with the bundles of a show (vpe bake with several projectors): a frame per
+// projector into the folder --out, and the visitor's view of their combined light.
+void runRenderShow(const Arguments& args) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto light = scene::parsePosition(args.light, "--light");
+    const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
+    if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
+        throw InputError("--intensity must be a positive number");
+    }
+    if (!args.exr.empty()) {
+        throw InputError("--exr: one bundle at a time (a show writes its frames as PNG)");
+    }
+    std::vector<proto::BundleFile> files;
+    std::vector<std::unique_ptr<renderer::BundleScene>> bundleScenes;
+    for (const std::string& path : args.bundles) {
+        files.push_back(openBundle(path));
+    }
+    for (std::size_t i = 0; i < files.size(); ++i) {
+        try {
+            bundleScenes.push_back(
+                std::make_unique<renderer::BundleScene>(files[i].view(), args.weights));
+        } catch (const std::invalid_argument& error) {
+            throw InputError(std::string("--weights: ") + error.what());
+        }
+        if (files[i].view().mesh().positions.size() != files[0].view().mesh().positions.size() ||
+            !std::equal(files[i].view().mesh().positions.begin(),
+                        files[i].view().mesh().positions.end(),
+                        files[0].view().mesh().positions.begin())) {
+            throw InputError(args.bundles[i] + ": not the same object as " + args.bundles[0] +
+                             " (a show's bundles share one mesh)");
+        }
+    }
+    Vec3d viewer = bundleScenes[0]->bundleViewer();
+    if (!args.viewer.empty()) {
+        const auto v = scene::parsePosition(args.viewer, "--viewer");
+        viewer = {v.x, v.y, v.z};
+    }
+    renderer::VirtualLight virtualLight;
+    virtualLight.position = {light.x, light.y, light.z};
+    virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
+    std::vector<renderer::RenderScene> scenes;
+    for (const auto& bundleScene : bundleScenes) {
+        scenes.push_back(bundleScene->scene(virtualLight, viewer));
+    }
+    renderer::RenderOptions options;
+    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.gain = static_cast<double>(files[0].view().settings().gain);
+    if (!args.gain.empty() && args.gain != "auto") {
+        char* end = nullptr;
+        options.gain = std::strtod(args.gain.c_str(), &end);
+        if (end == args.gain.c_str() || *end != '\0' || !(options.gain > 0) ||
+            !std::isfinite(options.gain)) {
+            throw InputError("--gain: '" + args.gain + "' is not a positive number or 'auto'");
+        }
+    }
+    std::vector<renderer::ProjectorFrame> frames;
+    for (const renderer::RenderScene& scene : scenes) {
+        frames.push_back(renderer::renderProjectorFrame(scene, options));
+    }
+    if (args.gain == "auto") {  // one gain for all: the lowest any projector needs
+        double gain = 1.0;
+        for (const renderer::ProjectorFrame& frame : frames) {
+            gain = std::min(gain, renderer::gainForClippedFraction(frame, args.clipTarget));
+        }
+        options.gain = gain;
+        for (std::size_t i = 0; i < scenes.size(); ++i) {
+            frames[i] = renderer::renderProjectorFrame(scenes[i], options);
+        }
+    }
+    std::filesystem::create_directories(args.out);
+    nlohmann::json json;
+    json["bundles"] = args.bundles;
+    json["gain"] = options.gain;
+    json["projectors"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        const std::filesystem::path bundlePath(args.bundles[i]);
+        const std::filesystem::path out =
+            std::filesystem::path(args.out) / (bundlePath.stem().string() + ".png");
+        writeImage8(out, frames[i].level.width, frames[i].level.height, 3,
+                    levelPicture(frames[i].level));
+        json["projectors"].push_back({{"frame", out.string()},
+                                      {"covered_pixels", frames[i].stats.coveredPixels},
+                                      {"clipped_fraction", frames[i].stats.clippedFraction}});
+    }
+    if (!args.simulate.empty() || !args.direct.empty()) {
+        const proto::PinholeCamera camera = proto::cameraLookingAt(
+            viewSize.width, viewSize.height, args.fov, viewer, meshCentre(files[0].view().mesh()));
+        const renderer::DirectView direct = renderer::renderDirectView(scenes[0], camera, options);
+        std::vector<const renderer::RenderScene*> scenePointers;
+        std::vector<const renderer::RgbImage*> patterns;
+        for (std::size_t i = 0; i < scenes.size(); ++i) {
+            scenePointers.push_back(&scenes[i]);
+            patterns.push_back(&frames[i].level);
+        }
+        const renderer::SimulatedShowView simulated =
+            renderer::simulateShowView(scenePointers, patterns, camera, options);
+        const double exposure = args.exposure > 0 ? args.exposure : autoExposure(direct);
+        if (!args.simulate.empty()) {
+            writeImage8(args.simulate, viewSize.width, viewSize.height, 3,
+                        srgbPicture(simulated.radiance, exposure));
+        }
+        if (!args.direct.empty()) {
+            writeImage8(args.direct, viewSize.width, viewSize.height, 3,
+                        srgbPicture(direct.radiance, exposure));
+        }
+        // Against the material rendered directly, over the seen pixels some projector lights:
+        // PSNR with the brightest direct radiance as the peak.
+        std::size_t seen = 0, lit = 0;
+        double peak = 0, squared = 0;
+        for (std::size_t p = 0; p < simulated.coverage.values.size(); ++p) {
+            if (!simulated.coverage.values[p]) {
+                continue;
+            }
+            ++seen;
+            if (simulated.litBy.values[p] == 0) {
+                continue;
+            }
+            ++lit;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double d = static_cast<double>(direct.radiance.values[3 * p + c]);
+                const double e = static_cast<double>(simulated.radiance.values[3 * p + c]) - d;
+                peak = std::max(peak, d);
+                squared += e * e;
+            }
+        }
+        const double mse = lit > 0 ? squared / (3.0 * static_cast<double>(lit)) : 0.0;
+        json["exposure"] = exposure;
+        json["seen_pixels"] = seen;
+        json["lit_share"] = seen > 0 ? static_cast<double>(lit) / static_cast<double>(seen) : 0.0;
+        json["psnr"] = mse > 0 ? 10 * std::log10(peak * peak / mse) : 999.0;
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    json["seconds"] = seconds;
+    std::fprintf(stderr, "%s: %zu projector frames, gain %.3g, %.2f s\n", args.out.c_str(),
+                 frames.size(), options.gain, seconds);
+    if (args.json) {
+        printJson(json.dump());
+    }
+}
 
 // What `vpe render` does once its options are parsed.
 void runRender(const Arguments& args) {
@@ -203,7 +355,12 @@ void addRenderCommand(CLI::App& app, Action& action) {
     CLI::App* command = app.add_subcommand(
         "render",
         "Render a bundle on the CPU: the projector frame, and previews of what a visitor sees");
-    command->add_option("BUNDLE", args->bundle, "Device bundle (.vpeb) from vpe bake")->required();
+    command
+        ->add_option("BUNDLE", args->bundles,
+                     "Device bundle (.vpeb) from vpe bake; or the bundles of a show of several "
+                     "projectors (--out is then a folder, one frame each, and --simulate shows "
+                     "their combined light)")
+        ->required();
     command->add_option("--light", args->light, "Virtual light position x,y,z (m, object frame)")
         ->required();
     command->add_option("--intensity", args->intensity, "Virtual light irradiance")
@@ -229,7 +386,16 @@ void addRenderCommand(CLI::App& app, Action& action) {
                         "Preview exposure (0: automatic, from the direct view)");
     addThreadsOption(command, args->threads);
     addJsonFlag(command, args->json);
-    command->callback([args, &action] { action = [args] { runRender(*args); }; });
+    command->callback([args, &action] {
+        action = [args] {
+            if (args->bundles.size() > 1) {
+                runRenderShow(*args);
+            } else {
+                args->bundle = args->bundles.front();
+                runRender(*args);
+            }
+        };
+    });
 }
 
 }  // namespace vpe::cli

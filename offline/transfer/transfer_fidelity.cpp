@@ -34,9 +34,29 @@ Vec3d direction(double azimuthDegrees, double elevationDegrees) {
     return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
 }
 
+// Mean angle between the bundle's relief and the truth's, over the texels (at their centres).
+double reliefError(const renderer::BundleScene& bundleScene, const SyntheticTruth& truth) {
+    const renderer::RenderScene scene = bundleScene.scene({}, {0, 0, 1});
+    const int w = truth.width(), h = truth.height();
+    double sum = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const renderer::Vec2d uv{(x + 0.5) / w, 1.0 - (y + 0.5) / h};
+            const Vec3d a = proto::normalized(renderer::sampleDetailNormal(scene.material, uv));
+            const std::size_t t = static_cast<std::size_t>(y) * w + x;
+            const Vec3d b = proto::detailNormalFromXy<double>(truth.detailNormals()[2 * t],
+                                                              truth.detailNormals()[2 * t + 1]);
+            sum += std::acos(std::clamp(proto::dot(a, b), -1.0, 1.0));
+        }
+    }
+    return sum / (static_cast<double>(w) * h) * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
 // An exposure that puts the 99th percentile of the lit pixels' brightest channel at 0.8 (as
 // `vpe render` previews do), from the truth, for both pictures.
-double exposureOf(const renderer::RgbImage& image, const renderer::MaskImage& coverage) {
+double truthExposure(const renderer::RgbImage& image, const renderer::MaskImage& coverage) {
     std::vector<float> values;
     for (std::size_t p = 0; p < coverage.values.size(); ++p) {
         const float v =
@@ -55,8 +75,8 @@ double exposureOf(const renderer::RgbImage& image, const renderer::MaskImage& co
 }
 
 // The truth seen by the camera: the pipeline's direct view with the true material.
-renderer::RgbImage renderTruth(const renderer::RenderScene& scene, const SyntheticTruth& truth,
-                               const proto::PinholeCamera& camera, int threads) {
+renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const SyntheticTruth& truth,
+                                   const proto::PinholeCamera& camera, int threads) {
     renderer::RgbImage image(camera.width, camera.height);
     const renderer::RayCaster caster(scene.mesh);
     const Vec3d eye = camera.center();
@@ -77,26 +97,6 @@ renderer::RgbImage renderTruth(const renderer::RenderScene& scene, const Synthet
     });
     return image;
 }
-
-// Mean angle between the bundle's relief and the truth's, over the texels (at their centres).
-double reliefError(const renderer::BundleScene& bundleScene, const SyntheticTruth& truth) {
-    const renderer::RenderScene scene = bundleScene.scene({}, {0, 0, 1});
-    const int w = truth.width(), h = truth.height();
-    double sum = 0;
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const renderer::Vec2d uv{(x + 0.5) / w, 1.0 - (y + 0.5) / h};
-            const Vec3d a = proto::normalized(renderer::sampleDetailNormal(scene.material, uv));
-            const std::size_t t = static_cast<std::size_t>(y) * w + x;
-            const Vec3d b = proto::detailNormalFromXy<double>(truth.detailNormals()[2 * t],
-                                                              truth.detailNormals()[2 * t + 1]);
-            sum += std::acos(std::clamp(proto::dot(a, b), -1.0, 1.0));
-        }
-    }
-    return sum / (static_cast<double>(w) * h) * 180.0 / std::numbers::pi;
-}
-
-}  // namespace
 
 std::vector<TransferView> transferViews(const Vec3d& lower, const Vec3d& upper) {
     const Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
@@ -202,11 +202,12 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
         renderOptions.threads = options.threads;
         const renderer::DirectView pipeline =
             renderer::renderDirectView(scene, camera, renderOptions);
-        const renderer::RgbImage truthImage = renderTruth(scene, truth, camera, options.threads);
+        const renderer::RgbImage truthImage =
+            renderTruthView(scene, truth, camera, options.threads);
 
         ViewFidelity fidelity;
         fidelity.name = view.name;
-        fidelity.exposure = exposureOf(truthImage, pipeline.coverage);
+        fidelity.exposure = truthExposure(truthImage, pipeline.coverage);
         const Rgb8Image a =
             toSrgb8(truthImage.values, camera.width, camera.height, fidelity.exposure);
         const Rgb8Image b =

@@ -114,6 +114,7 @@ public:
         decodeProjector(view, root);
         decodeCamera(view, root);
         decodeRadiometry(view, root);
+        decodeBlend(view, root);
         decodeSettings(view, root);
         decodeMesh(view, root);
         decodeTextures(view, root);
@@ -241,6 +242,34 @@ private:
             }
         }
         view.radiometry_ = r;
+    }
+
+    // 1.5's blend: absent in older bundles and in a single projector's. Its share map has the
+    // projector's size, every value in [0, 1].
+    void decodeBlend(BundleView& view, const fb::Bundle& root) {
+        const fb::Blend* table = root.blend();
+        if (table == nullptr) {
+            return;
+        }
+        BlendView blend;
+        blend.projectors = table->projectors();
+        blend.index = table->index();
+        if (blend.projectors < 1 || blend.index >= blend.projectors) {
+            fail("blend: projector " + std::to_string(blend.index) + " of " +
+                 std::to_string(blend.projectors) + " (expected index < projectors, ≥ 1)");
+        }
+        if (table->share() == nullptr) {
+            fail("blend: share missing");
+        }
+        blend.share = typed<std::uint16_t>(table->share(), "blend share", {fb::ElementType::Float16},
+                                           {view.projector_.height, view.projector_.width});
+        for (const std::uint16_t half : blend.share) {
+            const float v = halfToFloat(half);
+            if (!(v >= 0 && v <= 1)) {
+                fail("blend share: a value outside [0, 1]");
+            }
+        }
+        view.blend_ = blend;
     }
 
     // A Projector table (the projector's or the camera's) into its struct, unchecked.

@@ -117,6 +117,19 @@ BundleScene::BundleScene(const proto::BundleView& bundle, const std::string& pre
         maps->inverseResponse = proto::InverseResponseTable(projector_.response);
         measuredLight_ = std::move(maps);
     }
+    lightShare_ = decodeLightShare(bundle);
+}
+
+std::shared_ptr<const FloatImage> decodeLightShare(const proto::BundleView& bundle) {
+    const std::optional<proto::BlendView>& blend = bundle.blend();
+    if (!blend) {
+        return nullptr;
+    }
+    auto share = std::make_shared<FloatImage>(static_cast<int>(bundle.projector().width),
+                                              static_cast<int>(bundle.projector().height));
+    std::transform(blend->share.begin(), blend->share.end(), share->values.begin(),
+                   proto::halfToFloat);
+    return share;
 }
 
 Vec3d BundleScene::bundleViewer() const {
@@ -142,6 +155,7 @@ RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) c
     scene.light = light;
     scene.viewer = viewer;
     scene.measuredLight = measuredLight_;
+    scene.lightShare = lightShare_;
     return scene;
 }
 

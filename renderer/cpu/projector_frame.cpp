@@ -23,7 +23,8 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOption
     if (auto problem = checkRenderScene(scene); !problem.empty()) {
         throw std::invalid_argument("renderProjectorFrame: " + problem);
     }
-    return renderProjectorFrame(scene, ProjectorPixels(scene.mesh, scene.projector), options);
+    return renderProjectorFrame(
+        scene, ProjectorPixels(scene.mesh, scene.projector, scene.lightShare), options);
 }
 
 ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPixels& pixels,
@@ -67,13 +68,20 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
                 targetRadiance(scene, traced->point, scene.viewer, options.gain);
             const MeasuredLightMaps* measured = scene.measuredLight.get();
             const std::size_t at = 3 * (static_cast<std::size_t>(y) * width + x);
-            const CompensatedPixel pixel =
-                measured != nullptr
-                    ? compensateMeasuredPixel(&measured->irradiance[at], &measured->floor[at],
-                                              measured->mixingInverse, measured->inverseResponse,
-                                              target, options.gain)
-                    : compensatePixel(scene.surface, scene.projector.response,
-                                      traced->irradianceScale, target, options.gain);
+            CompensatedPixel pixel;
+            if (measured != nullptr) {
+                // The share divides F: the projector aims for s · (L − D).
+                const auto share = static_cast<float>(traced->share);
+                const float irradiance[3] = {sharedIrradiance(measured->irradiance[at], share),
+                                             sharedIrradiance(measured->irradiance[at + 1], share),
+                                             sharedIrradiance(measured->irradiance[at + 2], share)};
+                pixel = compensateMeasuredPixel(irradiance, &measured->floor[at],
+                                                measured->mixingInverse,
+                                                measured->inverseResponse, target, options.gain);
+            } else {
+                pixel = compensatePixel(scene.surface, scene.projector.response,
+                                        traced->compensationScale(), target, options.gain);
+            }
             float* level = frame.level.pixel(x, y);
             float* radiance = frame.targetRadiance.pixel(x, y);
             for (std::size_t c = 0; c < 3; ++c) {

@@ -2,12 +2,30 @@
 // ProjectorPixels: one exact ray per projector pixel (see the header).
 #include "vpe/renderer/projector_pixels.h"
 
+#include <stdexcept>
+#include <string>
+#include <utility>
+
 #include "vpe/renderer/lambertian_screen.h"
 
 namespace vpe::renderer {
 
-ProjectorPixels::ProjectorPixels(const RenderMesh& mesh, const ProjectorModel& projector)
-    : caster_(mesh), mesh_(mesh), projector_(projector), origin_(projector.camera.center()) {}
+ProjectorPixels::ProjectorPixels(const RenderMesh& mesh, const ProjectorModel& projector,
+                                 std::shared_ptr<const FloatImage> share)
+    : caster_(mesh),
+      mesh_(mesh),
+      projector_(projector),
+      origin_(projector.camera.center()),
+      share_(std::move(share)) {
+    if (share_ && (share_->width != projector.camera.width ||
+                   share_->height != projector.camera.height)) {
+        throw std::invalid_argument("ProjectorPixels: a share map of " +
+                                    std::to_string(share_->width) + "x" +
+                                    std::to_string(share_->height) + " for a projector of " +
+                                    std::to_string(projector.camera.width) + "x" +
+                                    std::to_string(projector.camera.height));
+    }
+}
 
 std::optional<ProjectorPixel> ProjectorPixels::trace(int x, int y) const {
     const Vec3d direction =
@@ -20,6 +38,9 @@ std::optional<ProjectorPixel> ProjectorPixels::trace(int x, int y) const {
     pixel.point = surfacePoint(mesh_, origin_, direction, *hit);
     pixel.irradianceScale =
         projectorIrradianceScale(projector_, pixel.point.position, pixel.point.normal);
+    if (share_) {
+        pixel.share = static_cast<double>(share_->at(x, y));
+    }
     return pixel;
 }
 

@@ -33,6 +33,17 @@ std::string checkRenderScene(const RenderScene& scene) {
     if (auto problem = checkMaterialTextures(scene.material); !problem.empty()) {
         return "material: " + problem;
     }
+    if (const FloatImage* share = scene.lightShare.get(); share != nullptr) {
+        if (share->width != scene.projector.camera.width ||
+            share->height != scene.projector.camera.height) {
+            return "light share: not the projector's size";
+        }
+        for (const float s : share->values) {
+            if (!(s >= 0 && s <= 1)) {
+                return "light share: a value outside [0, 1]";
+            }
+        }
+    }
     if (!isFinite(scene.light.position) || !isFinite(scene.viewer)) {
         return "light and viewer positions must be finite";
     }

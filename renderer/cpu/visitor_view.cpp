@@ -85,6 +85,18 @@ std::array<double, 3> interpolatedOutput(const RgbImage& pattern,
     return output;
 }
 
+// Bilinear interpolation of a share map at a projector pixel coordinate, clamp to edge.
+float interpolatedShare(const FloatImage& share, const Vec2d& p) {
+    const double x = std::clamp(p.x, 0.0, static_cast<double>(share.width - 1));
+    const double y = std::clamp(p.y, 0.0, static_cast<double>(share.height - 1));
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const int x1 = std::min(x0 + 1, share.width - 1), y1 = std::min(y0 + 1, share.height - 1);
+    const double fx = x - x0, fy = y - y0;
+    const auto at = [&](int px, int py) { return static_cast<double>(share.at(px, py)); };
+    return static_cast<float>((1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) +
+                              fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1)));
+}
+
 }  // namespace
 
 SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& pattern,
@@ -133,6 +145,74 @@ SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& patt
                 view.projectorPixel[2 * i] = static_cast<float>(pixel->x);
                 view.projectorPixel[2 * i + 1] = static_cast<float>(pixel->y);
             }
+            float* out = view.radiance.pixel(x, y);
+            for (std::size_t c = 0; c < 3; ++c) {
+                out[c] = static_cast<float>(radiance[c]);
+            }
+        });
+    return view;
+}
+
+SimulatedShowView simulateShowView(const std::vector<const RenderScene*>& scenes,
+                                   const std::vector<const RgbImage*>& patterns,
+                                   const proto::PinholeCamera& viewerCamera,
+                                   const RenderOptions& options) {
+    if (scenes.empty() || scenes.size() != patterns.size() || scenes.size() > 32) {
+        throw std::invalid_argument("simulateShowView: " + std::to_string(scenes.size()) +
+                                    " projectors and " + std::to_string(patterns.size()) +
+                                    " patterns (1 to 32, one each)");
+    }
+    for (std::size_t i = 0; i < scenes.size(); ++i) {
+        checkViewInputs("simulateShowView", *scenes[i], viewerCamera);
+        const proto::PinholeCamera& projector = scenes[i]->projector.camera;
+        if (patterns[i]->width != projector.width || patterns[i]->height != projector.height ||
+            patterns[i]->values.size() != patterns[i]->pixelCount() * 3) {
+            throw std::invalid_argument("simulateShowView: pattern " + std::to_string(i) +
+                                        " is not its projector's size");
+        }
+        if (scenes[i]->mesh.indices.size() != scenes[0]->mesh.indices.size() ||
+            scenes[i]->mesh.positions.size() != scenes[0]->mesh.positions.size()) {
+            throw std::invalid_argument("simulateShowView: projector " + std::to_string(i) +
+                                        "'s object is not the first's");
+        }
+    }
+    const RenderScene& first = *scenes[0];
+    const int width = viewerCamera.width, height = viewerCamera.height;
+    const RayCaster caster(first.mesh);
+    SimulatedShowView view;
+    view.radiance = RgbImage(width, height);
+    view.coverage = MaskImage(width, height);
+    view.litBy = ScalarImage<std::uint32_t>(width, height);
+    view.shares.assign(scenes.size(), FloatImage(width, height));
+    forEachSeenPoint(
+        first, viewerCamera, caster, options.threads, view.coverage,
+        [&](int x, int y, const SurfacePoint& point) {
+            std::array<double, 3> irradiance{};  // Σ S_i·r̄_i
+            std::uint32_t litBy = 0;
+            for (std::size_t i = 0; i < scenes.size(); ++i) {
+                const ProjectorModel& model = scenes[i]->projector;
+                const proto::PinholeCamera& projector = model.camera;
+                const double scale = projectorIrradianceScale(model, point.position, point.normal);
+                const auto pixel = projectToPixel(projector, point.position);
+                const bool inImage = pixel && pixel->x >= -0.5 &&
+                                     pixel->x <= projector.width - 0.5 && pixel->y >= -0.5 &&
+                                     pixel->y <= projector.height - 0.5;
+                const Vec3d centre = projector.center();
+                if (scale > 0 && inImage &&
+                    !caster.anyHit(centre, point.position - centre, 0.0, 1.0 - kShadowTolerance)) {
+                    const std::array<double, 3> output =
+                        interpolatedOutput(*patterns[i], model.response, *pixel);
+                    for (std::size_t c = 0; c < 3; ++c) {
+                        irradiance[c] += scale * output[c];
+                    }
+                    litBy |= 1u << i;
+                    view.shares[i].at(x, y) =
+                        scenes[i]->lightShare ? interpolatedShare(*scenes[i]->lightShare, *pixel)
+                                              : 1.0f;
+                }
+            }
+            const std::array<double, 3> radiance = screenRadiance(first.surface, 1.0, irradiance);
+            view.litBy.at(x, y) = litBy;
             float* out = view.radiance.pixel(x, y);
             for (std::size_t c = 0; c < 3; ++c) {
                 out[c] = static_cast<float>(radiance[c]);

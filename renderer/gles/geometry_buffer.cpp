@@ -34,9 +34,11 @@ PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
     packed.geometry0 = {
         static_cast<float>(point.position.x), static_cast<float>(point.position.y),
         static_cast<float>(point.position.z),
-        // Finite however grazing (0 · ∞ would be NaN in the shader).
-        pixel->irradianceScale > 0
-            ? std::min(static_cast<float>(1.0 / pixel->irradianceScale), kNoProjectorLight)
+        // s/S, finite however grazing (0 · ∞ would be NaN in the shader); 0 where the share
+        // asks nothing of this projector.
+        pixel->share <= 0 ? 0.0f
+        : pixel->irradianceScale > 0
+            ? std::min(static_cast<float>(pixel->share / pixel->irradianceScale), kNoProjectorLight)
             : kNoProjectorLight};
     packed.geometry1 = {std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.x)),
                         std::bit_cast<std::uint32_t>(static_cast<float>(point.normal.y)),

@@ -20,6 +20,7 @@
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
 #include "vpe/renderer/measured_light.h"
+#include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/projector_pixels.h"
 
 namespace vpe::renderer::gles {
@@ -125,7 +126,7 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     auto start = Clock::now();
     {
         const OwnedRenderMesh mesh(bundle.mesh());
-        const ProjectorPixels pixels(mesh.view, projectorOf(bundle));
+        const ProjectorPixels pixels(mesh.view, projectorOf(bundle), decodeLightShare(bundle));
         geometry_ =
             std::make_unique<GeometryBuffer>(pixels, options.threads, ReliefPass::needed(bundle));
     }
@@ -140,7 +141,22 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     loadTimes_.materialMs = msSince(start);
 
     if (const auto& measured = bundle.radiometry()) {
-        measuredIrradiance_ = halfTexture(width_, height_, measured->irradiance);
+        if (const auto& blend = bundle.blend()) {
+            // The share divides F once here (sharedIrradiance, as the CPU reference): the
+            // frame aims for s · (L − D) at no cost per frame.
+            std::vector<std::uint16_t> shared(measured->irradiance.begin(),
+                                              measured->irradiance.end());
+            for (std::size_t p = 0; p < blend->share.size(); ++p) {
+                const float share = proto::halfToFloat(blend->share[p]);
+                for (std::size_t k = 0; k < 3; ++k) {
+                    shared[4 * p + k] = proto::floatToHalf(
+                        sharedIrradiance(proto::halfToFloat(shared[4 * p + k]), share));
+                }
+            }
+            measuredIrradiance_ = halfTexture(width_, height_, shared);
+        } else {
+            measuredIrradiance_ = halfTexture(width_, height_, measured->irradiance);
+        }
         measuredFloor_ = halfTexture(width_, height_, measured->floor);
         const std::array<double, 9> inverse = inverse3x3(measured->mixing);
         for (std::size_t row = 0; row < 3; ++row) {

@@ -72,8 +72,8 @@ TEST(BoardConfigTest, RefusesBadFilesWithOneLine) {
               "test.toml:display.modeset: expected \"auto\" or \"legacy\", got \"fast\"");
     EXPECT_EQ(errorOf("display = 1\n"), "test.toml:display: expected a table, got an integer");
     EXPECT_EQ(errorOf("[displays]\n"),
-              "test.toml:displays: unknown key (known: board, camera, display, gpio, idle, light, "
-              "osc, render, scan)");
+              "test.toml:displays: unknown key (known: board, bus, camera, display, gpio, idle, "
+              "light, osc, render, scan)");
     const std::string headless = "[display]\nbackend = \"headless\"\n";
     EXPECT_EQ(errorOf(headless + "[render]\nrate = -1\n"),
               "test.toml:render.rate: expected frames per second in [0, 1000] (0: unpaced), got "

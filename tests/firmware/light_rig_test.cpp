@@ -71,10 +71,10 @@ TEST_F(LightRigTest, TurnsWithinLimitsAndSmooths) {
     LightRig rig(light_, idle_, sphere_, 3, 0);
     EXPECT_EQ(rig.activeSource(), InputSource::kIdle);
     EXPECT_FALSE(rig.idle());
-    EXPECT_TRUE(rig.apply(event(InputSource::kKnobs, 1 * kMs, TurnLight{20, 0, 0})));
+    EXPECT_TRUE(rig.apply(event(InputSource::kKnobs, 0, TurnLight{20, 0, 0})));
     EXPECT_EQ(rig.activeSource(), InputSource::kKnobs);
     EXPECT_EQ(rig.target().azimuthDeg, 20.0);
-    rig.advance(100 * kMs);  // one time constant: 1 − 1/e of the way
+    rig.advance(100 * kMs);  // one time constant after the turn: 1 − 1/e of the way
     EXPECT_NEAR(rig.current().azimuthDeg, 20.0 * (1.0 - std::exp(-1.0)), 1e-9);
     rig.advance(2 * kSecond);
     EXPECT_NEAR(rig.current().azimuthDeg, 20.0, 1e-6);
@@ -149,6 +149,7 @@ TEST_F(LightRigTest, DriftsWhenQuietAndHandsBackWithoutAJump) {
     EXPECT_LT(largestStep, 2.0);
     EXPECT_GT(std::abs(rig.current().azimuthDeg + 50.0), 1.0);  // it moved
     // A knob turn takes over from where the drift was, relative to it.
+    rig.advance(now);
     const SphericalPosition there = rig.current();
     rig.apply(event(InputSource::kKnobs, now, TurnLight{1, 0, 0}));
     EXPECT_FALSE(rig.idle());
@@ -207,13 +208,92 @@ TEST(IdleDriftTest, StaysInItsRangesAndStartsWhereTheLightWas) {
         EXPECT_LE(p.elevationDeg, 40.0 + 1e-9);
     }
     const SphericalPosition from{-80, 70, 1.3};
-    const SphericalPosition start = drift.position(from, 0);
+    const SphericalPosition start = drift.position(from, 0, 7.0);
     EXPECT_EQ(start.azimuthDeg, -80.0);
     EXPECT_EQ(start.elevationDeg, 70.0);
     EXPECT_EQ(start.distanceM, 1.3);
-    const SphericalPosition later = drift.position(from, 5.0);
-    const SphericalPosition onPath = drift.path(5.0, 1.3);
+    const SphericalPosition later = drift.position(from, 5.0, 12.0);
+    const SphericalPosition onPath = drift.path(12.0, 1.3);
     EXPECT_EQ(later.azimuthDeg, onPath.azimuthDeg);
+    // The phase is the clock's time modulo the period (40 s by default), exactly, even for a
+    // wall clock's 1.7e18 ns.
+    EXPECT_DOUBLE_EQ(drift.phaseAt(85 * kSecond + 250 * kMs), 5.25);
+    EXPECT_DOUBLE_EQ(drift.phaseAt(1'718'000'003'123'456'789), 3.123456789);
+}
+
+// What makes nodes agree (firmware/bus/): the light is a function of time and of the shared
+// state, not of how often a node draws it.
+TEST_F(LightRigTest, TheLightIsAFunctionOfTimeNotOfTheFrameRate) {
+    LightRig fast(light_, idle_, sphere_, 1, 0), slow(light_, idle_, sphere_, 1, 0);
+    const auto turn = event(InputSource::kKnobs, 5 * kMs, TurnLight{30, 10, 0});
+    fast.apply(turn);
+    slow.apply(turn);
+    for (std::int64_t t = 0; t <= 400 * kMs; t += 4 * kMs) {  // 250 Hz
+        fast.advance(t);
+    }
+    for (std::int64_t t = 0; t <= 400 * kMs; t += 20 * kMs) {  // 50 Hz
+        slow.advance(t);
+    }
+    EXPECT_DOUBLE_EQ(fast.current().azimuthDeg, slow.current().azimuthDeg);
+    EXPECT_DOUBLE_EQ(fast.current().elevationDeg, slow.current().elevationDeg);
+    EXPECT_NEAR(fast.current().azimuthDeg, 30.0 * (1.0 - std::exp(-3.95)), 1e-9);
+}
+
+TEST_F(LightRigTest, FollowsANewerSharedStateAndDrawsTheSameLight) {
+    LightRig steered(light_, idle_, sphere_, 3, 0), follower(light_, idle_, sphere_, 3, 0);
+    steered.advance(40 * kMs);
+    steered.apply(event(InputSource::kKnobs, 50 * kMs, TurnLight{-25, 5, 0}));
+    steered.apply(event(InputSource::kKnobs, 60 * kMs, SelectPreset{2, false}));
+    const SharedLight state = steered.shared();
+    EXPECT_EQ(state.moveStartNs, 50 * kMs);
+    EXPECT_EQ(state.revisionNs, 60 * kMs);
+    ASSERT_TRUE(state.driftAtNs.has_value());
+    EXPECT_EQ(*state.driftAtNs, 10 * kSecond + 50 * kMs);  // quiet_s after the move
+    EXPECT_EQ(state.steeredBy, InputSource::kKnobs);
+    // The follower hears of it late: it still draws what the steered node draws.
+    follower.advance(30 * kMs);
+    EXPECT_TRUE(follower.apply(event(InputSource::kBus, 90 * kMs, FollowLight{state})));
+    EXPECT_EQ(follower.preset(), 2);
+    EXPECT_EQ(follower.activeSource(), InputSource::kBus);
+    for (const std::int64_t t : {100 * kMs, 300 * kMs, 10 * kSecond + 900 * kMs, 31 * kSecond}) {
+        steered.advance(t);
+        follower.advance(t);
+        EXPECT_DOUBLE_EQ(steered.current().azimuthDeg, follower.current().azimuthDeg) << t;
+        EXPECT_DOUBLE_EQ(steered.current().elevationDeg, follower.current().elevationDeg) << t;
+    }
+    EXPECT_TRUE(follower.idle());  // the drift began at the time the state said, on both
+    EXPECT_EQ(follower.activeSource(), InputSource::kIdle);
+    // Its own echo, or anything older, changes nothing.
+    SharedLight older = state;
+    older.target.azimuthDeg = 80;
+    EXPECT_TRUE(follower.apply(event(InputSource::kBus, 32 * kSecond, FollowLight{older})));
+    EXPECT_EQ(follower.staleStates(), 1u);
+    follower.advance(32 * kSecond);
+    steered.advance(32 * kSecond);
+    EXPECT_DOUBLE_EQ(steered.current().azimuthDeg, follower.current().azimuthDeg);
+}
+
+TEST_F(LightRigTest, NodesThatNeverHeardOfEachOtherDriftAlike) {
+    // Started 3.7 s apart, never steered: after the handover both are on the clock's path.
+    LightRig early(light_, idle_, sphere_, 1, 0), late(light_, idle_, sphere_, 1, 3700 * kMs);
+    for (const std::int64_t t : {16 * kSecond, 23 * kSecond + 123 * kMs}) {
+        early.advance(t);
+        late.advance(t);
+        EXPECT_TRUE(early.idle());
+        EXPECT_DOUBLE_EQ(early.current().azimuthDeg, late.current().azimuthDeg);
+        EXPECT_DOUBLE_EQ(early.current().elevationDeg, late.current().elevationDeg);
+    }
+}
+
+TEST_F(LightRigTest, ALocalChangeIsNewerThanAnyStateSeen) {
+    LightRig rig(light_, idle_, sphere_, 1, 0);
+    SharedLight ahead = rig.shared();
+    ahead.revisionNs = 5 * kSecond;  // from a node whose clock runs ahead
+    ahead.moveStartNs = 5 * kSecond;
+    rig.apply(event(InputSource::kBus, kSecond, FollowLight{ahead}));
+    rig.apply(event(InputSource::kKnobs, 2 * kSecond, TurnLight{3, 0, 0}));
+    EXPECT_GT(rig.revisionNs(), 5 * kSecond);
+    EXPECT_EQ(rig.activeSource(), InputSource::kKnobs);
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ TEST(OscConfigTest, ReadsEveryKey) {
 
 TEST(OscConfigTest, RefusesBadValuesWithOneLine) {
     EXPECT_EQ(errorOf("[osc]\nhost = \"x\"\n"),
-              "board.toml:osc.host: unknown key (known: address, enabled, port, protocol)");
+              "board.toml:osc.host: unknown key (known: address, allow, enabled, port, protocol)");
     EXPECT_EQ(errorOf("[osc]\nport = 0\n"), "board.toml:osc.port: expected 1..65535, got 0");
     EXPECT_EQ(errorOf("[osc]\nport = 70000\n"),
               "board.toml:osc.port: expected 1..65535, got 70000");
@@ -68,6 +68,35 @@ TEST(OscConfigTest, RefusesBadValuesWithOneLine) {
               "board.toml:osc.address: expected a string, got an integer");
     EXPECT_EQ(errorOf("[osc]\nprotocol = \"tcp\"\n"),
               "board.toml:osc.protocol: expected \"udp\" (the only protocol), got \"tcp\"");
+}
+
+TEST(OscConfigTest, ReadsTheAllowList) {
+    EXPECT_TRUE(parse("[osc]\n").allow.allowsEverySender());
+    const OscConfig config =
+        parse("[osc]\nallow = [\"192.168.1.0/24\", \"10.0.0.5\", \"fd00::/8\", \"::1\"]\n");
+    ASSERT_EQ(config.allow.networks().size(), 4u);
+    EXPECT_EQ(config.allow.describe(), "192.168.1.0/24, 10.0.0.5, fd00::/8, ::1");
+    EXPECT_EQ(config.allow.networks()[1].prefixBits, 32);
+    EXPECT_EQ(config.allow.networks()[3].prefixBits, 128);
+    EXPECT_EQ(errorOf("[osc]\nallow = []\n"),
+              "board.toml:osc.allow: empty; leave the key out to take datagrams from every "
+              "sender, or set osc.enabled = false");
+    EXPECT_EQ(errorOf("[osc]\nallow = \"10.0.0.5\"\n"),
+              "board.toml:osc.allow: expected an array of addresses, got a string");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"10.0.0.5\", 7]\n"),
+              "board.toml:osc.allow[1]: expected a string, got an integer");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"gallery.local\"]\n"),
+              "board.toml:osc.allow[0]: \"gallery.local\": expected an IPv4 or IPv6 address, or "
+              "a network such as \"192.168.1.0/24\"");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"192.168.1.5/24\"]\n"),
+              "board.toml:osc.allow[0]: \"192.168.1.5/24\": host bits set (the network is "
+              "192.168.1.0/24)");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"10.0.0.0/33\"]\n"),
+              "board.toml:osc.allow[0]: \"10.0.0.0/33\": the prefix length must be 0..32");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"fd00::/129\"]\n"),
+              "board.toml:osc.allow[0]: \"fd00::/129\": the prefix length must be 0..128");
+    EXPECT_EQ(errorOf("[osc]\nallow = [\"10.0.0.0/\"]\n"),
+              "board.toml:osc.allow[0]: \"10.0.0.0/\": the prefix length must be 0..32");
 }
 
 }  // namespace

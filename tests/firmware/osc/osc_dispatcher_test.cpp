@@ -185,9 +185,11 @@ TEST(OscDispatcherTest, RefusesEachFaultUnderItsOwnReason) {
     }
     f.dispatcher.rejectMalformed("datagram of 3 bytes: not an OSC message", 42);
     ++expected[static_cast<std::size_t>(OscRejection::kMalformedPacket)];
+    f.dispatcher.rejectSource("datagram of 20 bytes from 10.1.2.3:5000: not in [osc] allow", 43);
+    ++expected[static_cast<std::size_t>(OscRejection::kSourceNotAllowed)];
 
     EXPECT_EQ(f.dispatcher.counters().rejected, expected);
-    EXPECT_EQ(f.dispatcher.counters().rejectedTotal(), cases.size() + 1);
+    EXPECT_EQ(f.dispatcher.counters().rejectedTotal(), cases.size() + 2);
     EXPECT_EQ(f.dispatcher.counters().accepted, 0u);
     for (std::size_t reason = 0; reason < kOscRejectionCount; ++reason) {
         EXPECT_GT(expected[reason], 0u) << oscRejectionName(static_cast<OscRejection>(reason));

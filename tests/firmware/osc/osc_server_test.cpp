@@ -16,6 +16,8 @@
 #include <lo/lo.h>
 #include <netinet/in.h>
 #include <poll.h>
+
+#include "vpe/firmware/osc/source_allow_list.h"
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -340,6 +342,67 @@ TEST(OscServerTest, ListensOnIpv6Loopback) {
     drainUntil(*server, 1, events);
     ASSERT_EQ(events.size(), 1u);
     EXPECT_EQ(std::get<AimLight>(events[0].action).elevationDeg, 45.0);
+}
+
+OscConfig allowing(std::vector<std::string> entries, const std::string& address = "127.0.0.1") {
+    OscConfig config = loopbackConfig();
+    config.address = address;
+    std::vector<SourceAllowList::Network> networks;
+    for (const std::string& entry : entries) {
+        std::string problem;
+        networks.push_back(*SourceAllowList::parse(entry, problem));
+    }
+    config.allow = SourceAllowList(std::move(networks));
+    return config;
+}
+
+// The gallery LAN's allow list: a sender outside it is counted and logged, never decoded.
+TEST(OscServerTest, RefusesSendersOutsideTheAllowList) {
+    std::vector<std::string> lines;
+    OscServer server(allowing({"192.168.1.0/24", "10.0.0.5"}), OscLimits{},
+                     [&](const std::string& line) { lines.push_back(line); });
+    EXPECT_EQ(server.description(), "osc (127.0.0.1:" + std::to_string(server.port()) +
+                                        ", from 192.168.1.0/24, 10.0.0.5)");
+    Client client(server.port());
+    ASSERT_GT(lo_send(client.address, "/vpe/light/azimuth", "f", 30.0), 0);
+    ASSERT_GT(lo_send(client.address, "/vpe/light/reset", ""), 0);
+    std::vector<InputEvent> events;
+    drainUntil(server, 2, events);
+    EXPECT_TRUE(events.empty());
+    EXPECT_EQ(server.dispatcher().counters().accepted, 0u);
+    EXPECT_EQ(server.dispatcher().counters().rejectedFor(OscRejection::kSourceNotAllowed), 2u);
+    EXPECT_EQ(server.refusals().at("osc.source_not_allowed"), 2u);
+    ASSERT_FALSE(lines.empty());
+    EXPECT_EQ(lines[0].substr(0, 34), "osc: datagram of 28 bytes from 127");
+    EXPECT_NE(lines[0].find(": not in [osc] allow (source_not_allowed)"), std::string::npos)
+        << lines[0];
+
+    // The same sender in a listed network (or listed alone) is read as before.
+    for (const char* entry : {"127.0.0.0/8", "127.0.0.1"}) {
+        OscServer open(allowing({"10.0.0.5", entry}), OscLimits{}, [](const std::string&) {});
+        Client local(open.port());
+        ASSERT_GT(lo_send(local.address, "/vpe/light/azimuth", "f", 30.0), 0);
+        std::vector<InputEvent> accepted;
+        drainUntil(open, 1, accepted);
+        EXPECT_EQ(accepted.size(), 1u) << entry;
+        EXPECT_EQ(open.dispatcher().counters().rejectedTotal(), 0u) << entry;
+    }
+}
+
+// A socket bound to "::" sees IPv4 senders as ::ffff:a.b.c.d: they match IPv4 entries.
+TEST(OscServerTest, MatchesIpv4SendersOnADualStackSocket) {
+    std::optional<OscServer> server;
+    try {
+        server.emplace(allowing({"127.0.0.1"}, "::"), OscLimits{}, [](const std::string&) {});
+    } catch (const OscUnavailable& error) {
+        GTEST_SKIP() << "no IPv6 here: " << error.what();
+    }
+    Client client(server->port());
+    ASSERT_GT(lo_send(client.address, "/vpe/light/azimuth", "f", 10.0), 0);
+    std::vector<InputEvent> events;
+    drainUntil(*server, 1, events);
+    EXPECT_EQ(events.size(), 1u);
+    EXPECT_EQ(server->dispatcher().counters().rejectedTotal(), 0u);
 }
 
 }  // namespace

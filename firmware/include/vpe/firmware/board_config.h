@@ -57,8 +57,8 @@ struct BoardConfig {
     IdleConfig idle;
     // [scan]: what vpe-player --scan needs; empty when the section is absent (no scan).
     std::optional<ScanConfig> scan;
-    // The input sections ([gpio], [camera], [osc]) are parsed by their own rooms (knobs/,
-    // tracking/, osc/) from the document kept here; nullptr when the section is absent.
+    // The input sections ([gpio], [camera], [osc], [bus]) are parsed by their own rooms (knobs/,
+    // tracking/, osc/, bus/) from the document kept here; nullptr when the section is absent.
     const toml::table* section(std::string_view key) const;
     std::shared_ptr<const toml::table> document;
 };

@@ -27,6 +27,9 @@ struct PlayerOptions {
     std::optional<double> rate;  // --rate HZ: overrides the board's render.rate (headless)
     std::optional<std::filesystem::path> replay;  // --replay events.jsonl
     bool replayLoop = false;                      // --replay-loop: start the file over when it ends
+    // --light-log FILE: one JSON line per frame tick, the presentation time on CLOCK_REALTIME
+    // and the light drawn for it (player/light_log.h).
+    std::optional<std::filesystem::path> lightLog;
     bool check = false;  // --check: validate the board file (and bundle, if given), exit
     // --scan OUT: show the structured-light patterns and photograph them into the folder OUT
     // (firmware/README.md, "Scanning"); no bundle.

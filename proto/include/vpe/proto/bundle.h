@@ -83,6 +83,14 @@ struct RadiometryView {
     std::span<const std::uint16_t> floor;       // D
 };
 
+// Format 1.5: this projector's share of the light in a show of several (BUNDLE.md, `Blend`).
+struct BlendView {
+    int projectors = 1;  // how many light the object
+    int index = 0;       // this one's, < projectors
+    // Binary16 bits, [row·width + x] at the projector's width × height, each in [0, 1].
+    std::span<const std::uint16_t> share;
+};
+
 struct BundleOpenOptions {
     // The CRC-32 pass reads every byte of the file. A device that verified the bundle once
     // after installing it may skip it; every structural check still runs, so a bad file is
@@ -112,6 +120,8 @@ public:
     const std::optional<ProjectorCalibration>& camera() const { return camera_; }
     // Format 1.4, optional: the light measured on site; empty: the settings' assumptions.
     const std::optional<RadiometryView>& radiometry() const { return radiometry_; }
+    // Format 1.5, optional: the projector's share among several; empty: the only projector.
+    const std::optional<BlendView>& blend() const { return blend_; }
     const RenderSettings& settings() const { return settings_; }
     const BundleModel& model() const { return model_; }
     int textureWidth() const { return textureWidth_; }
@@ -137,6 +147,7 @@ private:
     ProjectorCalibration projector_;
     std::optional<ProjectorCalibration> camera_;
     std::optional<RadiometryView> radiometry_;
+    std::optional<BlendView> blend_;
     RenderSettings settings_;
     BundleModel model_;
     int textureWidth_ = 0;

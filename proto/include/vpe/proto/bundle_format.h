@@ -22,7 +22,7 @@ inline constexpr std::array<char, 4> kBundleMagic{'V', 'P', 'E', 'B'};
 inline constexpr std::uint16_t kBundleMajorVersion = 1;
 // 1.1 appended Model.theta_basis; 1.2 Textures.wrap_u and CoefficientMap.detail_normals; 1.3
 // Bundle.camera.
-inline constexpr std::uint16_t kBundleMinorVersion = 4;
+inline constexpr std::uint16_t kBundleMinorVersion = 5;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
 // Where the header keeps the checksum (a little-endian uint32, like every header field).

@@ -38,7 +38,11 @@ private:
     ProjectorModel projector_;
     ScreenSurface surface_;
     std::shared_ptr<const MeasuredLightMaps> measuredLight_;  // format 1.4's, when it has one
+    std::shared_ptr<const FloatImage> lightShare_;            // format 1.5's, when it has one
 };
+
+// Format 1.5's share map decoded to floats (the projector's size), or none.
+std::shared_ptr<const FloatImage> decodeLightShare(const proto::BundleView& bundle);
 
 // A coefficient map decoded to floats (C per texel, bundleCoefficientIndex order).
 std::vector<float> decodeCoefficientMap(const proto::CoefficientMapView& map, int coefficients);

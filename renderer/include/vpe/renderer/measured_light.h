@@ -26,6 +26,17 @@ struct MeasuredLightMaps {
 // wanted outputs roll off smoothly to full output (below).
 inline constexpr double kHighlightKnee = 0.9;
 
+// The largest irradiance factor a share divides F into (a half float's largest finite value:
+// the device stores it so): outputs that small are black.
+inline constexpr float kLargestSharedIrradiance = 65504.0f;
+
+// F / s, the irradiance factor that makes the compensation aim for the share s of the light
+// above the floor (bundle 1.5's blend), at most kLargestSharedIrradiance; s = 0 asks nothing.
+inline float sharedIrradiance(float irradiance, float share) {
+    return share > 0 && irradiance < share * kLargestSharedIrradiance ? irradiance / share
+                                                                      : kLargestSharedIrradiance;
+}
+
 // The inverse of a row-major 3 × 3; std::invalid_argument when it is singular.
 std::array<double, 9> inverse3x3(const std::array<double, 9>& m);
 

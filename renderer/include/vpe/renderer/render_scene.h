@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "vpe/renderer/image_buffers.h"
 #include "vpe/renderer/material_textures.h"
 #include "vpe/renderer/measured_light.h"
 #include "vpe/renderer/projector_model.h"
@@ -25,6 +26,10 @@ struct RenderScene {
     // `surface` and the projector's irradiance scale, and projector.response is the response
     // above black. Shared: the maps are the projector's size, the same for every frame.
     std::shared_ptr<const MeasuredLightMaps> measuredLight;
+    // In a show of several projectors (bundle 1.5's blend): this projector's share of the light
+    // per pixel (the projector's size), s ∈ [0, 1]; the compensation aims for s of the light
+    // above the floor. None: all of it.
+    std::shared_ptr<const FloatImage> lightShare;
 };
 
 struct RenderOptions {

@@ -3,6 +3,7 @@
 // material rendered directly — equal, where the pattern could be compensated, by design.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "vpe/proto/pinhole_camera.h"
@@ -39,6 +40,29 @@ struct DirectView {
 SimulatedView simulateVisitorView(const RenderScene& scene, const RgbImage& pattern,
                                   const proto::PinholeCamera& viewerCamera,
                                   const RenderOptions& options = {});
+
+// What a visitor sees of a show of several projectors on one object.
+struct SimulatedShowView {
+    RgbImage radiance;   // linear radiance reaching the camera; 0 off the object
+    MaskImage coverage;  // 1 where the pixel sees the object
+    // Bit i set where projector i reaches the point seen (in its image, facing it, not in its
+    // shadow); 0: no projector does.
+    ScalarImage<std::uint32_t> litBy;
+    // Per projector: its share of the light at the point each pixel sees (its scene's
+    // lightShare, bilinear at the point's projector pixel; 1 without one), 0 where it does not
+    // reach the point.
+    std::vector<FloatImage> shares;
+};
+
+// The combined light of several projectors — each scene's projector showing its pattern — on
+// the white object (every scene's mesh and surface must be the first's: one object), seen from
+// the viewer camera: ρ/π·(Σ_i S_i·r̄_i + E_ambient), each term as simulateVisitorView's, the
+// room's light counted once. At most 32 projectors. Throws std::invalid_argument as
+// simulateVisitorView does, or when the scenes and patterns do not pair up.
+SimulatedShowView simulateShowView(const std::vector<const RenderScene*>& scenes,
+                                   const std::vector<const RgbImage*>& patterns,
+                                   const proto::PinholeCamera& viewerCamera,
+                                   const RenderOptions& options = {});
 
 // The material rendered directly from the viewer camera: as renderProjectorFrame's target,
 // with the viewer at the camera's centre (scene.viewer is not used) and options.gain.

@@ -33,6 +33,9 @@ public:
     // ("osc.out_of_range": 3); the player's report carries them. Reasons with no refusal may
     // be left out.
     virtual std::map<std::string, std::uint64_t> refusals() const { return {}; }
+    // What the device did besides events, over its life ("bus.published": 12); the player's
+    // report carries them as `counters`.
+    virtual std::map<std::string, std::uint64_t> counters() const { return {}; }
 };
 
 // CLOCK_MONOTONIC in nanoseconds: the clock of GPIO event timestamps (libgpiod 1.6 reports

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// InputEvent: what every input (GPIO knobs, the tracked lamp, OSC, replay) hands the light rig.
-// Inputs only decode; the rig (firmware/light/) owns the light's state, limits and smoothing,
-// and lets the last active source win.
+// InputEvent: what every input (GPIO knobs, the tracked lamp, OSC, replay, another node over the
+// bus) hands the light rig. Inputs only decode; the rig (firmware/light/) owns the light's state,
+// limits and smoothing, and lets the last active source win.
 #pragma once
 
 #include <array>
@@ -9,12 +9,10 @@
 #include <optional>
 #include <variant>
 
+#include "vpe/firmware/input/input_source.h"
+#include "vpe/firmware/light/shared_light.h"
+
 namespace vpe::firmware {
-
-// Where an event came from. kIdle is the rig's own drift, never an input's.
-enum class InputSource : std::uint8_t { kKnobs, kCamera, kOsc, kIdle };
-
-const char* inputSourceName(InputSource source);
 
 // A relative move on the light's sphere (knobs): degrees, metres.
 struct TurnLight {
@@ -47,8 +45,14 @@ struct ResetLight {};
 // the idle loop's quiet time starts counting.
 struct ReleaseLight {};
 
-using LightAction =
-    std::variant<TurnLight, AimLight, PlaceLight, SelectPreset, ResetLight, ReleaseLight>;
+// Another node's light (firmware/bus/): taken whole when it is newer than this node's, so that
+// every node computes the same light from then on.
+struct FollowLight {
+    SharedLight state;
+};
+
+using LightAction = std::variant<TurnLight, AimLight, PlaceLight, SelectPreset, ResetLight,
+                                 ReleaseLight, FollowLight>;
 
 struct InputEvent {
     InputSource source = InputSource::kKnobs;

@@ -19,7 +19,7 @@
 
 #include "vpe/firmware/input/input_event.h"
 #include "vpe/firmware/osc/osc_message.h"
-#include "vpe/firmware/osc/rate_limited_log.h"
+#include "vpe/firmware/loop/rate_limited_log.h"
 
 namespace vpe::firmware {
 
@@ -44,8 +44,9 @@ enum class OscRejection : std::uint8_t {
     kOutOfRange,       // outside OscLimits, or a preset index beyond the bundle's presets
     kUnknownPreset,    // a preset name the bundle does not have
     kMalformedPacket,  // the datagram is not OSC (counted by the server, see rejectMalformed)
+    kSourceNotAllowed,  // a datagram from a sender not in [osc] allow (counted by the server)
 };
-inline constexpr std::size_t kOscRejectionCount = 7;
+inline constexpr std::size_t kOscRejectionCount = 8;
 
 // "unknown_address", "argument_count", … (logs, tests, the README's table).
 const char* oscRejectionName(OscRejection reason);
@@ -100,6 +101,9 @@ public:
     // A datagram that did not decode (decodeOscPacket's line): counted as kMalformedPacket
     // and logged like any rejection.
     void rejectMalformed(const std::string& problem, std::int64_t timestampNs);
+    // A datagram from a sender the [osc] allow list leaves out: counted as kSourceNotAllowed
+    // and logged like any rejection, never decoded.
+    void rejectSource(const std::string& problem, std::int64_t timestampNs);
 
     const OscCounters& counters() const { return counters_; }
     // The effective limits (intersected with the hard ranges).

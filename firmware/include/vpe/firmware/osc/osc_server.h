@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // OscServer: the OSC input. A UDP socket bound to the board's address and port; each datagram
-// is decoded with liblo (decodeOscPacket), handed to its OscDispatcher, and /vpe/status and
-// /vpe/ping are answered from the same socket to the sender.
+// from a sender the [osc] allow list admits is decoded with liblo (decodeOscPacket), handed to
+// its OscDispatcher, and /vpe/status and /vpe/ping are answered from the same socket to the
+// sender. A datagram from any other sender is counted (source_not_allowed) and dropped unread.
 //
 // Why not lo_server: liblo 0.31 binds every UDP server to the wildcard address (its
 // getaddrinfo has a NULL host; lo_server_new_from_url takes the URL's host for a multicast
@@ -52,7 +53,7 @@ public:
     OscServer(const OscConfig& config, const OscLimits& limits, RateLimitedLog::Sink log = {});
     ~OscServer() override;
 
-    // "osc (127.0.0.1:9000)"
+    // "osc (127.0.0.1:9000)", "osc (0.0.0.0:9000, from 192.168.1.0/24, 10.0.0.5)"
     std::string description() const override;
     std::vector<int> pollDescriptors() const override { return {fd_}; }
     void onReadable(int fd, std::int64_t nowNs, std::vector<InputEvent>& events) override;
@@ -85,6 +86,7 @@ private:
     int port_ = 0;
     std::string host_;  // as written in URLs: "127.0.0.1", "[::1]"
     std::string url_;
+    SourceAllowList allow_;
     std::vector<std::uint8_t> buffer_;  // one datagram
     std::uint64_t failedReplies_ = 0;
 };

@@ -69,6 +69,9 @@ struct FrameReport {
     // events the light rig refused ("light.preset_out_of_range"). eventsRefused is their sum.
     std::map<std::string, std::uint64_t> refusedByReason;
     long eventsRefused = 0;
+    // What the inputs did besides events ("bus.published", "bus.connections", ...), and the
+    // light rig's "light.stale_states" (other nodes' states older than its own).
+    std::map<std::string, std::uint64_t> counters;
     std::string stoppedBy = "frames";
     // The light at the end: where the inputs (or the drift) left it.
     double azimuthDeg = 0, elevationDeg = 0, distanceM = 0;

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: MIT
 // The player's inputs from its board file: the [gpio] knobs, the [camera] lamp and the [osc]
-// server, or, with --replay, the replay file decoded with those same settings. Hardware that is
-// absent (no gpiochip, camera or free port, as on a CI machine) is logged once, one line, and
-// the player goes on with what it has.
+// server, or, with --replay, the replay file decoded with those same settings; and the [bus]
+// (the light shared with the other nodes of a show), with or without a replay. Hardware that is
+// absent (no gpiochip, camera or free port, as on a CI machine) or a broker that cannot be
+// reached is logged once, one line, and the player goes on with what it has.
 #pragma once
 
 #include <optional>
 
 #include "vpe/firmware/board_config.h"
+#include "vpe/firmware/bus/bus_config.h"
 #include "vpe/firmware/knobs/knobs_config.h"
 #include "vpe/firmware/osc/osc_config.h"
 #include "vpe/firmware/osc/osc_dispatcher.h"
@@ -21,6 +23,7 @@ struct InputSettings {
     std::optional<knobs::KnobsConfig> knobs;  // absent: no [gpio] section
     std::optional<CameraConfig> camera;
     std::optional<OscConfig> osc;
+    std::optional<bus::BusConfig> bus;  // absent: no [bus] section
     // The board's [light] (the lamp's default distance for the camera model) and the board
     // file's name, for what is checked once the bundle is open.
     LightConfig light;
@@ -29,6 +32,10 @@ struct InputSettings {
 
 // Parses the input sections. Throws BoardConfigError.
 InputSettings readInputSettings(const BoardConfig& board);
+
+// The light rig's clock: CLOCK_REALTIME when the bus is on (the nodes' shared clock), else
+// CLOCK_MONOTONIC.
+ShowClock showClockFor(const InputSettings& settings);
 
 // OSC's ranges are the light rig's limits (with the distance range resolved from the bundle),
 // so OSC refuses exactly what the rig would have to clamp.

@@ -56,6 +56,13 @@ struct BundleRadiometry {
     std::vector<float> floor;       // D: likewise
 };
 
+// Format 1.5: this projector's share of the light among several projectors on one object.
+struct BundleBlend {
+    int projectors = 1;        // how many light the object
+    int index = 0;             // this one's
+    std::vector<float> share;  // projector width·height, each in [0, 1]
+};
+
 struct BundleContents {
     BundleMesh mesh;
     proto::ProjectorCalibration projector;
@@ -64,6 +71,8 @@ struct BundleContents {
     std::optional<proto::ProjectorCalibration> camera;
     // Format 1.4: the measured light; settings.response is then the response above black.
     std::optional<BundleRadiometry> radiometry;
+    // Format 1.5: the share of the light this projector gives in a show of several.
+    std::optional<BundleBlend> blend;
     proto::RenderSettings settings;
     proto::BundleModel model;  // M, λ and the θs basis (empty: none, rendered exactly)
     int textureWidth = 0;      // 1..4096

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "vpe/bake/projector_blend.h"
 #include "vpe/bake/scan_placement.h"
 #include "vpe/proto/bundle_contents.h"
 #include "vpe/proto/pinhole_camera.h"
@@ -92,5 +93,27 @@ struct BakeReport {
 
 // Reads, checks, encodes and writes atomically. Throws InputError naming the input at fault.
 BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out);
+
+// One projector of a show of several on one object: its calibration file or its scan (every
+// scan made with the same camera: the first one's registration places the object for all,
+// which keeps them in one frame even where a registration alone cannot tell — a surface of
+// revolution's turn), its measured light (optional), and the bundle to write.
+struct ShowProjector {
+    std::filesystem::path calibration, scan, radiometry;
+    std::filesystem::path out;
+};
+
+struct ShowReport {
+    std::vector<BakeReport> bundles;  // one per projector, in order
+    ProjectorBlend blend;             // the shares the bundles carry, and the surface's reach
+};
+
+// Several projectors on one object (bundle format 1.5): the textures encoded once, the
+// projectors placed, their shares of the light computed from the geometry (blendProjectors),
+// and one bundle written per projector with its share. `options`' projector, scan and
+// radiometry are ignored (each ShowProjector brings its own). Throws InputError naming the
+// input at fault.
+ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>& projectors,
+                    const BlendOptions& blend);
 
 }  // namespace vpe::bake

@@ -11,6 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "vpe/proto/pinhole_camera.h"
+#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/render_scene.h"
 #include "vpe/renderer/vector_types.h"
 
 namespace vpe::transfer {
@@ -63,6 +66,17 @@ struct TransferReport {
     double reliefErrorDegrees = 0;
     double seconds = 0;
 };
+
+class SyntheticTruth;
+
+// The true material seen by `camera` on the scene's mesh under its light (no cast shadows):
+// what both checks compare against.
+renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const SyntheticTruth& truth,
+                                   const proto::PinholeCamera& camera, int threads);
+
+// The exposure both pictures are shown at: the 99th percentile of the lit pixels' brightest
+// channel at 0.8 (as `vpe render` previews do), taken from the truth.
+double truthExposure(const renderer::RgbImage& image, const renderer::MaskImage& coverage);
 
 // Throws InputError when an input is missing or they do not fit together (the bundle's texture
 // is not the truth's size).

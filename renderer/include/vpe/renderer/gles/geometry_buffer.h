@@ -5,9 +5,11 @@
 // frame (Pellacini's deep framebuffer; Bimber's precomputed projector form factor).
 //
 // Three textures, texel (x, y) = projector pixel (x, y), row 0 the projector's top row:
-//   geometry0 RGBA32F: X (object frame, metres) and 1/S (S the projector's irradiance scale
-//     P·cos θp/d²), at most kNoProjectorLight (S = 0: any light asked of the projector there
-//     clips, none gives 0, as compensatePixel's ±∞), kUncovered when the pixel sees nothing;
+//   geometry0 RGBA32F: X (object frame, metres) and s/S (S the projector's irradiance scale
+//     P·cos θp/d², s its share of the light among several projectors, 1 alone: the inverse of
+//     ProjectorPixel::compensationScale), at most kNoProjectorLight (S = 0: any light asked of
+//     the projector there clips, none gives 0, as compensatePixel's ±∞), 0 where s = 0,
+//     kUncovered when the pixel sees nothing;
 //   geometry1 RGBA32UI: the shading normal's float bits (xyz), the geometric normal (w,
 //     encodeOctahedralNormal: it only decides the horizon);
 //   uv RG32F: the texture coordinate, rows from the top as the bundle stores it (read by the

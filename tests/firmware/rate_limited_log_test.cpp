@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // RateLimitedLog: a burst, then one line per interval, and a count of what was left out.
-#include "vpe/firmware/osc/rate_limited_log.h"
+#include "vpe/firmware/loop/rate_limited_log.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/firmware/osc/rate_limited_log.h"
+#include "vpe/firmware/loop/rate_limited_log.h"
 
 #include <algorithm>
 #include <iostream>

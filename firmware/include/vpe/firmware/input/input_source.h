@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: MIT
+// InputSource: where a light event came from. The light rig lets the last active source win
+// and reports it (the player's --json `light.active`, OSC's /vpe/status reply).
+#pragma once
+
+#include <cstdint>
+
+namespace vpe::firmware {
+
+// kIdle is the rig's own drift, never an input's. kBus is another node's light, received over
+// the show's MQTT broker (firmware/bus/, proto/BUS.md).
+enum class InputSource : std::uint8_t { kKnobs, kCamera, kOsc, kIdle, kBus };
+
+// "knobs", "camera", "osc", "idle", "bus".
+const char* inputSourceName(InputSource source);
+
+}  // namespace vpe::firmware
