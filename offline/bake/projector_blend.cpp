@@ -29,7 +29,7 @@ constexpr double kEdgeFloor = 1e-3;
 // the projector's reach (an occluding contour: the far side is in the near side's shadow).
 constexpr double kDepthStep = 0.02;
 // The fade's width when not given: this share of the projector's shorter side.
-constexpr double kDefaultFeatherShare = 0.04;
+constexpr double kDefaultFeatherShare = 0.08;
 
 Vec3d minus(const Vec3d& a, const Vec3d& b) {
     return {a.x - b.x, a.y - b.y, a.z - b.z};

@@ -384,7 +384,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
     command
         ->add_option("--blend-feather", args->blendFeather,
                      "A show's fade at the edge of each projector's reach, in its pixels "
-                     "(0: 4% of its shorter side)")
+                     "(0: 8% of its shorter side)")
         ->capture_default_str();
     command
         ->add_option("--peak-irradiance", args->options.settings.peakIrradiance,

@@ -93,7 +93,7 @@ SeamSteps seamSteps(const std::vector<double>& field, const std::vector<std::uin
     };
     // Pass 1: the boundary pairs, and a map of the pixels near them.
     renderer::MaskImage near(w, h);
-    double boundarySum = 0;
+    std::vector<double> across, beside;
     SeamSteps result;
     for (int y = 1; y < h - 1; ++y) {
         for (int x = 1; x < w - 1; ++x) {
@@ -102,7 +102,7 @@ SeamSteps seamSteps(const std::vector<double>& field, const std::vector<std::uin
                     sets.at(x, y) == sets.at(x + dx, y + dy)) {
                     continue;
                 }
-                boundarySum += step(x, y, x + dx, y + dy);
+                across.push_back(step(x, y, x + dx, y + dy));
                 ++result.boundaryPairs;
                 for (int ny = std::max(0, y - kSeamWindow); ny <= std::min(h - 1, y + kSeamWindow);
                      ++ny) {
@@ -115,8 +115,7 @@ SeamSteps seamSteps(const std::vector<double>& field, const std::vector<std::uin
         }
     }
     // Pass 2: the other pairs near a boundary.
-    double besideSum = 0;
-    std::size_t besidePairs = 0;
+
     for (int y = 1; y < h - 1; ++y) {
         for (int x = 1; x < w - 1; ++x) {
             for (const auto& [dx, dy] : {std::pair{1, 0}, {0, 1}}) {
@@ -124,14 +123,23 @@ SeamSteps seamSteps(const std::vector<double>& field, const std::vector<std::uin
                     sets.at(x, y) != sets.at(x + dx, y + dy)) {
                     continue;
                 }
-                besideSum += step(x, y, x + dx, y + dy);
-                ++besidePairs;
+                beside.push_back(step(x, y, x + dx, y + dy));
             }
         }
     }
-    if (result.boundaryPairs > 0 && besidePairs > 0 && besideSum > 0) {
-        result.ratio = (boundarySum / static_cast<double>(result.boundaryPairs)) /
-                       (besideSum / static_cast<double>(besidePairs));
+    // Medians: the relief's light error is sparse and heavy-tailed (single pixels where a
+    // grazing projector pixel straddles a ridge), and a boundary crossing one would say
+    // nothing about the blend.
+    const auto median = [](std::vector<double>& values) {
+        const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        return *middle;
+    };
+    if (!across.empty() && !beside.empty()) {
+        const double reference = median(beside);
+        if (reference > 0) {
+            result.ratio = median(across) / reference;
+        }
     }
     return result;
 }
@@ -339,6 +347,20 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
                 const auto v = static_cast<std::uint8_t>(
                     std::lround(255 * std::clamp((ratio[p] - 0.8) / 0.4, 0.0, 1.0)));
                 relative[3 * p] = relative[3 * p + 1] = relative[3 * p + 2] = v;
+            }
+            // The blend boundaries the seam is measured across, in blue.
+            const renderer::ScalarImage<std::uint32_t> sets = contributors(show);
+            for (int y = 0; y + 1 < a.height; ++y) {
+                for (int x = 0; x + 1 < a.width; ++x) {
+                    if (show.coverage.at(x, y) && (sets.at(x, y) != sets.at(x + 1, y) ||
+                                                   sets.at(x, y) != sets.at(x, y + 1))) {
+                        std::uint8_t* rgb =
+                            &relative[3 * (static_cast<std::size_t>(y) * a.width + x)];
+                        rgb[0] = 40;
+                        rgb[1] = 90;
+                        rgb[2] = 255;
+                    }
+                }
             }
             writeImage8(base + "-light.png", a.width, a.height, 3, relative);
         }

@@ -15,8 +15,8 @@
 namespace vpe::bake {
 
 struct BlendOptions {
-    // Width of the fade at the edge of a projector's reach, in its pixels; 0: 4% of its
-    // shorter side (43 pixels at 1080p).
+    // Width of the fade at the edge of a projector's reach, in its pixels; 0: 8% of its
+    // shorter side (86 pixels at 1080p).
     double featherPixels = 0;
     // Size of the surface-coverage picture (texture space, u across, v up the rows' reverse).
     int coverageWidth = 512, coverageHeight = 256;
