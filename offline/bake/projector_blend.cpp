@@ -28,6 +28,8 @@ constexpr double kEdgeFloor = 1e-3;
 // A step between neighbouring pixels' depths larger than this share of the depth is an edge of
 // the projector's reach (an occluding contour: the far side is in the near side's shadow).
 constexpr double kDepthStep = 0.02;
+// How far short of a point a projector's ray stops when it tests for a shadow (metres).
+constexpr double kShadowSlack = 0.003;
 // The fade's width when not given: this share of the projector's shorter side.
 constexpr double kDefaultFeatherShare = 0.08;
 
@@ -35,14 +37,15 @@ Vec3d minus(const Vec3d& a, const Vec3d& b) {
     return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
 
-Vec3d toDouble(const renderer::Vec3f& v) {
-    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
-}
-
 double smoothstep(double t) {
     t = std::clamp(t, 0.0, 1.0);
     return t * t * (3 - 2 * t);
 }
+
+Vec3d toDouble(const renderer::Vec3f& v) {
+    return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
+}
+
 
 // One projector: what each pixel sees, and the fade towards the edges of its reach.
 struct ProjectorReach {
@@ -148,9 +151,12 @@ bool reaches(const ProjectorReach& reach, const renderer::RayCaster& caster, con
         !(p->x > -0.5 && p->y > -0.5 && p->x < reach.width - 0.5 && p->y < reach.height - 0.5)) {
         return false;
     }
-    // The segment from the projector to just short of the point (relative 1e-6, the visitor
-    // view's exact depth test).
-    if (caster.anyHit(reach.centre, minus(point, reach.centre), 0.0, 1.0 - 1e-6)) {
+    // The segment from the projector to kShadowSlack short of the point: a grazing ray meets
+    // the mesh's own facets around the point (their chords bulge past the smooth surface the
+    // shading normal describes), which is no shadow; an occluder is centimetres away.
+    const Vec3d toPoint = minus(point, reach.centre);
+    const double length = std::sqrt(proto::dot(toPoint, toPoint));
+    if (caster.anyHit(reach.centre, toPoint, 0.0, 1.0 - kShadowSlack / length)) {
         return false;
     }
     if (pixel != nullptr) {

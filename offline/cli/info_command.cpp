@@ -13,6 +13,7 @@
 
 #include "vpe/common/input_error.h"
 #include "vpe/proto/bundle.h"
+#include "vpe/proto/half_float.h"
 
 #include "cli/commands.h"
 
@@ -113,6 +114,10 @@ nlohmann::json infoJson(const std::string& path, const proto::BundleView& bundle
     json["radiometry"] = bundle.radiometry()
                              ? nlohmann::json{{"mixing", bundle.radiometry()->mixing}}
                              : nlohmann::json(nullptr);
+    // Format 1.5: the projector's part in a show of several; null when it is the only one.
+    json["blend"] = bundle.blend() ? nlohmann::json{{"projectors", bundle.blend()->projectors},
+                                                    {"index", bundle.blend()->index}}
+                                   : nlohmann::json(nullptr);
     json["settings"] = {{"viewer_position", decimals(settings.viewerPosition)},
                         {"screen_albedo", decimals(settings.screenAlbedo)},
                         {"ambient_irradiance", decimals(settings.ambientIrradiance)},
@@ -193,6 +198,19 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
         std::printf("camera     none\n");
     }
     std::printf("viewer     %s m\n", triple(s.viewerPosition).c_str());
+    if (const auto& blend = bundle.blend()) {
+        // Format 1.5: this projector's share of the light among several.
+        std::size_t lit = 0, shared = 0;
+        for (const std::uint16_t half : blend->share) {
+            const float share = proto::halfToFloat(half);
+            lit += share > 0 ? 1 : 0;
+            shared += share > 0 && share < 0.999f ? 1 : 0;
+        }
+        std::printf(
+            "blend      projector %d of %d: lights %zu pixels, shares %zu of them "
+            "(Float16 share map, 2 bytes)\n",
+            blend->index + 1, blend->projectors, lit, shared);
+    }
     if (const auto& r = bundle.radiometry()) {
         // Format 1.4: the light measured on site replaces the assumed albedo and ambient.
         const auto& x = r->mixing;

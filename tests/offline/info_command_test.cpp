@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/bake/bundle_writer.h"
+#include "vpe/proto/bundle_format.h"
 
 #include "bundle_sample.h"
 #include "support/command_runner.h"
@@ -53,10 +54,10 @@ TEST_F(InfoCommand, DescribesTheBundle) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const std::string& out = result.out;
     for (const std::string& expected : std::vector<std::string>{
-             path_.string() + ": vpe bundle 1.4, ", "checksum 0x", " OK\n",
-             "mesh       4 vertices, 2 triangles\n", "projector  1280 x 800, fx 1500.5 fy 1498 ",
-             "camera     none\n", "viewer     (0, 0.25, 1.75) m\n",
-             "response   curve, 4/4/4 samples",
+             path_.string() + ": vpe bundle 1." + std::to_string(proto::kBundleMinorVersion) + ", ",
+             "checksum 0x", " OK\n", "mesh       4 vertices, 2 triangles\n",
+             "projector  1280 x 800, fx 1500.5 fy 1498 ", "camera     none\n",
+             "viewer     (0, 0.25, 1.75) m\n", "response   curve, 4/4/4 samples",
              "model      M = 2, lambda = 0.5, 18 values per texel (fourier_brdf:k_major_rgb)\n",
              "           theta basis: 2 functions (orthonormal over [0, π])\n",
              "textures   5 x 3, 2 regions, sampling wraps in u\n",
@@ -74,7 +75,8 @@ TEST_F(InfoCommand, ReportsJson) {
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json json = nlohmann::json::parse(result.out);
     EXPECT_EQ(json["file"], path_.string());
-    EXPECT_EQ(json["format_version"], "1.4");
+    EXPECT_EQ(json["format_version"], "1." + std::to_string(proto::kBundleMinorVersion));
+    EXPECT_TRUE(json["blend"].is_null());
     EXPECT_TRUE(json["camera"].is_null());
     EXPECT_EQ(json["textures"]["wrap_u"], true);
     EXPECT_EQ(json["file_bytes"], std::filesystem::file_size(path_));

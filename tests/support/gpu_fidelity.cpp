@@ -25,7 +25,7 @@ std::vector<GpuFidelity> measureGpuFidelity(const proto::BundleView& bundle,
     const renderer::BundleScene scene(bundle, preset);
     const renderer::Vec3d viewer = scene.bundleViewer();
     const renderer::RenderScene any = scene.scene({}, viewer);
-    const renderer::ProjectorPixels pixels(any.mesh, any.projector);
+    const renderer::ProjectorPixels pixels(any.mesh, any.projector, any.lightShare);
     gles::GlesFrameRenderer gpu(bundle);
     gpu.selectPreset(scene.presetName(), false);
     std::unique_ptr<gles::RenderTarget> target =
