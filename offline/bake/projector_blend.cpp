@@ -46,7 +46,6 @@ Vec3d toDouble(const renderer::Vec3f& v) {
     return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
 }
 
-
 // One projector: what each pixel sees, and the fade towards the edges of its reach.
 struct ProjectorReach {
     renderer::ProjectorModel model;

@@ -261,8 +261,9 @@ private:
         if (table->share() == nullptr) {
             fail("blend: share missing");
         }
-        blend.share = typed<std::uint16_t>(table->share(), "blend share", {fb::ElementType::Float16},
-                                           {view.projector_.height, view.projector_.width});
+        blend.share =
+            typed<std::uint16_t>(table->share(), "blend share", {fb::ElementType::Float16},
+                                 {view.projector_.height, view.projector_.width});
         for (const std::uint16_t half : blend.share) {
             const float v = halfToFloat(half);
             if (!(v >= 0 && v <= 1)) {

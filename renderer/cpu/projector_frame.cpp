@@ -76,8 +76,8 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
                                              sharedIrradiance(measured->irradiance[at + 1], share),
                                              sharedIrradiance(measured->irradiance[at + 2], share)};
                 pixel = compensateMeasuredPixel(irradiance, &measured->floor[at],
-                                                measured->mixingInverse,
-                                                measured->inverseResponse, target, options.gain);
+                                                measured->mixingInverse, measured->inverseResponse,
+                                                target, options.gain);
             } else {
                 pixel = compensatePixel(scene.surface, scene.projector.response,
                                         traced->compensationScale(), target, options.gain);

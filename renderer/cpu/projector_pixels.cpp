@@ -17,13 +17,12 @@ ProjectorPixels::ProjectorPixels(const RenderMesh& mesh, const ProjectorModel& p
       projector_(projector),
       origin_(projector.camera.center()),
       share_(std::move(share)) {
-    if (share_ && (share_->width != projector.camera.width ||
-                   share_->height != projector.camera.height)) {
-        throw std::invalid_argument("ProjectorPixels: a share map of " +
-                                    std::to_string(share_->width) + "x" +
-                                    std::to_string(share_->height) + " for a projector of " +
-                                    std::to_string(projector.camera.width) + "x" +
-                                    std::to_string(projector.camera.height));
+    if (share_ &&
+        (share_->width != projector.camera.width || share_->height != projector.camera.height)) {
+        throw std::invalid_argument(
+            "ProjectorPixels: a share map of " + std::to_string(share_->width) + "x" +
+            std::to_string(share_->height) + " for a projector of " +
+            std::to_string(projector.camera.width) + "x" + std::to_string(projector.camera.height));
     }
 }
 
