@@ -99,9 +99,9 @@ void LightRig::touched(std::int64_t eventNs) {
 
 template <typename Aim>
 void LightRig::steer(InputSource source, std::int64_t eventNs, Aim aim) {
-    // The move starts at the event, or at the frame already shown when that is later: the
-    // light continues from what is on screen.
-    const std::int64_t startNs = std::max({eventNs, lastAdvanceNs_, moveStartNs_});
+    // The move starts at the event (plus the lead), or at the frame already shown when that
+    // is later: the light continues from what is on screen.
+    const std::int64_t startNs = std::max({eventNs + moveLeadNs_, lastAdvanceNs_, moveStartNs_});
     const SphericalPosition here = lightAt(startNs);
     // Steering resumes from where the drift brought the light (relative knob turns too).
     const SphericalPosition base = driftingAt(startNs) ? here : target_;
@@ -153,8 +153,9 @@ bool LightRig::apply(const InputEvent& event) {
                     return p;
                 });
             } else if constexpr (std::is_same_v<Action, PlaceLight>) {
-                steer(event.source, t,
-                      [&](const SphericalPosition&) { return sphere_.fromPosition(action.position); });
+                steer(event.source, t, [&](const SphericalPosition&) {
+                    return sphere_.fromPosition(action.position);
+                });
             } else if constexpr (std::is_same_v<Action, ResetLight>) {
                 steer(event.source, t, [&](const SphericalPosition&) { return initial_; });
             } else if constexpr (std::is_same_v<Action, SelectPreset>) {
@@ -175,7 +176,7 @@ bool LightRig::apply(const InputEvent& event) {
             } else if constexpr (std::is_same_v<Action, ReleaseLight>) {
                 // Only the steering source can let go; the drift starts at once, since the
                 // source already waited (a lost lamp holds for its hold time first).
-                const std::int64_t at = std::max({t, lastAdvanceNs_, moveStartNs_});
+                const std::int64_t at = std::max({t + moveLeadNs_, lastAdvanceNs_, moveStartNs_});
                 if (event.source == steeredBy_ && idleConfig_.enabled && !driftingAt(at)) {
                     driftAtNs_ = at;
                     touched(at);

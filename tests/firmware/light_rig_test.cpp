@@ -273,6 +273,23 @@ TEST_F(LightRigTest, FollowsANewerSharedStateAndDrawsTheSameLight) {
     EXPECT_DOUBLE_EQ(steered.current().azimuthDeg, follower.current().azimuthDeg);
 }
 
+TEST_F(LightRigTest, ASharedMoveStartsAFrameAfterItsEvent) {
+    LightRig rig(light_, idle_, sphere_, 1, 0);
+    rig.setMoveLead(16 * kMs);
+    rig.advance(10 * kMs);
+    rig.apply(event(InputSource::kKnobs, 12 * kMs, TurnLight{10, 0, 0}));
+    EXPECT_EQ(rig.shared().moveStartNs, 28 * kMs);
+    rig.advance(20 * kMs);  // a frame presented before the move starts: unmoved
+    EXPECT_EQ(rig.current().azimuthDeg, 0.0);
+    rig.advance(128 * kMs);
+    EXPECT_NEAR(rig.current().azimuthDeg, 10.0 * (1.0 - std::exp(-1.0)), 1e-9);
+    rig.apply(event(InputSource::kCamera, 130 * kMs, ReleaseLight{}));  // not the steering one
+    EXPECT_FALSE(rig.shared().driftAtNs.has_value() && *rig.shared().driftAtNs < kSecond);
+    rig.apply(event(InputSource::kCamera, 131 * kMs, AimLight{5.0, std::nullopt, std::nullopt}));
+    rig.apply(event(InputSource::kCamera, 140 * kMs, ReleaseLight{}));
+    EXPECT_EQ(*rig.shared().driftAtNs, 156 * kMs);
+}
+
 TEST_F(LightRigTest, NodesThatNeverHeardOfEachOtherDriftAlike) {
     // Started 3.7 s apart, never steered: after the handover both are on the clock's path.
     LightRig early(light_, idle_, sphere_, 1, 0), late(light_, idle_, sphere_, 1, 3700 * kMs);

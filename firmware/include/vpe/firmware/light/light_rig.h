@@ -58,6 +58,12 @@ public:
     // Other nodes' states ignored for being no newer than this rig's own.
     std::uint64_t staleStates() const { return staleStates_; }
 
+    // With a shared light (firmware/bus/), a move or a release starts this long after its event
+    // (a frame): by the time it shows, every node has heard of it, so all of them show it from
+    // the same frame on; a node that rendered a frame for a later moment before the state
+    // arrived would otherwise show the old path there. 0 (alone): at once.
+    void setMoveLead(std::int64_t leadNs) { moveLeadNs_ = leadNs; }
+
     // A new bundle (mesh, presets) while playing: the angles stay, limits are re-derived.
     void rebase(const LightSphere& sphere, int presetCount);
 
@@ -93,6 +99,7 @@ private:
     InputSource steeredBy_ = InputSource::kIdle;
     std::int64_t lastEventNs_ = 0;
     std::int64_t lastAdvanceNs_;
+    std::int64_t moveLeadNs_ = 0;
     std::uint64_t staleStates_ = 0;
 };
 
