@@ -82,8 +82,8 @@ std::optional<SourceAllowList::Network> SourceAllowList::parse(const std::string
     std::array<std::uint8_t, 16> masked{};
     for (int bit = 0; bit < network.prefixBits; ++bit) {
         const auto byte = static_cast<std::size_t>(bit / 8);
-        masked[byte] = static_cast<std::uint8_t>(masked[byte] |
-                                                 (network.address[byte] & (0x80 >> (bit % 8))));
+        masked[byte] =
+            static_cast<std::uint8_t>(masked[byte] | (network.address[byte] & (0x80 >> (bit % 8))));
     }
     if (masked != network.address) {
         char shown[INET6_ADDRSTRLEN] = {};
@@ -128,9 +128,8 @@ std::string describeSender(const sockaddr_storage& sender) {
     char shown[INET6_ADDRSTRLEN] = {};
     ::inet_ntop(address->first ? AF_INET6 : AF_INET, address->second.data(), shown, sizeof shown);
     const std::uint16_t port =
-        ntohs(sender.ss_family == AF_INET6
-                  ? reinterpret_cast<const sockaddr_in6&>(sender).sin6_port
-                  : reinterpret_cast<const sockaddr_in&>(sender).sin_port);
+        ntohs(sender.ss_family == AF_INET6 ? reinterpret_cast<const sockaddr_in6&>(sender).sin6_port
+                                           : reinterpret_cast<const sockaddr_in&>(sender).sin_port);
     return address->first ? "[" + std::string(shown) + "]:" + std::to_string(port)
                           : std::string(shown) + ":" + std::to_string(port);
 }

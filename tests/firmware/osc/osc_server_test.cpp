@@ -16,10 +16,10 @@
 #include <lo/lo.h>
 #include <netinet/in.h>
 #include <poll.h>
-
-#include "vpe/firmware/osc/source_allow_list.h"
 #include <sys/socket.h>
 #include <unistd.h>
+
+#include "vpe/firmware/osc/source_allow_list.h"
 
 namespace vpe::firmware {
 namespace {

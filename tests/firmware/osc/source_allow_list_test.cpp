@@ -41,13 +41,13 @@ SourceAllowList listOf(const std::vector<std::string>& entries) {
 
 TEST(SourceAllowListTest, AdmitsListedAddressesAndNetworksOnly) {
     const SourceAllowList list = listOf({"192.168.1.0/24", "10.0.0.5", "fd00:1::/32", "::1"});
-    for (const char* inside : {"192.168.1.0", "192.168.1.77", "192.168.1.255", "10.0.0.5",
-                               "fd00:1::7", "fd00:1:ffff::1", "::1", "::ffff:192.168.1.9",
-                               "::ffff:10.0.0.5"}) {
+    for (const char* inside :
+         {"192.168.1.0", "192.168.1.77", "192.168.1.255", "10.0.0.5", "fd00:1::7", "fd00:1:ffff::1",
+          "::1", "::ffff:192.168.1.9", "::ffff:10.0.0.5"}) {
         EXPECT_TRUE(list.allows(sender(inside))) << inside;
     }
-    for (const char* outside : {"192.168.2.1", "10.0.0.6", "10.0.0.4", "127.0.0.1",
-                                "fd00:2::1", "::2", "::ffff:10.0.0.6", "0.0.0.0"}) {
+    for (const char* outside : {"192.168.2.1", "10.0.0.6", "10.0.0.4", "127.0.0.1", "fd00:2::1",
+                                "::2", "::ffff:10.0.0.6", "0.0.0.0"}) {
         EXPECT_FALSE(list.allows(sender(outside))) << outside;
     }
     // An empty list admits everyone; a /0 network admits its whole family.
@@ -70,10 +70,12 @@ TEST(SourceAllowListTest, RefusesEntriesWithOneReason) {
     EXPECT_EQ(problemOf("fd00::1/16"), "\"fd00::1/16\": host bits set (the network is fd00::/16)");
     EXPECT_EQ(problemOf("10.0.0.0/x"), "\"10.0.0.0/x\": the prefix length must be 0..32");
     EXPECT_EQ(problemOf("10.0.0.0/-1"), "\"10.0.0.0/-1\": the prefix length must be 0..32");
-    EXPECT_EQ(problemOf("10.0.0"), "\"10.0.0\": expected an IPv4 or IPv6 address, or a network "
-                                   "such as \"192.168.1.0/24\"");
-    EXPECT_EQ(problemOf(""), "\"\": expected an IPv4 or IPv6 address, or a network such as "
-                             "\"192.168.1.0/24\"");
+    EXPECT_EQ(problemOf("10.0.0"),
+              "\"10.0.0\": expected an IPv4 or IPv6 address, or a network "
+              "such as \"192.168.1.0/24\"");
+    EXPECT_EQ(problemOf(""),
+              "\"\": expected an IPv4 or IPv6 address, or a network such as "
+              "\"192.168.1.0/24\"");
 }
 
 TEST(SourceAllowListTest, NamesSendersForTheLog) {

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "vpe/firmware/input/input_event.h"
-#include "vpe/firmware/osc/osc_message.h"
 #include "vpe/firmware/loop/rate_limited_log.h"
+#include "vpe/firmware/osc/osc_message.h"
 
 namespace vpe::firmware {
 
@@ -37,13 +37,13 @@ struct OscLimits {
 
 // Why a message was refused; each reason has its own counter.
 enum class OscRejection : std::uint8_t {
-    kUnknownAddress,   // not an address of proto/OSC.md (patterns are not expanded)
-    kArgumentCount,    // too many or too few arguments
-    kArgumentType,     // a string where a number is expected, a blob, a fractional index, …
-    kNotFinite,        // NaN or ±infinity
-    kOutOfRange,       // outside OscLimits, or a preset index beyond the bundle's presets
-    kUnknownPreset,    // a preset name the bundle does not have
-    kMalformedPacket,  // the datagram is not OSC (counted by the server, see rejectMalformed)
+    kUnknownAddress,    // not an address of proto/OSC.md (patterns are not expanded)
+    kArgumentCount,     // too many or too few arguments
+    kArgumentType,      // a string where a number is expected, a blob, a fractional index, …
+    kNotFinite,         // NaN or ±infinity
+    kOutOfRange,        // outside OscLimits, or a preset index beyond the bundle's presets
+    kUnknownPreset,     // a preset name the bundle does not have
+    kMalformedPacket,   // the datagram is not OSC (counted by the server, see rejectMalformed)
     kSourceNotAllowed,  // a datagram from a sender not in [osc] allow (counted by the server)
 };
 inline constexpr std::size_t kOscRejectionCount = 8;
