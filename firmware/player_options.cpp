@@ -117,10 +117,14 @@ PlayerOptions parsePlayerOptions(const std::vector<std::string>& arguments) {
         if (options.scan) {
             // A scan shows patterns, not a bundle: what plays a bundle does not apply.
             const std::vector<std::pair<bool, const char*>> playing{
-                {!options.bundle.empty(), "--bundle"}, {options.check, "--check"},
-                {options.frames != 0, "--frames"},     {options.out.has_value(), "--out"},
-                {options.every != 1, "--every"},       {!options.preset.empty(), "--preset"},
-                {options.rate.has_value(), "--rate"},  {options.replay.has_value(), "--replay"},
+                {!options.bundle.empty(), "--bundle"},
+                {options.check, "--check"},
+                {options.frames != 0, "--frames"},
+                {options.out.has_value(), "--out"},
+                {options.every != 1, "--every"},
+                {!options.preset.empty(), "--preset"},
+                {options.rate.has_value(), "--rate"},
+                {options.replay.has_value(), "--replay"},
                 {options.replayLoop, "--replay-loop"},
                 {options.lightLog.has_value(), "--light-log"}};
             for (const auto& [given, name] : playing) {

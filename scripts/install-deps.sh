@@ -29,6 +29,7 @@ packages=(
     libtomlplusplus-dev                       # vpe-player's board files (boards/*.toml)
     libgpiod-dev liblo-dev libcamera-dev      # vpe-player's inputs: knobs (1.6 API), OSC, tracked lamp
     libsystemd-dev                            # vpe-player's sd_notify watchdog (boards/vpe-player.service)
+    libmosquitto-dev                          # vpe-player's shared light: the MQTT client (firmware/bus/)
     libtinyobjloader-dev                      # the procam simulator's scene files (object OBJ), on the device too
 )
 test_packages=(
@@ -36,6 +37,8 @@ test_packages=(
     clang libclang-rt-14-dev                  # libFuzzer, sanitizers
     jq                                        # the dependency audit reads CMake's file API
     clang-format                              # scripts/check-format.sh (the style check)
+    mosquitto mosquitto-clients               # the bus tests' own broker, mosquitto_passwd; scripts/multi-node-report.sh
+    openssl                                   # the bus tests' TLS certificates
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
 )

@@ -55,8 +55,9 @@ std::string defaultClientId() {
 
 std::filesystem::path nextToBoard(const std::string& source, const std::string& value) {
     const std::filesystem::path path(value);
-    return path.is_absolute() ? path
-                              : (std::filesystem::path(source).parent_path() / path).lexically_normal();
+    return path.is_absolute()
+               ? path
+               : (std::filesystem::path(source).parent_path() / path).lexically_normal();
 }
 
 std::optional<std::filesystem::path> existingFile(const toml::table& bus, const std::string& source,

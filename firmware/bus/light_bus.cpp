@@ -176,8 +176,8 @@ void LightBus::receive(std::string_view topic, std::string_view payload) {
     const LightMessage& message = std::get<LightMessage>(decoded);
     const std::int64_t aheadNs = message.timeUs * kNsPerUs - realtimeNowNs();
     if (aheadNs > kMaxAheadNs) {
-        refuse("clock_ahead", config_.topic() + " from \"" + printable(message.node) +
-                                  "\": made " + seconds(aheadNs) +
+        refuse("clock_ahead", config_.topic() + " from \"" + printable(message.node) + "\": made " +
+                                  seconds(aheadNs) +
                                   " s ahead of this node's clock; synchronise the clocks "
                                   "(chrony, docs/multi-node.md)");
         return;

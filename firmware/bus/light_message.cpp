@@ -107,8 +107,9 @@ SphericalPosition position(const json& object, const std::string& where,
 
 LightMessage read(std::string_view payload, const LightLimits& limits) {
     if (payload.size() > kLightMessageMaxBytes) {
-        malformed("a payload of " + std::to_string(payload.size()) + " bytes (a light state is at most " +
-                  std::to_string(kLightMessageMaxBytes) + ")");
+        malformed("a payload of " + std::to_string(payload.size()) +
+                  " bytes (a light state is at most " + std::to_string(kLightMessageMaxBytes) +
+                  ")");
     }
     const json root = json::parse(payload.begin(), payload.end(), nullptr, false);
     if (root.is_discarded()) {
@@ -157,21 +158,23 @@ LightMessage read(std::string_view payload, const LightLimits& limits) {
 }  // namespace
 
 std::string encodeLightMessage(const LightMessage& message) {
-    json root = {{"format", kLightMessageFormat},
-                 {"node", message.node},
-                 {"seq", message.seq},
-                 {"time_us", message.timeUs},
-                 {"azimuth", message.target.azimuthDeg},
-                 {"elevation", message.target.elevationDeg},
-                 {"distance", message.target.distanceM},
-                 {"from",
-                  {{"time_us", message.fromUs},
-                   {"azimuth", message.from.azimuthDeg},
-                   {"elevation", message.from.elevationDeg},
-                   {"distance", message.from.distanceM}}},
-                 {"drift_us", message.driftUs ? json(*message.driftUs) : json(nullptr)},
-                 {"preset", message.preset},
-                 {"source", message.source}};
+    // In the documented order (proto/BUS.md): what a person reading mosquitto_sub expects.
+    using ordered = nlohmann::ordered_json;
+    ordered root = {{"format", kLightMessageFormat},
+                    {"node", message.node},
+                    {"seq", message.seq},
+                    {"time_us", message.timeUs},
+                    {"azimuth", message.target.azimuthDeg},
+                    {"elevation", message.target.elevationDeg},
+                    {"distance", message.target.distanceM},
+                    {"from",
+                     {{"time_us", message.fromUs},
+                      {"azimuth", message.from.azimuthDeg},
+                      {"elevation", message.from.elevationDeg},
+                      {"distance", message.from.distanceM}}},
+                    {"drift_us", message.driftUs ? ordered(*message.driftUs) : ordered(nullptr)},
+                    {"preset", message.preset},
+                    {"source", message.source}};
     return root.dump();
 }
 

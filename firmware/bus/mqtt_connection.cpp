@@ -77,8 +77,7 @@ MqttConnection::MqttConnection(const MqttSettings& settings, Handlers handlers)
             throw unavailable(std::string(what) + ": " + describe(code));
         }
     };
-    check(mosquitto_int_option(client_, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5),
-          "MQTT v5");
+    check(mosquitto_int_option(client_, MOSQ_OPT_PROTOCOL_VERSION, MQTT_PROTOCOL_V5), "MQTT v5");
     if (!settings_.username.empty()) {
         check(mosquitto_username_pw_set(
                   client_, settings_.username.c_str(),
@@ -88,8 +87,7 @@ MqttConnection::MqttConnection(const MqttSettings& settings, Handlers handlers)
     if (settings_.cafile) {
         check(mosquitto_tls_set(client_, settings_.cafile->c_str(), nullptr,
                                 settings_.certfile ? settings_.certfile->c_str() : nullptr,
-                                settings_.keyfile ? settings_.keyfile->c_str() : nullptr,
-                                nullptr),
+                                settings_.keyfile ? settings_.keyfile->c_str() : nullptr, nullptr),
               "TLS files");
     }
     mosquitto_connect_v5_callback_set(client_, &MqttConnection::onConnect);
@@ -125,11 +123,10 @@ void MqttConnection::attempt(std::int64_t nowNs) {
     state_ = State::kConnecting;
     // The first time connect_async (it records the broker); later reconnect_async, which also
     // closes whatever socket an abandoned attempt left.
-    const int code =
-        everAttempted_
-            ? mosquitto_reconnect_async(client_)
-            : mosquitto_connect_async(client_, settings_.host.c_str(), settings_.port,
-                                      settings_.keepaliveSeconds);
+    const int code = everAttempted_
+                         ? mosquitto_reconnect_async(client_)
+                         : mosquitto_connect_async(client_, settings_.host.c_str(), settings_.port,
+                                                   settings_.keepaliveSeconds);
     everAttempted_ = true;
     if (code != MOSQ_ERR_SUCCESS) {
         const std::string reason = describe(code);

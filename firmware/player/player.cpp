@@ -144,6 +144,11 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
         playerLog(std::string(error.what()) + "; reload with SIGHUP only");
     }
     const double rate = options_.rate.value_or(board_.render.rate);
+    if (clock_.shared()) {
+        // Every node shows a change from the same frame on: the publisher's next one.
+        rig_.setMoveLead(
+            static_cast<std::int64_t>(1e9 / (headless_ && rate > 0 ? rate : kSkipClockHz)));
+    }
     // Unpaced (headless, rate 0: a benchmark) every tick draws; paced, a tick whose light,
     // preset and scene equal the frame on show draws nothing.
     skipUnchanged_ = !(headless_ && rate <= 0);
@@ -209,8 +214,8 @@ void Player::applyEvents(std::vector<InputEvent>& events) {
         if (rig_.apply(onShowClock)) {
             unshownEvents_.push_back(event.timestampNs);
             ++report_.events[inputSourceName(event.source)];
-            localChange = localChange ||
-                          (event.source != InputSource::kBus && rig_.revisionNs() != before);
+            localChange =
+                localChange || (event.source != InputSource::kBus && rig_.revisionNs() != before);
         } else {
             ++rigRefusals_;
         }
@@ -302,8 +307,8 @@ void Player::renderFrame() {
         shownPreset_ = rig_.preset();
     }
     const std::array<float, 3> light = rig_.position();
-    const bool unchanged = skipUnchanged_ && !sceneChanged_ && shownLight_ == light &&
-                           !scene_->renderer().animating();
+    const bool unchanged =
+        skipUnchanged_ && !sceneChanged_ && shownLight_ == light && !scene_->renderer().animating();
     if (lightLog_) {
         lightLog_->record(clock_.toRealtime(presentationNs), rig_.current(),
                           inputSourceName(rig_.activeSource()), !unchanged);

@@ -2,6 +2,8 @@
 // vpe-player end to end: a small bundle (the GLES tests' vase, 160 × 120) played headless for 5
 // frames with --json and --out; bad arguments, board files, bundles and an absent KMS display
 // end with one line on stderr and exit status 2. The headless run SKIPs without EGL.
+#include <chrono>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,43 @@ TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
     EXPECT_NE(readAll(frames / "frame_00000.ppm"), ppm);
 }
 
+// --light-log: one line per frame tick, the presentation time on the wall clock (a frame period
+// ahead of when the frame was begun), so that the nodes of a show can be compared.
+TEST_F(PlayerTest, WritesALightLogLineForEveryFrame) {
+    std::string why;
+    if (!headlessAvailable(why)) {
+        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    }
+    const fs::path log = folder_ / "light.jsonl";
+    const auto before = std::chrono::system_clock::now();
+    const PlayerRun run = play({"--board", headless_.string(), "--bundle", bundle_.string(),
+                                "--frames", "8", "--rate", "60", "--light-log", log.string()});
+    const auto after = std::chrono::system_clock::now();
+    ASSERT_EQ(run.status, 0) << run.err;
+    std::istringstream lines(readAll(log));
+    std::string line;
+    long long previous = 0;
+    int count = 0;
+    const auto micros = [](std::chrono::system_clock::time_point t) {
+        return std::chrono::duration_cast<std::chrono::microseconds>(t.time_since_epoch()).count();
+    };
+    while (std::getline(lines, line)) {
+        ++count;
+        ASSERT_EQ(line.substr(0, 9), "{\"t_us\": ") << line;
+        const long long t = std::stoll(line.substr(9));
+        EXPECT_GT(t, previous) << line;
+        EXPECT_GT(t, micros(before)) << line;
+        EXPECT_LT(t, micros(after) + 17'000) << line;  // at most a frame period ahead
+        previous = t;
+        EXPECT_NE(line.find("\"azimuth\": "), std::string::npos) << line;
+        EXPECT_NE(line.find("\"active\": \"idle\", \"drawn\": true}"), std::string::npos) << line;
+    }
+    EXPECT_EQ(count, 8);
+    expectOneLineError(play({"--board", headless_.string(), "--bundle", bundle_.string(),
+                             "--frames", "1", "--light-log", (folder_ / "no/such/dir/x").string()}),
+                       "no/such/dir/x: cannot write (No such file or directory)");
+}
+
 TEST_F(PlayerTest, RefusesBadArguments) {
     expectOneLineError(play({"--bundle", bundle_.string()}), "--board: missing");
     expectOneLineError(
@@ -65,6 +104,9 @@ TEST_F(PlayerTest, RefusesBadArguments) {
     expectOneLineError(
         play({"--board", headless_.string(), "--bundle", bundle_.string(), "--fast"}),
         "--fast: unknown argument");
+    expectOneLineError(
+        play({"--board", headless_.string(), "--bundle", bundle_.string(), "--light-log", ""}),
+        "--light-log: expected a file, got \"\"");
 }
 
 TEST_F(PlayerTest, RefusesBadBoardFiles) {

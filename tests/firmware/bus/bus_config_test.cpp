@@ -36,8 +36,9 @@ protected:
         } catch (const BoardConfigError& error) {
             const std::string what = error.what();
             // Relative to the board, for readable expectations.
-            return what.substr(0, board_.size()) == board_ ? "board.toml" + what.substr(board_.size())
-                                                           : what;
+            return what.substr(0, board_.size()) == board_
+                       ? "board.toml" + what.substr(board_.size())
+                       : what;
         }
         return "(no error)";
     }
@@ -88,7 +89,8 @@ TEST_F(BusConfigTest, ReadsEveryKey) {
 
 TEST_F(BusConfigTest, RefusesBadValuesWithOneLine) {
     const std::string show = "[bus]\nshow = \"s\"\n";
-    EXPECT_EQ(errorOf("[bus]\nbroker = \"x\"\n").substr(0, 36), "board.toml:bus.broker: unknown key (");
+    EXPECT_EQ(errorOf("[bus]\nbroker = \"x\"\n").substr(0, 36),
+              "board.toml:bus.broker: unknown key (");
     EXPECT_EQ(errorOf("[bus]\n"),
               "board.toml:bus.show: missing (the show's name: its nodes share the topic "
               "vpe/<show>/light)");

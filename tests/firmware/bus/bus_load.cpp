@@ -81,9 +81,10 @@ int main(int argc, char** argv) {
     }
     const std::string topic = "vpe/" + show + "/light";
     std::string problem;
-    bus::MqttConnection connection(
-        settings, {.refused = [&](int, const std::string& reason) { problem = reason; },
-                   .lost = [&](const std::string& reason, bool) { problem = reason; }});
+    bus::MqttConnection::Handlers handlers;
+    handlers.refused = [&](int, const std::string& reason) { problem = reason; };
+    handlers.lost = [&](const std::string& reason, bool) { problem = reason; };
+    bus::MqttConnection connection(settings, handlers);
 
     // Connect first (up to 5 s), then publish on an absolute schedule.
     const std::int64_t start = vpe::firmware::monotonicNowNs();
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
     message.source = "osc";
     for (std::uint64_t k = 0; k < count; ++k) {
         const std::int64_t due = began + static_cast<std::int64_t>(k) * periodNs;
-        timespec at{static_cast<time_t>(due / 1'000'000'000), static_cast<long>(due % 1'000'000'000)};
+        timespec at{static_cast<time_t>(due / 1'000'000'000),
+                    static_cast<long>(due % 1'000'000'000)};
         ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr);
         const std::int64_t nowUs = vpe::firmware::realtimeNowNs() / 1000;
         const double phase = 2.0 * std::numbers::pi * static_cast<double>(k) / (4.0 * rate);

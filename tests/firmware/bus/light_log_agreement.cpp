@@ -74,8 +74,9 @@ std::optional<LightSample> lightAt(const LightTrack& track, std::int64_t tUs) {
     if (track.empty() || tUs < track.front().tUs || tUs > track.back().tUs) {
         return std::nullopt;
     }
-    const auto after = std::lower_bound(track.begin(), track.end(), tUs,
-                                        [](const LightSample& s, std::int64_t t) { return s.tUs < t; });
+    const auto after =
+        std::lower_bound(track.begin(), track.end(), tUs,
+                         [](const LightSample& s, std::int64_t t) { return s.tUs < t; });
     if (after->tUs == tUs || after == track.begin()) {
         return *after;
     }
@@ -88,6 +89,30 @@ std::optional<LightSample> lightAt(const LightTrack& track, std::int64_t tUs) {
     s.elevationDeg = a.elevationDeg + w * (b.elevationDeg - a.elevationDeg);
     s.distanceM = a.distanceM + w * (b.distanceM - a.distanceM);
     return s;
+}
+
+double interpolationAllowanceDeg(const LightTrack& track, std::int64_t tUs) {
+    if (track.size() < 3) {
+        return 0;
+    }
+    const auto after =
+        std::lower_bound(track.begin(), track.end(), tUs,
+                         [](const LightSample& s, std::int64_t t) { return s.tUs < t; });
+    const auto index = static_cast<std::size_t>(std::max<std::ptrdiff_t>(after - track.begin(), 1));
+    const auto bend = [&](std::size_t k) {
+        k = std::clamp<std::size_t>(k, 1, track.size() - 2);
+        const LightSample &a = track[k - 1], &b = track[k], &c = track[k + 1];
+        const double dAz = std::remainder(c.azimuthDeg - b.azimuthDeg, 360.0) -
+                           std::remainder(b.azimuthDeg - a.azimuthDeg, 360.0);
+        const double dEl = (c.elevationDeg - b.elevationDeg) - (b.elevationDeg - a.elevationDeg);
+        return std::hypot(dAz * std::cos(b.elevationDeg * kDegree), dEl);
+    };
+    // A corner at k within an interval of h, between slopes v1 and v2, leaves the chord by
+    // k(h − k)/h·|v2 − v1|, while the bends at the interval's ends are (h − k)|v2 − v1| and
+    // k|v2 − v1|: the corner's distance is a·b/(a + b) of the two bends a, b, exactly. A smooth
+    // curve leaves it by a quarter of that.
+    const double a = bend(index - 1), b = bend(index);
+    return a + b > 0 ? a * b / (a + b) : 0.0;
 }
 
 double Agreement::percentile(double q) const {
@@ -106,15 +131,18 @@ namespace {
 std::optional<double> lagOf(const LightTrack& reference, const LightSample& frame,
                             const AgreementOptions& options, bool& apart) {
     const auto windowUs = static_cast<std::int64_t>(options.windowMs * 1000);
-    if (frame.tUs - windowUs < reference.front().tUs || frame.tUs + windowUs > reference.back().tUs) {
+    if (frame.tUs - windowUs < reference.front().tUs ||
+        frame.tUs + windowUs > reference.back().tUs) {
         return std::nullopt;
     }
     const int steps = static_cast<int>(std::lround(options.windowMs / options.stepMs));
     std::vector<double> distances(static_cast<std::size_t>(2 * steps + 1));
     double nearest = 1e9;
     for (int k = -steps; k <= steps; ++k) {
-        const auto t = frame.tUs + static_cast<std::int64_t>(std::llround(k * options.stepMs * 1000));
-        const double d = lightDistanceDeg(*lightAt(reference, t), frame);
+        const auto t =
+            frame.tUs + static_cast<std::int64_t>(std::llround(k * options.stepMs * 1000));
+        const double d = std::max(0.0, lightDistanceDeg(*lightAt(reference, t), frame) -
+                                           interpolationAllowanceDeg(reference, t));
         distances[static_cast<std::size_t>(k + steps)] = d;
         nearest = std::min(nearest, d);
     }
@@ -199,7 +227,8 @@ double largestGapMs(const LightTrack& track, std::int64_t fromUs, std::int64_t t
     double largest = 0;
     for (std::size_t i = 1; i < track.size(); ++i) {
         if (track[i].tUs >= fromUs && track[i - 1].tUs <= toUs) {
-            largest = std::max(largest, static_cast<double>(track[i].tUs - track[i - 1].tUs) / 1000);
+            largest =
+                std::max(largest, static_cast<double>(track[i].tUs - track[i - 1].tUs) / 1000);
         }
     }
     return largest;

@@ -35,14 +35,17 @@ TEST(LightLogAgreementTest, MeasuresLagsInTime) {
     EXPECT_EQ(same.apart, 0u);
     EXPECT_LE(same.percentile(0.99), 0.5);  // other frame times, the same light
 
-    const Agreement late = compareTracks(reference, steppingTrack(7'000, 5'000), 200'000, 2'800'000);
+    const Agreement late =
+        compareTracks(reference, steppingTrack(7'000, 5'000), 200'000, 2'800'000);
     EXPECT_EQ(late.apart, 0u);
-    // While it moves fast the lag shows; still, before and long after, it does not.
-    EXPECT_NEAR(late.percentile(1.0), 5.0, 0.6);
+    // While it moves fast the lag shows (a little less where the path bends, the allowance);
+    // still, before and long after, it does not.
+    EXPECT_GT(late.percentile(1.0), 3.5);  // 5 ms, less the allowance's blur (≤ 1.2 ms)
+    EXPECT_LE(late.percentile(1.0), 5.25);
     EXPECT_EQ(late.percentile(0.2), 0.0);
 
     const Agreement elsewhere =
-        compareTracks(reference, steppingTrack(7'000, 0, 0.5), 200'000, 900'000);
+        compareTracks(reference, steppingTrack(7'000, 0, 0.5), 200'000, 800'000);
     EXPECT_EQ(elsewhere.apart, elsewhere.lagsMs.size());
     EXPECT_EQ(elsewhere.percentile(0.5), 100.0);  // the window
 }

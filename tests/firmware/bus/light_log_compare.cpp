@@ -114,16 +114,17 @@ int main(int argc, char** argv) {
             for (const std::string& path : others) {
                 const std::vector<std::int64_t> theirs = motionOnsets(readLightLog(path));
                 for (const std::int64_t t : onsets) {
-                    const auto match = std::find_if(theirs.begin(), theirs.end(), [t](std::int64_t u) {
-                        return u >= t - 100'000 && u <= t + 500'000;
-                    });
+                    const auto match = std::find_if(
+                        theirs.begin(), theirs.end(),
+                        [t](std::int64_t u) { return u >= t - 100'000 && u <= t + 500'000; });
                     if (match != theirs.end()) {
                         delays.push_back(static_cast<double>(*match - t) / 1000.0 / kFrameMs);
                     }
                 }
             }
-            std::printf("{\"onsets\": %zu, \"matched\": %zu, \"p50_frames\": %.3f, \"delays_frames\": [",
-                        onsets.size() * others.size(), delays.size(), median(delays));
+            std::printf(
+                "{\"onsets\": %zu, \"matched\": %zu, \"p50_frames\": %.3f, \"delays_frames\": [",
+                onsets.size() * others.size(), delays.size(), median(delays));
             for (std::size_t i = 0; i < delays.size(); ++i) {
                 std::printf("%s%.3f", i == 0 ? "" : ", ", delays[i]);
             }

@@ -43,12 +43,11 @@ std::string readAll(const fs::path& path) {
 }  // namespace
 
 std::string showAcl() {
-    return "# Controllers steer every show's light; players only follow it.\n"
-           "user " +
-           kController.name +
-           "\ntopic readwrite vpe/+/light\n\n"
-           "user " +
-           kPlayer.name + "\ntopic read vpe/+/light\n";
+    const std::string acl = readAll(fs::path(VPE_SOURCE_DIR) / "boards/mosquitto/acl");
+    if (acl.find("user " + kController.name) == std::string::npos) {
+        throw std::runtime_error("boards/mosquitto/acl: no user " + kController.name);
+    }
+    return acl;
 }
 
 std::optional<std::string> MosquittoBroker::unavailable() {
@@ -76,7 +75,8 @@ int MosquittoBroker::freePort() {
 }
 
 MosquittoBroker::MosquittoBroker(const fs::path& folder, const std::vector<BrokerUser>& users,
-                                 const std::string& acl, int port)
+                                 const std::string& acl, int port,
+                                 const std::string& listenerOptions)
     : folder_(folder), port_(port == 0 ? freePort() : port) {
     fs::create_directories(folder_);
     const fs::path passwords = folder_ / "passwords";
@@ -95,7 +95,7 @@ MosquittoBroker::MosquittoBroker(const fs::path& folder, const std::vector<Broke
         conf << "user root\n";
     }
     conf << "listener " << port_ << " 127.0.0.1\n"
-         << "allow_anonymous false\n"
+         << listenerOptions << "allow_anonymous false\n"
          << "password_file " << passwords.string() << "\n"
          << "acl_file " << (folder_ / "acl").string() << "\n"
          << "persistence true\n"

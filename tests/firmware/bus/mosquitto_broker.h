@@ -18,8 +18,8 @@ struct BrokerUser {
     std::string name, password;
 };
 
-// The users of the bus tests and scripts/multi-node-report.sh, and their ACL (as
-// boards/mosquitto/acl): controllers may write the light, players only read it.
+// The users boards/mosquitto/acl names, and that ACL itself (the file shipped, so that the tests
+// hold it to its word): controllers may write the light, players only read it.
 inline const BrokerUser kController{"vpe-controller", "controller-secret"};
 inline const BrokerUser kPlayer{"vpe-player", "player-secret"};
 std::string showAcl();
@@ -35,9 +35,10 @@ public:
     static int freePort();
 
     // Writes mosquitto.conf, passwords and acl into `folder` (created). `port` 0: a free one.
-    // Throws std::runtime_error when mosquitto_passwd fails.
+    // `listenerOptions`: lines for the listener (cafile, certfile, keyfile: TLS). Throws
+    // std::runtime_error when mosquitto_passwd fails.
     MosquittoBroker(const std::filesystem::path& folder, const std::vector<BrokerUser>& users,
-                    const std::string& acl, int port = 0);
+                    const std::string& acl, int port = 0, const std::string& listenerOptions = "");
     ~MosquittoBroker();
     MosquittoBroker(const MosquittoBroker&) = delete;
     MosquittoBroker& operator=(const MosquittoBroker&) = delete;

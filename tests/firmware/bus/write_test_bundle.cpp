@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
     }
     const std::vector<std::byte> bytes = vpe::renderer::testing::buildGlesTestBundle(spec);
     std::ofstream file(out, std::ios::binary);
-    file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    file.write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
     if (!file) {
         std::cerr << "vpe_write_test_bundle: " << out << ": cannot write\n";
         return 2;

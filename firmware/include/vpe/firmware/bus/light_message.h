@@ -21,9 +21,9 @@ inline constexpr int kLightMessageFormat = 1;
 inline constexpr std::size_t kLightMessageMaxBytes = 4096;
 
 struct LightMessage {
-    std::string node;       // the publishing node's client id
-    std::uint64_t seq = 0;  // per node, from 1, increasing by one per message
-    std::int64_t timeUs = 0;  // when the state was made (its newest change)
+    std::string node;          // the publishing node's client id
+    std::uint64_t seq = 0;     // per node, from 1, increasing by one per message
+    std::int64_t timeUs = 0;   // when the state was made (its newest change)
     SphericalPosition target;  // "azimuth", "elevation", "distance"
     SphericalPosition from;    // "from": the light at fromUs, where the move started
     std::int64_t fromUs = 0;

@@ -38,7 +38,7 @@ struct MqttSettings {
     std::string host = "127.0.0.1";  // numeric
     int port = 1883;
     std::string clientId;
-    std::string username, password;  // empty: none
+    std::string username, password;                                  // empty: none
     std::optional<std::filesystem::path> cafile, certfile, keyfile;  // TLS when cafile is set
     int keepaliveSeconds = 5;  // libmosquitto's least: a dead broker is noticed in 7.5 s
     // Subscribed (QoS 0, no local echo) on every connection.
