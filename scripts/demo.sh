@@ -231,6 +231,16 @@ printf '%-28s %.2f levels of 255 RMS against the target (assumed radiometry: %.2
     "$(jq .stability_levels "$out/radiometry/radiometry.json")" "$(jq .seconds "$out/radiometry/radiometry.json")" \
     | tee -a "$summary"
 
+step "three projectors around the vase (scripts/multi-projector-report.sh): shares from the geometry → 8 visitors"
+scripts/multi-projector-report.sh --out "$out/multi-projector" | tail -1 > "$out/multi-projector.json"
+mv "$out/multi-projector.json" "$out/multi-projector/multi-projector.json"
+printf '%-28s seam step %.2fx its surroundings (no blending %.2fx), worst view %.2f dB (one projector, front: %.2f), %.1f%% of what visitors see lit\n' \
+    "three projectors" "$(jq .seam_step_ratio "$out/multi-projector/multi-projector.json")" \
+    "$(jq .unblended_seam_step_ratio "$out/multi-projector/multi-projector.json")" \
+    "$(jq .worst_psnr "$out/multi-projector/multi-projector.json")" \
+    "$(jq .single_front_psnr "$out/multi-projector/multi-projector.json")" \
+    "$(jq '.lit_share * 100' "$out/multi-projector/multi-projector.json")" | tee -a "$summary"
+
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do
         name=${set#*:}
@@ -290,6 +300,10 @@ Demo finished in $(( $(date +%s) - started )) s. Pictures in $out:
                                       radiometry1/contact-sheet.png (F, albedo, floor, curves),
                                       check/light-check.png (target | measured | assumed),
                                       radiometry.json (the figures)
+  multi-projector/                    three projectors around the vase (docs/multi-projector.md):
+                                      shares.png (each one's share, the surface's reach),
+                                      views.png (8 visitors: truth | show | light | reach),
+                                      multi-projector.json (the figures)
   synthrti-*/contact-sheet.png        the same comparison on SynthRTI (when present)
   */paper.preview.png                 each model relit head-on and from three 45° lights
   summary.txt                         the figures above
