@@ -99,6 +99,16 @@ struct Arguments {
     bool json = false;
 };
 
+// --gain's number (not 'auto'): positive and finite.
+double parseGain(const std::string& text) {
+    char* end = nullptr;
+    const double gain = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !(gain > 0) || !std::isfinite(gain)) {
+        throw InputError("--gain: '" + text + "' is not a positive number or 'auto'");
+    }
+    return gain;
+}
+
 proto::BundleFile openBundle(const std::string& path) {
     try {
         return proto::BundleFile::open(path);
@@ -155,12 +165,7 @@ void runRenderShow(const Arguments& args) {
     options.threads = static_cast<int>(resolveThreadCount(args.threads));
     options.gain = static_cast<double>(files[0].view().settings().gain);
     if (!args.gain.empty() && args.gain != "auto") {
-        char* end = nullptr;
-        options.gain = std::strtod(args.gain.c_str(), &end);
-        if (end == args.gain.c_str() || *end != '\0' || !(options.gain > 0) ||
-            !std::isfinite(options.gain)) {
-            throw InputError("--gain: '" + args.gain + "' is not a positive number or 'auto'");
-        }
+        options.gain = parseGain(args.gain);
     }
     std::vector<renderer::ProjectorFrame> frames;
     for (const renderer::RenderScene& scene : scenes) {
@@ -257,13 +262,7 @@ void runRender(const Arguments& args) {
     if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
         throw InputError("--intensity must be a positive number");
     }
-    proto::BundleFile file = [&] {
-        try {
-            return proto::BundleFile::open(args.bundle);
-        } catch (const proto::BundleError& error) {
-            throw InputError(error.what());
-        }
-    }();
+    proto::BundleFile file = openBundle(args.bundle);
     const renderer::BundleScene bundleScene = [&] {
         try {
             return renderer::BundleScene(file.view(), args.weights);
@@ -284,12 +283,7 @@ void runRender(const Arguments& args) {
     options.threads = static_cast<int>(resolveThreadCount(args.threads));
     options.gain = static_cast<double>(file.view().settings().gain);
     if (!args.gain.empty() && args.gain != "auto") {
-        char* end = nullptr;
-        options.gain = std::strtod(args.gain.c_str(), &end);
-        if (end == args.gain.c_str() || *end != '\0' || !(options.gain > 0) ||
-            !std::isfinite(options.gain)) {
-            throw InputError("--gain: '" + args.gain + "' is not a positive number or 'auto'");
-        }
+        options.gain = parseGain(args.gain);
     }
     renderer::ProjectorFrame frame = renderer::renderProjectorFrame(scene, options);
     if (args.gain == "auto") {

@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <numbers>
 
 #include "vpe/common/input_error.h"
 #include "vpe/common/progress_bar.h"
@@ -31,12 +30,6 @@ using renderer::Vec3d;
 // Pixels either side of a blend boundary whose steps are its reference: the surface's own
 // variation there (texture, shading, foreshortening), which a seamless blend leaves alone.
 constexpr int kSeamWindow = 4;
-
-Vec3d direction(double azimuthDegrees, double elevationDegrees) {
-    const double a = azimuthDegrees * std::numbers::pi / 180.0;
-    const double e = elevationDegrees * std::numbers::pi / 180.0;
-    return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
-}
 
 // The frame a projector is sent: 8-bit levels, as the device's framebuffer holds them.
 renderer::RgbImage quantized(renderer::RgbImage levels) {
@@ -243,21 +236,12 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
     for (const proto::BundleFile& file : files) {
         scenes.push_back(std::make_unique<renderer::BundleScene>(file.view(), ""));
     }
-    Vec3d lower{1e30, 1e30, 1e30}, upper{-1e30, -1e30, -1e30};
     const auto& positions = files.front().view().mesh().positions;
-    for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
-        lower = {std::min(lower.x, double(positions[i])),
-                 std::min(lower.y, double(positions[i + 1])),
-                 std::min(lower.z, double(positions[i + 2]))};
-        upper = {std::max(upper.x, double(positions[i])),
-                 std::max(upper.y, double(positions[i + 1])),
-                 std::max(upper.z, double(positions[i + 2]))};
-    }
-    const Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
-                       0.5 * (lower.z + upper.z)};
-    const double distance = 4.0 * (upper.y - lower.y);
+    const MeshBounds bounds = meshBounds({positions.begin(), positions.end()});
+    const Vec3d centre = bounds.centre();
+    const double distance = 4.0 * (bounds.upper.y - bounds.lower.y);
     const auto at = [&](double azimuth, double elevation) {
-        const Vec3d d = direction(azimuth, elevation);
+        const Vec3d d = directionAt(azimuth, elevation);
         return Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
                      centre.z + distance * d.z};
     };

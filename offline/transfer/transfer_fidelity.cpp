@@ -28,12 +28,6 @@ namespace {
 
 using renderer::Vec3d;
 
-Vec3d direction(double azimuthDegrees, double elevationDegrees) {
-    const double a = azimuthDegrees * std::numbers::pi / 180.0;
-    const double e = elevationDegrees * std::numbers::pi / 180.0;
-    return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
-}
-
 // Mean angle between the bundle's relief and the truth's, over the texels (at their centres).
 double reliefError(const renderer::BundleScene& bundleScene, const SyntheticTruth& truth) {
     const renderer::RenderScene scene = bundleScene.scene({}, {0, 0, 1});
@@ -98,12 +92,33 @@ renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const Syn
     return image;
 }
 
+Vec3d directionAt(double azimuthDegrees, double elevationDegrees) {
+    const double a = azimuthDegrees * std::numbers::pi / 180.0;
+    const double e = elevationDegrees * std::numbers::pi / 180.0;
+    return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
+}
+
+MeshBounds meshBounds(const std::vector<float>& positions) {
+    MeshBounds bounds{{1e30, 1e30, 1e30}, {-1e30, -1e30, -1e30}};
+    Vec3d& lower = bounds.lower;
+    Vec3d& upper = bounds.upper;
+    for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
+        lower = {std::min(lower.x, double(positions[i])),
+                 std::min(lower.y, double(positions[i + 1])),
+                 std::min(lower.z, double(positions[i + 2]))};
+        upper = {std::max(upper.x, double(positions[i])),
+                 std::max(upper.y, double(positions[i + 1])),
+                 std::max(upper.z, double(positions[i + 2]))};
+    }
+    return bounds;
+}
+
 std::vector<TransferView> transferViews(const Vec3d& lower, const Vec3d& upper) {
     const Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
                        0.5 * (lower.z + upper.z)};
     const double distance = 4.0 * (upper.y - lower.y);
     const auto at = [&](double azimuth, double elevation) {
-        const Vec3d d = direction(azimuth, elevation);
+        const Vec3d d = directionAt(azimuth, elevation);
         return Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
                      centre.z + distance * d.z};
     };
@@ -157,20 +172,11 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
     // With the truth's relief substituted, the relief rendered is the truth's.
     report.reliefErrorDegrees = options.trueRelief ? 0.0 : reliefError(bundleScene, truth);
 
-    Vec3d lower{1e30, 1e30, 1e30}, upper{-1e30, -1e30, -1e30};
-    const auto& positions = bundle.mesh().positions;
-    for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
-        lower = {std::min(lower.x, double(positions[i])),
-                 std::min(lower.y, double(positions[i + 1])),
-                 std::min(lower.z, double(positions[i + 2]))};
-        upper = {std::max(upper.x, double(positions[i])),
-                 std::max(upper.y, double(positions[i + 1])),
-                 std::max(upper.z, double(positions[i + 2]))};
-    }
-    const Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
-                       0.5 * (lower.z + upper.z)};
+    const MeshBounds bounds =
+        meshBounds({bundle.mesh().positions.begin(), bundle.mesh().positions.end()});
+    const Vec3d centre = bounds.centre();
     std::vector<TransferView> views;
-    for (const TransferView& view : transferViews(lower, upper)) {
+    for (const TransferView& view : transferViews(bounds.lower, bounds.upper)) {
         if (options.views.empty() || std::find(options.views.begin(), options.views.end(),
                                                view.name) != options.views.end()) {
             views.push_back(view);

@@ -69,6 +69,18 @@ struct TransferReport {
 
 class SyntheticTruth;
 
+// The bounding box of a bundle's mesh (object frame, metres): where the checks' visitors look.
+struct MeshBounds {
+    renderer::Vec3d lower, upper;
+    renderer::Vec3d centre() const {
+        return {0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y), 0.5 * (lower.z + upper.z)};
+    }
+};
+MeshBounds meshBounds(const std::vector<float>& positions);
+
+// The unit direction at an azimuth (0 = +z, the front; 90° = +x) and an elevation, degrees.
+renderer::Vec3d directionAt(double azimuthDegrees, double elevationDegrees);
+
 // The true material seen by `camera` on the scene's mesh under its light (no cast shadows):
 // what both checks compare against.
 renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const SyntheticTruth& truth,
