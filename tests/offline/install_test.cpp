@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include "vpe/image/image_file.h"
+#include "vpe/proto/bundle.h"
+#include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/renderer/procam/scene_file.h"
@@ -172,6 +174,23 @@ TEST(Install, WhatTheVisitorSeesFromTheMeasuredBundleIsTheTruth) {
     EXPECT_LT(check["misregistration_mm"].get<double>(), 0.5);
     EXPECT_TRUE(check["turn_free"].get<bool>());
     EXPECT_TRUE(fs::exists(out / "check" / "visitor-check.png"));
+    // A show of scans made with one camera: the first scan's registration places the object
+    // for the others. The same scan twice is two projectors in one place: each gives half.
+    run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+         (out / "scan").string(), "--scan", (out / "scan").string(), "--mesh",
+         (room() / "object.obj").string(), "--out", (out / "show").string()});
+    const proto::BundleFile first = proto::BundleFile::open(out / "show" / "projector1.vpeb");
+    const proto::BundleFile second = proto::BundleFile::open(out / "show" / "projector2.vpeb");
+    EXPECT_EQ(first->projector().translation, second->projector().translation);
+    ASSERT_TRUE(second->blend().has_value());
+    std::size_t lit = 0, halves = 0;
+    for (const std::uint16_t share : second->blend()->share) {
+        const float s = proto::halfToFloat(share);
+        lit += s > 0 ? 1 : 0;
+        halves += std::fabs(s - 0.5f) < 1e-3f ? 1 : 0;
+    }
+    EXPECT_GT(lit, 1000u);
+    EXPECT_EQ(halves, lit);
     // --check compares bundles of the object's own mesh only.
     run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
          (out / "scan").string(), "--out", (out / "surface.vpeb").string()});
