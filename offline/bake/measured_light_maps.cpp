@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "vpe/bake/bundle_render_mesh.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/quantile.h"
 #include "vpe/proto/pinhole_camera.h"
@@ -23,17 +24,10 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
                                      std::to_string(measured.height) + ", the projector is " +
                                      std::to_string(width) + "x" + std::to_string(height));
     }
-    std::vector<renderer::Vec3f> positions(mesh.positions.size() / 3), normals(positions.size());
-    std::vector<renderer::Vec2f> uvs(positions.size());
-    for (std::size_t v = 0; v < positions.size(); ++v) {
-        positions[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1],
-                        mesh.positions[3 * v + 2]};
-        normals[v] = {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]};
-        uvs[v] = {mesh.uvs[2 * v], mesh.uvs[2 * v + 1]};
-    }
     renderer::ProjectorModel model;
     model.camera = proto::cameraOf(projector);
-    const renderer::ProjectorPixels pixels({positions, normals, uvs, mesh.indices}, model);
+    const BundleRenderMesh renderMesh(mesh);
+    const renderer::ProjectorPixels pixels(renderMesh.view, model);
 
     const std::size_t count = static_cast<std::size_t>(width) * height;
     std::vector<float> geometry(count, 0);

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "vpe/bake/bake_inputs.h"
+#include "vpe/bake/bundle_render_mesh.h"
 #include "vpe/bake/bundle_writer.h"
 #include "vpe/bake/low_rank_encoder.h"
 #include "vpe/bake/measured_light_maps.h"
@@ -300,24 +301,6 @@ void write(const std::filesystem::path& out, const BundleContents& contents, Bak
     report.checksum = written.checksum;
 }
 
-// The renderer's view of a bundle's mesh (uv with v up) and of a projector.
-struct RenderMeshCopy {
-    std::vector<renderer::Vec3f> positions, normals;
-    std::vector<renderer::Vec2f> uvs;
-    renderer::RenderMesh view;
-
-    explicit RenderMeshCopy(const BundleMesh& mesh) {
-        for (std::size_t v = 0; 3 * v < mesh.positions.size(); ++v) {
-            positions.push_back(
-                {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]});
-            normals.push_back(
-                {mesh.normals[3 * v], mesh.normals[3 * v + 1], mesh.normals[3 * v + 2]});
-            uvs.push_back({mesh.uvs[2 * v], 1.0f - mesh.uvs[2 * v + 1]});
-        }
-        view = {positions, normals, uvs, mesh.indices};
-    }
-};
-
 }  // namespace
 
 BakeReport bakeScene(const BakeOptions& options, const std::filesystem::path& out) {
@@ -371,7 +354,7 @@ ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>
     BakeReport shared;
     addTextures(contents, options, placed.front().mesh, shared);
 
-    const RenderMeshCopy mesh(contents.mesh);
+    const BundleRenderMesh mesh(contents.mesh);
     std::vector<renderer::ProjectorModel> models;
     for (const ProjectorPlacement& p : placed) {
         renderer::ProjectorModel model;
