@@ -44,49 +44,12 @@ mkdir -p "$work"
 root="$work/root"
 commit=$(git rev-parse HEAD)
 
-# This machine's apt sources and its Acquire:: settings (e.g. a snapshot mirror's validity),
-# read at run time so that no host name lives in the repository.
-sources="$work/sources.list"
-: >"$sources"
-[[ -s /etc/apt/sources.list ]] && grep -v '^[[:space:]]*#' /etc/apt/sources.list >>"$sources" || true
-for f in /etc/apt/sources.list.d/*.list /etc/apt/sources.list.d/*.sources; do
-    [[ -f "$f" ]] || continue
-    if [[ "$f" == *.sources ]]; then
-        # deb822 stanzas: keep them whole and separated by a blank line
-        cat "$f" >>"$sources"; echo >>"$sources"
-    else
-        grep -v '^[[:space:]]*#' "$f" >>"$sources" || true
-    fi
-done
-[[ -s "$sources" ]] || { echo "check-fresh-debian: this machine has no apt sources" >&2; exit 2; }
-# mmdebstrap takes one style at a time: deb822 if any .sources file was read, one-line otherwise.
-if grep -q '^Types:' "$sources"; then
-    mirror="$work/sources.sources"
-    awk 'BEGIN{RS=""; ORS="\n\n"} /Types:/' "$sources" >"$mirror"
-else
-    mirror="$sources"
-fi
-aptopt="$work/apt.conf"
-apt-config dump | grep -E '^Acquire::(Check-Valid-Until|Check-Date|http::Proxy|https::Proxy)' >"$aptopt" || true
-
-# The root holds bind mounts of the host's /dev, /proc, /sys and ../shared. A run killed with
-# SIGKILL skips its trap and leaves them behind; removing such a root naively deletes the
-# host's /dev nodes. So every mount under the root is undone first (a stale one included), and
-# the removal never crosses into another file system.
-unmount_below() {
-    local m
-    awk -v r="$1" '$2 == r || index($2, r "/") == 1 { print $2 }' /proc/self/mounts | sort -r |
-        while read -r m; do umount -l "$m" 2>/dev/null || true; done
-}
-remove_root() {
-    unmount_below "$root"
-    if awk -v r="$root" 'index($2, r "/") == 1 { found = 1 } END { exit !found }' /proc/self/mounts; then
-        echo "check-fresh-debian: $root still has mounts; leaving it in place" >&2
-        return
-    fi
-    rm -rf --one-file-system "$root"
-}
-cleanup() { if [[ $keep -eq 0 ]]; then remove_root; else unmount_below "$root"; fi; }
+# This machine's apt sources (scripts/lib/debian-root.sh); the root's removal undoes its bind
+# mounts first.
+source scripts/lib/debian-root.sh
+debian_root_sources "$work"
+remove_root() { debian_root_remove "$root"; }
+cleanup() { if [[ $keep -eq 0 ]]; then remove_root; else debian_root_unmount_below "$root"; fi; }
 [[ -e "$root" ]] && remove_root
 trap cleanup EXIT
 
