@@ -5,9 +5,14 @@
 #   scripts/install-deps.sh          build + run the offline tools
 #   scripts/install-deps.sh --test   also GoogleTest, Google Benchmark, clang + libFuzzer, clang-format
 #   scripts/install-deps.sh --demo   also what only the demo runs (ffmpeg for its MP4)
-#   scripts/install-deps.sh --list [--test] [--demo]
+#   scripts/install-deps.sh --arm64  also what cross-builds the device for arm64 and runs its
+#                                    tests under qemu-user (scripts/arm64-sysroot.sh)
+#   scripts/install-deps.sh --list [--test] [--demo] [--arm64]
 #                                    print the packages named here, one per line
 #                                    (scripts/audit-deps.sh reads them)
+#   scripts/install-deps.sh --list-arm64-root
+#                                    print the arm64 packages of the device's sysroot: what the
+#                                    device build and its tests need on a Pi, nothing offline
 #
 # Every file the build finds on the system must come from a package named here or from one of
 # their dependencies (the audit in scripts/test.sh checks it).
@@ -45,15 +50,35 @@ test_packages=(
 demo_packages=(
     ffmpeg                                    # the demo's animation of the visitor view (MP4, H.264)
 )
+arm64_packages=(
+    crossbuild-essential-arm64                # aarch64-linux-gnu-g++ (cmake/aarch64-linux-gnu.cmake)
+    qemu-user-static                          # the device tests under qemu-aarch64 (binfmt_misc)
+    mmdebstrap arch-test                      # the arm64 sysroot: a Debian 12 arm64 root (arch-test:
+                                              # mmdebstrap checks it can run arm64)
+)
+# The sysroot's own packages, arm64, installed by scripts/arm64-sysroot.sh into build/arm64-root
+# (never on this machine): the device build's libraries (no offline one), its test frameworks,
+# and Mesa's llvmpipe for the headless GLES tests.
+arm64_root_packages=(
+    libc6-dev libstdc++-12-dev
+    zlib1g-dev libflatbuffers-dev nlohmann-json3-dev
+    libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri libdrm-dev libgbm-dev
+    libtomlplusplus-dev libtinyobjloader-dev libgpiod-dev liblo-dev libcamera-dev libsystemd-dev
+    libmosquitto-dev
+    libgtest-dev libgmock-dev libbenchmark-dev
+)
 
 test=0
 demo=0
+arm64=0
 list=0
 for argument in "$@"; do
     case "$argument" in
         --test) test=1 ;;
         --demo) demo=1 ;;
+        --arm64) arm64=1 ;;
         --list) list=1 ;;
+        --list-arm64-root) printf '%s\n' "${arm64_root_packages[@]}"; exit 0 ;;
         *) echo "install-deps: unknown option $argument" >&2; exit 2 ;;
     esac
 done
@@ -62,6 +87,9 @@ if [[ $test -eq 1 ]]; then
 fi
 if [[ $demo -eq 1 ]]; then
     packages+=("${demo_packages[@]}")
+fi
+if [[ $arm64 -eq 1 ]]; then
+    packages+=("${arm64_packages[@]}")
 fi
 if [[ $list -eq 1 ]]; then
     printf '%s\n' "${packages[@]}"
