@@ -3,6 +3,7 @@
 // uses on both sides) and playing it on a timerfd.
 #include "vpe/firmware/player/replay_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <utility>
@@ -187,7 +188,7 @@ ReplayInput::ReplayInput(const std::filesystem::path& path, std::vector<ReplayEv
         }
     }
     periodNs_ = events_.back().offsetNs + 1'000'000'000;
-    armNext();
+    // Armed at the loop's first tick (onTick), not here.
 }
 
 std::string ReplayInput::description() const {
@@ -244,7 +245,10 @@ void ReplayInput::play(const ReplayEvent& event, std::int64_t atNs,
 void ReplayInput::onReadable(int, std::int64_t nowNs, std::vector<InputEvent>& events) {
     timer_.expirations();
     while (next_ < events_.size() && startNs_ + events_[next_].offsetNs <= nowNs) {
-        play(events_[next_], startNs_ + events_[next_].offsetNs, events);
+        const std::int64_t scheduledNs = startNs_ + events_[next_].offsetNs;
+        play(events_[next_], scheduledNs, events);
+        // Measured after playing it: drawing and tracking a synthetic frame takes time too.
+        lateNs_ = std::max<std::int64_t>(monotonicNowNs() - scheduledNs, 0);
         ++next_;
         if (next_ >= events_.size() && loop_) {
             next_ = 0;
@@ -271,11 +275,29 @@ void ReplayInput::setLampDirection(LampDirectionMap map) {
 }
 
 void ReplayInput::onTick(std::int64_t nowNs, std::vector<InputEvent>& events) {
+    if (!started_) {
+        // The script's clock starts with the frame loop: loading the bundle and opening the
+        // display take what they take (seconds on a slow board or under emulation) without
+        // bunching the first events together and letting the decoders' timers (the lamp's
+        // hold) run out on a session that had not started yet.
+        started_ = true;
+        startNs_ = std::max(startNs_, nowNs);
+        armNext();
+    }
+    // The decoders tick on the script's clock: this loop's time less how late the last event
+    // was played, and never past the next event still to come (until then the script's devices
+    // were delivering). So a busy player (a slow first frame, or tracking the synthetic camera
+    // frames under emulation) does not run out the lamp's hold or a knob's timeout that the
+    // session itself did not; on time, this is the loop's own time.
+    std::int64_t decodersNs = nowNs - lateNs_;
+    if (next_ < events_.size()) {
+        decodersNs = std::min(decodersNs, startNs_ + events_[next_].offsetNs);
+    }
     if (knobs_) {
-        knobs_->onTick(nowNs, events);
+        knobs_->onTick(decodersNs, events);
     }
     if (tracker_) {
-        tracker_->tick(nowNs, events);
+        tracker_->tick(decodersNs, events);
     }
 }
 

@@ -4,8 +4,11 @@
 // once, and a bundle reloaded on SIGHUP or when its file is replaced (a bad one refused while
 // the old keeps playing); the lamp mapped by the bundle's camera, and following a reloaded
 // bundle's. Runs that render SKIP without EGL.
+#include <algorithm>
 #include <chrono>
 #include <csignal>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -178,12 +181,15 @@ TEST_F(PlayerInputTest, DrawsNothingWhenNothingChanged) {
     EXPECT_EQ(number(json, "frames"), 1.0) << json;
     EXPECT_EQ(number(json, "skipped"), 39.0) << json;
 
+    // Counted in ticks, not seconds: the turn is over within 0.11 s of the loop's start, 100
+    // ticks at 200 Hz take at least 0.5 s however long a drawn frame takes (under qemu-user,
+    // up to 0.3 s), and every tick after the last detent is skipped.
     ReplayScript script;
     script.knobTurn(17, 18, 0.05, 3, 0.02);  // three detents: three new lights
     const fs::path knobs = folder_ / "turn.jsonl";
     script.write(knobs);
     run = play({"--board", board.string(), "--bundle", bundle_.string(), "--replay", knobs.string(),
-                "--json"});
+                "--frames", "100", "--json"});
     ASSERT_EQ(run.status, 0) << run.err;
     json = jsonOf(run);
     EXPECT_GE(number(json, "frames"), 2.0) << json;
@@ -259,11 +265,16 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     // change (a busy machine once started the player so late that all three reloads came
     // before its first frame, which then drew them as one).
     const fs::path frames = folder_ / "frames";
-    const pid_t pid = spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json",
-                             "--out", frames.string(), "--every", "1000000"});
+    // The light log has a line per tick (flushed every 30): the waits below count ticks, not
+    // seconds, so a slow machine (qemu-user: a drawn frame up to 0.3 s) waits as long as it must.
+    const fs::path ticks = folder_ / "ticks.jsonl";
+    const pid_t pid =
+        spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json", "--out",
+               frames.string(), "--every", "1000000", "--light-log", ticks.string()});
     ASSERT_GT(pid, 0);
     const auto waitUntil = [](const auto& condition) {
-        for (int i = 0; i < 300; ++i) {
+        // A bound on failure only (30 s): a slow machine waits longer.
+        for (int i = 0; i < 1500; ++i) {
             if (condition()) {
                 return true;
             }
@@ -273,6 +284,16 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     };
     const auto waitFor = [&](const std::string& needle) {
         return waitUntil([&] { return spawnedErr().find(needle) != std::string::npos; });
+    };
+    const auto tickCount = [&] {
+        std::ifstream in(ticks);
+        return std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(),
+                          '\n');
+    };
+    // `count` more ticks logged: at least count − 30 of them happened since the call.
+    const auto waitTicks = [&](long count) {
+        const long from = tickCount();
+        return waitUntil([&] { return tickCount() >= from + count; });
     };
     ASSERT_TRUE(waitUntil([&] { return fs::exists(frames / "frame_00000.ppm"); })) << spawnedErr();
     // Replaced by a corrupt file (written beside it and renamed, as the bake does).
@@ -284,13 +305,12 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
     writeFile("next.tmp", bundleBytes_);
     fs::rename(folder_ / "next.tmp", bundle_);
     EXPECT_TRUE(waitFor("reloaded (file replaced)")) << spawnedErr();
-    // Two reloads within one tick draw one frame: let the player draw after this one first
-    // (six ticks at 30 Hz).
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    // Two reloads within one tick draw one frame: let the player draw after this one first.
+    EXPECT_TRUE(waitTicks(36)) << spawnedErr();
     ::kill(pid, SIGHUP);
     EXPECT_TRUE(waitFor("reloaded (SIGHUP)")) << spawnedErr();
-    // Long enough for a dozen ticks at 30 Hz after the reloads, however slow the start was.
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    // A dozen ticks and more after the reloads.
+    EXPECT_TRUE(waitTicks(45)) << spawnedErr();
     ::kill(pid, SIGTERM);
     const PlayerRun run = finish(pid);
     EXPECT_EQ(run.status, 0) << run.err;

@@ -86,7 +86,10 @@ private:
     std::filesystem::path path_;
     std::vector<ReplayEvent> events_;
     bool loop_;
-    std::int64_t startNs_;
+    std::int64_t
+        startNs_;  // t = 0: the frame loop's first tick (no earlier than the constructor's)
+    bool started_ = false;
+    std::int64_t lateNs_ = 0;    // how late the last event was played (the loop was busy)
     std::int64_t periodNs_ = 0;  // looping: the file's length (last event + 1 s)
     std::size_t next_ = 0;
     MonotonicTimer timer_;
