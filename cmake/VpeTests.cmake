@@ -8,10 +8,16 @@
 #   slow  takes seconds on an idle 2-core machine (a whole pipeline: synth, fit, bake, render)
 #   data  reads the real captures (../shared/data or $VPE_DATA; skips when they are absent)
 #   fuzz  a libFuzzer target (tests/fuzz, labelled there)
+# and, beside one of those:
+#   realtime  its subject is behaviour in real time at a board's frame rate (nodes agreeing
+#             within a frame at 60 Hz, a show riding out faults within seconds, a page seeing
+#             a node within 2 s): it needs the device's own speed, so the arm64 run under
+#             qemu-user, 10-50x slower than a Pi, leaves it out (scripts/test.sh says so)
 #
 #   vpe_discover_tests(TARGET
 #       [GPU]                  every test of TARGET draws (else: those matching GPU_MATCHING)
 #       [GPU_MATCHING regex] [SLOW_MATCHING regex] [DATA_MATCHING regex]
+#       [REALTIME_MATCHING regex]
 #       [PROPERTIES ...])      passed on to gtest_discover_tests
 #
 # Regexes match the full test name (Suite.Test). Tests of real captures are named
@@ -22,7 +28,7 @@
 include(GoogleTest)
 
 function(vpe_discover_tests target)
-    cmake_parse_arguments(PARSE_ARGV 1 arg "GPU" "GPU_MATCHING;SLOW_MATCHING;DATA_MATCHING"
+    cmake_parse_arguments(PARSE_ARGV 1 arg "GPU" "GPU_MATCHING;SLOW_MATCHING;DATA_MATCHING;REALTIME_MATCHING"
                           "PROPERTIES")
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES ${arg_PROPERTIES})
 
@@ -49,6 +55,9 @@ function(vpe_discover_tests target)
         "    endif()\n"
         "    if(NOT labels)\n"
         "        set(labels unit)\n"
+        "    endif()\n"
+        "    if(NOT \"${arg_REALTIME_MATCHING}\" STREQUAL \"\" AND test MATCHES \"${arg_REALTIME_MATCHING}\")\n"
+        "        list(APPEND labels realtime)\n"
         "    endif()\n"
         "    set_tests_properties(\"\${test}\" PROPERTIES LABELS \"\${labels}\")\n"
         "endforeach()\n")
