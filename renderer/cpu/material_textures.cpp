@@ -12,19 +12,7 @@
 
 namespace vpe::renderer {
 
-namespace {
-
-// The four texels around a continuous texel coordinate and their bilinear weights.
-struct BilinearFootprint {
-    std::size_t texel[4];
-    double weight[4];
-};
-
-// Continuous coordinate of texel centres: x = u·width − 0.5 (texel x at its centre), likewise
-// y = (1 − v)·height − 0.5 with row 0 at the top; clamped to the outermost centres, which is
-// clamp-to-edge, or (u when it wraps) taken modulo the size, which is GL's REPEAT: left of
-// texel 0's centre the taps are texels width − 1 and 0.
-BilinearFootprint footprint(int width, int height, const Vec2d& uv, bool wrapU) {
+BilinearFootprint bilinearFootprint(int width, int height, const Vec2d& uv, bool wrapU) {
     const auto axis = [](double coordinate, int size, int& i0, int& i1, double& f) {
         double x = coordinate * size - 0.5;
         x = std::isnan(x) ? 0.0 : std::clamp(x, 0.0, static_cast<double>(size - 1));
@@ -54,8 +42,6 @@ BilinearFootprint footprint(int width, int height, const Vec2d& uv, bool wrapU) 
     return {{index(x0, y0), index(x1, y0), index(x0, y1), index(x1, y1)},
             {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy}};
 }
-
-}  // namespace
 
 std::string checkMaterialTextures(const MaterialTextures& material) {
     if (material.harmonics < 0 || material.harmonics > proto::kMaxHarmonics) {
@@ -96,7 +82,8 @@ std::string checkMaterialTextures(const MaterialTextures& material) {
 void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients) {
     const int count = material.coefficientsPerTexel();
     std::fill(coefficients, coefficients + count, 0.0);
-    const BilinearFootprint taps = footprint(material.width, material.height, uv, material.wrapU);
+    const BilinearFootprint taps =
+        bilinearFootprint(material.width, material.height, uv, material.wrapU);
     const auto perTexel = static_cast<std::size_t>(count);
     for (const auto& region : material.regions) {
         double regionWeight = 1.0;
@@ -128,7 +115,8 @@ bool hasRelief(const MaterialTextures& material) {
 }
 
 Vec3d sampleDetailNormal(const MaterialTextures& material, const Vec2d& uv) {
-    const BilinearFootprint taps = footprint(material.width, material.height, uv, material.wrapU);
+    const BilinearFootprint taps =
+        bilinearFootprint(material.width, material.height, uv, material.wrapU);
     Vec3d sum{0, 0, 0};
     for (const auto& region : material.regions) {
         double regionWeight = 1.0;

@@ -12,6 +12,7 @@
 
 #include "vpe/proto/detail_normal.h"
 #include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/gles/texture_formats.h"
 #include "vpe/renderer/gles/tile_cover.h"
 #include "vpe/renderer/parallel_rows.h"
 
@@ -54,10 +55,10 @@ PackedPixel packProjectorPixel(const std::optional<ProjectorPixel>& pixel) {
 
 GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool relief)
     : width_(pixels.width()), height_(pixels.height()), relief_(relief) {
-    geometry0_ = makeTexture2D(GL_RGBA32F, width_, height_, GL_RGBA, GL_FLOAT, nullptr);
+    geometry0_ = makeTexture2D(kGeometry0Format, width_, height_, GL_RGBA, GL_FLOAT, nullptr);
     geometry1_ =
-        makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
-    uv_ = makeTexture2D(GL_RG32F, width_, height_, GL_RG, GL_FLOAT, nullptr);
+        makeTexture2D(kGeometry1Format, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
+    uv_ = makeTexture2D(kUvFormat, width_, height_, GL_RG, GL_FLOAT, nullptr);
     if (relief_) {
         tracedGeometry1_ =
             makeTexture2D(GL_RGBA32UI, width_, height_, GL_RGBA_INTEGER, GL_UNSIGNED_INT, nullptr);
@@ -75,6 +76,7 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool 
                              static_cast<std::size_t>((height_ + kTileSize - 1) / kTileSize),
                          0);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    std::array<double, 3> low{HUGE_VAL, HUGE_VAL, HUGE_VAL}, high{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     for (int first = 0; first < height_; first += kBandRows) {
         const int rows = std::min(kBandRows, height_ - first);
         forEachRow(rows, threads, [&](int row) {
@@ -103,6 +105,13 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool 
                 if (geometry0[(static_cast<std::size_t>(row) * w + static_cast<std::size_t>(x)) *
                                   4 +
                               3] >= 0) {
+                    const float* position = &geometry0[(static_cast<std::size_t>(row) * w +
+                                                        static_cast<std::size_t>(x)) *
+                                                       4];
+                    for (std::size_t k = 0; k < 3; ++k) {
+                        low[k] = std::min(low[k], static_cast<double>(position[k]));
+                        high[k] = std::max(high[k], static_cast<double>(position[k]));
+                    }
                     coveredTiles_[static_cast<std::size_t>(((first + row) / kTileSize) * tilesX +
                                                            x / kTileSize)] = 1;
                 }
@@ -126,6 +135,9 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool 
         }
     }
     covered_ = covered;
+    for (std::size_t k = 0; k < 3; ++k) {
+        centre_[k] = covered_ > 0 ? 0.5 * (low[k] + high[k]) : 0.0;
+    }
     checkGlError("uploading the projector's geometry buffer");
 }
 

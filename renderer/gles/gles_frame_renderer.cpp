@@ -18,8 +18,12 @@
 #include "vpe/renderer/gles/geometry_buffer.h"
 #include "vpe/renderer/gles/material_pass.h"
 #include "vpe/renderer/gles/relief_pass.h"
+#include "vpe/renderer/gles/shading_geometry_pass.h"
+#include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/gles/texture_formats.h"
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
+#include "vpe/renderer/gles/weight_pass.h"
 #include "vpe/renderer/measured_light.h"
 #include "vpe/renderer/projector_pixels.h"
 
@@ -27,18 +31,24 @@ namespace vpe::renderer::gles {
 
 namespace {
 
-// Texture units of the frame: geometry 0–1, uv 2, the θs table 3, weights 4–5, the measured
-// light 6–8, materials from 9.
-constexpr int kUnitGeometry0 = 0, kUnitGeometry1 = 1, kUnitUv = 2, kUnitTable = 3, kUnitWeights = 4,
+// Texture units of the frame: geometry 0, the shading geometry 1, uv 2, the θs table 3, the
+// presets' α 4–5, the measured light 6–7, the response inverse 8 (measured, or the level table),
+// materials from 9.
+constexpr int kUnitGeometry0 = 0, kUnitShading = 1, kUnitUv = 2, kUnitTable = 3, kUnitWeights = 4,
               kUnitWeightsFrom = 5, kUnitMeasuredIrradiance = 6, kUnitMeasuredFloor = 7,
-              kUnitInverseResponse = 8, kUnitMaterials = 9;
+              kUnitResponse = 8, kUnitMaterials = 9;
+
+// The frame looks the level table up at r·(N − 1)/N + ½/N: the factor is folded into the
+// radiance scale and the ambient (vpeProjectorLevelTable).
+constexpr double kLevelCoordinateScale =
+    static_cast<double>(kProjectorLevelSamples - 1) / kProjectorLevelSamples;
 
 // A projector-sized RGBA16F texture from a bundle's half floats (4 a pixel, rows from the top:
 // the frame fetches it at the pixel it shades, as the geometry buffer).
 GlObject halfTexture(int width, int height, std::span<const std::uint16_t> halves) {
     GlObject texture = GlObject::texture();
     glBindTexture(GL_TEXTURE_2D, texture.get());
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA16F, width, height);
+    glTexStorage2D(GL_TEXTURE_2D, 1, kMeasuredFormat, width, height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_HALF_FLOAT, halves.data());
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -98,8 +108,8 @@ struct GlesFrameRenderer::FrameProgram {
     FrameVariant variant = FrameVariant::kStatic;
     std::string source;
     GlObject program;
-    GLint topRow = -1, height = -1, size = -1, light = -1, viewer = -1, radianceScale = -1,
-          falloff = -1, ambient = -1, fade = -1;
+    GLint topRow = -1, row = -1, size = -1, light = -1, radianceScale = -1, falloff = -1,
+          ambient = -1, fade = -1;
 };
 
 GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
@@ -174,14 +184,32 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                     proto::floatToHalf(table.levels(c)[static_cast<std::size_t>(i)]);
             }
         }
-        inverseResponse_ = makeTexture2D(GL_RGBA16F, table.samples(), 1, GL_RGBA, GL_HALF_FLOAT,
-                                         texels.data(), TextureFilter::kLinear);
+        inverseResponse_ = makeTexture2D(kMeasuredFormat, table.samples(), 1, GL_RGBA,
+                                         GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
         measuredLight_ = true;
+    } else {
+        // The response inverse as a table (projectorLevelTable): three filtered fetches, no pow.
+        if (maxTexture < kProjectorLevelSamples) {  // (the GPU's: V3D's is 4096)
+            throw GraphicsError(
+                bundleName_ + ": the response table's " + std::to_string(kProjectorLevelSamples) +
+                " samples exceed the GPU's largest texture (" + std::to_string(maxTexture) + ")");
+        }
+        const std::vector<float> table =
+            projectorLevelTable(settings_.response, kProjectorLevelSamples);
+        std::vector<std::uint16_t> texels(4 * static_cast<std::size_t>(kProjectorLevelSamples), 0);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(kProjectorLevelSamples); ++i) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                texels[4 * i + c] = proto::floatToHalf(table[3 * i + c]);
+            }
+        }
+        levelTable_ = makeTexture2D(kLevelTableFormat, kProjectorLevelSamples, 1, GL_RGBA,
+                                    GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
     }
 
     start = Clock::now();
     tiles_ = std::make_unique<TileCover>(width_, height_, geometry_->coveredTiles());
     materialPass_ = std::make_unique<MaterialPass>(*textures_, *geometry_, *tiles_, viewer_);
+    shadingPass_ = std::make_unique<ShadingGeometryPass>(*geometry_, *tiles_, viewer_);
     if (geometry_->relief()) {
         reliefPass_ = std::make_unique<ReliefPass>(bundle, *geometry_, *textures_, *tiles_);
     }
@@ -190,6 +218,9 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
 
     start = Clock::now();
     if (options.liveWeights) {
+        if (textures_->presetCount() > 0) {
+            weightPass_ = std::make_unique<WeightPass>(*textures_, *geometry_, *tiles_);
+        }
         for (int r = 0; r < textures_->layout().regions; ++r) {
             regionMaterials_.push_back(materialPass_->makeTarget());
             if (!reliefPass_) {  // with a relief, selectPreset composes them on its normals
@@ -231,15 +262,16 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
         return glGetUniformLocation(program, uniform);
     };
     glUseProgram(program);
-    glUniform1i(location("uGeometry0"), kUnitGeometry0);
-    glUniform1i(location("uGeometry1"), kUnitGeometry1);
+    glUniform1i(location("uPosition"), kUnitGeometry0);
+    glUniform1i(location("uShading"), kUnitShading);
     glUniform1i(location("uUv"), kUnitUv);
     glUniform1i(location("uThetaTable"), kUnitTable);
-    glUniform1i(location("uWeights"), kUnitWeights);
-    glUniform1i(location("uWeightsFrom"), kUnitWeightsFrom);
+    glUniform1i(location("uAlpha"), kUnitWeights);
+    glUniform1i(location("uAlphaFrom"), kUnitWeightsFrom);
     glUniform1i(location("uMeasuredIrradiance"), kUnitMeasuredIrradiance);
     glUniform1i(location("uMeasuredFloor"), kUnitMeasuredFloor);
-    glUniform1i(location("uInverseResponse"), kUnitInverseResponse);
+    glUniform1i(location("uInverseResponse"), kUnitResponse);
+    glUniform1i(location("uProjectorLevel"), kUnitResponse);
     if (measuredLight_) {
         glUniformMatrix3fv(location("uMixingInverse"), 1, GL_FALSE, mixingInverse_.data());
     }
@@ -249,10 +281,9 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
         glUniform1i(location(("uRegionMaterial" + std::to_string(r)).c_str()), kUnitMaterials + r);
     }
     frame->topRow = location("uTopRowAtOrigin");
-    frame->height = location("uHeight");
+    frame->row = location("uRow");
     frame->size = location("uSize");
     frame->light = location("uLightPosition");
-    frame->viewer = location("uViewer");
     frame->radianceScale = location("uRadianceScale");
     frame->falloff = location("uFalloff");
     frame->ambient = location("uAmbient");
@@ -357,6 +388,7 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
 
 void GlesFrameRenderer::foldRelief() {
     if (!reliefPass_) {
+        shadingPass_->run();  // the traced normals: the same every time, packed on the first
         return;
     }
     if (presetNames_.empty()) {
@@ -364,6 +396,7 @@ void GlesFrameRenderer::foldRelief() {
     } else {
         reliefPass_->composePreset(preset_);
     }
+    shadingPass_->run();
     if (options_.liveWeights) {
         for (std::size_t r = 0; r < regionMaterials_.size(); ++r) {
             materialPass_->composeRegion(regionMaterials_[r], static_cast<int>(r));
@@ -401,11 +434,15 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
 
     bindFrameTextures();
     beginTiles(target, frame);
-    glUniform3fv(frame.light, 1, inputs.lightPosition.data());
-    glUniform3fv(frame.viewer, 1, viewer_.data());
+    // The light about the centre the positions are stored about (in double, then rounded).
+    const std::array<double, 3>& centre = geometry_->centre();
+    glUniform3f(frame.light,
+                static_cast<float>(static_cast<double>(inputs.lightPosition[0]) - centre[0]),
+                static_cast<float>(static_cast<double>(inputs.lightPosition[1]) - centre[1]),
+                static_cast<float>(static_cast<double>(inputs.lightPosition[2]) - centre[2]));
     // π/ρ·L = max(gain · I · (d_ref/d)² · H · f, 0) · π/ρ: the constants folded per channel;
     // with measured light L itself (its F carries the albedo).
-    std::array<float, 3> scale{};
+    std::array<float, 3> scale{}, ambient{};
     const double reference = inputs.inverseSquare
                                  ? static_cast<double>(inputs.referenceDistance) *
                                        static_cast<double>(inputs.referenceDistance)
@@ -414,11 +451,15 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
         scale[c] = static_cast<float>(
             static_cast<double>(inputs.gain) * static_cast<double>(inputs.lightIntensity[c]) *
             reference *
-            (measuredLight_ ? 1.0 : kPi / static_cast<double>(settings_.screenAlbedo[c])));
+            (measuredLight_
+                 ? 1.0
+                 : kPi / static_cast<double>(settings_.screenAlbedo[c]) * kLevelCoordinateScale));
+        ambient[c] = static_cast<float>(static_cast<double>(settings_.ambientIrradiance[c]) *
+                                        kLevelCoordinateScale);
     }
     glUniform3fv(frame.radianceScale, 1, scale.data());
     glUniform1f(frame.falloff, inputs.inverseSquare ? 1.0f : 0.0f);
-    glUniform3fv(frame.ambient, 1, settings_.ambientIrradiance.data());
+    glUniform3fv(frame.ambient, 1, ambient.data());
     glUniform1f(frame.fade, fadeProgress);
     tiles_->draw();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -440,24 +481,31 @@ void GlesFrameRenderer::beginTiles(RenderTarget& target, const FrameProgram& fra
     glClear(GL_COLOR_BUFFER_BIT);
     glUseProgram(frame.program.get());
     glUniform1i(frame.topRow, target.topRowAtGlOrigin() ? 1 : 0);
-    glUniform1i(frame.height, height_);
+    // The projector's row of a fragment at window y (a pixel centre: exact in float).
+    if (target.topRowAtGlOrigin()) {
+        glUniform2f(frame.row, 0.0f, 1.0f);
+    } else {
+        glUniform2f(frame.row, static_cast<float>(height_) - 0.5f, -1.0f);
+    }
     glUniform2f(frame.size, static_cast<float>(width_), static_cast<float>(height_));
 }
 
 void GlesFrameRenderer::bindFrameTextures() {
-    bind(kUnitGeometry0, GL_TEXTURE_2D, geometry_->geometry0().get());
-    bind(kUnitGeometry1, GL_TEXTURE_2D, geometry_->geometry1().get());
+    bind(kUnitGeometry0, GL_TEXTURE_2D, shadingPass_->position().get());
+    bind(kUnitShading, GL_TEXTURE_2D, shadingPass_->shading().get());
     bind(kUnitUv, GL_TEXTURE_2D, geometry_->uv().get());
     bind(kUnitTable, GL_TEXTURE_2D, textures_->table().get());
     if (measuredLight_) {
         bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, measuredIrradiance_.get());
         bind(kUnitMeasuredFloor, GL_TEXTURE_2D, measuredFloor_.get());
-        bind(kUnitInverseResponse, GL_TEXTURE_2D, inverseResponse_.get());
+        bind(kUnitResponse, GL_TEXTURE_2D, inverseResponse_.get());
+    } else {
+        bind(kUnitResponse, GL_TEXTURE_2D, levelTable_.get());
     }
     if (options_.liveWeights) {
         if (textures_->presetCount() > 0) {
-            bind(kUnitWeights, GL_TEXTURE_2D_ARRAY, textures_->weights(preset_).get());
-            bind(kUnitWeightsFrom, GL_TEXTURE_2D_ARRAY, textures_->weights(fadeFromPreset_).get());
+            bind(kUnitWeights, GL_TEXTURE_2D_ARRAY, weightPass_->alpha(preset_).get());
+            bind(kUnitWeightsFrom, GL_TEXTURE_2D_ARRAY, weightPass_->alpha(fadeFromPreset_).get());
         }
         for (std::size_t r = 0; r < regionMaterials_.size(); ++r) {
             bind(kUnitMaterials + static_cast<int>(r), GL_TEXTURE_2D_ARRAY,

@@ -9,6 +9,7 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
+#include "vpe/renderer/gles/texture_formats.h"
 
 namespace vpe::renderer::gles {
 
@@ -74,7 +75,7 @@ MaterialPass::MaterialPass(const ThetaTextures& textures, const GeometryBuffer& 
 }
 
 GlObject MaterialPass::makeTarget() const {
-    return makeArrayTexture(GL_RGBA32UI, geometry_.width(), geometry_.height(),
+    return makeArrayTexture(kMaterialFormat, geometry_.width(), geometry_.height(),
                             textures_.layout().materialLayers(), GL_RGBA_INTEGER, GL_UNSIGNED_INT,
                             nullptr, TextureFilter::kNearest);
 }

@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "vpe/proto/half_float.h"
+#include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
 #include "vpe/renderer/measured_light.h"
 
@@ -61,6 +63,67 @@ vec3 vpeOctahedralNormal(uint bits) {
     n.y += n.y >= 0.0 ? -fold : fold;
     return normalize(n);
 }
+
+// mirroredViewer: 2(n·v)n − v, fixed per pixel.
+vec3 vpeMirroredViewer(vec3 normal, vec3 toViewer) {
+    return 2.0 * dot(normal, toViewer) * normal - toViewer;
+}
+
+// proto::reflectionAngles from the mirrored viewer m: (cos θd = n·l, cos θs = l·m), cos θs not
+// clamped (the table coordinate's max(½ − ½|c|, 0) clips it).
+vec2 vpeMirroredReflectionAngles(vec3 normal, vec3 toLight, vec3 mirrored) {
+    return vec2(dot(normal, toLight), dot(toLight, mirrored));
+}
+)GLSL";
+}
+
+Vec3d mirroredViewer(const Vec3d& normal, const Vec3d& toViewer) {
+    const double nv = 2.0 * (normal.x * toViewer.x + normal.y * toViewer.y + normal.z * toViewer.z);
+    return {nv * normal.x - toViewer.x, nv * normal.y - toViewer.y, nv * normal.z - toViewer.z};
+}
+
+std::vector<float> projectorLevelTable(const proto::ResponseCurves& response, int samples) {
+    const proto::ResponseFunction function = proto::responseFunctionOf(response);
+    std::vector<float> table(3 * static_cast<std::size_t>(samples));
+    for (int i = 0; i < samples; ++i) {
+        const double r = static_cast<double>(i) / static_cast<double>(samples - 1);
+        for (int c = 0; c < 3; ++c) {
+            // compensatePixel: above 1 → 1, below the black level → 0, else the inverse.
+            const double level =
+                r >= 1.0 ? 1.0 : (r < function.blackLevel(c) ? 0.0 : function.level(c, r));
+            table[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(c)] =
+                proto::halfToFloat(proto::floatToHalf(static_cast<float>(level)));
+        }
+    }
+    return table;
+}
+
+double projectorLevelFromTable(const std::vector<float>& table, int channel, double relative) {
+    const auto samples = static_cast<int>(table.size() / 3);
+    const auto at = [&](int i) {
+        return static_cast<double>(
+            table[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(channel)]);
+    };
+    // GL_LINEAR at coordinate t = r·(N − 1)/N + ½/N: samples i and i + 1 around t·N − ½ = r·(N −
+    // 1).
+    const double position = std::clamp(relative, 0.0, 1.0) * static_cast<double>(samples - 1);
+    const int i = std::min(static_cast<int>(position), samples - 2);
+    const double f = position - static_cast<double>(i);
+    return at(i) + (at(i + 1) - at(i)) * f;
+}
+
+std::string projectorLevelTableGlsl(int samples) {
+    return "const float VPE_LEVEL_OFFSET = " + glslFloat(0.5f / static_cast<float>(samples)) +
+           ";\n" + R"GLSL(
+uniform highp sampler2D uProjectorLevel;  // RGBA16F cached: the response inverse, 32 KB
+
+// projectorLevelFromTable per channel: scaled = r·(N − 1)/N, one filtered fetch a channel.
+vec3 vpeProjectorLevelTable(vec3 scaled) {
+    vec3 x = scaled + VPE_LEVEL_OFFSET;
+    return vec3(texture(uProjectorLevel, vec2(x.r, 0.5)).r,
+                texture(uProjectorLevel, vec2(x.g, 0.5)).g,
+                texture(uProjectorLevel, vec2(x.b, 0.5)).b);
+}
 )GLSL";
 }
 
@@ -75,6 +138,39 @@ vec3 vpeDetailNormalFromXy(vec2 xy) {
 // proto::applyDetailNormal: normalize(d.x·t + d.y·b + d.z·n).
 vec3 vpeApplyDetailNormal(vec3 t, vec3 b, vec3 n, vec3 d) {
     return normalize(d.x * t + d.y * b + d.z * n);
+}
+)GLSL";
+}
+
+std::string bilinearWeightGlsl() {
+    return R"GLSL(
+// renderer::bilinearFootprint: x = s·width − ½ and y = t·height − ½, clamped to the outermost
+// texel centres (or s taken modulo the width: GL_REPEAT), the four taps weighted.
+float vpeBilinearWeight(highp sampler2DArray weights, vec2 st, int layer, bool wrapS) {
+    ivec2 size = textureSize(weights, 0).xy;
+    vec2 x = st * vec2(size) - 0.5;
+    int x0, x1;
+    float fx;
+    if (wrapS) {
+        float wrapped = x.x - float(size.x) * floor(x.x / float(size.x));
+        x0 = min(int(floor(wrapped)), size.x - 1);
+        x1 = x0 + 1 == size.x ? 0 : x0 + 1;
+        fx = clamp(wrapped - float(x0), 0.0, 1.0);
+    } else {
+        float clamped = clamp(x.x, 0.0, float(size.x - 1));
+        x0 = int(floor(clamped));
+        x1 = min(x0 + 1, size.x - 1);
+        fx = clamped - float(x0);
+    }
+    float y = clamp(x.y, 0.0, float(size.y - 1));
+    int y0 = int(floor(y));
+    int y1 = min(y0 + 1, size.y - 1);
+    float fy = y - float(y0);
+    float a = texelFetch(weights, ivec3(x0, y0, layer), 0).r;
+    float b = texelFetch(weights, ivec3(x1, y0, layer), 0).r;
+    float c = texelFetch(weights, ivec3(x0, y1, layer), 0).r;
+    float d = texelFetch(weights, ivec3(x1, y1, layer), 0).r;
+    return (1.0 - fx) * (1.0 - fy) * a + fx * (1.0 - fy) * b + (1.0 - fx) * fy * c + fx * fy * d;
 }
 )GLSL";
 }
@@ -114,7 +210,7 @@ std::string measuredLightGlsl(int tableSamples) {
     return "const float VPE_KNEE = " + glslFloat(static_cast<float>(kHighlightKnee)) + ";\n" +
            "const float VPE_RESPONSE_SCALE = " + glslFloat((samples - 1.0f) / samples) + ";\n" +
            "const float VPE_RESPONSE_OFFSET = " + glslFloat(0.5f / samples) + ";\n" +
-           R"GLSL(uniform highp sampler2D uInverseResponse;  // RGBA16F: g⁻¹ at u = √r
+           R"GLSL(uniform highp sampler2D uInverseResponse;  // RGBA16F cached: g⁻¹ at u = √r
 
 // proto::InverseResponseTable::level per channel: sample i at u = i/(N − 1), at texture
 // coordinate (i + ½)/N, so u maps to u·(N − 1)/N + ½/N and the filter interpolates in u.

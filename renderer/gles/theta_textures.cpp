@@ -5,6 +5,7 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
+#include "vpe/renderer/gles/texture_formats.h"
 #include "vpe/renderer/theta_material.h"
 
 namespace vpe::renderer::gles {
@@ -31,6 +32,7 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
     // Maps that tile around the object repeat in u, as the CPU reference samples them.
     const TextureWrapS wrapS =
         bundle.textureWrapsU() ? TextureWrapS::kRepeat : TextureWrapS::kClamp;
+    layout_.wrapU = bundle.textureWrapsU();
     const auto texels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     const auto values = static_cast<std::size_t>(layout_.materialValues());
     const auto layers = static_cast<std::size_t>(layout_.mapLayers());
@@ -74,7 +76,7 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
                 cpuTable_.values[static_cast<std::size_t>(s * basis.size + j)];
         }
     }
-    table_ = makeTexture2D(GL_RGBA16F, tableSamples, rows, GL_RGBA, GL_FLOAT, table.data(),
+    table_ = makeTexture2D(kThetaTableFormat, tableSamples, rows, GL_RGBA, GL_FLOAT, table.data(),
                            TextureFilter::kLinear);
     checkGlError(bundle.name() + ": uploading the θs material");
 }

@@ -2,8 +2,9 @@
 // GlesFrameRenderer's frame against the CPU reference (renderProjectorFrame, quantized to
 // 8 bits) for several lights, viewers, both presets and both response kinds. The test bundles
 // carry no θs basis, so the GPU evaluates every harmonic through the θs table (2M + 1
-// functions): what differs is the half-float material and table, the table's interpolation
-// and float arithmetic. Thresholds sit ~1 dB under the measured values.
+// functions): what differs is the half-float material and table, the table's interpolation,
+// the half-float shading geometry (position about the centre, n, the mirrored viewer), the
+// response table and float arithmetic. Thresholds sit ~0.5–1 dB under the measured values.
 // On failure the actual, expected and difference images are written beside the test output
 // (the working directory): PNG, or PPM in the device-only build (failure_image.h).
 #include <algorithm>
@@ -127,6 +128,25 @@ protected:
     double minimumPsnr_ = 50.0;
 };
 
+// What each texture path must guarantee against the CPU reference, as 8-bit PSNR over the
+// covered pixels: 69.5 dB is an RMS error of 0.085 level (all but 0.7% of the values at the
+// reference's level, the rest one level off), 68 dB 0.10 level (1%), 67 dB 0.11 level (1.3%).
+// What each path loses to its precision: the shading geometry in half floats, the response
+// through its 4096-sample table, the material in half floats (static preset: composed once);
+// live weights: the α per pixel in half floats and a second material fetch; wrapping in u:
+// the seam's footprint; relief: its tilted normal in half floats. The values in the messages
+// were measured on x86-64 and on arm64 (llvmpipe, under qemu-user) and agree to 0.01 dB: the
+// preset's 8-bit weights are filtered in the shader, where arm64's sampler once put the static
+// stripes 7-8 dB lower (60.6-62.9 dB against 68.9).
+constexpr double kStaticPresetDb = 69.5;
+constexpr double kCurveResponseDb = 69.0;  // the curve's table is steeper near black
+constexpr double kMeasuredLightDb = 70.5;
+constexpr double kLiveWeightsDb = 68.0;
+constexpr double kWrapUDb = 67.0;
+constexpr double kReliefDb = 69.5;
+constexpr double kReliefLiveDb = 68.0;
+constexpr double kReliefWrapUDb = 67.5;
+
 const std::vector<FrameCase>& frameCases() {
     static const std::vector<FrameCase> cases{
         {"front_stripes", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"},
@@ -140,8 +160,8 @@ const std::vector<FrameCase>& frameCases() {
 
 TEST_F(GlesFrameTest, MatchesCpuReferenceWithGammaResponse) {
     for (const FrameCase& frame : frameCases()) {
-        // Measured 70.8–77.7 dB.
-        EXPECT_GE(comparePsnr({}, frame), 69.5) << frame.name;
+        EXPECT_GE(comparePsnr({}, frame), kStaticPresetDb)
+            << frame.name << ": measured 70.05-73.09 dB on x86-64 and arm64";
     }
 }
 
@@ -151,7 +171,8 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithCurveResponse) {
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
         EXPECT_GE(comparePsnr(spec, {frame.name + "_curve", frame.light, frame.viewer, frame.preset,
                                      frame.inverseSquare, frame.gain}),
-                  69.5);  // measured 70.4, 75.4 dB
+                  kCurveResponseDb)
+            << frame.name << ": measured 69.45, 71.99 dB on x86-64 and arm64";
     }
 }
 
@@ -162,7 +183,9 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithMeasuredLight) {
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3], frameCases()[4]}) {
         EXPECT_GE(comparePsnr(spec, {frame.name + "_measured", frame.light, frame.viewer,
                                      frame.preset, frame.inverseSquare, frame.gain}),
-                  68.5);  // measured 69.3, 74.2, 76.1 dB; no pixel more than 1 level apart
+                  kMeasuredLightDb)
+            << frame.name << ": measured 70.94, 73.38, 76.29 dB on x86-64 and arm64";
+        // No pixel more than 1 level apart.
         EXPECT_EQ(largeDifferences_, 0u);
     }
 }
@@ -176,7 +199,8 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithoutDistortionAndMoreHarmonics) {
     spec.projectorHeight = 150;
     EXPECT_GE(
         comparePsnr(spec, {"m10_undistorted", {0.2f, 0.4f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"}),
-        69.5);  // measured 70.7 dB
+        kStaticPresetDb - 0.5)
+        << "M = 10 (21 table functions): measured 69.66 dB on x86-64 and arm64";
 }
 
 // Long triangles under strong distortion: edges bend by pixels between their vertices. The GPU
@@ -191,7 +215,8 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithLongBentEdges) {
     spec.vaseRings = 3;
     EXPECT_GE(
         comparePsnr(spec, {"long_bent_edges", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "radial"}),
-        73.5);  // measured 74.8 dB, largest difference 3 levels
+        kStaticPresetDb)
+        << "measured 70.16 dB on x86-64 and arm64, largest difference 6 levels";
     EXPECT_EQ(largeDifferences_, 0u);
 }
 
@@ -208,7 +233,9 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithTexturesWrappingInU) {
             FrameCase wrapped = frame;
             wrapped.name += live ? "_wrap_u_live" : "_wrap_u";
             wrapped.liveWeights = live;
-            EXPECT_GE(comparePsnr(spec, wrapped), 69.5);  // measured 70.1–72.3 dB (clamping: 43–52)
+            EXPECT_GE(comparePsnr(spec, wrapped), kWrapUDb)
+                << wrapped.name
+                << ": measured 67.80-70.71 dB on x86-64 and arm64 (clamping instead: 43-52)";
             EXPECT_EQ(largeDifferences_, 0u) << wrapped.name;
         }
     }
@@ -239,7 +266,8 @@ TEST_F(GlesFrameTest, LiveWeightsMatchCpuReference) {
         FrameCase live = frame;
         live.name += "_live";
         live.liveWeights = true;
-        EXPECT_GE(comparePsnr({}, live), 69.5);  // measured 70.9, 77.2 dB
+        EXPECT_GE(comparePsnr({}, live), kLiveWeightsDb)
+            << live.name << ": measured 68.73, 70.33 dB on x86-64 and arm64";
     }
 }
 
@@ -252,7 +280,8 @@ TEST_F(GlesFrameTest, ReliefMatchesCpuReference) {
     for (const FrameCase& frame : frameCases()) {
         FrameCase relief = frame;
         relief.name += "_relief";
-        EXPECT_GE(comparePsnr(spec, relief), 69.5) << relief.name;  // measured 70.3–77.5 dB
+        EXPECT_GE(comparePsnr(spec, relief), kReliefDb)
+            << relief.name << ": measured 69.91-73.78 dB on x86-64 and arm64";
     }
 }
 
@@ -263,15 +292,18 @@ TEST_F(GlesFrameTest, ReliefFollowsPresetChangesAndLiveWeights) {
     FrameCase changed = frameCases()[1];  // radial
     changed.name += "_relief_after_stripes";
     changed.before = "stripes";
-    EXPECT_GE(comparePsnr(spec, changed), 69.5);  // measured 74.8 dB, as without the change
+    EXPECT_GE(comparePsnr(spec, changed), kReliefDb)
+        << "measured 70.32 dB on x86-64 and arm64, as without the change";
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
         FrameCase live = frame;
         live.name += "_relief_live";
         live.liveWeights = true;
-        EXPECT_GE(comparePsnr(spec, live), 69.5);  // measured 70.5, 77.1 dB
+        EXPECT_GE(comparePsnr(spec, live), kReliefLiveDb)
+            << live.name << ": measured 68.58, 70.06 dB on x86-64 and arm64";
         live.name += "_after";
         live.before = frame.preset == "stripes" ? "radial" : "stripes";
-        EXPECT_GE(comparePsnr(spec, live), 69.5);
+        EXPECT_GE(comparePsnr(spec, live), kReliefLiveDb)
+            << live.name << ": measured 68.58, 70.06 dB on x86-64 and arm64";
     }
 }
 
@@ -288,8 +320,10 @@ TEST_F(GlesFrameTest, ReliefWrapsInUWithItsTextures) {
             FrameCase wrapped = frame;
             wrapped.name += live ? "_relief_wrap_u_live" : "_relief_wrap_u";
             wrapped.liveWeights = live;
-            // Measured 69.7–72.3 dB; the relief clamped on the GPU: 50.1 dB, 15 pixels > 16 levels.
-            EXPECT_GE(comparePsnr(spec, wrapped), 69.5);
+            EXPECT_GE(comparePsnr(spec, wrapped), kReliefWrapUDb)
+                << wrapped.name
+                << ": measured 68.08-70.89 dB on x86-64 and arm64 (the relief clamped on the GPU "
+                   "instead: 50.1 dB, 15 pixels > 16 levels)";
             EXPECT_EQ(largeDifferences_, 0u) << wrapped.name;
         }
     }

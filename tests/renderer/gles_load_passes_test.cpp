@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // What the GLES renderer computes once per bundle, against its C++ definition: the geometry
 // buffer as uploaded (every pixel equal, bit for bit, to packProjectorPixel of the CPU
-// reference's traced pixel — bands, formats, orientation) and the material pass's projector-
-// space material (the θs maps sampled bilinearly at the pixel's uv, blended by the preset, times
-// the viewer's horizon, as half floats). Read back by a compute shader.
+// reference's traced pixel — bands, formats, orientation), the shading geometry pass's packing
+// (position about the centre, n, the mirrored viewer, the geometric normal) and the material
+// pass's projector-space material (the θs maps sampled bilinearly at the pixel's uv, blended by
+// the preset, times the viewer's horizon, as half floats, and the geometric normal's z after
+// them). Read back by a compute shader.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -22,6 +24,7 @@
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
 #include "vpe/renderer/gles/material_pass.h"
+#include "vpe/renderer/gles/shading_geometry_pass.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
@@ -121,6 +124,78 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
     EXPECT_GT(covered, static_cast<std::size_t>(w * h / 10));
 }
 
+// The shading geometry pass against its C++ definition: per covered pixel the position about
+// the centre and 1/S (half floats), n, the mirrored viewer (mirroredViewer of the traced normal
+// and the direction to the viewer, in double) and the geometric normal, within half-float
+// rounding; the geometric normal's z is the material's (tested with the material pass).
+TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
+    MappedTestBundle bundle;
+    const BundleScene scene(bundle.view(), "");
+    const RenderScene any = scene.scene({}, scene.bundleViewer());
+    const ProjectorPixels pixels(any.mesh, any.projector);
+    const gles::GeometryBuffer geometry(pixels, 2);
+    const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
+    const Vec3d eye = scene.bundleViewer();
+    const std::array<float, 3> viewer{static_cast<float>(eye.x), static_cast<float>(eye.y),
+                                      static_cast<float>(eye.z)};
+    gles::ShadingGeometryPass pass(geometry, tiles, viewer);
+    pass.run();
+    const int w = geometry.width(), h = geometry.height();
+    const auto shading = readTexels(pass.shading().get(), w, h, "usampler2D");
+    const auto position = readTexels(pass.position().get(), w, h, "sampler2D");
+    const std::array<double, 3>& centre = geometry.centre();
+    double worstPosition = 0, worstVector = 0;
+    std::size_t checked = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
+            if (!traced) {
+                continue;
+            }
+            const gles::PackedPixel packed = gles::packProjectorPixel(traced);
+            const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                       static_cast<std::size_t>(x));
+            const Vec3d& X = traced->point.position;
+            const std::array<double, 3> stored{X.x, X.y, X.z};
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double expected = stored[k] - centre[k];
+                worstPosition =
+                    std::max(worstPosition,
+                             std::fabs(static_cast<double>(std::bit_cast<float>(position[i + k])) -
+                                       expected) /
+                                 std::max(std::fabs(expected), 1e-3));
+            }
+            ASSERT_NEAR(std::bit_cast<float>(position[i + 3]),
+                        std::min(packed.geometry0[3], 65504.0f),
+                        std::fabs(packed.geometry0[3]) * 1e-3f)
+                << x << "," << y;
+            const Vec3d& n = traced->point.normal;
+            const Vec3d toViewer = proto::normalized(Vec3d{static_cast<double>(viewer[0]) - X.x,
+                                                           static_cast<double>(viewer[1]) - X.y,
+                                                           static_cast<double>(viewer[2]) - X.z});
+            const Vec3d m = gles::mirroredViewer(n, toViewer);
+            const Vec3d g = gles::decodeOctahedralNormal(packed.geometry1[3]);
+            const auto half = [&](std::size_t word, int high) {
+                const auto bits = static_cast<std::uint16_t>(shading[i + word] >> (16 * high));
+                return static_cast<double>(proto::halfToFloat(bits));
+            };
+            const std::array<double, 8> expected{n.x, n.y, n.z, m.x, m.y, m.z, g.x, g.y};
+            for (std::size_t k = 0; k < 8; ++k) {
+                worstVector = std::max(
+                    worstVector, std::fabs(half(k / 2, static_cast<int>(k % 2)) - expected[k]));
+            }
+            ++checked;
+        }
+    }
+    std::cout << "shading geometry: " << checked << " pixels, position within " << worstPosition
+              << " of its distance to the centre, n, m, g within " << worstVector << "\n";
+    EXPECT_GT(checked, static_cast<std::size_t>(w * h / 10));
+    // Half floats: 2⁻¹¹ relative rounded to nearest, 2⁻¹⁰ truncated (llvmpipe writes an RGBA16F
+    // target truncating: measured 9.7e-4).
+    EXPECT_LT(worstPosition, 1.1e-3);
+    EXPECT_LT(worstVector, 5e-4);  // half floats of unit vectors: ≤ 2⁻¹² each, and float m
+}
+
 // Bilinear, clamp to edge, texel centres at (i + ½)/size: GL_LINEAR on a texture uploaded rows
 // from the top, at a uv in the bundle's convention (rows from the top).
 double bilinear(const std::vector<float>& texels, int width, int height, int stride, int value,
@@ -173,7 +248,7 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
             alpha[t * maps.size() + r] = proto::halfToFloat(weights.halves[r * texels + t]);
         }
     }
-    double worst = 0, largest = 0;
+    double worst = 0, largest = 0, worstSpare = 0;
     std::size_t compared = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
@@ -213,8 +288,18 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
                 largest = std::max(largest, std::fabs(expected));
                 ++compared;
             }
+            // The spare half after the values: the geometric normal's z (shading geometry).
+            const std::uint32_t spareWord =
+                layers[static_cast<std::size_t>(values / 8)][4 * i + (values % 8) / 2];
+            const float spare = proto::halfToFloat(static_cast<std::uint16_t>(
+                values % 2 == 0 ? spareWord & 0xffffu : spareWord >> 16));
+            worstSpare = std::max(worstSpare,
+                                  std::fabs(static_cast<double>(spare) -
+                                            gles::decodeOctahedralNormal(packed.geometry1[3]).z));
         }
     }
+    std::cout << "geometric normal's z in the spare half: within " << worstSpare << "\n";
+    EXPECT_LT(worstSpare, 5e-4);  // a half float of a unit vector's component (truncated)
     std::cout << compared << " material values compared: largest |GPU − C++| " << worst
               << " (values up to " << largest << ")\n";
     // Half floats twice (the θs maps and the packed result: 2⁻¹¹ relative each) and the

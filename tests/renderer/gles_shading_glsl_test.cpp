@@ -24,6 +24,7 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/shading_glsl.h"
+#include "vpe/renderer/material_textures.h"
 #include "vpe/renderer/measured_light.h"
 
 #include "gles_test_platform.h"
@@ -134,6 +135,60 @@ TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
     }
 }
 
+// The frame's cos θs from the mirrored viewer m = 2(n·v)n − v (packed at load as half floats)
+// against proto::reflectionAngles: vpeMirroredViewer against mirroredViewer in double, then
+// (n·l, l·m) against (cos θd, cos θs) where proto does not clamp, for m in float and in halves.
+TEST_F(GlesShadingGlslTest, MirroredViewerGivesTheReflectionAngles) {
+    std::mt19937 random(17);
+    std::normal_distribution<float> gaussian;
+    std::vector<float> inputs;
+    for (int s = 0; s < 4000; ++s) {
+        for (int v = 0; v < 3; ++v) {
+            const auto unit = proto::normalized(
+                proto::Vec3<float>{gaussian(random), gaussian(random), gaussian(random)});
+            inputs.insert(inputs.end(), {unit.x, unit.y, unit.z});
+        }
+    }
+    const std::vector<float> mirrored = runOnGpu(gles::shadingStepsGlsl(), R"GLSL(
+    vec3 n = vec3(in_[base], in_[base + 1], in_[base + 2]);
+    vec3 v = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);
+    result.xyz = vpeMirroredViewer(n, v);
+)GLSL",
+                                                 inputs, 9);
+    const std::vector<float> angles = runOnGpu(gles::shadingStepsGlsl(), R"GLSL(
+    vec3 n = vec3(in_[base], in_[base + 1], in_[base + 2]);
+    vec3 l = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);
+    vec3 v = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);
+    vec3 m = vpeMirroredViewer(n, v);
+    vec2 exact = vpeMirroredReflectionAngles(n, l, m);
+    // As the frame reads them: n and m through packHalf2x16.
+    vec3 nh = vec3(unpackHalf2x16(packHalf2x16(n.xy)), unpackHalf2x16(packHalf2x16(n.zz)).x);
+    vec3 mh = vec3(unpackHalf2x16(packHalf2x16(m.xy)), unpackHalf2x16(packHalf2x16(m.zz)).x);
+    result = vec4(exact, vpeMirroredReflectionAngles(nh, l, mh));
+)GLSL",
+                                               inputs, 9);
+    double worstHalf = 0;
+    for (std::size_t s = 0; s < inputs.size() / 9; ++s) {
+        const float* x = inputs.data() + 9 * s;
+        const Vec3d n{x[0], x[1], x[2]}, v{x[6], x[7], x[8]};
+        const Vec3d m = gles::mirroredViewer(n, v);
+        ASSERT_NEAR(mirrored[4 * s], m.x, 2e-6) << s;
+        ASSERT_NEAR(mirrored[4 * s + 1], m.y, 2e-6) << s;
+        ASSERT_NEAR(mirrored[4 * s + 2], m.z, 2e-6) << s;
+        const auto reference = proto::reflectionAngles(proto::Vec3<float>{x[0], x[1], x[2]},
+                                                       proto::Vec3<float>{x[3], x[4], x[5]},
+                                                       proto::Vec3<float>{x[6], x[7], x[8]});
+        ASSERT_NEAR(angles[4 * s], reference.cosThetaD, 1e-6f) << s;
+        // proto clamps cos θs to [−1, 1]; the table coordinate clips it the same way.
+        ASSERT_NEAR(std::clamp(angles[4 * s + 1], -1.0f, 1.0f), reference.cosThetaS, 4e-6f) << s;
+        worstHalf = std::max(
+            worstHalf, static_cast<double>(std::fabs(std::clamp(angles[4 * s + 3], -1.0f, 1.0f) -
+                                                     reference.cosThetaS)));
+    }
+    std::cout << "cos θs from half-float n and m: largest error " << worstHalf << "\n";
+    EXPECT_LT(worstHalf, 1.5e-3);  // three products of components rounded to 2⁻¹¹ relative
+}
+
 TEST_F(GlesShadingGlslTest, ThetaTableParameterMatchesProto) {
     std::vector<float> inputs;
     for (int i = -1000; i <= 1000; ++i) {
@@ -232,6 +287,130 @@ TEST_F(GlesShadingGlslTest, ThetaTableLookupMatchesProto) {
 
 // vpeProjectorLevel against ResponseFunction::level with compensatePixel's clipping, the
 // function made from the same curves as the CPU reference makes it (responseFunctionOf).
+// The response inverse as the frame reads it: projectorLevelTable uploaded as RGBA16F, looked up
+// through GL_LINEAR by vpeProjectorLevelTable at r·(N − 1)/N, against projectorLevelFromTable
+// (the same interpolation in double) and against the exact inverse with compensatePixel's
+// clipping (the table's own error: largest in the first interval, where r^(1/γ) is steepest).
+TEST_F(GlesShadingGlslTest, ProjectorLevelTableMatchesTheResponseInverse) {
+    std::vector<float> inputs;
+    for (int i = -100; i <= 1300; ++i) {
+        inputs.push_back(static_cast<float>(i) / 1000.0f);
+    }
+    for (int i = 1; i <= 200; ++i) {
+        inputs.push_back(static_cast<float>(i) * 2.5e-6f);  // the first samples, finely
+    }
+    proto::ResponseCurves gamma;
+    gamma.gamma = {2.2f, 2.0f, 2.6f};
+    proto::ResponseCurves curve;
+    curve.kind = proto::ResponseKind::kCurve;
+    curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
+                   std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
+                   std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
+    const int samples = gles::kProjectorLevelSamples;
+    const float scale = static_cast<float>(samples - 1) / static_cast<float>(samples);
+    for (const proto::ResponseCurves& response : {gamma, curve}) {
+        const std::vector<float> table = gles::projectorLevelTable(response, samples);
+        std::vector<std::uint16_t> texels(4 * static_cast<std::size_t>(samples), 0);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(samples); ++i) {
+            for (std::size_t c = 0; c < 3; ++c) {
+                texels[4 * i + c] = proto::floatToHalf(table[3 * i + c]);
+            }
+        }
+        GlObject texture = gles::makeTexture2D(GL_RGBA16F, samples, 1, GL_RGBA, GL_HALF_FLOAT,
+                                               texels.data(), gles::TextureFilter::kLinear);
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, texture.get());
+        const std::vector<float> gpu =
+            runOnGpu(gles::projectorLevelTableGlsl(samples),
+                     "    result.xyz = vpeProjectorLevelTable(vec3(in_[base]) * " +
+                         gles::glslFloat(scale) + ");\n",
+                     inputs, 1);
+        const proto::ResponseFunction cpu = proto::responseFunctionOf(response);
+        double worstLookup = 0, worstTable = 0, worstAbove = 0;
+        for (std::size_t i = 0; i < inputs.size(); ++i) {
+            for (int c = 0; c < 3; ++c) {
+                const double r = inputs[i];
+                const double fromTable = gles::projectorLevelFromTable(table, c, r);
+                worstLookup = std::max(
+                    worstLookup,
+                    std::fabs(static_cast<double>(gpu[4 * i + static_cast<std::size_t>(c)]) -
+                              fromTable));
+                const double exact =
+                    r > 1.0 ? 1.0 : (r < cpu.blackLevel(c) ? 0.0 : cpu.level(c, r));
+                const double error = std::fabs(fromTable - exact);
+                worstTable = std::max(worstTable, error);
+                if (r >= 2.0 / (samples - 1)) {
+                    worstAbove = std::max(worstAbove, error);
+                }
+            }
+        }
+        const char* kind = response.kind == proto::ResponseKind::kGamma ? "gamma" : "curve";
+        std::cout << kind << " level table: lookup against projectorLevelFromTable " << worstLookup
+                  << ", table against the inverse " << worstTable << " (" << worstAbove
+                  << " past the first interval)\n";
+        EXPECT_LT(worstLookup, 2e-6) << kind;  // llvmpipe filters halves in float
+        // Measured 1.4e-2 (3.5 of 255 levels) for γ = 2.6 below r = 1/4095, where r^(1/γ) is
+        // steepest (drive levels under 10); 2.4e-4 past it: half-float rounding.
+        EXPECT_LT(worstTable, 1.5e-2) << kind;
+        EXPECT_LT(worstAbove, 3e-4) << kind;
+    }
+}
+
+// The weight pass's filter: vpeBilinearWeight on an 8-bit weight array (as a preset uploads it)
+// against renderer::bilinearFootprint on the same values, clamping and wrapping in u, at
+// coordinates inside, on and past the edges and on texel centres.
+TEST_F(GlesShadingGlslTest, BilinearWeightMatchesTheCpuFootprint) {
+    const int width = 7, height = 5, layers = 2;
+    std::vector<std::uint8_t> texels(static_cast<std::size_t>(width * height * layers));
+    for (std::size_t i = 0; i < texels.size(); ++i) {
+        texels[i] = static_cast<std::uint8_t>((i * 97 + 13) % 256);
+    }
+    GlObject texture =
+        gles::makeArrayTexture(GL_R8, width, height, layers, GL_RED, GL_UNSIGNED_BYTE,
+                               texels.data(), gles::TextureFilter::kNearest);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, texture.get());
+    std::mt19937 random(23);
+    std::uniform_real_distribution<float> coordinate(-0.3f, 1.3f);
+    std::vector<float> inputs;  // s, t, layer
+    for (int i = 0; i < 3000; ++i) {
+        inputs.insert(inputs.end(),
+                      {coordinate(random), coordinate(random), static_cast<float>(i % layers)});
+    }
+    for (int x = 0; x < width; ++x) {  // texel centres and the seams between them
+        for (const float offset : {0.5f, 0.0f}) {
+            inputs.insert(inputs.end(), {(static_cast<float>(x) + offset) / width, 0.5f, 1.0f});
+        }
+    }
+    for (const bool wrap : {false, true}) {
+        const std::vector<float> gpu = runOnGpu(
+            gles::bilinearWeightGlsl() + "uniform highp sampler2DArray uWeights;\n",
+            std::string(
+                "    result.x = vpeBilinearWeight(uWeights, vec2(in_[base], in_[base + 1]), "
+                "int(in_[base + 2]), ") +
+                (wrap ? "true" : "false") + ");\n",
+            inputs, 3);
+        double worst = 0;
+        for (std::size_t i = 0; i < inputs.size() / 3; ++i) {
+            // The bundle's uv has v up: the GL coordinate t is 1 − v.
+            const Vec2d uv{inputs[3 * i], 1.0 - static_cast<double>(inputs[3 * i + 1])};
+            const auto layer = static_cast<std::size_t>(inputs[3 * i + 2]);
+            const BilinearFootprint taps = bilinearFootprint(width, height, uv, wrap);
+            double expected = 0;
+            for (int k = 0; k < 4; ++k) {
+                expected +=
+                    taps.weight[k] *
+                    texels[layer * static_cast<std::size_t>(width * height) + taps.texel[k]] /
+                    255.0;
+            }
+            worst = std::max(worst, std::fabs(static_cast<double>(gpu[4 * i]) - expected));
+        }
+        std::cout << (wrap ? "wrapping" : "clamping") << " bilinear weight: largest |GLSL − CPU| "
+                  << worst << "\n";
+        EXPECT_LT(worst, 2e-6) << (wrap ? "wrapping" : "clamping");
+    }
+}
+
 TEST_F(GlesShadingGlslTest, ReliefStepsMatchProto) {
     // A random frame (t, b, n) from a normal and two tangents, and a stored detail normal's
     // x, y (some past the unit disc): the relief pass's normal against proto's in double.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,6 +47,17 @@ inline constexpr int kMaxCoefficientsPerTexel = 3 * proto::coefficientCount(prot
 
 // Why the textures cannot be rendered, as a phrase; "" when they can.
 std::string checkMaterialTextures(const MaterialTextures& material);
+
+// The four texels around texture coordinate uv and their bilinear weights: continuous texel
+// coordinates x = u·width − 0.5, y = (1 − v)·height − 0.5 (row 0 the top), clamped to the
+// outermost texel centres (clamp to edge) or, for u when it wraps, taken modulo the width (GL's
+// REPEAT: left of texel 0's centre the taps are texels width − 1 and 0). Texel index
+// y·width + x. The GLES renderer's weight pass mirrors it (vpeBilinearWeight).
+struct BilinearFootprint {
+    std::size_t texel[4];
+    double weight[4];
+};
+BilinearFootprint bilinearFootprint(int width, int height, const Vec2d& uv, bool wrapU);
 
 // The blended coefficients at texture coordinate uv, in the texel layout above (3·k + c):
 //   Σ_regions bilinear(weights)(uv) · bilinear(coefficients)(uv)

@@ -37,8 +37,14 @@ struct ShaderLayout {
     // In texture space, RGBA16F layers of 4 values.
     int mapLayers() const { return (materialValues() + 3) / 4; }
     // In projector space, half floats, two a 32-bit word, in RGBA32UI layers of four words
-    // (eight values). K = 4: 15 values, two layers, 32 bytes.
-    int materialLayers() const { return (materialValues() + 7) / 8; }
+    // (eight values), then one more half: the geometric normal's z (value materialValues(),
+    // the shading geometry's ninth value, which has no room in its texel). K = 4: 15 values and
+    // the spare, two layers, 32 bytes.
+    int materialLayers() const { return (materialValues() + 1 + 7) / 8; }
+    // The bundle's textures repeat in u (the weight pass filters them as GL_REPEAT does).
+    bool wrapU = false;
+    // With live weights, the regions' α per projector pixel (the weight pass): four a texel.
+    int alphaLayers() const { return (regions + 3) / 4; }
 };
 
 // The frame's fragment shader (full-screen triangle): fetch the pixel's geometry and material,
@@ -59,6 +65,12 @@ std::string materialPassShaderSource(const ShaderLayout& layout, int first, int 
 // there) — folded into the traced shading normal through the pixel's tangent frame
 // (renderer::shadingNormal), written with the geometric normal as geometry1 is.
 std::string reliefPassShaderSource(const ShaderLayout& layout);
+
+// The weight pass's fragment shader (live weights): per projector pixel, each region's α of a
+// preset at the pixel's uv, filtered bilinearly in the shader from the weights' texels
+// (vpeBilinearWeight, the CPU reference's footprint: the result does not depend on the GPU's
+// filter precision), written four regions a texel (RGBA16F, RG16F for two regions).
+std::string weightPassShaderSource(const ShaderLayout& layout);
 
 // A shader reading exactly the textures `frameShaderSource` reads per pixel, summing them and
 // doing nothing else: the texture-fetch floor a frame is compared with.

@@ -64,6 +64,9 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     std::size_t coveredPixels() const { return covered_; }
+    // The centre of the covered pixels' positions' bounding box (object frame, metres): the
+    // frame's positions are half floats about it (ShadingGeometryPass).
+    const std::array<double, 3>& centre() const { return centre_; }
     // Per kTileSize × kTileSize tile (tile_cover.h), row-major: whether a pixel sees the object.
     const std::vector<std::uint8_t>& coveredTiles() const { return coveredTiles_; }
 
@@ -71,6 +74,7 @@ private:
     int width_ = 0, height_ = 0;
     bool relief_ = false;
     std::size_t covered_ = 0;
+    std::array<double, 3> centre_{0, 0, 0};
     std::vector<std::uint8_t> coveredTiles_;
     GlObject geometry0_, geometry1_, uv_, tracedGeometry1_, tangents_;
 };

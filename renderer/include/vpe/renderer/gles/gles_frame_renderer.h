@@ -38,6 +38,8 @@ class GeometryBuffer;
 class ThetaTextures;
 class MaterialPass;
 class ReliefPass;
+class ShadingGeometryPass;
+class WeightPass;
 class TileCover;
 
 struct GlesRendererOptions {
@@ -146,6 +148,8 @@ private:
     std::unique_ptr<ThetaTextures> textures_;
     std::unique_ptr<MaterialPass> materialPass_;
     std::unique_ptr<ReliefPass> reliefPass_;  // only for a bundle with a relief
+    std::unique_ptr<ShadingGeometryPass> shadingPass_;
+    std::unique_ptr<WeightPass> weightPass_;  // live weights with presets only
     std::vector<std::string> presetNames_;
     std::string presetName_;
     std::size_t preset_ = 0, fadeFromPreset_ = 0;
@@ -163,6 +167,7 @@ private:
     // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and X⁻¹
     // column-major for GLSL's mat3. Empty without one.
     GlObject measuredIrradiance_, measuredFloor_, inverseResponse_;
+    GlObject levelTable_;  // without measured light: the response inverse (projectorLevelTable)
     std::array<float, 9> mixingInverse_{};
     bool measuredLight_ = false;
     LoadTimes loadTimes_;

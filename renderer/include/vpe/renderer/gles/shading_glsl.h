@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "vpe/proto/bundle_contents.h"
 #include "vpe/renderer/vector_types.h"
@@ -20,13 +21,46 @@ namespace vpe::renderer::gles {
 //   float vpeThetaTableCoordinate(float cosThetaS, float scale, float offset)
 //                                                   — the same · scale + offset, folded
 //   vec3 vpeOctahedralNormal(uint bits)             — decodeOctahedralNormal below
+//   vec3 vpeMirroredViewer(vec3 n, vec3 v)          — mirroredViewer below
+//   vec2 vpeMirroredReflectionAngles(vec3 n, vec3 l, vec3 m)
+//                                                   — (n·l, l·m): reflectionAngles' unclamped
+//                                                     cosines from the mirrored viewer
 std::string shadingStepsGlsl();
+
+// The viewer's direction mirrored about the shading normal, m = 2(n·v)n − v: proto::
+// reflectionAngles' cos θs = 2(n·l)(n·v) − l·v is l·m, and m is fixed per pixel (the viewer does
+// not move), so the frame takes one dot product where it normalised v and took three. Unit
+// when n and v are.
+Vec3d mirroredViewer(const Vec3d& normal, const Vec3d& toViewer);
+
+// The response inverse as a table: compensatePixel's level (ResponseFunction::level, 0 below
+// the black level, 1 above 1) per channel at r_i = i/(N − 1), i = 0 … N − 1, rounded to half
+// floats as the RGBA16F texture holds them; [3i + c] is channel c of sample i. The frame looks
+// it up with one filtered fetch per channel instead of a pow (two SFU operations) or a search.
+inline constexpr int kProjectorLevelSamples = 4096;
+std::vector<float> projectorLevelTable(const proto::ResponseCurves& response, int samples);
+// The table at relative output r, interpolated linearly between samples as GL_LINEAR does and
+// clamped at both ends (CLAMP_TO_EDGE): what vpeProjectorLevelTable returns, in double.
+double projectorLevelFromTable(const std::vector<float>& table, int channel, double relative);
+// GLSL defining the table's sampler `uProjectorLevel` (RGBA16F, cached: 32 KB) and
+//   vec3 vpeProjectorLevelTable(vec3 scaled)
+// for scaled = r·(N − 1)/N (the frame folds that factor into its uniforms): the coordinate
+// scaled + ½/N, below 0 or above 1 the edge samples (0 and 1: the clipping).
+std::string projectorLevelTableGlsl(int samples);
 
 // GLSL defining the relief's steps (the relief pass only; proto/detail_normal.h):
 //   vec3 vpeDetailNormalFromXy(vec2 xy)              — proto::detailNormalFromXy
 //   vec3 vpeApplyDetailNormal(vec3 t, vec3 b, vec3 n, vec3 d)
 //                                                   — proto::applyDetailNormal in frame (t, b, n)
 std::string reliefStepsGlsl();
+
+// GLSL defining
+//   float vpeBilinearWeight(highp sampler2DArray weights, vec2 st, int layer, bool wrapS)
+// — a texel-exact bilinear sample of one layer at GL texture coordinate st = (u, 1 − v):
+// renderer's bilinearFootprint (material_textures.h; clamp to edge, or repeat in s) with four
+// texelFetch, in float: no GPU filter precision involved (8-bit filtering differs by a level
+// between GPUs).
+std::string bilinearWeightGlsl();
 
 // compensateMeasuredPixel (renderer/measured_light.h), the knee kHighlightKnee baked in:
 //   vec3 vpeMeasuredOutputs(vec3 target, vec3 irradiance, vec3 floorLight, mat3 mixingInverse)
