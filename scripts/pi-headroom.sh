@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Regenerates docs/pi-headroom.md from the real generated frame shaders: vpe_gles_frame_benchmark
 # writes each scene's shader as compiled and times it on this machine (llvmpipe), vpe_shader_cost
-# counts what one shaded pixel costs on the optimized SPIR-V and bounds a Raspberry Pi 4 / 5
-# frame by the roofline; the player's frame rate and latency on the demo bundle come from the
+# counts what one shaded pixel costs on the optimized SPIR-V (operations, fetches, bytes) and
+# bounds a Raspberry Pi 4 / 5 frame by the roofline, operations and memory; the player's frame rate and latency on the demo bundle come from the
 # demo's output when it is there.
 #   scripts/pi-headroom.sh [OUTPUT.md]     (measure on an idle machine; $VPE_FRAMES frames, 10)
 set -euo pipefail
@@ -25,12 +25,12 @@ platform=$(head -n 1 "$work/benchmark.txt")
 
 row() {  # scene: one line of the cost table
     jq -r --arg s "$1" '.shaders[] | select(.name == $s) |
-        "| \(.name) | \(.flops - .int_ops) | \(.int_ops) | \(.sfu) | **\(.flop_eq)** | **\(.texture_fetches)** |"' \
+        "| \(.name) | \(.flops - .int_ops) | \(.int_ops) | \(.sfu) | **\(.flop_eq)** | **\(.texture_fetches)** | \(.memory_read_bytes) | \(.memory_write_bytes) | **\(.memory_bytes)** |"' \
         "$work/cost.json"
 }
 bound() {  # scene: the bounds of the benchmark's JSON (its own shaded pixels)
     jq -r --arg s "$1" '.scenes[] | select(.name == $s) |
-        "| \(.name) | \(.shaded_pixels) | \(.pi4_fps * 10 | round / 10) | \(.pi5_fps * 10 | round / 10) |"' \
+        "| \(.name) | \(.shaded_pixels) | \(.pi4_compute_fps * 10 | round / 10) | \(.pi4_memory_fps * 10 | round / 10) | **\(.pi4_fps * 10 | round / 10)** | \(.pi5_compute_fps * 10 | round / 10) | \(.pi5_memory_fps * 10 | round / 10) | **\(.pi5_fps * 10 | round / 10)** |"' \
         "$work/benchmark.json"
 }
 timing() {
@@ -59,55 +59,111 @@ EOF
 The scene of `vpe_gles_frame_benchmark`: a plane over 90% of a 1920 × 1080 projector, M = 10,
 RGB, two regions (low-rank rank 12 as `vpe bake` writes them) with the bake's θs basis of K = 4
 functions, an 8-bit weight preset. Everything that does not depend on the light is computed
-once per bundle and projector (renderer/gles/README.md): the pixel's position, normals and 1/S
-(two fetches), its material (kd and the K weights u_j per channel, 15 half floats: two
-fetches, or two per region with live weights), the θs table h_j (one filtered fetch). Per
-shaded pixel a frame then computes the light direction and distance, cos θd and cos θs, the
-light's horizon factor, the table coordinate, f = kd·max(cos θd, 0) + Σ_j u_j·h_j, the
-falloff, the compensation and the response (a pow per channel).
+once per bundle and projector (renderer/gles/README.md): the pixel's position about the
+object's centre and 1/S (RGBA16F), its shading geometry — the shading normal n, the mirrored
+viewer m = 2(n·v)n − v (the viewer is fixed, so cos θs = l·m) and the geometric normal, as half
+floats (RGBA32UI) —
+and its material (kd and the K weights u_j per channel and the geometric normal's z: 16 half
+floats, two RGBA32UI fetches; with live weights two per region and the regions' α, which the
+weight pass filters once per preset into one RG16F texel). Per shaded pixel a frame then
+computes the light direction and distance, cos θd = n·l and cos θs = l·m, the light's horizon
+factor, the θs table coordinate and h_j (one filtered fetch of an 8 KB table),
+f = kd·cos θd + Σ_j u_j·h_j, the falloff, the compensation, and the response inverse as three
+filtered fetches of a 4096-sample table (32 KB) where it took a pow per channel.
 
 Scenes: **static-preset** (the preset's regions composed once), **fade** (a preset change
 cross-fading: two composed materials mixed), **live-2-regions** (each region's material kept
-apart, blended every frame by the preset's weight maps at the pixel's uv), **measured-light**
-(static-preset compensated with the light measured on site, bundle 1.4: F and D per pixel, two
-RGBA16F fetches, the crosstalk's 3 × 3, the highlight's roll-off, and the response inverse as
-three filtered fetches of a table instead of a pow; docs/radiometry.md).
+apart, blended every frame by the preset's α), **measured-light** (static-preset compensated
+with the light measured on site, bundle 1.4: F and D per pixel, two RGBA16F fetches, the
+crosstalk's 3 × 3, the highlight's roll-off, and its own response inverse table;
+docs/radiometry.md).
 
-## Work per shaded pixel
+## Work and bytes per shaded pixel
 
 Counted on the optimized SPIR-V of the most expensive path (`vpe_shader_cost`): float
 operations, integer operations (unpacking as V3D lowers it), special-function operations
-(reciprocal square roots, log2 and exp2 of the pow, the square root of the table coordinate),
-FLOP-equivalents = FLOPs + 4 × SFU, and texture fetches.
+(reciprocal square roots, log2/exp2, the square root of the table coordinate),
+FLOP-equivalents = FLOPs + 4 × SFU, texture fetches, and the bytes a pixel moves to and from
+memory: the texel size of each fetch, from the format its sampler is declared with — which the
+generated shader takes from the constant the renderer allocates the texture with
+(`renderer/gles/texture_formats.h`) — one texel per fetch (a filtered fetch's 2 × 2 footprint is
+shared with the neighbouring pixels: each texel comes from memory once), none for the tables
+declared cached (the θs table, 8 KB, and the response table, 32 KB: read from memory about once
+a frame, assumed to stay in V3D's texture cache), and the written texel (RGBA8, 4 bytes). The
+uncovered pixels' black (10% of the frame) is not counted; the display's scanout is in the
+memory figure below.
 
-| scene | float ops | int ops | SFU | FLOP-eq. | fetches |
-|---|---|---|---|---|---|
+| scene | float ops | int ops | SFU | FLOP-eq. | fetches | bytes read | written | bytes |
+|---|---|---|---|---|---|---|---|---|
 EOF
     for scene in "${scenes[@]}"; do row "$scene"; done
     cat <<'EOF'
 
-Before (issue 6's renderer, the same counter on its shaders): low-rank 3,733 FLOP-eq. and 16
-fetches per shaded pixel (the shading pass re-intersected the ray, read six triangle-table
-texels and evaluated 13 × 22 basis products per region), full precision 697 and 44.
+Static-preset, fetch by fetch: position and 1/S 8 B (RGBA16F), shading geometry 16 B
+(RGBA32UI), material 2 × 16 B (RGBA32UI), θs table and response table 0 (cached), the level
+written 4 B: 60 B. Live weights read each region's material (2 × 32 B) and the α (RG16F, 4 B)
+instead: 96 B.
+
+**Before** (the renderer before issue 31 part 4; the same counter on its shaders): operations and
+fetches as the last report gave them; its bytes counted now with the formats it allocated
+(position RGBA32F, normals RGBA32UI, material 2 × RGBA32UI, with live weights uv RG32F and two
+8-bit weight texels).
+
+| scene | FLOP-eq. | fetches | bytes | Pi 4 fps, ops | Pi 4 fps, bytes |
+|---|---|---|---|---|---|
+| static-preset | 218 | 5 | 68 | 39.2 | 40.6 |
+| fade | 279 | 7 | 100 | 30.7 | 27.6 |
+| live-2-regions | 279 | 10 | 110 | 30.7 | 25.1 |
+| measured-light | 275 | 10 | 84 | 31.1 | 32.8 |
+
+Where the operations went (static-preset, 218 → 132): the viewer's direction normalised per
+pixel and three dot products for cos θs (−28: m is packed at load); the geometric normal's
+octahedral decode and normalisation and the shading normal's bit casts (−33; +8 to unpack the
+halves); a pow per channel and its clamp (−33; the table's coordinate, +3); the kd term's max
+(−1: the horizon factor, which multiplies f, is 0 there); the row flip (−2: one multiply-add of
+uniforms). With live weights α is folded into h_j
+and cos θd (1 + K/4 products a region) rather than into the 3(1 + K) material values (−5).
+
+Issue 6's renderer, for the record: low-rank 3,733 FLOP-eq. and 16 fetches per shaded pixel (the
+shading pass re-intersected the ray, read six triangle-table texels and evaluated 13 × 22 basis
+products per region), full precision 697 and 44.
 
 ## Roofline frame rates
 
 ALU: Pi 4 (V3D 4.2) 32 GFLOPS peak (8 QPUs × 4 lanes × 2 ALUs × 500 MHz), Pi 5 (V3D 7.1)
 122.9 GFLOPS (16 × 4 × 2 × 960 MHz), both at 50% efficiency. Texture: 1.0 and 3.84 G lookups
-per second (one a clock per TMU slice: **assumed**, not published). Frame rate =
-1 / max(ALU time, texture time) over the benchmark's shaded pixels.
+per second (one a clock per TMU slice: **assumed**, not published). Memory: Pi 4 5.16 GB/s,
+STREAM copy measured on a Pi 4 while it drove a 1920 × 1080 60 Hz display (5.53 GB/s headless;
+sci-pi.org.uk/bench/stream.html, gcc -O3, one thread), so the scanout is already taken off; Pi 5
+6.88 GB/s, **derived**: no STREAM figure for it was found, so the Pi 4's ratio of STREAM to wire
+rate (5.16 of 12.8 GB/s, LPDDR4-3200 × 32 bit) is applied to the Pi 5's LPDDR4X-4267 × 32 bit
+(17.1 GB/s). **The GPU is assumed to get all of it** while a frame renders (the player's CPU
+waits on page flips); `vpe_shader_cost --memory-share F` scales it, and the bytes' frame rates
+with it. Frame rate = the lower of 1 / max(ALU time, texture time) ("ops") and 1 / memory time
+("bytes"), over the benchmark's shaded pixels. Mediump is not counted as cheaper: V3D 4.2's
+ALUs have no packed 16-bit arithmetic, so it would save TMU return bandwidth only.
 
-| scene | shaded pixels | Pi 4 fps | Pi 5 fps |
-|---|---|---|---|
+| scene | shaded pixels | Pi 4 ops | Pi 4 bytes | **Pi 4 fps** | Pi 5 ops | Pi 5 bytes | **Pi 5 fps** |
+|---|---|---|---|---|---|---|---|
 EOF
     for scene in "${scenes[@]}"; do bound "$scene"; done
     cat <<'EOF'
 
-Issue 13's goal — ≤ 300 FLOP-eq. and ≤ 12 fetches, i.e. ≥ 30 fps on a Pi 4 and ≥ 60 fps on a
-Pi 5 — holds for every scene. All are ALU-bound by these assumptions: on the Pi the frame
-shader is built for fewer ALU operations rather than fewer fetches (full floats for position
-and shading normal, half floats rather than 8-bit codes for the material: unpacking a byte
-costs V3D three operations, a half one).
+Issue 31's goal — a Pi 4 at 1080p ≥ 60 fps for a static preset and ≥ 45 fps with live weights,
+by both bounds — holds by operations (static 132 FLOP-eq. and 8 fetches, live 188 and 11: within
+the ≤ 143 and ≤ 190 the ALU allows and the texture unit's 8.9 and 11.9 fetches) but **not by
+bytes**: at the stated memory rate a static frame may move at most 46 bytes a pixel for 60 fps
+and a live one 61 for 45; they move 60 and 96 (68 and 110 before: the position in half floats
+about the object's centre took 8, the α texel instead of the uv and two weight texels 6). The
+material is the largest part (16 half floats, 32 bytes, per region), the shading geometry the
+next (16 bytes). Measured against this counter, the ways on that were not taken: the material as 8-bit codes (RGBA8, converted free by the TMU:
+16 bytes, but four fetches instead of two, over the texture bound at 60 fps beside the response
+table's three; or packed in one RGBA32UI texel at three operations a value to unpack: +32
+FLOP-eq.); the position from one depth along the projector's ray (a ray per pixel needs the
+lens's undistortion: a reduced-resolution table would need float filtering, which GLES 3.1 does
+not guarantee); 11/11/10-bit or shared-exponent material texels (RGB9_E5: 20 bytes, five
+fetches; R11F_G11F_B10F loses 1.6–3% per value). By bytes alone a static frame reaches 46 fps
+on a Pi 4 at the stated rate.
 
 ## On this machine (llvmpipe)
 

@@ -6,12 +6,14 @@
 // every frame, and in the same run the pass-through floor: a shader reading exactly the same
 // textures per pixel and doing nothing else (GlesFrameRenderer::renderPassThrough); frames of
 // the two alternate so that both see the same load. Next to them, the scene's frame shader
-// counted by vpe_shader_cost's analysis (FLOP-equivalents and texture fetches per shaded pixel,
-// Pi 4 / Pi 5 roofline frame rates at 50% ALU efficiency).
+// counted by vpe_shader_cost's analysis (FLOP-equivalents, texture fetches and memory bytes per
+// shaded pixel; Pi 4 / Pi 5 roofline frame rates at 50% ALU efficiency, the lower of the
+// operations' and the bytes' bounds).
 //   vpe_gles_frame_benchmark [--texture 1024] [--frames 10] [--warmup 2] [--shaders DIR] [--json]
 // --shaders writes each scene's frame shader, as compiled, to DIR/<scene>.frag. With --json,
 // stdout ends with {"scenes": [{"name", "ms_per_frame", "floor_ms", "ratio", "cpu_ms",
-// "flop_eq_per_pixel", "texture_fetches_per_pixel", "pi4_fps", "pi5_fps", ...}]}.
+// "flop_eq_per_pixel", "texture_fetches_per_pixel", "memory_bytes_per_pixel", "pi4_fps",
+// "pi4_compute_fps", "pi4_memory_fps", "pi5_fps", ...}]}.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -220,9 +222,9 @@ int main(int argc, char** argv) {
             "light moving every frame\n",
             platform->description().c_str(), kWidth, kHeight, kRank, kThetaFunctions, textureSize,
             frames, warmup);
-        std::printf("%-15s %8s %7s %9s %6s %8s %9s %9s %8s %8s %8s\n", "scene", "frame ms", "fps",
-                    "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "pi4 fps", "pi5 fps",
-                    "load ms");
+        std::printf("%-15s %8s %7s %9s %6s %8s %9s %9s %7s %8s %8s %8s\n", "scene", "frame ms",
+                    "fps", "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "bytes", "pi4 fps",
+                    "pi5 fps", "load ms");
         for (const Scene scene :
              {Scene{"static-preset", false, false}, Scene{"fade", false, true},
               Scene{"live-2-regions", true, false}, Scene{"measured-light", false, false, true}}) {
@@ -256,12 +258,11 @@ int main(int argc, char** argv) {
                 vpe::shader_cost::analyzeShader(compiler, source, scene.name);
             vpe::shader_cost::FrameWorkload workload;
             workload.shadedPixels = static_cast<double>(renderer.coveredPixels());
-            const double pi4 = vpe::shader_cost::estimateFrame(
-                                   cost.perPixel, vpe::shader_cost::raspberryPi4(), workload)
-                                   .framesPerSecond;
-            const double pi5 = vpe::shader_cost::estimateFrame(
-                                   cost.perPixel, vpe::shader_cost::raspberryPi5(), workload)
-                                   .framesPerSecond;
+            const vpe::shader_cost::FrameEstimate pi4Estimate = vpe::shader_cost::estimateFrame(
+                cost.perPixel, vpe::shader_cost::raspberryPi4(), workload);
+            const vpe::shader_cost::FrameEstimate pi5Estimate = vpe::shader_cost::estimateFrame(
+                cost.perPixel, vpe::shader_cost::raspberryPi5(), workload);
+            const double pi4 = pi4Estimate.framesPerSecond, pi5 = pi5Estimate.framesPerSecond;
             std::vector<double> frameMs, cpuMs, floorMs, ratio;
             for (int i = 0; i < warmup; ++i) {
                 renderFrame(1 + i);
@@ -280,27 +281,36 @@ int main(int argc, char** argv) {
                 ratio.push_back(frame.wallMs / pass.wallMs);
             }
             const double ms = median(frameMs);
-            std::printf("%-15s %8.2f %7.1f %9.2f %6.2f %8.2f %9lld %9lld %8.1f %8.1f %8.0f\n",
+            std::printf("%-15s %8.2f %7.1f %9.2f %6.2f %8.2f %9lld %9lld %7lld %8.1f %8.1f %8.0f\n",
                         scene.name, ms, 1000.0 / ms, median(floorMs), median(ratio), median(cpuMs),
                         static_cast<long long>(cost.perPixel.flopEquivalent()),
-                        static_cast<long long>(cost.perPixel.textureFetches), pi4, pi5, loadMs);
+                        static_cast<long long>(cost.perPixel.textureFetches),
+                        static_cast<long long>(cost.perPixel.memoryBytes()), pi4, pi5, loadMs);
             std::fflush(stdout);
-            report["scenes"].push_back({{"name", scene.name},
-                                        {"ms_per_frame", ms},
-                                        {"floor_ms", median(floorMs)},
-                                        {"ratio", median(ratio)},
-                                        {"cpu_ms", median(cpuMs)},
-                                        {"flop_eq_per_pixel", cost.perPixel.flopEquivalent()},
-                                        {"flops_per_pixel", cost.perPixel.flops()},
-                                        {"sfu_per_pixel", cost.perPixel.sfu},
-                                        {"texture_fetches_per_pixel", cost.perPixel.textureFetches},
-                                        {"shaded_pixels", renderer.coveredPixels()},
-                                        {"pi4_fps", pi4},
-                                        {"pi5_fps", pi5},
-                                        {"load_ms", loadMs},
-                                        {"geometry_ms", renderer.loadTimes().geometryMs},
-                                        {"material_ms", renderer.loadTimes().materialMs},
-                                        {"shaders_ms", renderer.loadTimes().shadersMs}});
+            report["scenes"].push_back(
+                {{"name", scene.name},
+                 {"ms_per_frame", ms},
+                 {"floor_ms", median(floorMs)},
+                 {"ratio", median(ratio)},
+                 {"cpu_ms", median(cpuMs)},
+                 {"flop_eq_per_pixel", cost.perPixel.flopEquivalent()},
+                 {"flops_per_pixel", cost.perPixel.flops()},
+                 {"sfu_per_pixel", cost.perPixel.sfu},
+                 {"texture_fetches_per_pixel", cost.perPixel.textureFetches},
+                 {"memory_read_bytes_per_pixel", cost.perPixel.memoryReadBytes},
+                 {"memory_write_bytes_per_pixel", cost.perPixel.memoryWriteBytes},
+                 {"memory_bytes_per_pixel", cost.perPixel.memoryBytes()},
+                 {"pi4_compute_fps", pi4Estimate.computeFramesPerSecond},
+                 {"pi4_memory_fps", pi4Estimate.memoryFramesPerSecond},
+                 {"pi5_compute_fps", pi5Estimate.computeFramesPerSecond},
+                 {"pi5_memory_fps", pi5Estimate.memoryFramesPerSecond},
+                 {"shaded_pixels", renderer.coveredPixels()},
+                 {"pi4_fps", pi4},
+                 {"pi5_fps", pi5},
+                 {"load_ms", loadMs},
+                 {"geometry_ms", renderer.loadTimes().geometryMs},
+                 {"material_ms", renderer.loadTimes().materialMs},
+                 {"shaders_ms", renderer.loadTimes().shadersMs}});
         }
     } catch (const std::exception& error) {
         std::fprintf(stderr, "vpe_gles_frame_benchmark: %s\n", error.what());

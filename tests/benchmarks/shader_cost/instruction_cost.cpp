@@ -131,8 +131,9 @@ bool isFree(spv::Op opcode) {
 }  // namespace
 
 InstructionCostModel::InstructionCostModel(const SpirvModule& module,
-                                           std::map<std::string, int> texelBytes)
-    : module_(module), texelBytes_(std::move(texelBytes)) {}
+                                           std::map<std::string, int> texelBytes,
+                                           std::set<std::string> cached)
+    : module_(module), texelBytes_(std::move(texelBytes)), cached_(std::move(cached)) {}
 
 bool InstructionCostModel::knows(const SpirvInstruction& instruction) const {
     return rule(instruction).has_value();
@@ -522,11 +523,14 @@ ShaderCost InstructionCostModel::textureCost(const SpirvInstruction& instruction
                              instruction.opcode == spv::OpImageRead ||
                              instruction.opcode == spv::OpImageSparseFetch ||
                              instruction.opcode == spv::OpImageSparseRead;
-    const auto bytes = texelBytes_.find(samplerName(instruction.operands.at(0)));
+    const std::string sampler = samplerName(instruction.operands.at(0));
+    const auto bytes = texelBytes_.find(sampler);
     if (bytes == texelBytes_.end()) {
         cost.fetchesWithoutFormat = 1;
     } else {
         cost.textureBytes = (singleTexel ? 1 : 4) * bytes->second;
+        // From memory: one texel a pixel (neighbours share a footprint), none from a cached table.
+        cost.memoryReadBytes = cached_.count(sampler) > 0 ? 0 : bytes->second;
     }
     return cost;
 }

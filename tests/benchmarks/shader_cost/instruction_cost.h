@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "shader_cost.h"
@@ -14,8 +15,10 @@ namespace vpe::shader_cost {
 
 class InstructionCostModel {
 public:
-    // texelBytes: sampler uniform name → bytes per texel, for the samplers whose format is known.
-    InstructionCostModel(const SpirvModule& module, std::map<std::string, int> texelBytes);
+    // texelBytes: sampler uniform name → bytes per texel, for the samplers whose format is known;
+    // cached: the samplers whose texture stays in the TMU's cache (no memory traffic).
+    InstructionCostModel(const SpirvModule& module, std::map<std::string, int> texelBytes,
+                         std::set<std::string> cached = {});
 
     // The cost of one instruction. A function call costs nothing here: the path analysis adds
     // the callee's path.
@@ -38,6 +41,7 @@ private:
 
     const SpirvModule& module_;
     std::map<std::string, int> texelBytes_;
+    std::set<std::string> cached_;
 };
 
 }  // namespace vpe::shader_cost

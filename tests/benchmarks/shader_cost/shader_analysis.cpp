@@ -34,9 +34,11 @@ ShaderReport analyzeShader(const ShaderCompiler& compiler, const std::string& so
     report.spirv = compiler.optimize(compiler.compile(source, name), name);
     try {
         const SpirvModule module(report.spirv);
-        const InstructionCostModel model(module, std::move(texelBytes));
+        const InstructionCostModel model(module, std::move(texelBytes),
+                                         declaredCachedTextures(source));
         PathCostAnalysis paths(module, model);
         report.perPixel = paths.longestPath(module.fragmentEntryPoint());
+        report.perPixel.memoryWriteBytes = declaredOutputBytes(source);
         report.hasDynamicLoops = paths.hasDynamicLoops();
         report.uncountedOpcodes = paths.uncountedOpcodes();
     } catch (const std::runtime_error& error) {

@@ -17,6 +17,14 @@ struct ShaderCost {
     std::int64_t textureFetches = 0;  // texture instructions, per call
     std::int64_t textureBytes = 0;    // bytes those fetches request, where the format is known
     std::int64_t fetchesWithoutFormat = 0;  // fetches whose sampler has no declared format
+    // Bytes the fetches bring from memory (DRAM) per pixel: one texel a fetch of a texture that
+    // streams through the cache (a filtered fetch's 2 × 2 footprint is shared with the pixel's
+    // neighbours, each texel read once), none from a table declared cached (small enough to
+    // stay in the TMU's cache for the whole frame).
+    std::int64_t memoryReadBytes = 0;
+    std::int64_t memoryWriteBytes = 0;  // the colour outputs' texels, per shaded pixel
+
+    std::int64_t memoryBytes() const { return memoryReadBytes + memoryWriteBytes; }
 
     // FLOPs as peak figures count them: integer operations occupy the same ALU slots.
     std::int64_t flops() const { return floatOps + intOps; }
@@ -29,6 +37,8 @@ struct ShaderCost {
         textureFetches += other.textureFetches;
         textureBytes += other.textureBytes;
         fetchesWithoutFormat += other.fetchesWithoutFormat;
+        memoryReadBytes += other.memoryReadBytes;
+        memoryWriteBytes += other.memoryWriteBytes;
         return *this;
     }
     ShaderCost times(std::int64_t count) const {
@@ -39,6 +49,8 @@ struct ShaderCost {
         scaled.textureFetches = textureFetches * count;
         scaled.textureBytes = textureBytes * count;
         scaled.fetchesWithoutFormat = fetchesWithoutFormat * count;
+        scaled.memoryReadBytes = memoryReadBytes * count;
+        scaled.memoryWriteBytes = memoryWriteBytes * count;
         return scaled;
     }
 };

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 // vpe_shader_cost: per-pixel ALU, SFU and texture cost of GLSL ES fragment shaders, counted on
 // the SPIR-V a driver-like optimizer leaves, and the frame rates that bounds on a Pi 4 / Pi 5.
-//   vpe_shader_cost [--json] [--pixels N] [--efficiency E] [--texture-format SAMPLER=FORMAT]...
-//                   [--spirv DIR] SHADER.frag...
+//   vpe_shader_cost [--json] [--pixels N] [--efficiency E] [--memory-share F]
+//                   [--texture-format SAMPLER=FORMAT]... [--spirv DIR] SHADER.frag...
+// --memory-share: the fraction of the board's memory rate the GPU is assumed to get (1).
 // --spirv writes the optimized SPIR-V that was counted to DIR/NAME.spv (spirv-dis shows it).
 // Bad input (unreadable file, GLSL that does not compile, bad option): one line on stderr,
 // exit status 2.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -75,6 +77,11 @@ Options parseOptions(int argc, char** argv) {
             if (options.workload.aluEfficiency > 1) {
                 throw UsageError("--efficiency: expected a fraction in (0, 1]");
             }
+        } else if (argument == "--memory-share") {
+            options.workload.memoryShare = positiveNumber(argument, value());
+            if (options.workload.memoryShare > 1) {
+                throw UsageError("--memory-share: expected a fraction in (0, 1]");
+            }
         } else if (argument == "--texture-format") {
             const std::string assignment = value();
             const std::size_t equals = assignment.find('=');
@@ -88,7 +95,7 @@ Options parseOptions(int argc, char** argv) {
             options.spirvFolder = value();
         } else if (argument == "--help" || argument == "-h") {
             std::printf(
-                "usage: vpe_shader_cost [--json] [--pixels N] [--efficiency E]\n"
+                "usage: vpe_shader_cost [--json] [--pixels N] [--efficiency E] [--memory-share F]\n"
                 "                       [--texture-format SAMPLER=FORMAT]... [--spirv DIR]\n"
                 "                       SHADER.frag...\n");
             std::exit(0);
@@ -110,33 +117,46 @@ void printTable(const std::vector<ShaderReport>& reports, const Options& options
     std::printf(
         "Per shaded pixel, most expensive path through main (FLOPs include int_ops;\n"
         "flop_eq = FLOPs + 4 x SFU; bytes = texture bytes requested where the sampler's\n"
-        "format is known, bilinear = 4 texels; + when some fetches have no format):\n\n");
-    std::printf("%-16s %8s %8s %6s %8s %8s %8s %9s %9s %8s\n", "shader", "FLOPs", "int_ops", "SFU",
-                "flop_eq", "fetches", "bytes", "pi4_fps", "pi5_fps", "dyn.loop");
+        "format is known, bilinear = 4 texels; + when some fetches have no format;\n"
+        "mem_B = bytes from and to memory: a texel a fetch, none from cached tables,\n"
+        "the outputs' texels; fps = the lower of the operations' and the bytes' bounds):\n\n");
+    std::printf("%-16s %8s %8s %6s %8s %8s %8s %6s %9s %9s %8s\n", "shader", "FLOPs", "int_ops",
+                "SFU", "flop_eq", "fetches", "bytes", "mem_B", "pi4_fps", "pi5_fps", "dyn.loop");
     for (const ShaderReport& report : reports) {
         const auto& cost = report.perPixel;
         const std::string bytes =
             std::to_string(cost.textureBytes) + (cost.fetchesWithoutFormat > 0 ? "+" : "");
-        std::printf("%-16s %8lld %8lld %6lld %8lld %8lld %8s %9.2f %9.2f %8s\n",
+        std::printf("%-16s %8lld %8lld %6lld %8lld %8lld %8s %6lld %9.2f %9.2f %8s\n",
                     report.name.c_str(), static_cast<long long>(cost.flops()),
                     static_cast<long long>(cost.intOps), static_cast<long long>(cost.sfu),
                     static_cast<long long>(cost.flopEquivalent()),
                     static_cast<long long>(cost.textureFetches), bytes.c_str(),
+                    static_cast<long long>(cost.memoryBytes()),
                     estimateFrame(cost, pi4, options.workload).framesPerSecond,
                     estimateFrame(cost, pi5, options.workload).framesPerSecond,
                     report.hasDynamicLoops ? "yes" : "no");
     }
-    std::printf("\nFrame bounds at %.3g shaded pixels, ALU at %.0f%% of peak:\n",
-                options.workload.shadedPixels, 100 * options.workload.aluEfficiency);
+    std::printf(
+        "\nFrame bounds at %.3g shaded pixels, ALU at %.0f%% of peak, the GPU getting %.0f%% of "
+        "the memory rate:\n",
+        options.workload.shadedPixels, 100 * options.workload.aluEfficiency,
+        100 * options.workload.memoryShare);
     for (const vpe::shader_cost::GpuPeaks& gpu : {pi4, pi5}) {
-        std::printf("  %s: ALU %.1f GFLOPS peak, TMU %.2f G lookups/s (assumed)\n",
-                    gpu.name.c_str(), gpu.aluFlops / 1e9, gpu.textureLookups / 1e9);
+        std::printf(
+            "  %s: ALU %.1f GFLOPS peak, TMU %.2f G lookups/s (assumed), memory %.2f GB/s (%s)\n",
+            gpu.name.c_str(), gpu.aluFlops / 1e9, gpu.textureLookups / 1e9, gpu.memoryBytes / 1e9,
+            gpu.memorySource.c_str());
         for (const ShaderReport& report : reports) {
             const auto estimate = estimateFrame(report.perPixel, gpu, options.workload);
-            std::printf("    %-16s ALU %7.1f ms, TMU %7.1f ms -> %.2f fps (%s-bound)\n",
-                        report.name.c_str(), 1e3 * estimate.aluSeconds,
-                        1e3 * estimate.textureSeconds, estimate.framesPerSecond,
-                        estimate.aluSeconds >= estimate.textureSeconds ? "ALU" : "TMU");
+            const double slowest =
+                std::max({estimate.aluSeconds, estimate.textureSeconds, estimate.memorySeconds});
+            std::printf(
+                "    %-16s ALU %7.1f ms, TMU %7.1f ms, memory %7.1f ms -> %.2f fps (%s-bound)\n",
+                report.name.c_str(), 1e3 * estimate.aluSeconds, 1e3 * estimate.textureSeconds,
+                1e3 * estimate.memorySeconds, estimate.framesPerSecond,
+                slowest == estimate.aluSeconds       ? "ALU"
+                : slowest == estimate.textureSeconds ? "TMU"
+                                                     : "memory");
         }
     }
     for (const ShaderReport& report : reports) {
@@ -156,6 +176,8 @@ nlohmann::json toJson(const std::vector<ShaderReport>& reports, const Options& o
     nlohmann::json shaders = nlohmann::json::array();
     for (const ShaderReport& report : reports) {
         const auto& cost = report.perPixel;
+        const auto pi4 = estimateFrame(cost, vpe::shader_cost::raspberryPi4(), options.workload);
+        const auto pi5 = estimateFrame(cost, vpe::shader_cost::raspberryPi5(), options.workload);
         shaders.push_back({
             {"name", report.name},
             {"flops", cost.flops()},
@@ -165,10 +187,15 @@ nlohmann::json toJson(const std::vector<ShaderReport>& reports, const Options& o
             {"texture_fetches", cost.textureFetches},
             {"texture_bytes", cost.textureBytes},
             {"fetches_without_format", cost.fetchesWithoutFormat},
-            {"pi4_fps", estimateFrame(cost, vpe::shader_cost::raspberryPi4(), options.workload)
-                            .framesPerSecond},
-            {"pi5_fps", estimateFrame(cost, vpe::shader_cost::raspberryPi5(), options.workload)
-                            .framesPerSecond},
+            {"memory_read_bytes", cost.memoryReadBytes},
+            {"memory_write_bytes", cost.memoryWriteBytes},
+            {"memory_bytes", cost.memoryBytes()},
+            {"pi4_fps", pi4.framesPerSecond},
+            {"pi4_compute_fps", pi4.computeFramesPerSecond},
+            {"pi4_memory_fps", pi4.memoryFramesPerSecond},
+            {"pi5_fps", pi5.framesPerSecond},
+            {"pi5_compute_fps", pi5.computeFramesPerSecond},
+            {"pi5_memory_fps", pi5.memoryFramesPerSecond},
             {"has_dynamic_loops", report.hasDynamicLoops},
         });
     }

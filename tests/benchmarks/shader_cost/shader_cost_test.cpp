@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -184,6 +185,34 @@ void main() {
     EXPECT_EQ(report.perPixel.fetchesWithoutFormat, 1);
 }
 
+TEST(ShaderCost, CountsMemoryBytesReadAndWritten) {
+    const ShaderCompiler compiler;
+    const ShaderReport report = analyzeShader(compiler, R"(#version 310 es
+precision highp float;
+layout(location = 0) out vec4 outLevel;  // RGBA8: 4 bytes a pixel
+uniform highp sampler2D uGeometry;  // RGBA32F: streamed, one texel a pixel
+uniform highp sampler2D uWeights;   // R16F: filtered at uv, one texel a pixel from memory
+uniform highp sampler2D uTable;     // RGBA16F cached: stays in the texture cache
+void main() {
+    vec4 g = texelFetch(uGeometry, ivec2(gl_FragCoord.xy), 0);
+    float w = texture(uWeights, g.xy).r;
+    outLevel = texture(uTable, vec2(w, 0.5));
+}
+)",
+                                              "memory.frag");
+    EXPECT_EQ(report.perPixel.textureFetches, 3);
+    EXPECT_EQ(report.perPixel.textureBytes, 16 + 4 * 2 + 4 * 8);  // requested by the TMU
+    EXPECT_EQ(report.perPixel.memoryReadBytes, 16 + 2);           // from memory
+    EXPECT_EQ(report.perPixel.memoryWriteBytes, 4);
+    EXPECT_EQ(report.perPixel.memoryBytes(), 22);
+    EXPECT_EQ(declaredCachedTextures("uniform highp sampler2D uT;  // RGBA16F cached: h_j\n"
+                                     "uniform highp sampler2D uU;  // RGBA16F: cached later\n"),
+              std::set<std::string>{"uT"});
+    EXPECT_EQ(declaredOutputBytes("layout(location = 0) out uvec4 outA;  // RGBA32UI\n"
+                                  "layout(location = 1) out vec4 outB;\n"),
+              16);
+}
+
 TEST(ShaderCost, CountsTheSineAsV3dLowersIt) {
     const ShaderReport report = analyze(R"(
 void main() {
@@ -239,6 +268,25 @@ TEST(ShaderCostRoofline, BoundsTheFrameByTheSlowerUnit) {
     EXPECT_NEAR(estimateFrame(cost, raspberryPi4(), workload).framesPerSecond, 100.0, 1e-9);
 }
 
+TEST(ShaderCostRoofline, BoundsTheFrameByMemoryToo) {
+    ShaderCost cost;
+    cost.floatOps = 40;
+    cost.memoryReadBytes = 40;
+    cost.memoryWriteBytes = 4;
+    FrameWorkload workload;
+    workload.shadedPixels = 1e6;
+    workload.aluEfficiency = 1.0;
+    // Pi 4: 44 MB at 5.16 GB/s = 8.53 ms, against ALU 1.25 ms.
+    const FrameEstimate pi4 = estimateFrame(cost, raspberryPi4(), workload);
+    EXPECT_NEAR(pi4.memoryFramesPerSecond, 5160e6 / 44e6, 1e-9);
+    EXPECT_NEAR(pi4.computeFramesPerSecond, 800.0, 1e-9);
+    EXPECT_NEAR(pi4.framesPerSecond, 5160e6 / 44e6, 1e-9);
+    workload.memoryShare = 0.5;  // half the bandwidth: half the frame rate
+    EXPECT_NEAR(estimateFrame(cost, raspberryPi4(), workload).framesPerSecond, 2580e6 / 44e6, 1e-9);
+    // Pi 5: the Pi 4's STREAM/wire ratio on LPDDR4X-4267.
+    EXPECT_NEAR(raspberryPi5().memoryBytes, 4267e6 * 4 * 5160e6 / 12800e6, 1e-3);
+}
+
 // The command, as a user runs it.
 std::string shaderCostExecutable() {
     const char* path = std::getenv("VPE_SHADER_COST");
@@ -274,6 +322,7 @@ TEST(ShaderCostCommand, PrintsATableAndJson) {
     EXPECT_EQ(shader["has_dynamic_loops"], false);
     EXPECT_NEAR(shader["pi4_fps"].get<double>(), 32e9 / 6e6, 1e-6);
     EXPECT_NEAR(shader["pi5_fps"].get<double>(), 122.88e9 / 6e6, 1e-6);
+    EXPECT_EQ(shader["memory_bytes"], 0);  // no texture, no declared output format
 }
 
 void expectRefusal(const testing::CommandResult& result, const std::string& mention) {

@@ -86,4 +86,37 @@ std::map<std::string, std::string> declaredTextureFormats(const std::string& sou
     return formats;
 }
 
+std::set<std::string> declaredCachedTextures(const std::string& source) {
+    static const std::regex kDeclaration(
+        R"(^\s*(?:layout\s*\([^)]*\)\s*)?uniform\s+(?:\w+\s+)*\w*sampler\w*\s+(\w+)\s*;\s*//\s*(?:format:\s*)?([A-Za-z0-9_]+)\s+cached\b)");
+    std::set<std::string> cached;
+    std::istringstream lines(source);
+    std::string line;
+    while (std::getline(lines, line)) {
+        std::smatch match;
+        if (std::regex_search(line, match, kDeclaration) && bytesPerTexel(match[2].str())) {
+            cached.insert(match[1].str());
+        }
+    }
+    return cached;
+}
+
+std::int64_t declaredOutputBytes(const std::string& source) {
+    // [layout(...)] out [precision] TYPE NAME; // [format:] FORMAT ...
+    static const std::regex kDeclaration(
+        R"(^\s*(?:layout\s*\([^)]*\)\s*)?out\s+(?:\w+\s+)*\w+\s+\w+\s*;\s*//\s*(?:format:\s*)?([A-Za-z0-9_]+))");
+    std::int64_t bytes = 0;
+    std::istringstream lines(source);
+    std::string line;
+    while (std::getline(lines, line)) {
+        std::smatch match;
+        if (std::regex_search(line, match, kDeclaration)) {
+            if (const std::optional<int> texel = bytesPerTexel(match[1].str())) {
+                bytes += *texel;
+            }
+        }
+    }
+    return bytes;
+}
+
 }  // namespace vpe::shader_cost
