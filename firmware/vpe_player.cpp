@@ -2,7 +2,8 @@
 // vpe-player: the device program (firmware/README.md). Board file → Player (platform, bundle,
 // renderer, light rig, event loop) → inputs (the board's hardware, or a replay) → frames until
 // --frames, the replay's end, SIGTERM or SIGINT. With --scan, the same board's display and
-// camera capture a structured-light scan instead (scan/scan_run.h). Bad input: one line, exit
+// camera capture a structured-light scan instead (scan/scan_run.h); with a bus, the control
+// page may ask the running player for one (scan/install_capture.h). Bad input: one line, exit
 // status 2; a scan that cannot be completed: one line, exit status 1.
 #include <iostream>
 #include <string>
@@ -15,6 +16,7 @@
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player_options.h"
+#include "vpe/firmware/scan/install_capture.h"
 #include "vpe/firmware/scan/scan_run.h"
 
 namespace {
@@ -43,7 +45,10 @@ int run(const fw::PlayerOptions& options, std::int64_t startNs) {
     // Parse every input section before opening anything: a bad board file fails at once.
     const fw::InputSettings inputs = fw::readInputSettings(board);
     fw::Player player(options, board, startNs, fw::showClockFor(inputs));
-    fw::addInputs(player, inputs, options);
+    // The control page's install steps: a scan or a radiometric capture asked over the bus.
+    if (vpe::firmware::bus::LightBus* bus = fw::addInputs(player, inputs, options)) {
+        fw::acceptInstallCommands(player, *bus, board, options);
+    }
     const fw::FrameReport report = player.run();
     std::cout << report.summaryLine() << "\n";
     if (options.json) {

@@ -44,6 +44,8 @@ test_packages=(
     clang-format                              # scripts/check-format.sh (the style check)
     mosquitto mosquitto-clients               # the bus tests' own broker, mosquitto_passwd; scripts/multi-node-report.sh
     openssl                                   # the bus tests' TLS certificates
+    chromium chromium-driver                  # the control page's test: a headless browser and its driver
+    python3-selenium                          # the control page's test drives chromium-driver with it
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
 )

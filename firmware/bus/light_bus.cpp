@@ -26,7 +26,7 @@ MqttSettings settingsOf(const BusConfig& config) {
     settings.cafile = config.cafile;
     settings.certfile = config.certfile;
     settings.keyfile = config.keyfile;
-    settings.subscriptions = {config.topic()};
+    settings.subscriptions = {config.topic(), config.blackoutTopic(), config.commandTopic()};
     return settings;
 }
 
@@ -71,11 +71,11 @@ LightBus::LightBus(const BusConfig& config, const LightLimits& limits,
                    .refused =
                        [this](int code, const std::string& reason) {
                            if (!troubleReported_) {
-                               say("bus: the broker at " + connection_.endpoint() +
-                                   " refused the connection as \"" + config_.username +
-                                   "\": " + reason + " (reason " + std::to_string(code) +
-                                   "; check [bus] username and password, and the broker's "
-                                   "password file); playing on alone, asking again every 5 s");
+                               trouble("bus: the broker at " + connection_.endpoint() +
+                                       " refused the connection as \"" + config_.username +
+                                       "\": " + reason + " (reason " + std::to_string(code) +
+                                       "; check [bus] username and password, and the broker's "
+                                       "password file); playing on alone, asking again every 5 s");
                                troubleReported_ = true;
                            }
                        },
@@ -90,14 +90,14 @@ LightBus::LightBus(const BusConfig& config, const LightLimits& limits,
                                inFlightId_.reset();
                            }
                            if (wasConnected) {
-                               say("bus: lost the broker at " + connection_.endpoint() + " (" +
-                                   reason + "); playing on with the last state, reconnecting");
+                               trouble("bus: lost the broker at " + connection_.endpoint() + " (" +
+                                       reason + "); playing on with the last state, reconnecting");
                                troubleReported_ = true;
                            } else if (!troubleReported_) {
-                               say("bus: cannot reach the broker at " + connection_.endpoint() +
-                                   " (" + reason +
-                                   "); playing on with this node's own light, trying again "
-                                   "every 0.5 s");
+                               trouble("bus: cannot reach the broker at " + connection_.endpoint() +
+                                       " (" + reason +
+                                       "); playing on with this node's own light, trying again "
+                                       "every 0.5 s");
                                troubleReported_ = true;
                            }
                        },
@@ -110,6 +110,7 @@ LightBus::LightBus(const BusConfig& config, const LightLimits& limits,
                            }
                            if (reason >= kFirstFailureReason) {
                                ++publishRefused_;
+                               lastError_ = "bus: the broker refused this node's state";
                                refusalLog_.write(
                                    "bus: the broker refused this node's state on " +
                                        config_.topic() + " (reason " + std::to_string(reason) +
@@ -131,6 +132,11 @@ LightBus::LightBus(const BusConfig& config, const LightLimits& limits,
 }
 
 void LightBus::say(const std::string& line) {
+    sink_(line);
+}
+
+void LightBus::trouble(const std::string& line) {
+    lastError_ = line;
     sink_(line);
 }
 
@@ -159,12 +165,24 @@ void LightBus::onTick(std::int64_t nowNs, std::vector<InputEvent>& events) {
 
 void LightBus::refuse(const std::string& reason, const std::string& problem) {
     ++refused_["bus." + reason];
-    refusalLog_.write("bus: " + problem + " (" + reason + ")", nowNs_);
+    lastError_ = "bus: " + problem + " (" + reason + ")";
+    refusalLog_.write(lastError_, nowNs_);
 }
 
 void LightBus::receive(std::string_view topic, std::string_view payload) {
-    if (topic != config_.topic() || collecting_ == nullptr) {
-        return;  // the subscription is this topic alone; anything else is not ours to read
+    if (collecting_ == nullptr) {
+        return;
+    }
+    if (topic == config_.blackoutTopic()) {
+        receiveBlackout(payload);
+        return;
+    }
+    if (topic == config_.commandTopic()) {
+        receiveInstallCommand(payload);
+        return;
+    }
+    if (topic != config_.topic()) {
+        return;  // the subscriptions are these topics alone; anything else is not ours to read
     }
     ++received_;
     auto decoded = decodeLightMessage(payload, limits_);
@@ -204,6 +222,73 @@ void LightBus::receive(std::string_view topic, std::string_view payload) {
         }
     }
     collecting_->push_back({InputSource::kBus, nowNs_, FollowLight{state}});
+}
+
+void LightBus::receiveBlackout(std::string_view payload) {
+    ++received_;
+    auto decoded = decodeBlackoutMessage(payload);
+    if (const auto* refusal = std::get_if<LightMessageRefusal>(&decoded)) {
+        refuse(refusal->problem == LightMessageProblem::kMalformed ? "malformed" : "out_of_range",
+               config_.blackoutTopic() + ": " + printable(refusal->reason));
+        return;
+    }
+    const BlackoutMessage& message = std::get<BlackoutMessage>(decoded);
+    if (message.timeUs <= blackoutTimeUs_) {
+        return;  // older than the switch this node follows
+    }
+    blackoutTimeUs_ = message.timeUs;
+    if (message.on != blackout_) {
+        blackout_ = message.on;
+        say(std::string("bus: blackout ") + (blackout_ ? "on" : "off") + " (from \"" +
+            printable(message.node) + "\")");
+        if (blackoutChanged_) {
+            blackoutChanged_(blackout_);
+        }
+    }
+}
+
+void LightBus::receiveInstallCommand(std::string_view payload) {
+    ++received_;
+    // A command waits in no queue: one older than this was held back and is not run.
+    constexpr std::int64_t kMaxCommandAgeUs = 30'000'000;
+    auto decoded = decodeInstallCommand(payload, realtimeNowNs() / kNsPerUs, kMaxCommandAgeUs);
+    if (const auto* refusal = std::get_if<LightMessageRefusal>(&decoded)) {
+        refuse(refusal->problem == LightMessageProblem::kMalformed ? "malformed" : "out_of_range",
+               config_.commandTopic() + ": " + printable(refusal->reason));
+        return;
+    }
+    const InstallCommand& command = std::get<InstallCommand>(decoded);
+    say(std::string("bus: ") + installActionName(command.action) + " asked by \"" +
+        printable(command.node) + "\"");
+    if (installCommand_) {
+        installCommand_(command);
+    }
+}
+
+void LightBus::publishInstallProgress(InstallProgress progress) {
+    if (!connection_.connected()) {
+        return;
+    }
+    progress.node = config_.clientId;
+    connection_.publish(config_.installTopic("progress"), encodeInstallProgress(progress), 1, true);
+}
+
+void LightBus::publishInstallImage(const std::string& what, std::string_view png) {
+    if (connection_.connected()) {
+        connection_.publish(config_.installTopic(what), png, 1, true);
+    }
+}
+
+void LightBus::publishStatus(NodeStatus status) {
+    if (!connection_.connected()) {
+        return;
+    }
+    status.node = config_.clientId;
+    status.role = busRoleName(config_.role);
+    status.blackout = blackout_;
+    if (connection_.publish(config_.statusTopic(), encodeNodeStatus(status), 0, true)) {
+        ++statusPublished_;
+    }
 }
 
 void LightBus::offer(const SharedLight& state, std::int64_t nowNs) {
@@ -260,6 +345,7 @@ std::map<std::string, std::uint64_t> LightBus::counters() const {
             {"bus.received", received_},
             {"bus.published", published_},
             {"bus.publish_refused", publishRefused_},
+            {"bus.status_published", statusPublished_},
             {"bus.connected", connection_.connected() ? 1u : 0u}};
 }
 

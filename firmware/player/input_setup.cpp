@@ -51,7 +51,7 @@ void followBundleCamera(Player& player, const CameraConfig& camera, const InputS
 }
 
 // The shared light: an input (other nodes' states) and the publisher of this node's own.
-void addBus(Player& player, const bus::BusConfig& config) {
+bus::LightBus* addBus(Player& player, const bus::BusConfig& config) {
     try {
         auto light = std::make_unique<bus::LightBus>(config, player.rig().limits(),
                                                      presetNamesOf(player.bundle()), playerLog);
@@ -63,10 +63,37 @@ void addBus(Player& player, const bus::BusConfig& config) {
             raw->setLimits(observed->rig().limits());
         });
         player.setPublisher(raw);
+        // The control page's side (proto/BUS.md, "Node status", "Blackout").
+        Player* steered = &player;
+        raw->onBlackout([steered](bool on) { steered->setBlackout(on); });
+        player.everySecond([raw, steered] {
+            bus::NodeStatus status;
+            status.timeUs = realtimeNowNs() / 1000;
+            status.fps = steered->lastWindow().fps;
+            status.frameP99Ms = steered->lastWindow().frameP99Ms;
+            status.skipped = static_cast<std::uint64_t>(steered->lastWindow().skipped);
+            status.socTemperatureC = bus::readSocTemperature();
+            status.bundle = steered->bundleName();
+            status.bundleChecksum = steered->bundleChecksum();
+            status.activeInput = inputSourceName(steered->rig().activeSource());
+            status.uptimeS = steered->uptimeSeconds();
+            // The newer of the player's and the bus's problems is not known: the player's
+            // (frames, reloads) matter more on site.
+            status.lastError =
+                steered->lastError().empty() ? raw->lastError() : steered->lastError();
+            status.watchdog = steered->watchdogState();
+            status.light = steered->rig().current();
+            status.limits = steered->rig().limits();
+            status.presets = presetNamesOf(steered->bundle());
+            status.preset = steered->presetName();
+            raw->publishStatus(std::move(status));
+        });
         player.addInput(std::move(light));
+        return raw;
     } catch (const bus::MqttUnavailable& error) {
         playerLog(std::string("bus: ") + error.what() + "; playing without it");
     }
+    return nullptr;
 }
 
 }  // namespace
@@ -115,10 +142,12 @@ OscLimits oscLimitsOf(const LightLimits& light) {
     return limits;
 }
 
-void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options) {
+bus::LightBus* addInputs(Player& player, const InputSettings& settings,
+                         const PlayerOptions& options) {
     // The bus is not the board's hardware: a replayed node shares its light like a live one.
+    bus::LightBus* lightBus = nullptr;
     if (settings.bus && settings.bus->enabled) {
-        addBus(player, *settings.bus);
+        lightBus = addBus(player, *settings.bus);
     }
     if (options.replay) {
         // A replay stands in for every input: a session reproduced exactly, whatever the
@@ -159,7 +188,7 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
         } catch (const ReplayError& error) {
             throw PlayerInputError(error.what());
         }
-        return;
+        return lightBus;
     }
     if (settings.knobs && settings.knobs->enabled) {
         try {
@@ -226,6 +255,7 @@ void addInputs(Player& player, const InputSettings& settings, const PlayerOption
             playerLog(std::string("osc: ") + error.what() + "; playing without it");
         }
     }
+    return lightBus;
 }
 
 }  // namespace vpe::firmware

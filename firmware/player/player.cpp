@@ -5,6 +5,9 @@
 #include <csignal>
 #include <cstdio>
 
+#include <GLES3/gl31.h>
+#include <poll.h>
+
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/ppm_writer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
@@ -284,8 +287,9 @@ void Player::reload(const char* why) {
         }
     } catch (const SceneLoadError& error) {
         ++report_.reloadsRefused;
-        playerLog(std::string(error.what()) + "; reload (" + why +
-                  ") refused, still playing the previous bundle");
+        lastError_ = std::string(error.what()) + "; reload (" + why +
+                     ") refused, still playing the previous bundle";
+        playerLog(lastError_);
     }
     sceneChanged_ = true;
     watchdog_.reloaded("playing " + options_.bundle.string());
@@ -307,8 +311,9 @@ void Player::renderFrame() {
         shownPreset_ = rig_.preset();
     }
     const std::array<float, 3> light = rig_.position();
-    const bool unchanged =
-        skipUnchanged_ && !sceneChanged_ && shownLight_ == light && !scene_->renderer().animating();
+    // Blackout: the light goes on underneath; the first black frame draws, the rest skip.
+    const bool unchanged = skipUnchanged_ && !sceneChanged_ &&
+                           (blackout_ || (shownLight_ == light && !scene_->renderer().animating()));
     if (lightLog_) {
         lightLog_->record(clock_.toRealtime(presentationNs), rig_.current(),
                           inputSourceName(rig_.activeSource()), !unchanged);
@@ -320,6 +325,10 @@ void Player::renderFrame() {
     if (!headless_) {
         frameClock_.disarm();  // page flips pace the frames again
         skipClockArmed_ = false;
+    }
+    if (blackout_) {
+        renderBlack(beginNs);
+        return;
     }
     gles::FrameInputs inputs;
     const proto::RenderSettings& settings = scene_->view().settings();
@@ -344,7 +353,9 @@ void Player::renderFrame() {
     } catch (const gles::GraphicsError& error) {
         ++report_.errors;
         if (consecutiveErrors_++ == 0) {
-            playerLog(std::string("frame ") + std::to_string(report_.frames) + ": " + error.what());
+            lastError_ =
+                std::string("frame ") + std::to_string(report_.frames) + ": " + error.what();
+            playerLog(lastError_);
         }
         if (consecutiveErrors_ >= kMaxConsecutiveErrors) {
             throw;
@@ -354,6 +365,7 @@ void Player::renderFrame() {
     const std::int64_t submittedNs = monotonicNowNs();
     shownLight_ = light;
     sceneChanged_ = false;
+    windowFrameMs_.push_back(msBetween(beginNs, submittedNs));
     for (const std::int64_t eventNs : unshownEvents_) {
         report_.latencyMs.add(msBetween(eventNs, submittedNs));
     }
@@ -390,6 +402,7 @@ void Player::skipFrame(std::int64_t nowNs) {
     }
     unshownEvents_.clear();
     ++report_.skipped;
+    ++windowSkipped_;
     watchdog_.frameDone(nowNs);
     if (!headless_ && !skipClockArmed_) {
         const auto period = static_cast<std::int64_t>(1e9 / kSkipClockHz);
@@ -398,8 +411,148 @@ void Player::skipFrame(std::int64_t nowNs) {
     }
 }
 
+void Player::renderBlack(std::int64_t beginNs) {
+    glBindFramebuffer(GL_FRAMEBUFFER, target_->framebuffer());
+    glViewport(0, 0, target_->width(), target_->height());
+    glDisable(GL_SCISSOR_TEST);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    target_->present();
+    if (!headless_) {
+        waitingForFlip_ = target_->vsyncPending();
+        frameDue_ = !waitingForFlip_;
+    }
+    const std::int64_t submittedNs = monotonicNowNs();
+    sceneChanged_ = false;
+    shownLight_.reset();  // the next lit frame draws
+    unshownEvents_.clear();
+    windowFrameMs_.push_back(msBetween(beginNs, submittedNs));
+    ++report_.frames;
+    watchdog_.frameDone(submittedNs);
+}
+
+void Player::setBlackout(bool on) {
+    if (on != blackout_) {
+        blackout_ = on;
+        sceneChanged_ = true;  // the next tick draws: black, or the scene again
+    }
+}
+
+double Player::uptimeSeconds() const {
+    return static_cast<double>(monotonicNowNs() - processStartNs_) * 1e-9;
+}
+
+std::string Player::watchdogState() const {
+    if (!watchdog_.underSystemd()) {
+        return "off (not under systemd)";
+    }
+    if (watchdog_.intervalNs() <= 0) {
+        return "systemd, no watchdog";
+    }
+    char text[48];
+    std::snprintf(text, sizeof text, "systemd %.0f s",
+                  static_cast<double>(watchdog_.intervalNs()) * 1e-9);
+    return text;
+}
+
+std::string Player::bundleChecksum() const {
+    char text[16];
+    std::snprintf(text, sizeof text, "0x%08x", scene_->view().header().checksum);
+    return text;
+}
+
+void Player::closeWindow(std::int64_t nowNs) {
+    const double seconds = static_cast<double>(nowNs - windowStartNs_) * 1e-9;
+    lastWindow_.fps = seconds > 0 ? static_cast<double>(windowFrameMs_.size()) / seconds : 0;
+    lastWindow_.frameP99Ms = nearestRankPercentile(windowFrameMs_, 0.99);
+    lastWindow_.skipped = windowSkipped_;
+    windowFrameMs_.clear();
+    windowSkipped_ = 0;
+    windowStartNs_ = nowNs;
+}
+
+void Player::tickWindow(std::int64_t nowNs) {
+    if (nowNs - windowStartNs_ >= 1'000'000'000) {
+        closeWindow(nowNs);
+        if (everySecond_) {
+            everySecond_();
+        }
+    }
+}
+
+bool Player::lendDisplay(std::function<void(DisplayLease&)> task) {
+    if (displayLent()) {
+        return false;
+    }
+    leaseTask_ = std::move(task);
+    return true;
+}
+
+std::string Player::keepAliveDuringLease() {
+    const std::int64_t now = monotonicNowNs();
+    // Signals are read here, not by the loop: a reload waits until the display is back.
+    while (const int signal = signals_.next()) {
+        if (signal == SIGHUP) {
+            reloadAfterLease_ = true;
+        } else {
+            running_ = false;
+            report_.stoppedBy = signal == SIGTERM ? "SIGTERM" : "SIGINT";
+        }
+    }
+    // The inputs' ticks service them (the bus reads, writes and reconnects there); what they
+    // say moves the light underneath, as during a blackout.
+    for (const auto& device : devices_) {
+        device->onTick(now, pending_);
+    }
+    applyEvents(pending_);
+    watchdog_.frameDone(now);
+    tickWindow(now);
+    return running_ ? std::string() : report_.stoppedBy;
+}
+
+void Player::runLease() {
+    std::function<void(DisplayLease&)> task = std::move(leaseTask_);
+    leaseTask_ = nullptr;
+    // KMS: the frame on its way to the screen first, so that the task owns the flips.
+    const int vsync = target_->vsyncDescriptor();
+    while (vsync >= 0 && waitingForFlip_ && target_->vsyncPending()) {
+        pollfd ready{vsync, POLLIN, 0};
+        if (::poll(&ready, 1, 1000) <= 0) {
+            break;  // no flip within a second: the task's own present() waits for it
+        }
+        if (target_->onVsyncReadable()) {
+            break;
+        }
+    }
+    waitingForFlip_ = false;
+    leaseRunning_ = true;
+    DisplayLease lease{*platform_, *target_, [this] { return keepAliveDuringLease(); }};
+    try {
+        task(lease);
+    } catch (...) {
+        leaseRunning_ = false;
+        throw;
+    }
+    leaseRunning_ = false;
+    platform_->makeCurrent();
+    // The target holds whatever the task left there: the next tick draws the scene again.
+    sceneChanged_ = true;
+    shownLight_.reset();
+    frameDue_ = true;
+    if (!headless_) {
+        frameClock_.disarm();
+        skipClockArmed_ = false;
+    }
+    if (reloadAfterLease_) {
+        reloadAfterLease_ = false;
+        reload("SIGHUP");
+    }
+}
+
 FrameReport Player::run() {
     const bool unpaced = headless_ && options_.rate.value_or(board_.render.rate) <= 0;
+    windowStartNs_ = monotonicNowNs();
+    windowFrameMs_.reserve(256);
     while (running_) {
         // Unpaced: look at the inputs and go on; paced: sleep until a descriptor is ready.
         loop_.runOnce(unpaced || frameDue_ ? 0 : -1);
@@ -422,6 +575,10 @@ FrameReport Player::run() {
                 report_.stoppedBy = stopReason_;
                 break;
             }
+        }
+        tickWindow(now);
+        if (leaseTask_ && running_) {
+            runLease();
         }
     }
     watchdog_.stopping();

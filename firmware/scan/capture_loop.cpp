@@ -2,8 +2,9 @@
 // CaptureLoop: groups, retries with longer waits, and the wait that worked kept.
 #include "vpe/firmware/scan/capture_loop.h"
 
-#include <csignal>
+#include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "scan_time.h"
 
@@ -13,23 +14,22 @@ using scan_time::msBetween;
 using scan_time::nsOf;
 using scan_time::numberText;
 
-CaptureLoop::CaptureLoop(PatternProjector& projector, ScanCamera& camera, SignalWatch& signals,
+CaptureLoop::CaptureLoop(PatternProjector& projector, ScanCamera& camera, Interrupted interrupted,
                          int width, int height, const CaptureTiming& timing)
     : projector_(projector),
       camera_(camera),
-      signals_(signals),
+      interrupted_(std::move(interrupted)),
       width_(width),
       height_(height),
       timing_(timing),
       waitMs_(timing.latencyMs) {}
 
 void CaptureLoop::stopOnSignal() {
-    while (const int signal = signals_.next()) {
-        if (signal == SIGINT || signal == SIGTERM) {
-            throw ScanError(std::string("scan: stopped by ") +
-                            (signal == SIGINT ? "SIGINT" : "SIGTERM") + "; nothing written");
-        }
-        // SIGHUP reloads a bundle; a scan has none.
+    if (!interrupted_) {
+        return;
+    }
+    if (const std::string why = interrupted_(); !why.empty()) {
+        throw ScanError("scan: stopped by " + why + "; nothing written");
     }
 }
 
@@ -46,7 +46,12 @@ void CaptureLoop::showBlack(double ms) {
                                           static_cast<std::size_t>(height_));
     std::int64_t shownNs = 0;
     show(Shot{"black", 1, CaptureRequest{}}, black, shownNs);
-    sleepUntilNs(shownNs + nsOf(ms));
+    // In steps, so that the caller's bus and watchdog are served through a long settle.
+    const std::int64_t endNs = shownNs + nsOf(ms);
+    for (std::int64_t now = scanClockNs(); now < endNs; now = scanClockNs()) {
+        sleepUntilNs(std::min(endNs, now + nsOf(100)));
+        stopOnSignal();
+    }
     stopOnSignal();
 }
 

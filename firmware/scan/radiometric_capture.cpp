@@ -18,7 +18,8 @@ namespace vpe::firmware {
 
 RadiometryReport captureRadiometry(CaptureLoop& loop, const ScanCamera& camera,
                                    const ColourCapture& colour, const RadiometrySettings& settings,
-                                   const std::filesystem::path& folder) {
+                                   const std::filesystem::path& folder,
+                                   const RadiometryObserver& observer) {
     const std::int64_t beginNs = scanClockNs();
     RadiometryReport report;
     report.colour = colour;
@@ -90,6 +91,9 @@ RadiometryReport captureRadiometry(CaptureLoop& loop, const ScanCamera& camera,
         entry.attempts = attempts;
         proto::writePnmAtomically(folder / entry.file, image.width, image.height, 3, image.maxValue,
                                   image.samples);
+        if (observer.accepted) {
+            observer.accepted(fields[index], image);
+        }
     };
     // The projector showed the scan's last pattern: black for as long as it takes to show it.
     loop.showBlack(loop.waitMs());

@@ -27,7 +27,7 @@ ScanConfig parseScanConfig(const toml::table& scan, const std::string& source) {
               {"latency_ms", "settle_ms", "retries", "retry_wait_ms", "exposure_us",
                "analogue_gain", "colour_gains", "camera_size", "phase_period", "phase_steps",
                "min_contrast", "min_lit_fraction", "tolerance", "radiometry", "radiometry_levels",
-               "simulate", "simulated_latency_ms"});
+               "simulate", "simulated_latency_ms", "out"});
     ScanConfig config;
     config.latencyMs =
         numberIn(scan, source, kSection, "latency_ms", 0.0, false, 10000.0, config.latencyMs);
@@ -98,6 +98,16 @@ ScanConfig parseScanConfig(const toml::table& scan, const std::string& source) {
             path.is_absolute()
                 ? path
                 : (std::filesystem::path(source).parent_path() / path).lexically_normal();
+    }
+    if (auto out = optionalString(scan, source, kSection, "out")) {
+        if (out->empty()) {
+            fail(source, "scan.out",
+                 "is empty (the folder the control page's scans are written to)");
+        }
+        const std::filesystem::path path(*out);
+        config.out = path.is_absolute()
+                         ? path
+                         : (std::filesystem::path(source).parent_path() / path).lexically_normal();
     }
     if (scan.contains("simulated_latency_ms")) {
         if (!config.simulate) {

@@ -13,13 +13,33 @@
 
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/scan/scan_camera.h"
+#include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
 
 namespace vpe::firmware {
 
 namespace fs = std::filesystem;
 
-ScanFolder::ScanFolder(fs::path out) : out_(std::move(out)) {
+namespace {
+
+// A folder that holds nothing but a radiometric capture taken alone (radiometry/).
+bool holdsRadiometryAlone(const fs::path& folder) {
+    std::error_code error;
+    fs::directory_iterator entries(folder, error);
+    if (error) {
+        return false;
+    }
+    for (const fs::directory_entry& entry : entries) {
+        if (entry.path().filename() != proto::kRadiometryFolderName) {
+            return false;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
+ScanFolder::ScanFolder(fs::path out, const char* manifestName) : out_(std::move(out)) {
     if (out_.filename().empty()) {
         out_ = out_.parent_path();  // "scans/x/" names the folder x
     }
@@ -30,9 +50,13 @@ ScanFolder::ScanFolder(fs::path out) : out_(std::move(out)) {
             throw PlayerInputError(out_.string() +
                                    ": exists and is not a folder; a scan writes a folder");
         }
-        if (!fs::exists(out_ / proto::kScanManifestName) && !fs::is_empty(out_, error)) {
-            throw PlayerInputError(out_.string() + ": exists and is not a scan folder (no " +
-                                   proto::kScanManifestName + "); refusing to replace it");
+        if (!fs::exists(out_ / manifestName) && !fs::is_empty(out_, error) &&
+            !(std::string(manifestName) == proto::kScanManifestName &&
+              holdsRadiometryAlone(out_))) {
+            throw PlayerInputError(
+                out_.string() + ": exists and is not a " +
+                (std::string(manifestName) == proto::kScanManifestName ? "scan" : "radiometry") +
+                " folder (no " + manifestName + "); refusing to replace it");
         }
     }
     const fs::path parent = out_.has_parent_path() ? out_.parent_path() : fs::path(".");

@@ -4,6 +4,7 @@
 #include "vpe/firmware/scan/scan_run.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -154,6 +155,229 @@ nlohmann::ordered_json rejectedJsonOf(
 
 }  // namespace
 
+std::unique_ptr<ScanCamera> openScanCamera(const BoardConfig& board) {
+    if (!board.scan) {
+        throw PlayerInputError(board.source +
+                               ":scan: missing (a [scan] section: the projector's latency, the "
+                               "camera's exposure and size; boards/README.md)");
+    }
+    const ScanConfig& scan = *board.scan;
+    const std::optional<CameraConfig> cameraConfig = scanCameraConfig(board, scan);
+    if (scan.simulate) {
+        return std::make_unique<SimulatedScanCamera>(*scan.simulate, scan.simulatedLatencyMs);
+    }
+    try {
+        return std::make_unique<LibcameraScanCamera>(stillStreamOf(*cameraConfig, scan));
+    } catch (const CameraUnavailable& error) {
+        throw PlayerInputError(error.what());
+    }
+}
+
+std::array<int, 2> scanProjectorSize(const gles::GraphicsPlatform& platform,
+                                     const PlayerOptions& options, const BoardConfig& board,
+                                     const ScanCamera& camera) {
+    const auto* simulated = dynamic_cast<const SimulatedScanCamera*>(&camera);
+    return projectorSizeOf(platform, options, board, simulated,
+                           board.scan ? board.scan->simulate.value_or("") : "");
+}
+
+ScanReport runCapture(const BoardConfig& board, CaptureKind kind, ScanFolder& folder,
+                      CaptureStage& stage, const CaptureObserver& observer) {
+    if (!board.scan) {
+        throw PlayerInputError(board.source + ":scan: missing");
+    }
+    const ScanConfig& scan = *board.scan;
+    ScanCamera& camera = stage.camera;
+    const int width = stage.target.width(), height = stage.target.height();
+
+    ScanReport report;
+    report.kind = kind;
+    report.out = folder.out();
+    report.latencyMs = scan.latencyMs;
+    report.simulated = scan.simulate.has_value();
+    report.simulatedLatencyMs = scan.simulatedLatencyMs;
+    report.camera = camera.info();
+    report.platform = stage.platform;
+    report.projectorWidth = width;
+    report.projectorHeight = height;
+    report.phasePeriod = scan.phasePeriod;
+    report.phaseSteps = scan.phaseSteps;
+
+    proto::StructuredLightParameters parameters;
+    parameters.width = width;
+    parameters.height = height;
+    parameters.phasePeriod = scan.phasePeriod;
+    parameters.phaseSteps = scan.phaseSteps;
+    std::optional<proto::StructuredLightSequence> sequence;
+    try {
+        sequence.emplace(parameters);
+    } catch (const proto::StructuredLightError& error) {
+        throw PlayerInputError(board.source + ":scan.phase_period: " + error.what());
+    }
+    std::optional<PatternProjector> projector;
+    try {
+        projector.emplace(stage.target);
+    } catch (const gles::GraphicsError& error) {
+        throw PlayerInputError(error.what());
+    }
+
+    // Whether the radiometric capture runs, and in colour how; said before anything is shown.
+    ColourCapture colour;
+    bool radiometry = kind == CaptureKind::kRadiometry || scan.radiometry;
+    if (!radiometry) {
+        report.radiometry.skipped = board.source + ":scan.radiometry is false";
+    } else if (colour = camera.colourCapture(); !colour.available()) {
+        report.radiometry.skipped = colour.unavailable;
+        if (kind == CaptureKind::kRadiometry) {
+            throw PlayerInputError("radiometry: " + colour.unavailable);
+        }
+        playerLog("scan: no radiometric capture: " + colour.unavailable);
+        radiometry = false;
+    }
+    RadiometrySettings settings;
+    settings.projectorWidth = width;
+    settings.projectorHeight = height;
+    settings.levels = scan.radiometryLevels;
+    settings.check = {scan.minContrast, scan.minLitFraction, scan.tolerance};
+    settings.scanMaxValue = (1 << report.camera.bits) - 1;
+    std::size_t fields = 0;
+    if (radiometry) {
+        proto::RadiometryParameters fieldParameters;
+        fieldParameters.width = width;
+        fieldParameters.height = height;
+        fieldParameters.levels = scan.radiometryLevels;
+        fieldParameters.cameraResponse = colour.response;
+        try {
+            fields = proto::radiometrySequence(fieldParameters).size();
+        } catch (const proto::StructuredLightError& error) {
+            throw PlayerInputError(error.what());
+        }
+    }
+
+    const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
+    report.patterns = kind == CaptureKind::kScan ? patterns.size() : 0;
+    CaptureProgress progress;
+    progress.total = report.patterns + fields;
+    const auto accepted = [&observer, &progress](const std::string& step) {
+        progress.step = step;
+        ++progress.done;
+        if (observer.progress) {
+            observer.progress(progress);
+        }
+    };
+
+    const std::int64_t scanBeginNs = scanClockNs();
+    CaptureLoop loop(*projector, camera, stage.interrupted, width, height,
+                     {scan.latencyMs, scan.retries, scan.retryWaitMs});
+    // Black first, for as long as the projector needs to take the new mode: the first pattern's
+    // latency is then the projector's usual one.
+    loop.showBlack(
+        scan.settleMs.value_or(board.display.backend == DisplayBackend::kKms ? kKmsSettleMs : 0.0));
+    ScanFrameCheck check(*sequence, {scan.minContrast, scan.minLitFraction, scan.tolerance});
+    CoverageMap coverage(scan.minContrast);
+    if (kind == CaptureKind::kScan) {
+        proto::ScanManifest manifest;
+        manifest.patterns = parameters;
+        manifest.camera.width = report.camera.width;
+        manifest.camera.height = report.camera.height;
+        manifest.camera.bits = report.camera.bits;
+        manifest.camera.exposureUs = report.camera.exposureUs;
+        manifest.camera.analogueGain = report.camera.analogueGain;
+        manifest.camera.source = report.camera.source;
+        manifest.createdBy = "vpe-player";
+        manifest.images.resize(patterns.size());
+        std::vector<Shot> shots;
+        for (const proto::PatternSpec& pattern : patterns) {
+            shots.push_back({pattern.name(), 1, CaptureRequest{}});
+        }
+        // What the coverage map needs until its partner arrives: white until black, a Gray
+        // pattern until its inverse (groups are accepted in order).
+        CameraImage held;
+        const CaptureTally tally = loop.run(
+            shots, check,
+            [&sequence, &patterns](std::size_t index, std::span<std::uint8_t> codes) {
+                sequence->render(patterns[index], codes);
+            },
+            [&](std::size_t index, const CameraImage& image, int attempts) {
+                proto::ScanImage& entry = manifest.images[index];
+                entry.file = proto::scanImageName(index, patterns[index]);
+                entry.pattern = patterns[index].name();
+                entry.attempts = attempts;
+                proto::writePnmAtomically(folder.temporary() / entry.file, image.width,
+                                          image.height, 1, image.maxValue, image.samples);
+                const proto::PatternSpec& pattern = patterns[index];
+                if (pattern.kind == proto::PatternKind::kWhite) {
+                    held = image;
+                    if (observer.cameraView) {
+                        observer.cameraView(image);
+                    }
+                } else if (pattern.kind == proto::PatternKind::kBlack && !held.samples.empty()) {
+                    coverage.setLit(held, image);
+                } else if (pattern.kind == proto::PatternKind::kGray && !pattern.inverted) {
+                    held = image;
+                } else if (pattern.kind == proto::PatternKind::kGray && pattern.inverted) {
+                    coverage.addGrayPair(held, image, check.noiseSigma());
+                }
+                accepted(pattern.name());
+            });
+        report.captures = tally.captures;
+        report.retried = tally.retried;
+        report.rejected = tally.rejected;
+        report.captureMs = tally.captureMs;
+        // How long the captures waited after their patterns: the board's latency, or the longer
+        // wait the retries settled on (the longest any accepted capture used).
+        manifest.projectorLatencyMs = loop.waitMs();
+        proto::writeScanManifest(folder.temporary(), manifest);
+        settings.scanNoiseSigma = check.noiseSigma();
+    }
+
+    // The radiometric capture, in the same session: the camera and the projector where the scan
+    // left them.
+    if (radiometry) {
+        if (!colour.note.empty()) {
+            playerLog("scan: radiometry: " + colour.note);
+        }
+        CameraImage white, black;
+        RadiometryObserver fieldsObserver;
+        fieldsObserver.accepted = [&](const proto::FlatField& field, const CameraImage& image) {
+            if (kind == CaptureKind::kRadiometry && field.kind == proto::FlatFieldKind::kWhite) {
+                white = image;
+                if (observer.cameraView) {
+                    observer.cameraView(image);
+                }
+            } else if (kind == CaptureKind::kRadiometry &&
+                       field.kind == proto::FlatFieldKind::kBlack) {
+                black = image;
+            }
+            if (!white.samples.empty() && !black.samples.empty() && !coverage.known()) {
+                coverage.setLit(white, black);
+            }
+            accepted("radiometry: " + field.name());
+        };
+        report.radiometry = captureRadiometry(
+            loop, camera, colour, settings,
+            kind == CaptureKind::kScan ? folder.temporary() / proto::kRadiometryFolderName
+                                       : folder.temporary(),
+            fieldsObserver);
+    }
+    if (observer.coverage && coverage.known()) {
+        observer.coverage(coverage);
+    }
+    folder.commit();
+
+    const std::int64_t doneNs = scanClockNs();
+    report.waitMs = loop.waitMs();
+    report.litFraction = kind == CaptureKind::kScan ? check.litFraction() : coverage.litFraction();
+    report.noiseSigma = check.noiseSigma();
+    report.scanSeconds = msBetween(scanBeginNs, doneNs) / 1000.0;
+    if (report.waitMs > scan.latencyMs) {
+        playerLog("scan: the projector needed " + numberText(report.waitMs) +
+                  " ms after a pattern (" + board.source + ":scan.latency_ms is " +
+                  numberText(scan.latencyMs) + "): raise it");
+    }
+    return report;
+}
+
 ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
                    std::int64_t processStartNs) {
     // Blocked before any thread starts (libcamera's, the GL driver's), so none of them takes a
@@ -164,153 +388,51 @@ ScanReport runScan(const PlayerOptions& options, const BoardConfig& board,
                                ":scan: missing (a [scan] section: the projector's latency, the "
                                "camera's exposure and size; boards/README.md)");
     }
-    const ScanConfig& scan = *board.scan;
-    const std::optional<CameraConfig> cameraConfig = scanCameraConfig(board, scan);
     ScanFolder folder(*options.scan);
-
-    ScanReport report;
-    report.out = folder.out();
-    report.latencyMs = scan.latencyMs;
-    report.simulated = scan.simulate.has_value();
-    report.simulatedLatencyMs = scan.simulatedLatencyMs;
 
     // The camera before the display: no camera, no modeset (and no flash on the projector).
     const std::int64_t cameraBeginNs = scanClockNs();
-    std::unique_ptr<ScanCamera> camera;
-    SimulatedScanCamera* simulated = nullptr;
-    if (scan.simulate) {
-        auto simulation =
-            std::make_unique<SimulatedScanCamera>(*scan.simulate, scan.simulatedLatencyMs);
-        simulated = simulation.get();
-        camera = std::move(simulation);
-    } else {
-        try {
-            camera = std::make_unique<LibcameraScanCamera>(stillStreamOf(*cameraConfig, scan));
-        } catch (const CameraUnavailable& error) {
-            throw PlayerInputError(error.what());
-        }
-    }
-    report.camera = camera->info();
-    report.cameraSetupMs = msBetween(cameraBeginNs, scanClockNs());
+    const std::unique_ptr<ScanCamera> camera = openScanCamera(board);
+    const double cameraSetupMs = msBetween(cameraBeginNs, scanClockNs());
 
     const std::int64_t displayBeginNs = scanClockNs();
     const std::unique_ptr<gles::GraphicsPlatform> platform = createDisplayPlatform(board);
-    const std::array<int, 2> size =
-        projectorSizeOf(*platform, options, board, simulated, scan.simulate.value_or(""));
-    proto::StructuredLightParameters parameters;
-    parameters.width = size[0];
-    parameters.height = size[1];
-    parameters.phasePeriod = scan.phasePeriod;
-    parameters.phaseSteps = scan.phaseSteps;
-    std::optional<proto::StructuredLightSequence> sequence;
-    try {
-        sequence.emplace(parameters);
-    } catch (const proto::StructuredLightError& error) {
-        throw PlayerInputError(board.source + ":scan.phase_period: " + error.what());
-    }
+    const std::array<int, 2> size = scanProjectorSize(*platform, options, board, *camera);
     std::unique_ptr<gles::RenderTarget> target;
-    std::optional<PatternProjector> projector;
     try {
         target = platform->createRenderTarget(size[0], size[1]);
-        projector.emplace(*target);
     } catch (const gles::GraphicsError& error) {
         throw PlayerInputError(error.what());
     }
-    report.platform = platform->description();
-    report.displaySetupMs = msBetween(displayBeginNs, scanClockNs());
-    report.projectorWidth = size[0];
-    report.projectorHeight = size[1];
-    report.phasePeriod = scan.phasePeriod;
-    report.phaseSteps = scan.phaseSteps;
+    const double displaySetupMs = msBetween(displayBeginNs, scanClockNs());
 
-    const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
-    report.patterns = patterns.size();
-    ScanFrameCheck check(*sequence, {scan.minContrast, scan.minLitFraction, scan.tolerance});
-    proto::ScanManifest manifest;
-    manifest.patterns = parameters;
-    manifest.camera.width = report.camera.width;
-    manifest.camera.height = report.camera.height;
-    manifest.camera.bits = report.camera.bits;
-    manifest.camera.exposureUs = report.camera.exposureUs;
-    manifest.camera.analogueGain = report.camera.analogueGain;
-    manifest.camera.source = report.camera.source;
-    manifest.createdBy = "vpe-player";
-    manifest.images.resize(patterns.size());
-
-    const std::int64_t scanBeginNs = scanClockNs();
-    CaptureLoop loop(*projector, *camera, signals, size[0], size[1],
-                     {scan.latencyMs, scan.retries, scan.retryWaitMs});
-    // Black first, for as long as the projector needs to take the new mode: the first pattern's
-    // latency is then the projector's usual one.
-    loop.showBlack(
-        scan.settleMs.value_or(board.display.backend == DisplayBackend::kKms ? kKmsSettleMs : 0.0));
-    std::vector<Shot> shots;
-    for (const proto::PatternSpec& pattern : patterns) {
-        shots.push_back({pattern.name(), 1, CaptureRequest{}});
-    }
-    const CaptureTally tally = loop.run(
-        shots, check,
-        [&sequence, &patterns](std::size_t index, std::span<std::uint8_t> codes) {
-            sequence->render(patterns[index], codes);
-        },
-        [&](std::size_t index, const CameraImage& image, int attempts) {
-            proto::ScanImage& entry = manifest.images[index];
-            entry.file = proto::scanImageName(index, patterns[index]);
-            entry.pattern = patterns[index].name();
-            entry.attempts = attempts;
-            proto::writePnmAtomically(folder.temporary() / entry.file, image.width, image.height, 1,
-                                      image.maxValue, image.samples);
-        });
-    report.captures = tally.captures;
-    report.retried = tally.retried;
-    report.rejected = tally.rejected;
-    report.captureMs = tally.captureMs;
-    const double waitMs = loop.waitMs();
-    // How long the captures waited after their patterns: the board's latency, or the longer
-    // wait the retries settled on (the longest any accepted capture used).
-    manifest.projectorLatencyMs = waitMs;
-    proto::writeScanManifest(folder.temporary(), manifest);
-
-    // The radiometric capture, in the same session: the camera and the projector where the scan
-    // left them.
-    if (!scan.radiometry) {
-        report.radiometry.skipped = board.source + ":scan.radiometry is false";
-    } else if (const ColourCapture colour = camera->colourCapture(); !colour.available()) {
-        report.radiometry.skipped = colour.unavailable;
-        playerLog("scan: no radiometric capture: " + colour.unavailable);
-    } else {
-        if (!colour.note.empty()) {
-            playerLog("scan: radiometry: " + colour.note);
-        }
-        RadiometrySettings settings;
-        settings.projectorWidth = size[0];
-        settings.projectorHeight = size[1];
-        settings.levels = scan.radiometryLevels;
-        settings.check = {scan.minContrast, scan.minLitFraction, scan.tolerance};
-        settings.scanNoiseSigma = check.noiseSigma();
-        settings.scanMaxValue = (1 << report.camera.bits) - 1;
-        report.radiometry = captureRadiometry(loop, *camera, colour, settings,
-                                              folder.temporary() / proto::kRadiometryFolderName);
-    }
-    folder.commit();
-
-    const std::int64_t doneNs = scanClockNs();
-    report.waitMs = loop.waitMs();
-    report.litFraction = check.litFraction();
-    report.noiseSigma = check.noiseSigma();
-    report.scanSeconds = msBetween(scanBeginNs, doneNs) / 1000.0;
-    report.seconds = msBetween(processStartNs, doneNs) / 1000.0;
-    if (report.waitMs > scan.latencyMs) {
-        playerLog("scan: the projector needed " + numberText(report.waitMs) +
-                  " ms after a pattern (" + board.source + ":scan.latency_ms is " +
-                  numberText(scan.latencyMs) + "): raise it");
-    }
+    CaptureStage stage{*camera, *target, platform->description(), [&signals]() -> std::string {
+                           while (const int signal = signals.next()) {
+                               if (signal == SIGINT || signal == SIGTERM) {
+                                   return signal == SIGINT ? "SIGINT" : "SIGTERM";
+                               }
+                               // SIGHUP reloads a bundle; a scan has none.
+                           }
+                           return {};
+                       }};
+    ScanReport report = runCapture(board, CaptureKind::kScan, folder, stage);
+    report.cameraSetupMs = cameraSetupMs;
+    report.displaySetupMs = displaySetupMs;
+    report.seconds = msBetween(processStartNs, scanClockNs()) / 1000.0;
     return report;
 }
 
 std::string ScanReport::summaryLine() const {
     char taken[32];
     std::snprintf(taken, sizeof taken, "%.1f", scanSeconds);
+    if (kind == CaptureKind::kRadiometry) {
+        return "radiometry: " + std::to_string(radiometry.fields) + " flat fields, " +
+               std::to_string(radiometry.tally.captures) + " captures (" +
+               std::to_string(radiometry.tally.retried) + " retried) in " + taken + " s -> " +
+               out.string() + " (" + camera.source + ", response " +
+               responseName(radiometry.colour.response) + ", " +
+               std::to_string(radiometry.colour.bits) + " bits)";
+    }
     std::string line = "scan: " + std::to_string(patterns) + " patterns, " +
                        std::to_string(captures) + " captures (" + std::to_string(retried) +
                        " retried) in " + taken + " s -> " + out.string() + " (" + camera.source +

@@ -58,7 +58,7 @@ TEST(ScanConfigTest, ReadsEveryKey) {
         "phase_period = 16\nphase_steps = 4\nmin_contrast = 0.1\nmin_lit_fraction = 0.02\n"
         "tolerance = 0.1\nradiometry = false\nradiometry_levels = 8\n"
         "simulate = \"rehearsal/installation.toml\"\n"
-        "simulated_latency_ms = 120\n",
+        "simulated_latency_ms = 120\nout = \"scans/latest\"\n",
         "boards/site/board.toml");
     const ScanConfig& scan = *board.scan;
     EXPECT_EQ(scan.latencyMs, 80.0);
@@ -82,16 +82,23 @@ TEST(ScanConfigTest, ReadsEveryKey) {
     // Relative to the board file's folder.
     EXPECT_EQ(scan.simulate, std::filesystem::path("boards/site/rehearsal/installation.toml"));
     EXPECT_EQ(scan.simulatedLatencyMs, 120.0);
+    EXPECT_EQ(scan.out, std::filesystem::path("boards/site/scans/latest"));
     EXPECT_EQ(parse("simulate = \"/srv/x.toml\"\n").scan->simulate,
               std::filesystem::path("/srv/x.toml"));
+    EXPECT_EQ(parse("out = \"/var/lib/vpe/scan\"\n").scan->out,
+              std::filesystem::path("/var/lib/vpe/scan"));
+    EXPECT_FALSE(parse("latency_ms = 1\n").scan->out.has_value());
 }
 
 TEST(ScanConfigTest, RefusesWithOneLineNamingTheKey) {
     EXPECT_EQ(refusal("latency = 3\n"),
               "boards/x.toml:scan.latency: unknown key (known: analogue_gain, camera_size, "
               "colour_gains, exposure_us, latency_ms, min_contrast, min_lit_fraction, "
-              "phase_period, phase_steps, radiometry, radiometry_levels, retries, "
+              "out, phase_period, phase_steps, radiometry, radiometry_levels, retries, "
               "retry_wait_ms, settle_ms, simulate, simulated_latency_ms, tolerance)");
+    EXPECT_EQ(refusal("out = \"\"\n"),
+              "boards/x.toml:scan.out: is empty (the folder the control page's scans are "
+              "written to)");
     EXPECT_EQ(refusal("latency_ms = 20000\n"),
               "boards/x.toml:scan.latency_ms: expected a number in [0, 10000], got 20000");
     EXPECT_EQ(refusal("settle_ms = 70000\n"),

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <poll.h>
 #include <unistd.h>
 
@@ -317,6 +318,98 @@ TEST_F(LightBusTest, RefusesAndCountsMalformedAndOutOfRangeMessages) {
 // The optional TLS listener (docs/multi-node.md, "TLS"): a CA of the show's own, the broker's
 // certificate naming its address. The handshake runs in the player's loop like the rest;
 // a node that does not trust the broker's certificate plays on alone, one line.
+// The control page's side: every node's status goes out retained on vpe/<show>/status/<id>
+// (a viewer may read it), the show's blackout switch reaches the node, a bad switch message is
+// refused and counted, and a viewer may not switch it.
+TEST_F(LightBusTest, PublishesItsStatusAndFollowsTheBlackoutSwitch) {
+    broker_ = std::make_unique<MosquittoBroker>(folder_, std::vector{kController, kPlayer, kViewer},
+                                                showAcl());
+    broker_->start();
+    Node node(config(kPlayer, BusRole::kPlayer, "node-b"));
+    std::vector<bool> switched;
+    node.bus->onBlackout([&](bool on) { switched.push_back(on); });
+    std::vector<std::pair<std::string, std::string>> seen;
+    const auto client = [&](const BrokerUser& user, const std::string& id) {
+        MqttSettings settings;
+        settings.port = broker_->port();
+        settings.clientId = id;
+        settings.username = user.name;
+        settings.password = user.password;
+        settings.subscriptions = {"vpe/test/status/+"};
+        return settings;
+    };
+    MqttConnection::Handlers watching;
+    watching.message = [&](std::string_view topic, std::string_view payload, bool) {
+        seen.emplace_back(topic, payload);
+    };
+    MqttConnection viewer(client(kViewer, "page-viewer"), watching);
+    std::vector<int> acknowledgements;
+    MqttConnection::Handlers steering;
+    steering.acknowledged = [&](int, int reason) { acknowledgements.push_back(reason); };
+    MqttConnection page(client(kController, "page"), steering);
+    MqttConnection viewerSwitch(client(kViewer, "page-viewer-2"), steering);
+    const auto serve = [&] {
+        viewer.service(monotonicNowNs());
+        page.service(monotonicNowNs());
+        viewerSwitch.service(monotonicNowNs());
+    };
+    ASSERT_TRUE(runUntil({&node}, [&] {
+        serve();
+        return viewer.connected() && page.connected() && viewerSwitch.connected() &&
+               node.bus->connected();
+    })) << broker_->log();
+
+    NodeStatus status;
+    status.timeUs = realtimeNowNs() / 1000;
+    status.fps = 60;
+    status.presets = {"stripes", "radial"};
+    node.bus->publishStatus(status);
+    ASSERT_TRUE(runUntil({&node}, [&] {
+        serve();
+        return !seen.empty();
+    }));
+    EXPECT_EQ(seen.at(0).first, "vpe/test/status/node-b");
+    const auto json = nlohmann::json::parse(seen.at(0).second);
+    EXPECT_EQ(json["node"], "node-b");
+    EXPECT_EQ(json["role"], "player");
+    EXPECT_EQ(json["blackout"], false);
+    EXPECT_EQ(node.bus->counters().at("bus.status_published"), 1u);
+
+    const std::int64_t nowUs = realtimeNowNs() / 1000;
+    const auto blackout = [&](bool on, std::int64_t timeUs) {
+        return encodeBlackoutMessage({"page", timeUs, on});
+    };
+    // A viewer's switch is refused by the broker and never arrives.
+    ASSERT_TRUE(viewerSwitch.publish("vpe/test/blackout", blackout(true, nowUs), 1, true));
+    ASSERT_TRUE(runUntil({&node}, [&] {
+        serve();
+        return !acknowledgements.empty();
+    }));
+    EXPECT_GE(acknowledgements.at(0), 0x80);
+    ASSERT_TRUE(page.publish("vpe/test/blackout", "{\"format\":1,\"on\":\"yes\"}", 1, false));
+    ASSERT_TRUE(page.publish("vpe/test/blackout", blackout(true, nowUs + 1), 1, true));
+    ASSERT_TRUE(page.publish("vpe/test/blackout", blackout(false, nowUs), 1, false));  // older
+    ASSERT_TRUE(runUntil({&node}, [&] {
+        serve();
+        return node.bus->counters().at("bus.received") == 3;
+    })) << ::testing::PrintToString(node.lines);
+    EXPECT_EQ(switched, std::vector<bool>{true});
+    EXPECT_TRUE(node.bus->blackout());
+    EXPECT_EQ(node.bus->refusals().at("bus.malformed"), 1u);
+    EXPECT_EQ(node.linesWith("bus: vpe/test/blackout: \"node\": expected a name of 1-64 bytes "
+                             "(malformed)"),
+              1u)
+        << ::testing::PrintToString(node.lines);
+    EXPECT_EQ(node.linesWith("bus: blackout on (from \"page\")"), 1u);
+    EXPECT_NE(node.bus->lastError().find("malformed"), std::string::npos);
+    node.bus->publishStatus(status);
+    ASSERT_TRUE(runUntil({&node}, [&] {
+        serve();
+        return seen.size() == 2;
+    }));
+    EXPECT_EQ(nlohmann::json::parse(seen.at(1).second)["blackout"], true);
+}
+
 TEST_F(LightBusTest, ConnectsOverTlsAndRefusesABrokerItCannotTrust) {
     if (::access("/usr/bin/openssl", X_OK) != 0) {
         GTEST_SKIP() << "/usr/bin/openssl is absent (Debian's openssl)";

@@ -22,6 +22,8 @@ struct BrokerUser {
 // hold it to its word): controllers may write the light, players only read it.
 inline const BrokerUser kController{"vpe-controller", "controller-secret"};
 inline const BrokerUser kPlayer{"vpe-player", "player-secret"};
+// The control page's watching role (status and light only).
+inline const BrokerUser kViewer{"vpe-viewer", "viewer-secret"};
 std::string showAcl();
 
 class MosquittoBroker {

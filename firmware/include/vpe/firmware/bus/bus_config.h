@@ -36,6 +36,17 @@ struct BusConfig {
     bool tls() const { return cafile.has_value(); }
     // "vpe/<show>/light"
     std::string topic() const { return "vpe/" + show + "/light"; }
+    // "vpe/<show>/status/<client id>": this node's status, once a second (proto/BUS.md).
+    std::string statusTopic() const { return "vpe/" + show + "/status/" + clientId; }
+    // "vpe/<show>/blackout": the control page's blackout switch, followed by every node.
+    std::string blackoutTopic() const { return "vpe/" + show + "/blackout"; }
+    // "vpe/<show>/command/<client id>": a controller asks this node for a scan or a
+    // radiometric capture (the control page's install steps).
+    std::string commandTopic() const { return "vpe/" + show + "/command/" + clientId; }
+    // "vpe/<show>/install/<client id>/<what>": the capture's progress, camera and coverage.
+    std::string installTopic(const std::string& what) const {
+        return "vpe/" + show + "/install/" + clientId + "/" + what;
+    }
 };
 
 // Reads the [bus] table (nullptr: the section is absent, the bus is off). Paths are relative to

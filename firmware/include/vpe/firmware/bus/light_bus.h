@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -17,8 +18,10 @@
 #include <vector>
 
 #include "vpe/firmware/bus/bus_config.h"
+#include "vpe/firmware/bus/install_message.h"
 #include "vpe/firmware/bus/light_message.h"
 #include "vpe/firmware/bus/mqtt_connection.h"
+#include "vpe/firmware/bus/node_status.h"
 #include "vpe/firmware/input/input_device.h"
 #include "vpe/firmware/light/light_config.h"
 #include "vpe/firmware/light/shared_light_publisher.h"
@@ -56,6 +59,31 @@ public:
     void setPresetNames(std::vector<std::string> names) { presetNames_ = std::move(names); }
     void setLimits(const LightLimits& limits) { limits_ = limits; }
 
+    // This node's status on vpe/<show>/status/<client id>, retained, QoS 0 (the next one
+    // supersedes it a second later); node, role and blackout are filled in here. Nothing when
+    // the broker is away.
+    void publishStatus(NodeStatus status);
+    // Called when the show's blackout switch (vpe/<show>/blackout) changes.
+    void onBlackout(std::function<void(bool)> callback) { blackoutChanged_ = std::move(callback); }
+    bool blackout() const { return blackout_; }
+    // Called with each valid command on vpe/<show>/command/<client id> (a scan or a radiometric
+    // capture asked by a controller; proto/BUS.md, "Install steps"). Refused ones are counted
+    // and logged as the light's are.
+    void onInstallCommand(std::function<void(const InstallCommand&)> callback) {
+        installCommand_ = std::move(callback);
+    }
+    // The capture's progress on vpe/<show>/install/<client id>/progress, retained, QoS 1; node
+    // filled in here. Nothing when the broker is away.
+    void publishInstallProgress(InstallProgress progress);
+    // An image (a small PNG) on vpe/<show>/install/<client id>/<what>, retained, QoS 1.
+    void publishInstallImage(const std::string& what, std::string_view png);
+    // Services the connection alone (reading, writing, keepalive) while the loop is busy with a
+    // capture: messages are taken as onTick would take them, into `events`.
+    void serviceNow(std::int64_t nowNs, std::vector<InputEvent>& events) { service(nowNs, events); }
+
+    // The newest problem this bus logged (a refusal, a lost broker), empty: none.
+    const std::string& lastError() const { return lastError_; }
+
     bool connected() const { return connection_.connected(); }
     const BusConfig& config() const { return config_; }
 
@@ -65,6 +93,9 @@ private:
     void refuse(const std::string& reason, const std::string& problem);
     void publishPending(std::int64_t nowNs);
     void say(const std::string& line);
+    void trouble(const std::string& line);
+    void receiveBlackout(std::string_view payload);
+    void receiveInstallCommand(std::string_view payload);
 
     BusConfig config_;
     LightLimits limits_;
@@ -82,6 +113,12 @@ private:
     std::int64_t lastPublishNs_ = 0;
     bool troubleReported_ = false;  // a connection problem was logged since the last success
     bool playerRoleReported_ = false;
+    std::uint64_t statusPublished_ = 0;
+    bool blackout_ = false;
+    std::int64_t blackoutTimeUs_ = 0;  // the newest blackout message taken
+    std::function<void(bool)> blackoutChanged_;
+    std::function<void(const InstallCommand&)> installCommand_;
+    std::string lastError_;
     // Last: it calls back into the members above while it is alive.
     MqttConnection connection_;
 };

@@ -10,6 +10,7 @@
 
 #include "vpe/firmware/board_config.h"
 #include "vpe/firmware/bus/bus_config.h"
+#include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/knobs/knobs_config.h"
 #include "vpe/firmware/osc/osc_config.h"
 #include "vpe/firmware/osc/osc_dispatcher.h"
@@ -49,7 +50,9 @@ LampDirectionMap lampDirectionFor(const CameraConfig& camera, const InputSetting
 // Adds the enabled inputs to the player (or the replay, with --replay). Throws
 // PlayerInputError for a bad replay file, or an enabled camera with neither a table nor a
 // bundle camera to map the lamp with (or a bundle camera of another aspect ratio). A lamp
-// mapped by the bundle's camera follows the camera of each reloaded bundle.
-void addInputs(Player& player, const InputSettings& settings, const PlayerOptions& options);
+// mapped by the bundle's camera follows the camera of each reloaded bundle. Returns the bus
+// when one was added (borrowed: the player owns it), for the control page's install steps.
+bus::LightBus* addInputs(Player& player, const InputSettings& settings,
+                         const PlayerOptions& options);
 
 }  // namespace vpe::firmware

@@ -46,6 +46,25 @@ public:
 // modesetting. Throws PlayerInputError (one line: the display is unavailable).
 std::unique_ptr<renderer::gles::GraphicsPlatform> createDisplayPlatform(const BoardConfig& board);
 
+// The last second of frames, for the node's status on the bus (firmware/bus/node_status.h).
+struct FrameWindow {
+    double fps = 0;         // frames drawn per second
+    double frameP99Ms = 0;  // the 99th percentile of their draw times
+    long skipped = 0;       // ticks with nothing new to draw
+};
+
+// The display lent to a task that needs it for a while (the control page's install steps: a
+// scan's patterns): the player stops drawing, hands over its platform and the target it draws
+// on, and draws again once the task returns.
+struct DisplayLease {
+    renderer::gles::GraphicsPlatform& platform;
+    renderer::gles::RenderTarget& target;  // the player's own (KMS: the display's scanout)
+    // Call between captures, at least a few times a second: the player's inputs and bus, its
+    // status once a second and the watchdog go on. Returns why the task must stop ("SIGTERM",
+    // "SIGINT"), empty to go on.
+    std::function<std::string()> keepAlive;
+};
+
 class Player {
 public:
     // Opens the platform, the bundle and the render target (and --light-log's file). `clock`:
@@ -67,6 +86,32 @@ public:
         reloaded_.push_back(std::move(callback));
     }
 
+    // Called about once a second from the loop, after lastWindow() is updated (the node's
+    // status on the bus).
+    void everySecond(std::function<void()> callback) { everySecond_ = std::move(callback); }
+    const FrameWindow& lastWindow() const { return lastWindow_; }
+    // Seconds since the process started.
+    double uptimeSeconds() const;
+    // The newest error line the player logged (a failed frame, a refused reload); empty: none.
+    const std::string& lastError() const { return lastError_; }
+    // "systemd 10 s" (the watchdog's interval), "systemd, no watchdog", "off (not under
+    // systemd)".
+    std::string watchdogState() const;
+    // Black on screen while on (the control page's blackout, for the staff); the light and the
+    // inputs go on underneath.
+    void setBlackout(bool on);
+    bool blackout() const { return blackout_; }
+    // The bundle's file name, and its header's CRC-32 as "0x1a2b3c4d".
+    std::string bundleName() const { return options_.bundle.filename().string(); }
+    std::string bundleChecksum() const;
+    // The preset on show.
+    std::string presetName() { return scene_->renderer().presetName(); }
+
+    // Runs `task` at the next turn of the loop with the display lent to it (DisplayLease), then
+    // draws again. One at a time: false (and nothing queued) while another is queued or runs.
+    bool lendDisplay(std::function<void(DisplayLease&)> task);
+    bool displayLent() const { return static_cast<bool>(leaseTask_) || leaseRunning_; }
+
     // Plays until --frames, a stop condition, SIGTERM or SIGINT.
     FrameReport run();
 
@@ -79,6 +124,9 @@ public:
 
 private:
     void renderFrame();
+    // Clears the target to black and presents it (blackout).
+    void renderBlack(std::int64_t beginNs);
+    void closeWindow(std::int64_t nowNs);
     // A frame tick with nothing changed: no drawing, no presenting; the watchdog is fed.
     void skipFrame(std::int64_t nowNs);
     void applyEvents(std::vector<InputEvent>& events);
@@ -88,6 +136,12 @@ private:
     // When a frame starting now is expected on screen, on the show's clock.
     std::int64_t presentationTime() const;
     void reload(const char* why);
+    // Runs leaseTask_ (the display lent), then makes the next tick draw.
+    void runLease();
+    // DisplayLease::keepAlive.
+    std::string keepAliveDuringLease();
+    // The once-a-second status window (everySecond_).
+    void tickWindow(std::int64_t nowNs);
     // The rig's preset becomes the one the renderer shows (at start and after a reload).
     void adoptRenderersPreset();
 
@@ -131,7 +185,17 @@ private:
     // While skipping on KMS no page flip paces the loop: this clock does.
     static constexpr double kSkipClockHz = 60.0;
     long consecutiveErrors_ = 0;
+    bool blackout_ = false;
+    std::string lastError_;
+    std::function<void()> everySecond_;
+    FrameWindow lastWindow_;
+    std::vector<double> windowFrameMs_;  // this second's draw times
+    long windowSkipped_ = 0;
+    std::int64_t windowStartNs_ = 0;
     std::int64_t firstFrameNs_ = 0;
+    std::function<void(DisplayLease&)> leaseTask_;
+    bool leaseRunning_ = false;
+    bool reloadAfterLease_ = false;  // a SIGHUP during the lease: reload once it ends
 };
 
 }  // namespace vpe::firmware

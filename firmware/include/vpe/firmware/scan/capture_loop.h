@@ -5,7 +5,9 @@
 // projector's latency waited, one frame captured as its shot asks and checked; a group that
 // fails is shown again and captured after a longer wait, up to the retries, and the wait that
 // worked is kept for the rest (a projector slower than the board says is slow for every image,
-// of this sequence and the next). SIGINT and SIGTERM stop it after the current capture.
+// of this sequence and the next). Between captures it asks its caller whether to stop (SIGINT and
+// SIGTERM, read by --scan's SignalWatch or by the player lending its display) and stops after
+// the current capture.
 #pragma once
 
 #include <array>
@@ -16,7 +18,6 @@
 #include <string>
 #include <vector>
 
-#include "vpe/firmware/loop/event_loop.h"
 #include "vpe/firmware/scan/frame_check.h"
 #include "vpe/firmware/scan/pattern_projector.h"
 #include "vpe/firmware/scan/scan_camera.h"
@@ -52,12 +53,17 @@ public:
     // Image `index` was accepted after `attempts` captures.
     using Accept = std::function<void(std::size_t index, const CameraImage& image, int attempts)>;
 
-    // Borrows all four; `width` × `height` is the projector's (the target's) size.
-    CaptureLoop(PatternProjector& projector, ScanCamera& camera, SignalWatch& signals, int width,
+    // Called after each capture and each wait: why the capture must stop ("SIGTERM"), empty to
+    // go on. The player also services its bus and watchdog there.
+    using Interrupted = std::function<std::string()>;
+
+    // Borrows the projector and the camera; `width` × `height` is the projector's (the target's)
+    // size.
+    CaptureLoop(PatternProjector& projector, ScanCamera& camera, Interrupted interrupted, int width,
                 int height, const CaptureTiming& timing);
 
-    // Shows black and returns `ms` after it was on screen (nothing is captured). Throws
-    // ScanError on SIGINT or SIGTERM.
+    // Shows black and returns `ms` after it was on screen (nothing is captured), asking
+    // `interrupted` every 100 ms meanwhile. Throws ScanError on SIGINT or SIGTERM.
     void showBlack(double ms);
 
     // Captures the sequence `shots` (one per index) in `check`'s groups; each image of a group is
@@ -76,7 +82,7 @@ private:
 
     PatternProjector& projector_;
     ScanCamera& camera_;
-    SignalWatch& signals_;
+    Interrupted interrupted_;
     int width_ = 0, height_ = 0;
     CaptureTiming timing_;
     double waitMs_ = 0;

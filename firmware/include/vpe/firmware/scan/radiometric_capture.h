@@ -9,11 +9,13 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "vpe/firmware/scan/capture_loop.h"
 #include "vpe/firmware/scan/frame_check.h"
 #include "vpe/firmware/scan/scan_camera.h"
+#include "vpe/proto/radiometry_capture.h"
 
 namespace vpe::firmware {
 
@@ -37,6 +39,11 @@ struct RadiometryReport {
     double seconds = 0;      // black shown → radiometry.json written
 };
 
+// Told of each flat field once accepted (the control page's progress and camera view).
+struct RadiometryObserver {
+    std::function<void(const proto::FlatField& field, const CameraImage& image)> accepted;
+};
+
 // Shows black for the loop's wait (the projector showed the scan's last pattern), then every
 // flat field in FlatFieldCheck's order, each captured in colour at the exposure × its
 // exposureScale() through `loop`, and writes the images (in the sequence's order) and the
@@ -45,6 +52,7 @@ struct RadiometryReport {
 // PlayerInputError for a projector size the sequence refuses.
 RadiometryReport captureRadiometry(CaptureLoop& loop, const ScanCamera& camera,
                                    const ColourCapture& colour, const RadiometrySettings& settings,
-                                   const std::filesystem::path& folder);
+                                   const std::filesystem::path& folder,
+                                   const RadiometryObserver& observer = {});
 
 }  // namespace vpe::firmware

@@ -46,6 +46,10 @@ struct ScanConfig {
     // A simulated camera instead of libcamera: a scene file (vpe synth-procam's
     // installation.toml), resolved against the board file's folder; headless display only.
     std::optional<std::filesystem::path> simulate;
+    // Where the control page's install steps write the scan (a radiometric capture alone: its
+    // radiometry/ folder), resolved against the board file's folder; unset: "scan" beside the
+    // bundle. vpe-player --scan OUT writes OUT.
+    std::optional<std::filesystem::path> out;
     // The simulated projector's latency: a capture starting sooner than this after a pattern
     // change sees the pattern before it. Only with `simulate`.
     double simulatedLatencyMs = 0;

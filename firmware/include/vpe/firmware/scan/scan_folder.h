@@ -11,9 +11,11 @@ namespace vpe::firmware {
 class ScanFolder {
 public:
     // Refuses (PlayerInputError, one line) an OUT that exists and is neither an empty folder nor
-    // a scan folder (one holding scan.json): a scan never replaces anything else. Creates OUT's
+    // a folder of this kind (one holding `manifestName`: scan.json, or radiometry.json for a
+    // radiometric capture alone, written into a scan folder's radiometry/; a scan folder may
+    // also hold that folder alone): a capture never replaces anything else. Creates OUT's
     // parent when missing, and the temporary folder OUT/../.OUT.partial-PID.
-    explicit ScanFolder(std::filesystem::path out);
+    explicit ScanFolder(std::filesystem::path out, const char* manifestName = "scan.json");
     // Removes the temporary folder unless committed.
     ~ScanFolder();
     ScanFolder(const ScanFolder&) = delete;
