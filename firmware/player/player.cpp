@@ -350,6 +350,8 @@ void Player::renderFrame() {
             frameDue_ = !waitingForFlip_;
         }
         consecutiveErrors_ = 0;
+    } catch (const gles::DisplayLostError&) {
+        throw;  // nothing more to draw on: the player stops with that one line
     } catch (const gles::GraphicsError& error) {
         ++report_.errors;
         if (consecutiveErrors_++ == 0) {
@@ -359,6 +361,15 @@ void Player::renderFrame() {
         }
         if (consecutiveErrors_ >= kMaxConsecutiveErrors) {
             throw;
+        }
+        if (!headless_) {
+            // No flip was queued, so no event will come, and the frame clock was disarmed
+            // above: try again at the skip clock's pace (an error that persists ends the
+            // player after kMaxConsecutiveErrors tries, two seconds), not wait for the watchdog.
+            waitingForFlip_ = false;
+            const auto period = static_cast<std::int64_t>(1e9 / kSkipClockHz);
+            frameClock_.arm(beginNs + period, period);
+            skipClockArmed_ = true;
         }
         return;
     }

@@ -233,11 +233,20 @@ void KmsDisplay::show(std::uint32_t fb) {
         const int error = atomic_->commit(fb, false, &flipPending_);
         if (error != 0) {
             flipPending_ = false;
+            if (error == -ENODEV) {
+                throw DisplayLostError(device_ + ": the display went away (atomic page flip: " +
+                                       std::strerror(-error) + ")");
+            }
             throw GraphicsError(device_ + ": atomic page flip failed: " + std::strerror(-error));
         }
     } else if (drmModePageFlip(fd_, crtcId_, fb, DRM_MODE_PAGE_FLIP_EVENT, &flipPending_) != 0) {
+        const int error = errno;
         flipPending_ = false;
-        throw GraphicsError(device_ + ": drmModePageFlip failed: " + std::strerror(errno));
+        if (error == ENODEV) {
+            throw DisplayLostError(device_ + ": the display went away (drmModePageFlip: " +
+                                   std::strerror(error) + ")");
+        }
+        throw GraphicsError(device_ + ": drmModePageFlip failed: " + std::strerror(error));
     }
 }
 

@@ -21,6 +21,14 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// The display device went away (a projector's connector or the GPU unplugged: ENODEV). Nothing
+// more can be drawn on it, and drawing again into its buffers is not safe (Mesa's llvmpipe
+// crashed doing so in the KMS test's virtual machine, docs/kms-vm.md): the caller stops.
+class DisplayLostError : public GraphicsError {
+public:
+    using GraphicsError::GraphicsError;
+};
+
 // Where a frame goes. The GL context of the platform that made it must be current.
 class RenderTarget {
 public:
