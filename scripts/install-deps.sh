@@ -48,6 +48,10 @@ test_packages=(
     python3-selenium                          # the control page's test drives chromium-driver with it
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
+    dpkg-dev                                  # cpack's DEB generator: dpkg-shlibdeps computes the package's Depends
+    mmdebstrap                                # scripts/package-check.sh, kms-vm-check.sh: fresh Debian 12 roots
+    qemu-system-x86                           # scripts/kms-vm-check.sh: Debian's kernel and virtio-gpu under TCG
+    e2fsprogs                                 # scripts/kms-vm-check.sh: the guest's disk (mkfs.ext4 -d)
 )
 demo_packages=(
     ffmpeg                                    # the demo's animation of the visitor view (MP4, H.264)
@@ -68,6 +72,7 @@ arm64_root_packages=(
     libtomlplusplus-dev libtinyobjloader-dev libgpiod-dev liblo-dev libcamera-dev libsystemd-dev
     libmosquitto-dev
     libgtest-dev libgmock-dev libbenchmark-dev
+    dpkg-dev                                  # the arm64 package's Depends: dpkg-shlibdeps run here
 )
 
 test=0
