@@ -4,8 +4,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include <nlohmann/json.hpp>
+
+#include "message_envelope.h"
 
 namespace vpe::firmware::bus {
 
@@ -54,35 +57,14 @@ std::variant<InstallCommand, LightMessageRefusal> decodeInstallCommand(std::stri
     const auto outOfRange = [](std::string reason) {
         return LightMessageRefusal{LightMessageProblem::kOutOfRange, std::move(reason)};
     };
-    if (payload.size() > kLightMessageMaxBytes) {
-        return malformed(std::to_string(payload.size()) + " bytes, more than " +
-                         std::to_string(kLightMessageMaxBytes));
+    auto envelope = decodeMessageEnvelope(payload, kInstallMessageFormat);
+    if (auto* refusal = std::get_if<LightMessageRefusal>(&envelope)) {
+        return std::move(*refusal);
     }
-    const json message = json::parse(payload, nullptr, false);
-    if (message.is_discarded() || !message.is_object()) {
-        return malformed("not a JSON object");
-    }
-    const auto format = message.find("format");
-    if (format == message.end() || !format->is_number_integer() ||
-        format->get<std::int64_t>() != kInstallMessageFormat) {
-        return malformed("\"format\": expected 1");
-    }
+    auto& [message, node, timeUs] = std::get<MessageEnvelope>(envelope);
     InstallCommand out;
-    const auto node = message.find("node");
-    if (node == message.end() || !node->is_string() || node->get<std::string>().empty() ||
-        node->get<std::string>().size() > 64) {
-        return malformed("\"node\": expected a name of 1-64 bytes");
-    }
-    out.node = node->get<std::string>();
-    const auto time = message.find("time_us");
-    if (time == message.end() || !time->is_number_integer()) {
-        return malformed("\"time_us\": expected whole microseconds");
-    }
-    out.timeUs = time->get<std::int64_t>();
-    if (out.timeUs < 1'000'000'000'000'000 || out.timeUs > 4'102'444'800'000'000) {
-        return outOfRange("\"time_us\" " + std::to_string(out.timeUs) +
-                          " is not a wall-clock time in microseconds");
-    }
+    out.node = std::move(node);
+    out.timeUs = timeUs;
     const auto action = message.find("action");
     if (action == message.end() || !action->is_string()) {
         return malformed("\"action\": expected \"scan\" or \"radiometry\"");

@@ -5,8 +5,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
+
+#include "message_envelope.h"
 
 namespace vpe::firmware::bus {
 
@@ -66,42 +69,18 @@ std::string encodeBlackoutMessage(const BlackoutMessage& message) {
 }
 
 std::variant<BlackoutMessage, LightMessageRefusal> decodeBlackoutMessage(std::string_view payload) {
-    const auto malformed = [](std::string reason) {
-        return LightMessageRefusal{LightMessageProblem::kMalformed, std::move(reason)};
-    };
-    if (payload.size() > kLightMessageMaxBytes) {
-        return malformed(std::to_string(payload.size()) + " bytes, more than " +
-                         std::to_string(kLightMessageMaxBytes));
+    auto envelope = decodeMessageEnvelope(payload, kBlackoutMessageFormat);
+    if (auto* refusal = std::get_if<LightMessageRefusal>(&envelope)) {
+        return std::move(*refusal);
     }
-    const json message = json::parse(payload, nullptr, false);
-    if (message.is_discarded() || !message.is_object()) {
-        return malformed("not a JSON object");
-    }
-    const auto format = message.find("format");
-    if (format == message.end() || !format->is_number_integer() ||
-        format->get<std::int64_t>() != kBlackoutMessageFormat) {
-        return malformed("\"format\": expected 1");
-    }
+    auto& [message, node, timeUs] = std::get<MessageEnvelope>(envelope);
     BlackoutMessage out;
-    const auto node = message.find("node");
-    if (node == message.end() || !node->is_string() || node->get<std::string>().empty() ||
-        node->get<std::string>().size() > 64) {
-        return malformed("\"node\": expected a name of 1-64 bytes");
-    }
-    out.node = node->get<std::string>();
-    const auto time = message.find("time_us");
-    if (time == message.end() || !time->is_number_integer()) {
-        return malformed("\"time_us\": expected whole microseconds");
-    }
-    out.timeUs = time->get<std::int64_t>();
-    if (out.timeUs < 1'000'000'000'000'000 || out.timeUs > 4'102'444'800'000'000) {
-        return LightMessageRefusal{LightMessageProblem::kOutOfRange,
-                                   "\"time_us\" " + std::to_string(out.timeUs) +
-                                       " is not a wall-clock time in microseconds"};
-    }
+    out.node = std::move(node);
+    out.timeUs = timeUs;
     const auto on = message.find("on");
     if (on == message.end() || !on->is_boolean()) {
-        return malformed("\"on\": expected true or false");
+        return LightMessageRefusal{LightMessageProblem::kMalformed,
+                                   "\"on\": expected true or false"};
     }
     out.on = on->get<bool>();
     return out;
