@@ -6,21 +6,20 @@
 #include <stdexcept>
 #include <string>
 
+#include "vpe/proto/luminance.h"
+
 #include "frame_measures.h"
 
 namespace vpe::firmware {
 
 namespace {
 
-// Rec. 709 luminance, as the offline readers reduce colour scans (proto/SCAN.md).
-constexpr float kLuminance[3] = {0.2126f, 0.7152f, 0.0722f};
-
 std::vector<float> luminanceOf(const CameraImage& image) {
     std::vector<float> values(image.pixelCount());
     for (std::size_t p = 0; p < values.size(); ++p) {
-        values[p] = kLuminance[0] * image.samples[3 * p] +
-                    kLuminance[1] * image.samples[3 * p + 1] +
-                    kLuminance[2] * image.samples[3 * p + 2];
+        // Rec. 709 luminance, as the offline readers reduce colour scans (proto/SCAN.md).
+        values[p] = proto::luminance709f(image.samples[3 * p], image.samples[3 * p + 1],
+                                         image.samples[3 * p + 2]);
     }
     return values;
 }

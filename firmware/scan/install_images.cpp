@@ -8,6 +8,8 @@
 
 #include <zlib.h>
 
+#include "vpe/proto/luminance.h"
+
 namespace vpe::firmware {
 
 namespace {
@@ -16,7 +18,7 @@ namespace {
 float luminanceAt(const CameraImage& image, std::size_t pixel) {
     if (image.channels == 3) {
         const std::uint16_t* rgb = &image.samples[3 * pixel];
-        return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+        return proto::luminance709f(rgb[0], rgb[1], rgb[2]);
     }
     return image.samples[pixel];
 }

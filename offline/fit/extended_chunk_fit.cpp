@@ -10,15 +10,16 @@
 #include <Eigen/Dense>
 
 #include "vpe/proto/detail_normal.h"
+#include "vpe/proto/luminance.h"
 
 namespace vpe::fit {
 
 namespace {
 
-constexpr double kLuminance[3] = {0.2126, 0.7152, 0.0722};  // Rec. 709
+using proto::kLuminance709;
 
 double luminance(double r, double g, double b) {
-    return kLuminance[0] * r + kLuminance[1] * g + kLuminance[2] * b;
+    return proto::luminance709(r, g, b);
 }
 double luminance(float r, float g, float b) {
     return luminance(static_cast<double>(r), static_cast<double>(g), static_cast<double>(b));
@@ -283,8 +284,8 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
         }
         // Only the colour: the channels shift together until their luminance is T's again.
         const TransportVector shift =
-            grey -
-            (kLuminance[0] * colour[0] + kLuminance[1] * colour[1] + kLuminance[2] * colour[2]);
+            grey - (kLuminance709[0] * colour[0] + kLuminance709[1] * colour[1] +
+                    kLuminance709[2] * colour[2]);
         for (int c = 0; c < kTransportChannels; ++c) {
             const TransportVector t = colour[c] + shift;
             for (int k = 0; k < kTransportTerms; ++k) {

@@ -13,6 +13,7 @@
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/luminance.h"
 
 namespace vpe {
 
@@ -146,10 +147,8 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
                         }
                         const IncidentLight light = incidentLight(
                             capture, capture.images[static_cast<std::size_t>(s)], position);
-                        const double luminance =
-                            0.2126 * static_cast<double>(band.value(s, 0, r, x)) +
-                            0.7152 * static_cast<double>(band.value(s, 1, r, x)) +
-                            0.0722 * static_cast<double>(band.value(s, 2, r, x));
+                        const double luminance = proto::luminance709(
+                            band.value(s, 0, r, x), band.value(s, 1, r, x), band.value(s, 2, r, x));
                         samples.push_back({Eigen::Vector3d(light.direction.x, light.direction.y,
                                                            light.direction.z),
                                            luminance / light.irradiance});

@@ -11,6 +11,7 @@
 
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/luminance.h"
 #include "vpe/proto/srgb.h"
 
 namespace vpe {
@@ -18,8 +19,7 @@ namespace vpe {
 namespace {
 
 double luminance(const float* rgb) {
-    return 0.2126 * static_cast<double>(rgb[0]) + 0.7152 * static_cast<double>(rgb[1]) +
-           0.0722 * static_cast<double>(rgb[2]);
+    return proto::luminance709(rgb[0], rgb[1], rgb[2]);
 }
 
 // Distinct colours for any number of labels: hues a golden angle apart, value alternating so

@@ -9,6 +9,7 @@
 
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/luminance.h"
 #include "vpe/segment/label_map.h"
 #include "vpe/synth/procedural_noise.h"
 
@@ -326,7 +327,7 @@ float greyAt(const FloatImage& image, int x, int y) {
     if (image.channels < 3) {
         return image.at(x, y, 0);
     }
-    return 0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) + 0.0722f * image.at(x, y, 2);
+    return proto::luminance709f(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2));
 }
 
 std::vector<float> imageWeight(const WeightSource& source, int width, int height) {

@@ -15,6 +15,7 @@
 #include "vpe/normals/normal_map.h"
 #include "vpe/normals/photometric_stereo.h"
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/luminance.h"
 
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
@@ -65,8 +66,7 @@ TEST(PhotometricStereo, RecoversLambertianNormals) {
 }
 
 double luminance(const float* rgb) {
-    return 0.2126 * static_cast<double>(rgb[0]) + 0.7152 * static_cast<double>(rgb[1]) +
-           0.0722 * static_cast<double>(rgb[2]);
+    return vpe::proto::luminance709(rgb[0], rgb[1], rgb[2]);
 }
 
 // Pixel (x, y) sees the lights low in its own azimuth sector blocked, as a neighbouring
