@@ -141,7 +141,9 @@ rate (5.16 of 12.8 GB/s, LPDDR4-3200 × 32 bit) is applied to the Pi 5's LPDDR4X
 waits on page flips); `vpe_shader_cost --memory-share F` scales it, and the bytes' frame rates
 with it. Frame rate = the lower of 1 / max(ALU time, texture time) ("ops") and 1 / memory time
 ("bytes"), over the benchmark's shaded pixels. Mediump is not counted as cheaper: V3D 4.2's
-ALUs have no packed 16-bit arithmetic, so it would save TMU return bandwidth only.
+QPU has a packed half-float multiply (`vfmul`, with `vfmin`, `vfmax` and `vfpack` on the add
+ALU; Mesa's src/broadcom/qpu), but Mesa's v3d compiler does not turn mediump arithmetic into
+it, so a mediump shader runs the same 32-bit operations and saves TMU return bandwidth only.
 
 | scene | shaded pixels | Pi 4 ops | Pi 4 bytes | **Pi 4 fps** | Pi 5 ops | Pi 5 bytes | **Pi 5 fps** |
 |---|---|---|---|---|---|---|---|
