@@ -14,10 +14,6 @@ namespace vpe {
 
 namespace {
 
-Vec3d cross(const Vec3d& a, const Vec3d& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 // The window's σ on the grid the regression runs on: the normals are averaged over blocks of
 // f × f pixels first, f = ⌊σ / kGridSigma⌋, so that the cost does not grow with σ² (a 2048²
 // capture's σ = 256 px becomes 8 cells of 256² blocks); the macro shape is smooth at that scale.

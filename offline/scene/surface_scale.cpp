@@ -15,9 +15,7 @@ namespace vpe::scene {
 
 namespace {
 
-struct Vec3 {
-    double x, y, z;
-};
+using Vec3 = proto::Vec3d;
 double wide(float x) {
     return static_cast<double>(x);
 }
@@ -29,9 +27,6 @@ Vec3 combine(const Vec3& a, double s, const Vec3& b, double t) {
 }
 double length(const Vec3& a) {
     return std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z);
-}
-Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
 // Within this of 0 or 1 a texture coordinate is on the texture's edge.
@@ -96,7 +91,7 @@ SurfaceScale measureSurfaceScale(const ScreenMesh& mesh, const char* source) {
         const double du2 = wide(mesh.uvs[c].x) - wide(mesh.uvs[a].x);
         const double dv2 = wide(mesh.uvs[c].y) - wide(mesh.uvs[a].y);
         const double det = du1 * dv2 - du2 * dv1;
-        const double area = 0.5 * length(cross(e1, e2));
+        const double area = 0.5 * length(proto::cross(e1, e2));
         if (std::fabs(det) < 1e-14 || !(area > 0)) {
             ++scale.flatUvTriangles;
             continue;

@@ -18,10 +18,6 @@ constexpr double kRotationTolerance = 1e-6;
 constexpr double kUndistortTolerance = 1e-13;
 constexpr int kUndistortMaxIterations = 200;
 
-Vec3d cross(const Vec3d& a, const Vec3d& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
 }  // namespace
 
 Vec3d PinholeCamera::center() const {

@@ -20,9 +20,7 @@ inline Vec3d operator-(const Vec3d& a) {
 inline Vec3d operator*(double s, const Vec3d& a) {
     return {s * a.x, s * a.y, s * a.z};
 }
-inline Vec3d cross(const Vec3d& a, const Vec3d& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+using proto::cross;
 inline double length(const Vec3d& a) {
     return std::sqrt(proto::dot(a, a));
 }

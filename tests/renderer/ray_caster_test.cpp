@@ -18,9 +18,6 @@ namespace {
 Vec3d sub(const Vec3d& a, const Vec3d& b) {
     return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
-Vec3d crossProduct(const Vec3d& a, const Vec3d& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
 Vec3d toD(const Vec3f& v) {
     return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
 }
@@ -32,14 +29,14 @@ std::optional<double> bruteForce(const RenderMesh& mesh, const Vec3d& o, const V
         const Vec3d v0 = toD(mesh.positions[mesh.indices[3 * i]]);
         const Vec3d e1 = sub(toD(mesh.positions[mesh.indices[3 * i + 1]]), v0);
         const Vec3d e2 = sub(toD(mesh.positions[mesh.indices[3 * i + 2]]), v0);
-        const Vec3d p = crossProduct(d, e2);
+        const Vec3d p = proto::cross(d, e2);
         const double det = proto::dot(e1, p);
         if (det == 0) {
             continue;
         }
         const Vec3d s = sub(o, v0);
         const double b1 = proto::dot(s, p) / det;
-        const Vec3d q = crossProduct(s, e1);
+        const Vec3d q = proto::cross(s, e1);
         const double b2 = proto::dot(d, q) / det;
         const double t = proto::dot(e2, q) / det;
         if (b1 >= 0 && b2 >= 0 && b1 + b2 <= 1 && t > 0 && (!best || t < *best)) {

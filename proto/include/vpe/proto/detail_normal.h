@@ -31,9 +31,6 @@ TangentFrame<T> tangentFrame(const Vec3<T>& n, const Vec3<T>& tangentU, const Ve
         const T d = dot(v, n);
         return Vec3<T>{v.x - d * n.x, v.y - d * n.y, v.z - d * n.z};
     };
-    const auto cross = [](const Vec3<T>& a, const Vec3<T>& b) {
-        return Vec3<T>{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-    };
     // Relative to the vectors' own lengths: a mapping's scale (metres per texture) is arbitrary.
     const auto usable = [](const Vec3<T>& projected, const Vec3<T>& original) {
         return dot(projected, projected) > T(1e-12) * dot(original, original) &&

@@ -28,6 +28,11 @@ inline T dot(const Vec3<T>& a, const Vec3<T>& b) {
 }
 
 template <typename T>
+inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+template <typename T>
 inline Vec3<T> normalized(const Vec3<T>& v) {
     using std::sqrt;
     const T length = sqrt(dot(v, v));
