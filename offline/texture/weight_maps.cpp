@@ -8,10 +8,10 @@
 #include <set>
 
 #include "vpe/common/input_error.h"
+#include "vpe/common/procedural_noise.h"
 #include "vpe/image/image_file.h"
 #include "vpe/proto/luminance.h"
 #include "vpe/segment/label_map.h"
-#include "vpe/synth/procedural_noise.h"
 
 namespace vpe::texture {
 
@@ -417,7 +417,7 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
     const double cx = source.centreX.value_or(0.5 * width);
     const double cy = source.centreY.value_or(0.5 * height);
     const double radius = source.radius.value_or(0.5 * std::min(width, height));
-    const synth::GradientNoise noise(source.seed);
+    const GradientNoise noise(source.seed);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             // Pixel centres, so a map and its transpose or mirror agree.

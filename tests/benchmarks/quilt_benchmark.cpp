@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/procedural_noise.h"
 #include "vpe/quilt/image_quilter.h"
-#include "vpe/synth/procedural_noise.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ SourceTexture makeSource(int size, int channels) {
     source.width = source.height = size;
     source.channels = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
-    vpe::synth::GradientNoise noise(7);
+    vpe::GradientNoise noise(7);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             double fields[4];

@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "vpe/common/input_error.h"
+#include "vpe/common/procedural_noise.h"
 #include "vpe/quilt/image_quilter.h"
 #include "vpe/quilt/seam_statistics.h"
-#include "vpe/synth/procedural_noise.h"
 
 namespace vpe::quilt {
 namespace {
@@ -22,7 +22,7 @@ SourceTexture texturedSource(int size, int channels, std::uint64_t seed) {
     source.width = source.height = size;
     source.channels = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
-    synth::GradientNoise noise(seed);
+    GradientNoise noise(seed);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             for (int c = 0; c < channels; ++c) {

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "vpe/capture/capture.h"
+#include "vpe/common/procedural_noise.h"
 #include "vpe/synth/microfacet_brdf.h"
-#include "vpe/synth/procedural_noise.h"
 
 namespace vpe::synth {
 

@@ -55,7 +55,7 @@ struct WeightSource {
     std::optional<double> centreX;
     std::optional<double> centreY;
     std::optional<double> radius;
-    // noise: gradient noise of feature size `scale` pixels (synth::GradientNoise).
+    // noise: gradient noise of feature size `scale` pixels (common/procedural_noise.h).
     double scale = 32;
     std::uint64_t seed = 1;
     int octaves = 1;

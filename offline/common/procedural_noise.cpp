@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Gradient noise from a hash of the lattice point (splitmix64 finalizer).
-#include "vpe/synth/procedural_noise.h"
+#include "vpe/common/procedural_noise.h"
 
 #include <cmath>
 
 #include "vpe/common/random_bits.h"
 
-namespace vpe::synth {
+namespace vpe {
 
 double GradientNoise::gradientDot(std::int64_t ix, std::int64_t iy, double dx, double dy) const {
     const std::uint64_t h = mixBits(seed_ ^ mixBits(static_cast<std::uint64_t>(ix) * 0x1f1f1f1full +
@@ -41,4 +41,4 @@ double GradientNoise::fractal(double x, double y, int octaves) const {
     return sum / norm;
 }
 
-}  // namespace vpe::synth
+}  // namespace vpe

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Seeded gradient noise and fractal sums for the synthetic pottery: deterministic for a seed
-// and independent of evaluation order, so renders do not depend on the thread count.
+// Seeded gradient noise and fractal sums, for the synthetic pottery (synth/) and the noise weight
+// maps (texture/): deterministic for a seed and independent of evaluation order, so renders do
+// not depend on the thread count.
 #pragma once
 
 #include <cstdint>
 
-namespace vpe::synth {
+namespace vpe {
 
 class GradientNoise {
 public:
@@ -21,4 +22,4 @@ private:
     std::uint64_t seed_;
 };
 
-}  // namespace vpe::synth
+}  // namespace vpe
