@@ -73,6 +73,16 @@ for fs in proc sys dev dev/pts; do
     mount --bind "/$fs" "$root/$fs"
 done
 cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+# This machine's own certificate authorities (/usr/local/share/ca-certificates: a network that
+# inspects TLS, say), as its apt settings above: a fresh machine on that network is given them
+# too, or HTTPS (the build's download of the control page's MQTT client) fails where it would
+# not on the open internet.
+if compgen -G "/usr/local/share/ca-certificates/*.crt" >/dev/null; then
+    mkdir -p "$root/usr/local/share/ca-certificates"
+    cp /usr/local/share/ca-certificates/*.crt "$root/usr/local/share/ca-certificates/"
+    chroot "$root" update-ca-certificates >/dev/null 2>&1 ||
+        echo "check-fresh-debian: update-ca-certificates failed in the root" >&2
+fi
 
 status=0
 for i in 0 1; do
