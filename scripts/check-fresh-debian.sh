@@ -73,6 +73,10 @@ for fs in proc sys dev dev/pts; do
     mount --bind "/$fs" "$root/$fs"
 done
 cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null || true
+# A Debian 12 installation has /etc/hosts (the installer writes it; no package does), and
+# "localhost" resolves there: selenium's chromedriver service waits on localhost:PORT and the
+# control page's test never started in a root made without it.
+[[ -e "$root/etc/hosts" ]] || printf '127.0.0.1\tlocalhost\n::1\t\tlocalhost ip6-localhost ip6-loopback\n' >"$root/etc/hosts"
 # This machine's own certificate authorities (/usr/local/share/ca-certificates: a network that
 # inspects TLS, say), as its apt settings above: a fresh machine on that network is given them
 # too, or HTTPS (the build's download of the control page's MQTT client) fails where it would
