@@ -13,6 +13,14 @@ namespace {
 
 constexpr std::int64_t kNsPerUs = 1000;
 
+// "0.25": the longest wait between connection attempts, as the one-line message says it.
+std::string retrySeconds() {
+    char text[16];
+    std::snprintf(text, sizeof text, "%g",
+                  static_cast<double>(MqttConnection::kLongestRetryNs) * 1e-9);
+    return text;
+}
+
 // A v5 reason code of 0x80 or more is a failure (0x10, "no matching subscribers", is not).
 constexpr int kFirstFailureReason = 0x80;
 
@@ -97,7 +105,8 @@ LightBus::LightBus(const BusConfig& config, const LightLimits& limits,
                                trouble("bus: cannot reach the broker at " + connection_.endpoint() +
                                        " (" + reason +
                                        "); playing on with this node's own light, trying again "
-                                       "every 0.5 s");
+                                       "every " +
+                                       retrySeconds() + " s");
                                troubleReported_ = true;
                            }
                        },

@@ -234,7 +234,7 @@ TEST_F(LightBusTest, AnAbsentBrokerIsOneLineAndTheBusConnectsWhenItComes) {
     EXPECT_EQ(node.lines[0], "bus: cannot reach the broker at mqtt://127.0.0.1:" +
                                  std::to_string(broker_->port()) +
                                  " (Connection refused); playing on with this node's own light, "
-                                 "trying again every 0.5 s");
+                                 "trying again every 0.25 s");
     broker_->start();
     const auto started = std::chrono::steady_clock::now();
     ASSERT_TRUE(runUntil({&node}, [&] { return node.bus->connected(); }));
