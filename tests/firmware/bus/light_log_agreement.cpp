@@ -7,6 +7,7 @@
 #include <fstream>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -188,22 +189,31 @@ std::optional<std::int64_t> settledFrom(const LightTrack& reference, const Light
     if (reference.size() < 2) {
         return std::nullopt;
     }
-    std::optional<std::int64_t> settled;
-    bool any = false;
+    // The lag of each frame in the window (empty: not comparable).
+    std::vector<std::pair<std::int64_t, std::optional<double>>> lags;
     for (const LightSample& frame : other) {
         if (frame.tUs < fromUs || frame.tUs > toUs) {
             continue;
         }
         bool apart = false;
-        const auto lag = lagOf(reference, frame, options, apart);
-        if (!lag) {
+        lags.emplace_back(frame.tUs, lagOf(reference, frame, options, apart));
+    }
+    const auto agrees = [&](std::size_t i) {
+        return i < lags.size() && lags[i].second && *lags[i].second <= maxLagMs;
+    };
+    std::optional<std::int64_t> settled;
+    bool any = false;
+    for (std::size_t i = 0; i < lags.size(); ++i) {
+        if (!lags[i].second) {
             continue;
         }
         any = true;
-        if (*lag > maxLagMs) {
+        if (agrees(i)) {
+            if (!settled) {
+                settled = lags[i].first;
+            }
+        } else if (!(settled && i + 1 < lags.size() && agrees(i - 1) && agrees(i + 1))) {
             settled.reset();
-        } else if (!settled) {
-            settled = frame.tUs;
         }
     }
     return any ? settled : std::nullopt;

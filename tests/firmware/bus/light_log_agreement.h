@@ -63,7 +63,9 @@ Agreement compareTracks(const LightTrack& reference, const LightTrack& other, st
                         std::int64_t toUs, const AgreementOptions& options = {});
 
 // The first frame time ≥ fromUs from which `other` agrees with `reference` within maxLagMs
-// through toUs; empty when it never settles.
+// through toUs; empty when it never settles. A lone late frame between two that agree (a
+// frame presented late on a busy machine: its light was right, its time slipped) does not
+// unsettle it; two in a row do. The lone ones still count in compareTracks' percentiles.
 std::optional<std::int64_t> settledFrom(const LightTrack& reference, const LightTrack& other,
                                         std::int64_t fromUs, std::int64_t toUs, double maxLagMs,
                                         const AgreementOptions& options = {});

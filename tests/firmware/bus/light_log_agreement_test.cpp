@@ -74,6 +74,31 @@ TEST(LightLogAgreementTest, FindsWhenATrackSettlesAndStartsMoving) {
     EXPECT_NEAR(largestGapMs(reference, 0, 3'000'000), 16.667, 0.01);
 }
 
+// A lone frame presented late (its light right, its time slipped by 40 ms) between frames that
+// agree does not unsettle a track; two late frames in a row do.
+TEST(LightLogAgreementTest, ALoneLateFrameDoesNotUnsettle) {
+    const LightTrack reference = steppingTrack(0, 0);
+    const auto lateAt = [](LightTrack track, std::int64_t fromUs, int frames) {
+        for (LightSample& s : track) {
+            if (s.tUs >= fromUs && frames > 0) {
+                s.tUs += 40'000;  // each frame is judged on its own: order does not matter
+                --frames;
+            }
+        }
+        return track;
+    };
+    // While the light moves (1.0-1.6 s), where a time slip shows as a lag.
+    const LightTrack once = lateAt(steppingTrack(7'000, 0), 1'100'000, 1);
+    const auto settledOnce = settledFrom(reference, once, 200'000, 2'800'000, 16.7);
+    ASSERT_TRUE(settledOnce.has_value());
+    EXPECT_LT(*settledOnce, 200'000 + kFrameUs);
+
+    const LightTrack twice = lateAt(steppingTrack(7'000, 0), 1'100'000, 2);
+    const auto settledTwice = settledFrom(reference, twice, 200'000, 2'800'000, 16.7);
+    ASSERT_TRUE(settledTwice.has_value());
+    EXPECT_GT(*settledTwice, 1'100'000);
+}
+
 TEST(LightLogAgreementTest, ReadsALightLog) {
     const std::filesystem::path path =
         std::filesystem::temp_directory_path() / ("vpe-light-log-" + std::to_string(::getpid()));
