@@ -107,8 +107,9 @@ TEST_F(GlesShadingGlslTest, HorizonFactorMatchesProto) {
     EXPECT_EQ(gpu[4 * (inputs.size() - 1)], 1.0f);
 }
 
-TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
-    std::mt19937 random(7);
+// 4000 samples of three random unit vectors (n, l, v), nine floats each, from `seed`.
+std::vector<float> randomUnitTriples(unsigned seed) {
+    std::mt19937 random(seed);
     std::normal_distribution<float> gaussian;
     std::vector<float> inputs;
     for (int s = 0; s < 4000; ++s) {
@@ -118,6 +119,11 @@ TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
             inputs.insert(inputs.end(), {unit.x, unit.y, unit.z});
         }
     }
+    return inputs;
+}
+
+TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
+    const std::vector<float> inputs = randomUnitTriples(7);
     const std::vector<float> gpu = runOnGpu(gles::shadingStepsGlsl(), R"GLSL(
     vec3 n = vec3(in_[base], in_[base + 1], in_[base + 2]);
     vec3 l = vec3(in_[base + 3], in_[base + 4], in_[base + 5]);
@@ -139,16 +145,7 @@ TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
 // against proto::reflectionAngles: vpeMirroredViewer against mirroredViewer in double, then
 // (n·l, l·m) against (cos θd, cos θs) where proto does not clamp, for m in float and in halves.
 TEST_F(GlesShadingGlslTest, MirroredViewerGivesTheReflectionAngles) {
-    std::mt19937 random(17);
-    std::normal_distribution<float> gaussian;
-    std::vector<float> inputs;
-    for (int s = 0; s < 4000; ++s) {
-        for (int v = 0; v < 3; ++v) {
-            const auto unit = proto::normalized(
-                proto::Vec3<float>{gaussian(random), gaussian(random), gaussian(random)});
-            inputs.insert(inputs.end(), {unit.x, unit.y, unit.z});
-        }
-    }
+    const std::vector<float> inputs = randomUnitTriples(17);
     const std::vector<float> mirrored = runOnGpu(gles::shadingStepsGlsl(), R"GLSL(
     vec3 n = vec3(in_[base], in_[base + 1], in_[base + 2]);
     vec3 v = vec3(in_[base + 6], in_[base + 7], in_[base + 8]);
