@@ -11,6 +11,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <GLES3/gl31.h>
@@ -120,6 +121,19 @@ std::vector<float> randomUnitTriples(unsigned seed) {
         }
     }
     return inputs;
+}
+
+// A gamma per channel and a measured curve per channel (the curve's own sample counts): the
+// two response kinds the projector-level steps are checked with.
+std::pair<proto::ResponseCurves, proto::ResponseCurves> testResponses() {
+    proto::ResponseCurves gamma;
+    gamma.gamma = {2.2f, 2.0f, 2.6f};
+    proto::ResponseCurves curve;
+    curve.kind = proto::ResponseKind::kCurve;
+    curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
+                   std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
+                   std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
+    return {gamma, curve};
 }
 
 TEST_F(GlesShadingGlslTest, ReflectionAnglesMatchProto) {
@@ -296,13 +310,7 @@ TEST_F(GlesShadingGlslTest, ProjectorLevelTableMatchesTheResponseInverse) {
     for (int i = 1; i <= 200; ++i) {
         inputs.push_back(static_cast<float>(i) * 2.5e-6f);  // the first samples, finely
     }
-    proto::ResponseCurves gamma;
-    gamma.gamma = {2.2f, 2.0f, 2.6f};
-    proto::ResponseCurves curve;
-    curve.kind = proto::ResponseKind::kCurve;
-    curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
-                   std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
-                   std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
+    const auto [gamma, curve] = testResponses();
     const int samples = gles::kProjectorLevelSamples;
     const float scale = static_cast<float>(samples - 1) / static_cast<float>(samples);
     for (const proto::ResponseCurves& response : {gamma, curve}) {
@@ -454,13 +462,7 @@ TEST_F(GlesShadingGlslTest, ProjectorLevelMatchesTheResponseInverse) {
     for (int i = -100; i <= 1300; ++i) {
         inputs.push_back(static_cast<float>(i) / 1000.0f);  // relative outputs, clipped both ways
     }
-    proto::ResponseCurves gamma;
-    gamma.gamma = {2.2f, 2.0f, 2.6f};
-    proto::ResponseCurves curve;
-    curve.kind = proto::ResponseKind::kCurve;
-    curve.curve = {std::vector<float>{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
-                   std::vector<float>{0.0f, 0.2f, 0.5f, 1.0f},
-                   std::vector<float>{0.05f, 0.05f, 0.4f, 0.9f, 1.1f, 1.2f}};
+    const auto [gamma, curve] = testResponses();
     for (const proto::ResponseCurves& response : {gamma, curve}) {
         const std::vector<float> gpu =
             runOnGpu(gles::projectorLevelGlsl(response),
