@@ -220,7 +220,7 @@ void main() {
     s += "    vec3 geometric = vec3(s3, " + geometricZ + ");\n";
     s +=
         R"GLSL(    // The light's half of the horizon; the viewer's half is in the material (fixed per pixel).
-    float horizon = vpeHorizonFactor(angles.x) * vpeHorizonFactor(dot(geometric, l));
+    float horizon = vpeHorizonFactor(min(angles.x, dot(geometric, l)));
 )GLSL";
     const auto rgb = [](const std::vector<std::string>& values3, int term) {
         return "vec3(" + values3[static_cast<std::size_t>(3 * term)] + ", " +
@@ -311,8 +311,8 @@ void main() {
         uvec4 geometry1 = texelFetch(uGeometry1, pixel, 0);
         vec3 v = normalize(uViewer - geometry0.xyz);
         geometric = vpeOctahedralNormal(geometry1.w);
-        viewerHorizon = vpeHorizonFactor(dot(uintBitsToFloat(geometry1.xyz), v)) *
-                        vpeHorizonFactor(dot(geometric, v));
+        viewerHorizon = vpeHorizonFactor(min(dot(uintBitsToFloat(geometry1.xyz), v),
+                                             dot(geometric, v)));
         uv = texelFetch(uUv, pixel, 0).xy;
     }
 )GLSL";

@@ -22,12 +22,14 @@ inline T horizonFactor(T cosine) {
 
 // Both the shading normal and the geometric normal must see the light and the viewer: a
 // shading normal (interpolated, or a relief's) can lean over the geometric horizon, and
-// testing it alone would let light leak onto the dark side.
+// testing it alone would let light leak onto the dark side. Each side ramps on the lower of
+// its two cosines: one ramp where two cost a frame twice the arithmetic, the same factor
+// wherever either cosine is past the ramp, and 0 below either horizon as before.
 template <typename T>
 inline T horizonFactor(T shadingToLight, T geometricToLight, T shadingToViewer,
                        T geometricToViewer) {
-    return horizonFactor(shadingToLight) * horizonFactor(geometricToLight) *
-           horizonFactor(shadingToViewer) * horizonFactor(geometricToViewer);
+    return horizonFactor(std::min(shadingToLight, geometricToLight)) *
+           horizonFactor(std::min(shadingToViewer, geometricToViewer));
 }
 
 }  // namespace vpe::proto
