@@ -266,10 +266,9 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
             const Vec3d normal{std::bit_cast<float>(packed.geometry1[0]),
                                std::bit_cast<float>(packed.geometry1[1]),
                                std::bit_cast<float>(packed.geometry1[2])};
-            const double horizon =
-                proto::horizonFactor(proto::dot(normal, toViewer)) *
-                proto::horizonFactor(
-                    proto::dot(gles::decodeOctahedralNormal(packed.geometry1[3]), toViewer));
+            const double horizon = proto::horizonFactor(std::min(
+                proto::dot(normal, toViewer),
+                proto::dot(gles::decodeOctahedralNormal(packed.geometry1[3]), toViewer)));
             const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                   static_cast<std::size_t>(x);
             for (int q = 0; q < values; ++q) {
