@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// GLSL generation for the material pass and the frame (see the header).
+// GLSL generation for the load passes and the frame (see the header).
 #include "vpe/renderer/gles/frame_shaders.h"
 
 #include <vector>
 
 #include "vpe/renderer/gles/geometry_buffer.h"
+#include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/gles/texture_formats.h"
 
@@ -19,6 +20,7 @@ precision highp sampler2D;
 precision highp usampler2D;
 precision highp sampler2DArray;
 precision highp usampler2DArray;
+precision highp isampler2DArray;
 )GLSL";
 
 std::string str(int value) {
@@ -43,38 +45,70 @@ std::string geometryUniforms() {
            "uniform highp sampler2D uUv;" + declared(kUvFormat, "uv, rows from the top");
 }
 
-// The frame's: X about the centre and 1/S, the packed shading geometry
-// (shading_geometry_pass.h), uv.
+// The frame's: X in the object's cube and whether the pixel sees it, the packed shading
+// geometry (shading_geometry_pass.h).
 std::string frameGeometryUniforms() {
     return "\nuniform highp sampler2D uPosition;" +
-           declared(kPositionFormat, "X − centre, 1/S as half floats") +
+           declared(kPositionFormat, "X in the object's cube, 1 on the object in alpha") +
            "uniform highp usampler2D uShading;" +
-           declared(kShadingFormat, "n, m = 2(n·v)n − v, g.xy as half floats") +
-           "uniform highp sampler2D uUv;" + declared(kUvFormat, "uv, rows from the top");
+           declared(kShadingFormat, "n, m = 2(n·v)n − v, g.xy as half floats");
 }
 
-// Statements fetching material `sampler` at `pixel` and naming its values: half floats, two a
-// word, eight a layer, in thetaMaterialSize order.
-std::string unpackMaterial(const ShaderLayout& layout, const std::string& sampler,
-                           const std::string& prefix) {
+// A coded material's two samplers (material_codes.h).
+std::string materialUniforms(const std::string& name, const std::string& what) {
+    return "uniform highp isampler2DArray u" + name + ";" +
+           declared(kMaterialFormat, what + ": the u codes, 1/S and g.z") +
+           "uniform highp sampler2D u" + name + "Diffuse;" +
+           declared(kDiffuseFormat, what + ": the kd codes");
+}
+
+// The expression of material value q of the blended θs maps (`value<layer>.<component>`).
+std::string mapValue(int q) {
+    return "value" + str(q / 4) + "." + component(q % 4);
+}
+
+// Statements fetching coded material `name` at `pixel` (its code words `<prefix>w<layer>`) and
+// defining `vec3 <prefix>f`, f in the coding's frame unit (kd's span): kd·cos θd (the kd codes as
+// the texture unit decodes them, over [0, 1]) + Σ_j u_j·h'_j, one dot product of a word's four
+// codes with a row of the scaled table per channel and row. Needs `angles` and the rows h<r>.
+std::string codedMaterial(const ShaderLayout& layout, const std::string& name,
+                          const std::string& prefix) {
     std::string s;
-    for (int l = 0; l < layout.materialLayers(); ++l) {
-        s += "    uvec4 " + prefix + "w" + str(l) + " = texelFetch(" + sampler + ", ivec3(pixel, " +
+    const int layers = layout.materialLayers();
+    for (int l = 0; l < layers; ++l) {
+        s += "    ivec4 " + prefix + "w" + str(l) + " = texelFetch(u" + name + ", ivec3(pixel, " +
              str(l) + "), 0);\n";
     }
-    for (int word = 0; 2 * word < layout.materialValues() + 1; ++word) {  // and the spare
-        s += "    vec2 " + prefix + "h" + str(word) + " = unpackHalf2x16(" + prefix + "w" +
-             str(word / 4) + "." + component(word % 4) + ");\n";
+    const auto word = [&](int w) { return prefix + "w" + str(w / 4) + "." + component(w % 4); };
+    const int perChannel = basisWordsPerChannel(layout.basisSize);
+    s += "    vec3 " + prefix + "f = texelFetch(u" + name +
+         "Diffuse, pixel, 0).rgb * angles.x + vec3(";
+    for (int c = 0; c < 3; ++c) {
+        s += c == 0 ? "" : ",";
+        for (int r = 0; r < perChannel; ++r) {
+            s += std::string(r == 0 ? "\n        " : " + ") + "dot(vpeSignedBytes(" +
+                 word(c * perChannel + r) + "), h" + str(r) + ")";
+        }
     }
-    return s;
+    s += ")";
+    if (layout.diffuseOffset !=
+        0.0f) {  // kd's range starts below 0: its low end, the same a channel
+        s += " + angles.x * " + glslFloat(layout.diffuseOffset);
+    }
+    return s + ";\n";
 }
 
-// The expression of material value q (after unpackMaterial).
-std::string unpacked(const std::string& prefix, int q) {
-    return prefix + "h" + str(q / 2) + "." + (q % 2 == 0 ? "x" : "y");
+// The word after a material's u codes: 1/S and the geometric normal's z, as half floats.
+std::string extraWord(const ShaderLayout& layout, const std::string& prefix) {
+    const int w = 3 * basisWordsPerChannel(layout.basisSize);
+    return "unpackHalf2x16(uint(" + prefix + "w" + str(w / 4) + "." + component(w % 4) + "))";
 }
 
 }  // namespace
+
+int ShaderLayout::materialLayers() const {
+    return materialCodeLayers(basisSize);
+}
 
 const char* frameVariantName(FrameVariant variant) {
     switch (variant) {
@@ -82,10 +116,6 @@ const char* frameVariantName(FrameVariant variant) {
             return "static";
         case FrameVariant::kFade:
             return "fade";
-        case FrameVariant::kLive:
-            return "live";
-        case FrameVariant::kLiveFade:
-            return "live-fade";
     }
     return "?";
 }
@@ -100,14 +130,13 @@ void main() {
 }
 
 std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
-                              const proto::RenderSettings& settings) {
-    const bool live = variant == FrameVariant::kLive || variant == FrameVariant::kLiveFade;
-    const bool fade = variant == FrameVariant::kFade || variant == FrameVariant::kLiveFade;
+                              const proto::RenderSettings& settings, bool inverseSquare) {
+    const bool fade = variant == FrameVariant::kFade;
     const bool ambient = settings.ambientIrradiance[0] != 0 || settings.ambientIrradiance[1] != 0 ||
                          settings.ambientIrradiance[2] != 0;
-    const int values = layout.materialValues();
     std::string s = kPrecision;
     s += shadingStepsGlsl();
+    s += materialCodesGlsl();
     if (!layout.measuredLight) {
         s += projectorLevelTableGlsl(kProjectorLevelSamples);
     } else {
@@ -119,41 +148,30 @@ std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
              "uniform mat3 uMixingInverse;  // X⁻¹\n";
     }
     s += frameGeometryUniforms();
-    s += "\nuniform highp sampler2D uThetaTable;" +
-         declared(kThetaTableFormat, "h_j(x), row r holds j = 4r … 4r+3 (linear)", true);
+    s +=
+        "\nuniform highp sampler2D uThetaTable;" +
+        declared(kThetaTableFormat, "h_j(x)·step_j/unit, row r holds j = 4r … 4r+3 (linear)", true);
     s +=
         R"GLSL(uniform vec2 uRow;  // (0, 1) on a target whose top row is at its origin, else (H − ½, −1)
-uniform vec3 uLightPosition;  // less the centre the positions are stored about
-// gain · intensity (· π/ρ when assumed) (· d_ref² with 1/d²); without measured light also
-// · (N − 1)/N, the level table's coordinate scale (vpeProjectorLevelTable), as uAmbient.
+uniform vec3 uLightPosition;  // in the object's cube, as the positions (side 1)
+// gain · intensity (· π/ρ when assumed) (· d_ref²/side² with 1/d²) · the coding's unit; without
+// measured light also · (N − 1)/N, the level table's coordinate scale (vpeProjectorLevelTable),
+// as uAmbient.
 uniform vec3 uRadianceScale;
-uniform float uFalloff;       // 1: inverse-square falloff, 0: none
 uniform vec3 uAmbient;        // room light on the plaster (E_ambient)
-uniform float uFade;          // fading: 0 the old material or weights, 1 the new
+uniform float uFade;          // fading: 0 the old material, 1 the new
 layout(location = 0) out vec4 outLevel;)GLSL";
     s += declared(kFrameTargetFormat, "the drive levels");
-    if (live) {
-        for (int r = 0; r < layout.regions; ++r) {
-            s += "uniform highp usampler2DArray uRegionMaterial" + str(r) + ";" +
-                 declared(kMaterialFormat, "region " + str(r) + "'s material");
-        }
-        s += "uniform highp sampler2DArray uAlpha;" +
-             declared(alphaFormat(layout.regions), "the regions' α per pixel (weight pass)");
-        s += "uniform highp sampler2DArray uAlphaFrom;" +
-             declared(alphaFormat(layout.regions), "fading: the old preset's");
-    } else {
-        s += "uniform highp usampler2DArray uMaterial;" +
-             declared(kMaterialFormat, "the composed material");
-        s += "uniform highp usampler2DArray uMaterialFrom;" +
-             declared(kMaterialFormat, "fading: the old one");
+    s += materialUniforms("Material", "the composed material");
+    if (fade) {
+        s += materialUniforms("MaterialFrom", "fading: the old one");
     }
     s += R"GLSL(
 void main() {
     // The projector's row: y, or (height − ½) − y on a target whose top row is at the top.
     ivec2 pixel = ivec2(gl_FragCoord.x, uRow.x + uRow.y * gl_FragCoord.y);
     vec4 position = texelFetch(uPosition, pixel, 0);
-    float inverseScale = position.w;
-    if (inverseScale < 0.0) {  // sees nothing
+    if (position.w == 0.0) {  // sees nothing
         outLevel = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
@@ -164,7 +182,7 @@ void main() {
     vec2 s3 = unpackHalf2x16(shading.w);
     vec3 normal = vec3(s0, s1.x);
     vec3 mirrored = vec3(s1.y, s2);  // 2(n·v)n − v: the viewer is fixed per pixel
-    vec3 toLight = uLightPosition - position.xyz;  // both about the centre
+    vec3 toLight = uLightPosition - position.xyz;  // both in the cube
     float inverseLightDistance = inversesqrt(dot(toLight, toLight));
     vec3 l = toLight * inverseLightDistance;
     vec2 angles = vpeMirroredReflectionAngles(normal, l, mirrored);
@@ -179,90 +197,28 @@ void main() {
         s += "    vec4 h" + str(r) + " = texture(uThetaTable, vec2(tableX, " +
              glslFloat((static_cast<float>(r) + 0.5f) / static_cast<float>(rows)) + "));\n";
     }
-    // The material: value q of the (blended) codes; the spare half after them is the geometric
-    // normal's z (the same in every material: region 0's, or the one faded to).
-    std::vector<std::string> m(static_cast<std::size_t>(values));
-    std::string geometricZ;
-    if (live) {
-        // The regions' α at the pixel, filtered once per preset by the weight pass.
-        for (int k = 0; k < layout.alphaLayers(); ++k) {
-            const std::string to = "texelFetch(uAlpha, ivec3(pixel, " + str(k) + "), 0)";
-            s += "    vec4 alphas" + str(k) + " = " +
-                 (fade ? "mix(texelFetch(uAlphaFrom, ivec3(pixel, " + str(k) + "), 0), " + to +
-                             ", uFade)"
-                       : to) +
-                 ";\n";
-        }
-        for (int r = 0; r < layout.regions; ++r) {
-            s += "    float alpha" + str(r) + " = alphas" + str(r / 4) + "." + component(r % 4) +
-                 ";\n";
-            s += unpackMaterial(layout, "uRegionMaterial" + str(r), "r" + str(r) + "_");
-        }
-        geometricZ = unpacked("r0_", values);
+    // f = kd·max(cos θd, 0) + Σ_j u_j h_j(θs) (renderer::evaluateThetaMaterial) in the coding's
+    // unit; the max is left out: where cos θd ≤ 0 the horizon factor, which multiplies f, is 0.
+    s += codedMaterial(layout, "Material", "to_");
+    if (fade) {
+        s += codedMaterial(layout, "MaterialFrom", "from_");
+        s += "    vec3 f = mix(from_f, to_f, uFade);\n";
     } else {
-        s += unpackMaterial(layout, "uMaterial", "to_");
-        if (fade) {
-            s += unpackMaterial(layout, "uMaterialFrom", "from_");
-        }
-        for (int q = 0; q < values; ++q) {
-            m[static_cast<std::size_t>(q)] =
-                fade ? "mix(" + unpacked("from_", q) + ", " + unpacked("to_", q) + ", uFade)"
-                     : unpacked("to_", q);
-        }
-        geometricZ = unpacked("to_", values);
+        s += "    vec3 f = to_f;\n";
     }
-    if (fade && !live) {  // mix once into plain floats, then evaluate
-        for (int q = 0; q < values; ++q) {
-            s += "    float m" + str(q) + " = " + m[static_cast<std::size_t>(q)] + ";\n";
-            m[static_cast<std::size_t>(q)] = "m" + str(q);
-        }
-    }
-    s += "    vec3 geometric = vec3(s3, " + geometricZ + ");\n";
-    s +=
-        R"GLSL(    // The light's half of the horizon; the viewer's half is in the material (fixed per pixel).
+    s += "    vec2 extra = " + extraWord(layout, "to_") + ";  // 1/S, g.z\n";
+    s += R"GLSL(    vec3 geometric = vec3(s3, extra.y);
+    // The light's half of the horizon; the viewer's half is in the material (fixed per pixel).
     float horizon = vpeHorizonFactor(min(angles.x, dot(geometric, l)));
 )GLSL";
-    const auto rgb = [](const std::vector<std::string>& values3, int term) {
-        return "vec3(" + values3[static_cast<std::size_t>(3 * term)] + ", " +
-               values3[static_cast<std::size_t>(3 * term + 1)] + ", " +
-               values3[static_cast<std::size_t>(3 * term + 2)] + ")";
-    };
-    // f = kd·max(cos θd, 0) + Σ_j u_j h_j(θs) (renderer::evaluateThetaMaterial); the max is
-    // left out: where cos θd ≤ 0 the horizon factor, which multiplies f, is 0.
-    if (!live) {
-        s += "    vec3 f = " + rgb(m, 0) + " * angles.x";
-        for (int j = 0; j < layout.basisSize; ++j) {
-            s += "\n        + " + rgb(m, 1 + j) + " * h" + str(j / 4) + "." + component(j % 4);
-        }
-    } else {
-        // Σ_r α_r f_r with the weights folded into the table values and the cosine (1 + K/4
-        // products a region) rather than into the 3(1 + K) material values.
-        for (int r = 0; r < layout.regions; ++r) {
-            s += "    float cosine" + str(r) + " = alpha" + str(r) + " * angles.x;\n";
-            for (int row = 0; row < rows; ++row) {
-                s += "    vec4 h" + str(row) + "_" + str(r) + " = alpha" + str(r) + " * h" +
-                     str(row) + ";\n";
-            }
-        }
-        s += "    vec3 f = ";
-        for (int r = 0; r < layout.regions; ++r) {
-            std::vector<std::string> own(static_cast<std::size_t>(values));
-            for (int q = 0; q < values; ++q) {
-                own[static_cast<std::size_t>(q)] = unpacked("r" + str(r) + "_", q);
-            }
-            s += (r == 0 ? "" : "\n        + ") + rgb(own, 0) + " * cosine" + str(r);
-            for (int j = 0; j < layout.basisSize; ++j) {
-                s += "\n        + " + rgb(own, 1 + j) + " * h" + str(j / 4) + "_" + str(r) + "." +
-                     component(j % 4);
-            }
-        }
-    }
-    s += ";\n";
+    const std::string falloff =
+        inverseSquare ? " * (inverseLightDistance * inverseLightDistance)" : "";
     if (layout.measuredLight) {
         s += R"GLSL(
     // L = max(gain · H · E · f, 0) (renderer's targetRadiance), then compensateMeasuredPixel
     // with the pixel's measured F and D.
-    float irradiance = horizon * mix(1.0, inverseLightDistance * inverseLightDistance, uFalloff);
+    float irradiance = horizon)GLSL" +
+             falloff + R"GLSL(;
     vec3 target = max(uRadianceScale * (irradiance * f), 0.0);
     vec3 relative = vpeMeasuredOutputs(target, texelFetch(uMeasuredIrradiance, pixel, 0).rgb,
                                        texelFetch(uMeasuredFloor, pixel, 0).rgb, uMixingInverse);
@@ -272,22 +228,30 @@ void main() {
         return s;
     }
     s += R"GLSL(
-    // π/ρ·L, L = max(gain · H · E · f, 0) (renderer's targetRadiance), then compensatePixel:
-    // r = (π·L/ρ − E_ambient) / S (S = 0: 1/S is kNoProjectorLight, clipping either way), the
-    // uniforms scaled by (N − 1)/N: the level table's coordinate less its offset.
-    float irradiance = horizon * mix(1.0, inverseLightDistance * inverseLightDistance, uFalloff);
-    vec3 wanted = max(uRadianceScale * (irradiance * f), 0.0))GLSL";
-    s += ambient ? " - uAmbient;\n" : ";\n";
-    s += R"GLSL(    outLevel = vec4(vpeProjectorLevelTable(wanted * inverseScale), 1.0);
+    // π/ρ·L, L = gain · H · E · f (renderer's targetRadiance), then compensatePixel:
+    // r = (π·L/ρ − E_ambient) / S, the uniforms scaled by (N − 1)/N: the level table's
+    // coordinate less its offset. targetRadiance's max(L, 0) is the table's: below r = 0 its
+    // clamped edge is level 0, where max(L, 0) − E_ambient ≤ 0 leads too.
+    float inverseScale = extra.x;
+)GLSL";
+    // With room light: (gain·H·f·π/ρ − E_ambient)·(1/S), one multiply by 1/S a channel where
+    // scaling both terms by it takes two.
+    s += ambient ? "    vec3 wanted = (f * (uRadianceScale * (horizon" + falloff +
+                       ")) - uAmbient) * inverseScale;\n"
+                 : "    vec3 wanted = f * (uRadianceScale * (horizon * inverseScale" + falloff +
+                       "));\n";
+    s += R"GLSL(    outLevel = vec4(vpeProjectorLevelTable(wanted), 1.0);
 }
 )GLSL";
     return s;
 }
 
-std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count) {
+std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count,
+                                     bool diffuse) {
     std::string s = kPrecision;
     s += shadingStepsGlsl();
     s += bilinearWeightGlsl();
+    s += materialCodesGlsl();
     s += geometryUniforms();
     for (int r = 0; r < layout.regions; ++r) {
         s += "uniform highp sampler2DArray uThetaMap" + str(r) +
@@ -296,9 +260,16 @@ std::string materialPassShaderSource(const ShaderLayout& layout, int first, int 
     s += R"GLSL(uniform highp sampler2DArray uWeights;  // α, one layer per region
 uniform int uRegion;  // ≥ 0: that region alone; −1: all, weighted by uWeights
 uniform vec3 uViewer;
+uniform float uDiffuseLow;    // the coding (material_codes.h): kd's low end,
+uniform float uDiffuseScale;  // 1023 / its span,
+uniform float uInverseBasisStep[)GLSL" +
+         str(layout.basisSize) + R"GLSL(];  // and 1 / step_j (0 where every u_j is 0)
 )GLSL";
     for (int k = 0; k < count; ++k) {
-        s += "layout(location = " + str(k) + ") out uvec4 outLayer" + str(k) + ";\n";
+        s += "layout(location = " + str(k) + ") out ivec4 outLayer" + str(k) + ";\n";
+    }
+    if (diffuse) {
+        s += "layout(location = " + str(count) + ") out vec4 outDiffuse;\n";
     }
     s += R"GLSL(
 void main() {
@@ -325,7 +296,7 @@ void main() {
              " = viewerHorizon * (uRegion < 0 ? vpeBilinearWeight(uWeights, uv, " + str(r) + ", " +
              wrap + ") : (uRegion == " + str(r) + " ? 1.0 : 0.0));\n";
     }
-    // Value i of the blended θs maps, packed two a word as half floats.
+    // Value i of the blended θs maps: kd RGB, then u_j RGB.
     for (int l = 0; l < layout.mapLayers(); ++l) {
         std::string sum;
         for (int r = 0; r < layout.regions; ++r) {
@@ -334,30 +305,112 @@ void main() {
         }
         s += "    vec4 value" + str(l) + " = " + sum + ";\n";
     }
-    // Value `index` of the blended maps, or after them the spare: the geometric normal's z
-    // (the frame's shading geometry has no room for it), then zeros.
-    const int values = layout.materialValues();
-    const auto value = [&](int index) {
-        if (index < values) {
-            return "value" + str(index / 4) + "." + component(index % 4);
+    // Word w of the codes: u_j of channel c in byte j % 4 of word c·W + j/4, then 1/S and g.z.
+    const int perChannel = basisWordsPerChannel(layout.basisSize);
+    const auto word = [&](int w) -> std::string {
+        if (w == 3 * perChannel) {
+            // 1/S within the half floats' range: kNoProjectorLight becomes their largest, 65504.
+            return "int(packHalf2x16(vec2(min(geometry0.w, 65504.0), geometric.z)))";
         }
-        return std::string(index == values ? "geometric.z" : "0.0");
-    };
-    const auto word = [&](int w) {
-        const int index = 2 * w;
-        if (index > values) {
-            return std::string("0u");
+        if (w > 3 * perChannel) {
+            return "0";
         }
-        if (index + 1 < values) {
-            return "packHalf2x16(value" + str(index / 4) + "." + component(index % 4) +
-                   component(index % 4 + 1) + ")";
+        const int c = w / perChannel, row = w % perChannel;
+        std::string codes = "vec4(";
+        for (int b = 0; b < 4; ++b) {
+            const int j = 4 * row + b;
+            codes += b == 0 ? "" : ", ";
+            codes += j < layout.basisSize
+                         ? mapValue(3 + 3 * j + c) + " * uInverseBasisStep[" + str(j) + "]"
+                         : std::string("0.0");
         }
-        return "packHalf2x16(vec2(" + value(index) + ", " + value(index + 1) + "))";
+        return "vpePackSignedBytes(clamp(floor(" + codes + ") + 0.5), -127.0, 127.0))";
     };
     for (int k = 0; k < count; ++k) {
         const int layer = first + k;
-        s += "    outLayer" + str(k) + " = uvec4(" + word(4 * layer) + ", " + word(4 * layer + 1) +
-             ",\n        " + word(4 * layer + 2) + ", " + word(4 * layer + 3) + ");\n";
+        s += "    outLayer" + str(k) + " = ivec4(" + word(4 * layer) + ",\n        " +
+             word(4 * layer + 1) + ",\n        " + word(4 * layer + 2) + ",\n        " +
+             word(4 * layer + 3) + ");\n";
+    }
+    if (diffuse) {
+        s += "    vec3 diffuse = clamp(floor((vec3(" + mapValue(0) + ", " + mapValue(1) + ", " +
+             mapValue(2) + R"GLSL() - uDiffuseLow) * uDiffuseScale + 0.5), 0.0, 1023.0);
+    outDiffuse = vec4(diffuse / 1023.0, 1.0);
+)GLSL";
+    }
+    return s + "}\n";
+}
+
+std::string composePassShaderSource(const ShaderLayout& layout, int first, int count,
+                                    bool diffuse) {
+    std::string s = kPrecision;
+    s += materialCodesGlsl();
+    for (int r = 0; r < layout.regions; ++r) {
+        s += "uniform highp isampler2DArray uRegion" + str(r) + ";" +
+             declared(kMaterialFormat, "region " + str(r) + "'s codes");
+        s += "uniform highp sampler2D uRegion" + str(r) + "Diffuse;" +
+             declared(kDiffuseFormat, "its kd codes");
+    }
+    s += "uniform highp sampler2DArray uAlpha;" +
+         declared(alphaFormat(layout.regions), "the preset's α, four regions a layer") +
+         "uniform float uDiffuseLow;  // the coding's kd low end over its span\n";
+    for (int k = 0; k < count; ++k) {
+        s += "layout(location = " + str(k) + ") out ivec4 outLayer" + str(k) + ";" +
+             declared(kMaterialFormat, "the blend's codes");
+    }
+    if (diffuse) {
+        s += "layout(location = " + str(count) + ") out vec4 outDiffuse;" +
+             declared(kDiffuseFormat, "its kd codes");
+    }
+    s += R"GLSL(
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+)GLSL";
+    for (int k = 0; k < layout.alphaLayers(); ++k) {
+        s += "    vec4 alphas" + str(k) + " = texelFetch(uAlpha, ivec3(pixel, " + str(k) +
+             "), 0);\n";
+    }
+    std::string alphaSum;
+    for (int r = 0; r < layout.regions; ++r) {
+        s += "    float alpha" + str(r) + " = alphas" + str(r / 4) + "." + component(r % 4) + ";\n";
+        alphaSum += (r == 0 ? "" : " + ") + std::string("alpha") + str(r);
+    }
+    const int perChannel = basisWordsPerChannel(layout.basisSize);
+    for (int k = 0; k < count; ++k) {
+        const int layer = first + k;
+        for (int r = 0; r < layout.regions; ++r) {
+            s += "    ivec4 r" + str(r) + "_" + str(k) + " = texelFetch(uRegion" + str(r) +
+                 ", ivec3(pixel, " + str(layer) + "), 0);\n";
+        }
+        std::string words;
+        for (int c = 0; c < 4; ++c) {
+            const int w = 4 * layer + c;
+            std::string value;
+            if (w < 3 * perChannel) {
+                std::string blend;
+                for (int r = 0; r < layout.regions; ++r) {
+                    blend += (r == 0 ? "" : " + ") + std::string("alpha") + str(r) +
+                             " * vpeSignedBytes(r" + str(r) + "_" + str(k) + "." + component(c) +
+                             ")";
+                }
+                value = "vpePackSignedBytes(clamp(floor(" + blend + " + 0.5), -127.0, 127.0))";
+            } else {
+                value = "r0_" + str(k) + "." + component(c);  // 1/S and g.z: every region's
+            }
+            words += (c == 0 ? "" : ",\n        ") + value;
+        }
+        s += "    outLayer" + str(k) + " = ivec4(" + words + ");\n";
+    }
+    if (diffuse) {
+        // kd = low + span·t per region: Σ α_r kd_r = low·Σα + span·Σ α_r t_r, as a code again.
+        std::string blend;
+        for (int r = 0; r < layout.regions; ++r) {
+            blend += (r == 0 ? "" : " + ") + std::string("alpha") + str(r) +
+                     " * texelFetch(uRegion" + str(r) + "Diffuse, pixel, 0).rgb";
+        }
+        s += "    vec3 diffuse = clamp(floor((" + blend + " + uDiffuseLow * (" + alphaSum +
+             " - 1.0)) * 1023.0 + 0.5), 0.0, 1023.0);\n";
+        s += "    outDiffuse = vec4(diffuse / 1023.0, 1.0);\n";
     }
     return s + "}\n";
 }
@@ -432,22 +485,17 @@ void main() {
 }
 
 std::string passThroughShaderSource(const ShaderLayout& layout, FrameVariant variant) {
-    const bool live = variant == FrameVariant::kLive || variant == FrameVariant::kLiveFade;
-    const bool fade = variant == FrameVariant::kFade || variant == FrameVariant::kLiveFade;
+    const bool fade = variant == FrameVariant::kFade;
     std::string s = kPrecision;
     s += frameGeometryUniforms();
     s += "uniform highp sampler2D uThetaTable;\nuniform vec2 uRow;\n";
     if (!layout.measuredLight) {
         s += "uniform highp sampler2D uProjectorLevel;\n";
     }
-    if (live) {
-        for (int r = 0; r < layout.regions; ++r) {
-            s += "uniform highp usampler2DArray uRegionMaterial" + str(r) + ";\n";
-        }
-        s += "uniform highp sampler2DArray uAlpha;\nuniform highp sampler2DArray uAlphaFrom;\n";
-    } else {
-        s += "uniform highp usampler2DArray uMaterial;\nuniform highp usampler2DArray "
-             "uMaterialFrom;\n";
+    s += "uniform highp isampler2DArray uMaterial;\nuniform highp sampler2D uMaterialDiffuse;\n";
+    if (fade) {
+        s += "uniform highp isampler2DArray uMaterialFrom;\n"
+             "uniform highp sampler2D uMaterialFromDiffuse;\n";
     }
     if (layout.measuredLight) {
         s += "uniform highp sampler2D uMeasuredIrradiance;  // RGBA16F\n"
@@ -461,19 +509,14 @@ void main() {
     ivec2 pixel = ivec2(gl_FragCoord.x, uRow.x + uRow.y * gl_FragCoord.y);
     vec4 sum = texelFetch(uPosition, pixel, 0);
 )GLSL";
+    const std::string response = layout.measuredLight ? "uInverseResponse" : "uProjectorLevel";
     if (layout.measuredLight) {
         s += "    sum += texelFetch(uMeasuredIrradiance, pixel, 0) + "
              "texelFetch(uMeasuredFloor, pixel, 0);\n";
-        for (int c = 0; c < 3; ++c) {  // the response inverse: one filtered fetch a channel
-            s += "    sum += texture(uInverseResponse, vec2(fract(sum.w * " + str(3 + c) +
-                 ".0), 0.5));\n";
-        }
     }
-    if (!layout.measuredLight) {
-        for (int c = 0; c < 3; ++c) {  // the response inverse: one filtered fetch a channel
-            s += "    sum += texture(uProjectorLevel, vec2(fract(sum.w * " + str(3 + c) +
-                 ".0), 0.5));\n";
-        }
+    for (int c = 0; c < 3; ++c) {  // the response inverse: one filtered fetch a channel
+        s += "    sum += texture(" + response + ", vec2(fract(sum.w * " + str(3 + c) +
+             ".0), 0.5));\n";
     }
     s += R"GLSL(    uvec4 bits = texelFetch(uShading, pixel, 0);
     float x = fract(sum.x * 7.0);  // a table coordinate that varies as θs does
@@ -485,24 +528,14 @@ void main() {
     }
     const auto material = [&](const std::string& sampler) {
         for (int l = 0; l < layout.materialLayers(); ++l) {
-            s += "    bits ^= texelFetch(" + sampler + ", ivec3(pixel, " + str(l) + "), 0);\n";
+            s += "    bits ^= uvec4(texelFetch(" + sampler + ", ivec3(pixel, " + str(l) +
+                 "), 0));\n";
         }
+        s += "    sum += texelFetch(" + sampler + "Diffuse, pixel, 0);\n";
     };
-    if (live) {
-        for (int k = 0; k < layout.alphaLayers(); ++k) {
-            s += "    sum += texelFetch(uAlpha, ivec3(pixel, " + str(k) + "), 0);\n";
-            if (fade) {
-                s += "    sum += texelFetch(uAlphaFrom, ivec3(pixel, " + str(k) + "), 0);\n";
-            }
-        }
-        for (int r = 0; r < layout.regions; ++r) {
-            material("uRegionMaterial" + str(r));
-        }
-    } else {
-        material("uMaterial");
-        if (fade) {
-            material("uMaterialFrom");
-        }
+    material("uMaterial");
+    if (fade) {
+        material("uMaterialFrom");
     }
     s += R"GLSL(    outLevel = vec4(fract(sum.xyz + vec3(bits.xyz & 255u) / 255.0), 1.0);
 }

@@ -135,8 +135,13 @@ GeometryBuffer::GeometryBuffer(const ProjectorPixels& pixels, int threads, bool 
         }
     }
     covered_ = covered;
-    for (std::size_t k = 0; k < 3; ++k) {
-        centre_[k] = covered_ > 0 ? 0.5 * (low[k] + high[k]) : 0.0;
+    if (covered_ > 0) {
+        cube_.side = 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            cube_.low[k] = low[k];
+            cube_.side = std::max(cube_.side, high[k] - low[k]);
+        }
+        cube_.side = cube_.side > 0 ? cube_.side : 1.0;  // a single point
     }
     checkGlError("uploading the projector's geometry buffer");
 }

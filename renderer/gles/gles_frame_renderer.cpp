@@ -31,12 +31,11 @@ namespace vpe::renderer::gles {
 
 namespace {
 
-// Texture units of the frame: geometry 0, the shading geometry 1, uv 2, the θs table 3, the
-// presets' α 4–5, the measured light 6–7, the response inverse 8 (measured, or the level table),
-// materials from 9.
-constexpr int kUnitGeometry0 = 0, kUnitShading = 1, kUnitUv = 2, kUnitTable = 3, kUnitWeights = 4,
-              kUnitWeightsFrom = 5, kUnitMeasuredIrradiance = 6, kUnitMeasuredFloor = 7,
-              kUnitResponse = 8, kUnitMaterials = 9;
+// Texture units of the frame: the position 0, the shading geometry 1, the θs table 2, the
+// measured light 3–4, the response inverse 5 (measured, or the level table), the material's codes
+// and kd codes 6–7, fading the old material's 8–9.
+constexpr int kUnitPosition = 0, kUnitShading = 1, kUnitTable = 2, kUnitMeasuredIrradiance = 3,
+              kUnitMeasuredFloor = 4, kUnitResponse = 5, kUnitMaterial = 6, kUnitMaterialFrom = 8;
 
 // The frame looks the level table up at r·(N − 1)/N + ½/N: the factor is folded into the
 // radiance scale and the ambient (vpeProjectorLevelTable).
@@ -106,10 +105,10 @@ proto::ThetaBasis thetaBasisOf(const proto::BundleView& bundle) {
 // A frame program and its uniforms, looked up once when linked.
 struct GlesFrameRenderer::FrameProgram {
     FrameVariant variant = FrameVariant::kStatic;
+    bool inverseSquare = false;
     std::string source;
     GlObject program;
-    GLint topRow = -1, row = -1, size = -1, light = -1, radianceScale = -1, falloff = -1,
-          ambient = -1, fade = -1;
+    GLint topRow = -1, row = -1, size = -1, light = -1, radianceScale = -1, ambient = -1, fade = -1;
 };
 
 GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
@@ -217,6 +216,8 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     loadTimes_.shadersMs = msSince(start);
 
     start = Clock::now();
+    composed_[0] = materialPass_->makeTarget();
+    composed_[1] = materialPass_->makeTarget();
     if (options.liveWeights) {
         if (textures_->presetCount() > 0) {
             weightPass_ = std::make_unique<WeightPass>(*textures_, *geometry_, *tiles_);
@@ -227,9 +228,6 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                 materialPass_->composeRegion(regionMaterials_.back(), r);
             }
         }
-    } else {
-        composed_[0] = materialPass_->makeTarget();
-        composed_[1] = materialPass_->makeTarget();
     }
     selectPreset("", false);
     glFinish();
@@ -244,9 +242,10 @@ int GlesFrameRenderer::basisSize() const {
 }
 
 std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFrameProgram(
-    FrameVariant variant, std::string source, const std::string& name) {
+    FrameVariant variant, bool inverseSquare, std::string source, const std::string& name) {
     auto frame = std::make_unique<FrameProgram>();
     frame->variant = variant;
+    frame->inverseSquare = inverseSquare;
     frame->source = std::move(source);
     const unsigned vertex = compileShader(GL_VERTEX_SHADER, "tiles.vert", tileVertexSource());
     unsigned fragment = 0;
@@ -262,12 +261,9 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
         return glGetUniformLocation(program, uniform);
     };
     glUseProgram(program);
-    glUniform1i(location("uPosition"), kUnitGeometry0);
+    glUniform1i(location("uPosition"), kUnitPosition);
     glUniform1i(location("uShading"), kUnitShading);
-    glUniform1i(location("uUv"), kUnitUv);
     glUniform1i(location("uThetaTable"), kUnitTable);
-    glUniform1i(location("uAlpha"), kUnitWeights);
-    glUniform1i(location("uAlphaFrom"), kUnitWeightsFrom);
     glUniform1i(location("uMeasuredIrradiance"), kUnitMeasuredIrradiance);
     glUniform1i(location("uMeasuredFloor"), kUnitMeasuredFloor);
     glUniform1i(location("uInverseResponse"), kUnitResponse);
@@ -275,17 +271,15 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
     if (measuredLight_) {
         glUniformMatrix3fv(location("uMixingInverse"), 1, GL_FALSE, mixingInverse_.data());
     }
-    glUniform1i(location("uMaterial"), kUnitMaterials);
-    glUniform1i(location("uMaterialFrom"), kUnitMaterials + 1);
-    for (int r = 0; r < textures_->layout().regions; ++r) {
-        glUniform1i(location(("uRegionMaterial" + std::to_string(r)).c_str()), kUnitMaterials + r);
-    }
+    glUniform1i(location("uMaterial"), kUnitMaterial);
+    glUniform1i(location("uMaterialDiffuse"), kUnitMaterial + 1);
+    glUniform1i(location("uMaterialFrom"), kUnitMaterialFrom);
+    glUniform1i(location("uMaterialFromDiffuse"), kUnitMaterialFrom + 1);
     frame->topRow = location("uTopRowAtOrigin");
     frame->row = location("uRow");
     frame->size = location("uSize");
     frame->light = location("uLightPosition");
     frame->radianceScale = location("uRadianceScale");
-    frame->falloff = location("uFalloff");
     frame->ambient = location("uAmbient");
     frame->fade = location("uFade");
     return frame;
@@ -294,32 +288,41 @@ std::unique_ptr<GlesFrameRenderer::FrameProgram> GlesFrameRenderer::linkFramePro
 void GlesFrameRenderer::buildFramePrograms() {
     GLint units = 0;
     glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
-    if (kUnitMaterials + textures_->layout().regions > units) {
-        throw GraphicsError(bundleName_ + ": " + std::to_string(textures_->layout().regions) +
-                            " regions need more texture units than the " + std::to_string(units) +
-                            " the GPU has");
+    if (kUnitMaterialFrom + 2 > units) {
+        throw GraphicsError(
+            bundleName_ + ": a frame needs " + std::to_string(kUnitMaterialFrom + 2) +
+            " texture units, more than the " + std::to_string(units) + " the GPU has");
     }
-    const std::vector<FrameVariant> variants =
-        options_.liveWeights ? std::vector{FrameVariant::kLive, FrameVariant::kLiveFade}
-                             : std::vector{FrameVariant::kStatic, FrameVariant::kFade};
-    for (const FrameVariant variant : variants) {
-        programs_.push_back(
-            linkFrameProgram(variant, frameShaderSource(frameLayout(), variant, settings_),
-                             std::string("frame-") + frameVariantName(variant) + ".frag"));
+    // Every program at load: a first cross-fade or a falloff switched on must not wait for a
+    // compile, and a shader's errors show at once.
+    for (const FrameVariant variant : {FrameVariant::kStatic, FrameVariant::kFade}) {
+        for (const bool inverseSquare : {false, true}) {
+            program(variant, inverseSquare);
+        }
     }
 }
 
-GlesFrameRenderer::FrameProgram& GlesFrameRenderer::program(FrameVariant variant) {
+GlesFrameRenderer::FrameProgram& GlesFrameRenderer::program(FrameVariant variant,
+                                                            bool inverseSquare) {
     for (const auto& frame : programs_) {
-        if (frame->variant == variant) {
+        if (frame->variant == variant && frame->inverseSquare == inverseSquare) {
             return *frame;
         }
     }
-    throw std::logic_error("no frame program for this variant");
+    programs_.push_back(linkFrameProgram(variant, inverseSquare,
+                                         frameShader(variant, inverseSquare),
+                                         std::string("frame-") + frameVariantName(variant) +
+                                             (inverseSquare ? "-falloff" : "") + ".frag"));
+    return *programs_.back();
 }
 
-std::string GlesFrameRenderer::frameShader(FrameVariant variant) const {
-    return frameShaderSource(frameLayout(), variant, settings_);
+std::string GlesFrameRenderer::frameShader(FrameVariant variant, bool inverseSquare) const {
+    return frameShaderSource(frameLayout(), variant, settings_, inverseSquare);
+}
+
+std::string GlesFrameRenderer::blendShader() const {
+    const ShaderLayout layout = frameLayout();
+    return composePassShaderSource(layout, 0, std::min(3, layout.materialLayers()), true);
 }
 
 ShaderLayout GlesFrameRenderer::frameLayout() const {
@@ -329,9 +332,6 @@ ShaderLayout GlesFrameRenderer::frameLayout() const {
 }
 
 FrameVariant GlesFrameRenderer::nextVariant() const {
-    if (options_.liveWeights) {
-        return fading_ ? FrameVariant::kLiveFade : FrameVariant::kLive;
-    }
     return fading_ ? FrameVariant::kFade : FrameVariant::kStatic;
 }
 
@@ -356,9 +356,7 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
                                         "' (it has none)");
         }
         foldRelief();
-        if (!options_.liveWeights) {
-            materialPass_->composeRegion(composed_[static_cast<std::size_t>(shown_)], 0);
-        }
+        materialPass_->composeRegion(composed_[static_cast<std::size_t>(shown_)], 0);
         return;
     }
     const std::size_t next = presetIndex(name);
@@ -366,10 +364,7 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
         fade && renderedOnce_ && options_.presetFadeSeconds > 0 && next != preset_;
     if (crossFade) {
         // Fading already: the new fade starts from whichever material was showing more.
-        fadeFromPreset_ = preset_;
-        if (!options_.liveWeights) {
-            shown_ = 1 - shown_;
-        }
+        shown_ = 1 - shown_;
         fading_ = true;
         fadeStart_.reset();
     } else {
@@ -381,8 +376,13 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
     if (changed) {
         foldRelief();
     }
-    if (!options_.liveWeights) {
-        materialPass_->composePreset(composed_[static_cast<std::size_t>(shown_)], preset_);
+    const CodedMaterial& target = composed_[static_cast<std::size_t>(shown_)];
+    if (options_.liveWeights) {
+        // The regions' materials blended in projector space: a pass of reads and writes, not a
+        // resampling of every region's maps.
+        materialPass_->blendRegions(target, regionMaterials_, weightPass_->alpha(preset_));
+    } else {
+        materialPass_->composePreset(target, preset_);
     }
 }
 
@@ -426,7 +426,7 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
             fadeProgress = static_cast<float>(std::max(progress, 0.0));
         }
     }
-    const FrameProgram& frame = program(nextVariant());
+    const FrameProgram& frame = program(nextVariant(), inputs.inverseSquare);
     if (passTimes != nullptr) {
         glFinish();
     }
@@ -434,23 +434,29 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
 
     bindFrameTextures();
     beginTiles(target, frame);
-    // The light about the centre the positions are stored about (in double, then rounded).
-    const std::array<double, 3>& centre = geometry_->centre();
+    // The light in the positions' cube (in double, then rounded), whose side is the unit.
+    const GeometryBuffer::Cube& cube = geometry_->cube();
     glUniform3f(frame.light,
-                static_cast<float>(static_cast<double>(inputs.lightPosition[0]) - centre[0]),
-                static_cast<float>(static_cast<double>(inputs.lightPosition[1]) - centre[1]),
-                static_cast<float>(static_cast<double>(inputs.lightPosition[2]) - centre[2]));
-    // π/ρ·L = max(gain · I · (d_ref/d)² · H · f, 0) · π/ρ: the constants folded per channel;
-    // with measured light L itself (its F carries the albedo).
+                static_cast<float>((static_cast<double>(inputs.lightPosition[0]) - cube.low[0]) /
+                                   cube.side),
+                static_cast<float>((static_cast<double>(inputs.lightPosition[1]) - cube.low[1]) /
+                                   cube.side),
+                static_cast<float>((static_cast<double>(inputs.lightPosition[2]) - cube.low[2]) /
+                                   cube.side));
+    // π/ρ·L = gain · I · (d_ref/d)² · H · f · π/ρ: the constants folded per channel, with the
+    // distance in the cube's units (d = side · d_cube) and f in the coding's unit; with measured
+    // light L itself (its F carries the albedo).
     std::array<float, 3> scale{}, ambient{};
     const double reference = inputs.inverseSquare
                                  ? static_cast<double>(inputs.referenceDistance) *
-                                       static_cast<double>(inputs.referenceDistance)
+                                       static_cast<double>(inputs.referenceDistance) /
+                                       (cube.side * cube.side)
                                  : 1.0;
+    const double unit = static_cast<double>(textures_->coding().frameUnit());
     for (std::size_t c = 0; c < 3; ++c) {
         scale[c] = static_cast<float>(
             static_cast<double>(inputs.gain) * static_cast<double>(inputs.lightIntensity[c]) *
-            reference *
+            reference * unit *
             (measuredLight_
                  ? 1.0
                  : kPi / static_cast<double>(settings_.screenAlbedo[c]) * kLevelCoordinateScale));
@@ -458,7 +464,6 @@ void GlesFrameRenderer::render(RenderTarget& target, const FrameInputs& inputs,
                                         kLevelCoordinateScale);
     }
     glUniform3fv(frame.radianceScale, 1, scale.data());
-    glUniform1f(frame.falloff, inputs.inverseSquare ? 1.0f : 0.0f);
     glUniform3fv(frame.ambient, 1, ambient.data());
     glUniform1f(frame.fade, fadeProgress);
     tiles_->draw();
@@ -491,9 +496,8 @@ void GlesFrameRenderer::beginTiles(RenderTarget& target, const FrameProgram& fra
 }
 
 void GlesFrameRenderer::bindFrameTextures() {
-    bind(kUnitGeometry0, GL_TEXTURE_2D, shadingPass_->position().get());
+    bind(kUnitPosition, GL_TEXTURE_2D, shadingPass_->position().get());
     bind(kUnitShading, GL_TEXTURE_2D, shadingPass_->shading().get());
-    bind(kUnitUv, GL_TEXTURE_2D, geometry_->uv().get());
     bind(kUnitTable, GL_TEXTURE_2D, textures_->table().get());
     if (measuredLight_) {
         bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, measuredIrradiance_.get());
@@ -502,21 +506,12 @@ void GlesFrameRenderer::bindFrameTextures() {
     } else {
         bind(kUnitResponse, GL_TEXTURE_2D, levelTable_.get());
     }
-    if (options_.liveWeights) {
-        if (textures_->presetCount() > 0) {
-            bind(kUnitWeights, GL_TEXTURE_2D_ARRAY, weightPass_->alpha(preset_).get());
-            bind(kUnitWeightsFrom, GL_TEXTURE_2D_ARRAY, weightPass_->alpha(fadeFromPreset_).get());
-        }
-        for (std::size_t r = 0; r < regionMaterials_.size(); ++r) {
-            bind(kUnitMaterials + static_cast<int>(r), GL_TEXTURE_2D_ARRAY,
-                 regionMaterials_[r].get());
-        }
-    } else {
-        bind(kUnitMaterials, GL_TEXTURE_2D_ARRAY,
-             composed_[static_cast<std::size_t>(shown_)].get());
-        bind(kUnitMaterials + 1, GL_TEXTURE_2D_ARRAY,
-             composed_[static_cast<std::size_t>(1 - shown_)].get());
-    }
+    const CodedMaterial& shown = composed_[static_cast<std::size_t>(shown_)];
+    const CodedMaterial& previous = composed_[static_cast<std::size_t>(1 - shown_)];
+    bind(kUnitMaterial, GL_TEXTURE_2D_ARRAY, shown.codes.get());
+    bind(kUnitMaterial + 1, GL_TEXTURE_2D, shown.diffuse.get());
+    bind(kUnitMaterialFrom, GL_TEXTURE_2D_ARRAY, previous.codes.get());
+    bind(kUnitMaterialFrom + 1, GL_TEXTURE_2D, previous.diffuse.get());
 }
 
 void GlesFrameRenderer::renderPassThrough(RenderTarget& target) {
@@ -527,7 +522,7 @@ void GlesFrameRenderer::renderPassThrough(RenderTarget& target) {
     }
     if (floor == nullptr) {
         passThroughPrograms_.push_back(
-            linkFrameProgram(variant, passThroughShaderSource(frameLayout(), variant),
+            linkFrameProgram(variant, false, passThroughShaderSource(frameLayout(), variant),
                              std::string("floor-") + frameVariantName(variant) + ".frag"));
         floor = passThroughPrograms_.back().get();
     }

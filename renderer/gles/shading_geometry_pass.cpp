@@ -32,16 +32,23 @@ precision highp usampler2D;
 uniform highp sampler2D uGeometry0;   // X, 1/S
 uniform highp usampler2D uGeometry1;  // n (float bits), g (octahedral)
 uniform vec3 uViewer;
-uniform vec3 uCentre;  // the covered positions' bounding-box centre
+uniform vec3 uCubeLow;   // the covered positions' cube: its low corner
+uniform float uCubeScale;  // 1023 / its side
 layout(location = 0) out uvec4 outShading;
-layout(location = 1) out vec4 outPosition;  // X − centre, 1/S (as half floats)
+layout(location = 1) out vec4 outPosition;  // X in the cube, 10 bits an axis; 1 on the object
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);  // rows = projector rows, as the geometry buffer
     vec4 geometry0 = texelFetch(uGeometry0, pixel, 0);
+    if (geometry0.w < 0.0) {  // sees nothing
+        outShading = uvec4(0u);
+        outPosition = vec4(0.0);
+        return;
+    }
     vec3 position = geometry0.xyz;
-    // 1/S within the half floats' range: kNoProjectorLight becomes their largest, 65504.
-    outPosition = vec4(position - uCentre, min(geometry0.w, 65504.0));
+    // The nearest of the 1024 steps, so that no GPU's own rounding as it writes the texel moves it.
+    outPosition =
+        vec4(clamp(floor((position - uCubeLow) * uCubeScale + 0.5), 0.0, 1023.0) / 1023.0, 1.0);
     uvec4 geometry1 = texelFetch(uGeometry1, pixel, 0);
     vec3 normal = uintBitsToFloat(geometry1.xyz);
     vec3 geometric = vpeOctahedralNormal(geometry1.w);
@@ -58,7 +65,7 @@ ShadingGeometryPass::ShadingGeometryPass(const GeometryBuffer& geometry, const T
     shading_ = makeTexture2D(kShadingFormat, geometry.width(), geometry.height(), GL_RGBA_INTEGER,
                              GL_UNSIGNED_INT, nullptr);
     position_ = makeTexture2D(kPositionFormat, geometry.width(), geometry.height(), GL_RGBA,
-                              GL_HALF_FLOAT, nullptr);
+                              GL_UNSIGNED_INT_2_10_10_10_REV, nullptr);
     const unsigned vertex = compileShader(GL_VERTEX_SHADER, "tiles.vert", tileVertexSource());
     unsigned fragment = 0;
     try {
@@ -76,9 +83,11 @@ ShadingGeometryPass::ShadingGeometryPass(const GeometryBuffer& geometry, const T
     glUniform2f(glGetUniformLocation(program, "uSize"), static_cast<float>(geometry.width()),
                 static_cast<float>(geometry.height()));
     glUniform3fv(glGetUniformLocation(program, "uViewer"), 1, viewer_.data());
-    const std::array<double, 3>& centre = geometry.centre();
-    glUniform3f(glGetUniformLocation(program, "uCentre"), static_cast<float>(centre[0]),
-                static_cast<float>(centre[1]), static_cast<float>(centre[2]));
+    const GeometryBuffer::Cube& cube = geometry.cube();
+    glUniform3f(glGetUniformLocation(program, "uCubeLow"), static_cast<float>(cube.low[0]),
+                static_cast<float>(cube.low[1]), static_cast<float>(cube.low[2]));
+    glUniform1f(glGetUniformLocation(program, "uCubeScale"),
+                static_cast<float>(1023.0 / cube.side));
     framebuffer_ = GlObject::framebuffer();
     checkGlError("building the shading geometry pass");
 }
@@ -94,9 +103,12 @@ void ShadingGeometryPass::run() {
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         throw GraphicsError(
-            "the shading geometry pass's RGBA32UI and RGBA16F attachments are "
+            "the shading geometry pass's RGBA32UI and RGB10_A2 attachments are "
             "incomplete");
     }
+    // Pixels of tiles the pass does not draw: off the object (alpha 0) for a full-screen frame.
+    const std::array<GLfloat, 4> none{0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 1, none.data());
     glViewport(0, 0, geometry_.width(), geometry_.height());
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);

@@ -26,6 +26,10 @@ std::string internalFormatName(GLenum internalFormat) {
             return "RGBA32F";
         case GL_RGBA32UI:
             return "RGBA32UI";
+        case GL_RGBA32I:
+            return "RGBA32I";
+        case GL_RGB10_A2:
+            return "RGB10_A2";
         default:
             throw std::invalid_argument("internalFormatName: format 0x" +
                                         std::to_string(internalFormat) + " is not named here");

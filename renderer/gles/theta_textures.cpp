@@ -5,13 +5,15 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
+#include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/texture_formats.h"
 #include "vpe/renderer/theta_material.h"
 
 namespace vpe::renderer::gles {
 
 ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::ThetaBasis& basis,
-                             int tableSamples, int maxSize) {
+                             int tableSamples, int maxSize)
+    : coding_(basis.size) {
     layout_.basisSize = basis.size;
     layout_.regions = static_cast<int>(bundle.regions().size());
     layout_.tableSamples = tableSamples;
@@ -40,6 +42,7 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
     std::vector<float> layered(layers * texels * 4, 0.0f);
     for (const proto::RegionView& region : bundle.regions()) {
         const std::vector<float> material = thetaMaterialMap(region.coefficients, basis);
+        coding_.cover(material);
         // Texel-major values → layer-major RGBA (value i in layer i / 4, component i % 4).
         for (std::size_t t = 0; t < texels; ++t) {
             for (std::size_t i = 0; i < values; ++i) {
@@ -50,6 +53,8 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
         maps_.push_back(makeArrayTexture(GL_RGBA16F, w, h, static_cast<int>(layers), GL_RGBA,
                                          GL_FLOAT, layered.data(), TextureFilter::kLinear, wrapS));
     }
+    // The frame evaluates f in the coding's unit: kd's codes decode to [0, 1] by the sampler.
+    layout_.diffuseOffset = coding_.diffuseLow() / coding_.frameUnit();
     for (const proto::WeightPresetView& preset : bundle.presets()) {
         if (preset.encoding == proto::AlphaEncoding::kUnorm8) {
             weights_.push_back(makeArrayTexture(GL_R8, w, h, preset.layers, GL_RED,
@@ -65,15 +70,17 @@ ThetaTextures::ThetaTextures(const proto::BundleView& bundle, const proto::Theta
         throw std::invalid_argument(bundle.name() + ": " + std::to_string(layout_.regions) +
                                     " regions and no weight preset to blend them");
     }
-    // The table: row r holds h_j for j = 4r … 4r+3 in RGBA, sample s at texel s.
-    cpuTable_ = proto::ThetaTable::of(basis, tableSamples);
+    // The table: row r holds h_j for j = 4r … 4r+3 in RGBA, sample s at texel s, each function
+    // scaled by its code step over the frame's unit (material_codes.h).
+    const std::vector<float> scaled =
+        scaledThetaTable(proto::ThetaTable::of(basis, tableSamples).values, coding_);
     const int rows = layout_.tableRows();
     std::vector<float> table(static_cast<std::size_t>(rows * tableSamples) * 4, 0.0f);
     for (int s = 0; s < tableSamples; ++s) {
         for (int j = 0; j < basis.size; ++j) {
             table[(static_cast<std::size_t>((j / 4) * tableSamples + s)) * 4 +
                   static_cast<std::size_t>(j % 4)] =
-                cpuTable_.values[static_cast<std::size_t>(s * basis.size + j)];
+                scaled[static_cast<std::size_t>(s * basis.size + j)];
         }
     }
     table_ = makeTexture2D(kThetaTableFormat, tableSamples, rows, GL_RGBA, GL_FLOAT, table.data(),

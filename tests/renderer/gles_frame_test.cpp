@@ -104,8 +104,11 @@ protected:
                 differs = differs || delta != 0;
             }
             differing += differs ? 1 : 0;
-            // Mostly pixels that one renderer covers and the other does not.
-            largeDifferences_ += pixelLargest > 16 ? 1 : 0;
+            // Pixels that one renderer covers and the other does not, or shades otherwise. Not
+            // those the reference clips: a projector at grazing incidence cannot deliver their
+            // light, 1/S is huge there, and the material's code rounding tips them to either
+            // end (a level of 0 or 255 is as wrong as the other).
+            largeDifferences_ += pixelLargest > 16 && reference.clipped.values[p] == 0 ? 1 : 0;
         }
         const double mse = squared / static_cast<double>(pixels * 3);
         const double psnr = mse == 0 ? 99.0 : 10.0 * std::log10(255.0 * 255.0 / mse);
@@ -129,23 +132,33 @@ protected:
 };
 
 // What each texture path must guarantee against the CPU reference, as 8-bit PSNR over the
-// covered pixels: 69.5 dB is an RMS error of 0.085 level (all but 0.7% of the values at the
-// reference's level, the rest one level off), 68 dB 0.10 level (1%), 67 dB 0.11 level (1.3%).
-// What each path loses to its precision: the shading geometry in half floats, the response
-// through its 4096-sample table, the material in half floats (static preset: composed once);
-// live weights: the α per pixel in half floats and a second material fetch; wrapping in u:
-// the seam's footprint; relief: its tilted normal in half floats. The values in the messages
-// were measured on x86-64 and on arm64 (llvmpipe, under qemu-user) and agree to 0.01 dB: the
-// preset's 8-bit weights are filtered in the shader, where arm64's sampler once put the static
-// stripes 7-8 dB lower (60.6-62.9 dB against 68.9).
-constexpr double kStaticPresetDb = 69.5;
-constexpr double kCurveResponseDb = 69.0;  // the curve's table is steeper near black
-constexpr double kMeasuredLightDb = 70.5;
-constexpr double kLiveWeightsDb = 68.0;
-constexpr double kWrapUDb = 67.0;
-constexpr double kReliefDb = 68.5;  // one horizon ramp on the lower cosine: ≥ 68.75
-constexpr double kReliefLiveDb = 67.5;
-constexpr double kReliefWrapUDb = 67.5;
+// frame (its uncovered pixels black in both): 60.5 dB is an RMS error of 0.24 level. What each
+// path loses to its precision: above all the material's codes (material_codes.h: u_j in signed
+// bytes of one step per function, 1/127 of its largest weight; kd in 10 bits), then the shading
+// geometry in half floats and the position in 10-bit steps of the object's cube, the response
+// through its 4096-sample table; live weights: the regions' codes blended and rounded again;
+// wrapping in u: the seam's footprint; relief: its tilted normal in half floats. These bundles
+// are harsher than a fitted capture: every harmonic through the table (K = 2M + 1, each its own
+// byte) and strongly coloured materials, where the demo bundle loses 0.1 dB to the codes
+// (vpe_gles_fidelity: 51.1 dB on the vase at worst, 51.2 in half floats). A code's step is
+// absolute, and near black the response inverse is steepest: a channel that should be dark can
+// land up to 30 levels off in a few pixels (largeDifferences_, at most 3 of a frame here).
+// The values in the messages were measured on x86-64.
+constexpr double kStaticPresetDb = 60.5;
+constexpr double kCurveResponseDb = 61.5;
+constexpr double kMeasuredLightDb = 60.0;
+constexpr double kLiveWeightsDb = 57.5;
+constexpr double kWrapUDb = 58.0;
+constexpr double kReliefDb = 60.5;
+constexpr double kReliefLiveDb = 59.5;
+constexpr double kReliefWrapUDb = 58.0;
+// A frame with many more of its pixels covered (long bent edges, 640 × 480), or with every one
+// of M = 10's 21 functions coded: the same error a pixel, more of it.
+constexpr double kLongEdgesDb = 53.5;
+constexpr double kManyFunctionsDb = 54.5;
+// Pixels more than 16 levels off that the reference does not clip (largeDifferences_): the
+// codes' near-black pixels above; a coverage or seam error would put dozens there.
+constexpr std::size_t kLargeDifferences = 3;
 
 const std::vector<FrameCase>& frameCases() {
     static const std::vector<FrameCase> cases{
@@ -161,7 +174,7 @@ const std::vector<FrameCase>& frameCases() {
 TEST_F(GlesFrameTest, MatchesCpuReferenceWithGammaResponse) {
     for (const FrameCase& frame : frameCases()) {
         EXPECT_GE(comparePsnr({}, frame), kStaticPresetDb)
-            << frame.name << ": measured 70.05-73.09 dB on x86-64 and arm64";
+            << frame.name << ": measured 61.04-67.13 dB";
     }
 }
 
@@ -172,7 +185,7 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithCurveResponse) {
         EXPECT_GE(comparePsnr(spec, {frame.name + "_curve", frame.light, frame.viewer, frame.preset,
                                      frame.inverseSquare, frame.gain}),
                   kCurveResponseDb)
-            << frame.name << ": measured 69.45, 71.99 dB on x86-64 and arm64";
+            << frame.name << ": measured 62.02, 62.93 dB";
     }
 }
 
@@ -184,9 +197,8 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithMeasuredLight) {
         EXPECT_GE(comparePsnr(spec, {frame.name + "_measured", frame.light, frame.viewer,
                                      frame.preset, frame.inverseSquare, frame.gain}),
                   kMeasuredLightDb)
-            << frame.name << ": measured 70.94, 73.38, 76.29 dB on x86-64 and arm64";
-        // No pixel more than 1 level apart.
-        EXPECT_EQ(largeDifferences_, 0u);
+            << frame.name << ": measured 60.79, 61.61, 65.85 dB";
+        EXPECT_LE(largeDifferences_, kLargeDifferences);
     }
 }
 
@@ -199,8 +211,9 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithoutDistortionAndMoreHarmonics) {
     spec.projectorHeight = 150;
     EXPECT_GE(
         comparePsnr(spec, {"m10_undistorted", {0.2f, 0.4f, 0.5f}, {0.3f, 0.2f, 0.6f}, "stripes"}),
-        kStaticPresetDb - 0.5)
-        << "M = 10 (21 table functions): measured 69.66 dB on x86-64 and arm64";
+        kManyFunctionsDb)
+        << "M = 10 (21 table functions, each its own byte): measured 54.91 dB";
+    EXPECT_LE(largeDifferences_, kLargeDifferences);
 }
 
 // Long triangles under strong distortion: edges bend by pixels between their vertices. The GPU
@@ -215,9 +228,9 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithLongBentEdges) {
     spec.vaseRings = 3;
     EXPECT_GE(
         comparePsnr(spec, {"long_bent_edges", {0.4f, 0.3f, 0.5f}, {0.3f, 0.2f, 0.6f}, "radial"}),
-        kStaticPresetDb)
-        << "measured 70.16 dB on x86-64 and arm64, largest difference 6 levels";
-    EXPECT_EQ(largeDifferences_, 0u);
+        kLongEdgesDb)
+        << "measured 54.03 dB";
+    EXPECT_LE(largeDifferences_, kLargeDifferences);
 }
 
 // Textures that tile in u, with the seam u = 0 | 1 turned to the projector: the GPU's REPEAT
@@ -234,9 +247,8 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithTexturesWrappingInU) {
             wrapped.name += live ? "_wrap_u_live" : "_wrap_u";
             wrapped.liveWeights = live;
             EXPECT_GE(comparePsnr(spec, wrapped), kWrapUDb)
-                << wrapped.name
-                << ": measured 67.80-70.71 dB on x86-64 and arm64 (clamping instead: 43-52)";
-            EXPECT_EQ(largeDifferences_, 0u) << wrapped.name;
+                << wrapped.name << ": measured 58.68-62.42 dB (clamping instead: 43-52)";
+            EXPECT_LE(largeDifferences_, kLargeDifferences) << wrapped.name;
         }
     }
     const FrameCase& frame = frameCases()[1];
@@ -260,14 +272,15 @@ TEST_F(GlesFrameTest, MatchesCpuReferenceWithTexturesWrappingInU) {
     EXPECT_GT(differ, 300u);  // measured 387
 }
 
-// The same frames with the regions kept apart and blended per frame by the preset's weights.
+// The same frames with the regions' coded materials kept apart and blended by the preset's
+// weights in projector space (live weights): two roundings of each code.
 TEST_F(GlesFrameTest, LiveWeightsMatchCpuReference) {
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
         FrameCase live = frame;
         live.name += "_live";
         live.liveWeights = true;
         EXPECT_GE(comparePsnr({}, live), kLiveWeightsDb)
-            << live.name << ": measured 68.73, 70.33 dB on x86-64 and arm64";
+            << live.name << ": measured 58.37, 58.56 dB";
     }
 }
 
@@ -281,7 +294,7 @@ TEST_F(GlesFrameTest, ReliefMatchesCpuReference) {
         FrameCase relief = frame;
         relief.name += "_relief";
         EXPECT_GE(comparePsnr(spec, relief), kReliefDb)
-            << relief.name << ": measured 68.75-73.86 dB on x86-64";
+            << relief.name << ": measured 60.98-66.73 dB";
     }
 }
 
@@ -292,18 +305,17 @@ TEST_F(GlesFrameTest, ReliefFollowsPresetChangesAndLiveWeights) {
     FrameCase changed = frameCases()[1];  // radial
     changed.name += "_relief_after_stripes";
     changed.before = "stripes";
-    EXPECT_GE(comparePsnr(spec, changed), kReliefDb)
-        << "measured 70.32 dB on x86-64 and arm64, as without the change";
+    EXPECT_GE(comparePsnr(spec, changed), kReliefDb) << "measured 62.17 dB, as without the change";
     for (const FrameCase& frame : {frameCases()[0], frameCases()[3]}) {
         FrameCase live = frame;
         live.name += "_relief_live";
         live.liveWeights = true;
         EXPECT_GE(comparePsnr(spec, live), kReliefLiveDb)
-            << live.name << ": measured 67.71, 70.02 dB on x86-64";
+            << live.name << ": measured 60.35, 60.12 dB";
         live.name += "_after";
         live.before = frame.preset == "stripes" ? "radial" : "stripes";
         EXPECT_GE(comparePsnr(spec, live), kReliefLiveDb)
-            << live.name << ": measured 67.71, 70.02 dB on x86-64";
+            << live.name << ": measured 60.35, 60.12 dB";
     }
 }
 
@@ -322,9 +334,9 @@ TEST_F(GlesFrameTest, ReliefWrapsInUWithItsTextures) {
             wrapped.liveWeights = live;
             EXPECT_GE(comparePsnr(spec, wrapped), kReliefWrapUDb)
                 << wrapped.name
-                << ": measured 68.08-70.89 dB on x86-64 and arm64 (the relief clamped on the GPU "
-                   "instead: 50.1 dB, 15 pixels > 16 levels)";
-            EXPECT_EQ(largeDifferences_, 0u) << wrapped.name;
+                << ": measured 58.77-62.62 dB (the relief clamped on the GPU instead: 50.1 dB, "
+                   "15 pixels > 16 levels)";
+            EXPECT_LE(largeDifferences_, kLargeDifferences) << wrapped.name;
         }
     }
 }

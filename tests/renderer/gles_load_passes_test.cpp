@@ -2,10 +2,11 @@
 // What the GLES renderer computes once per bundle, against its C++ definition: the geometry
 // buffer as uploaded (every pixel equal, bit for bit, to packProjectorPixel of the CPU
 // reference's traced pixel — bands, formats, orientation), the shading geometry pass's packing
-// (position about the centre, n, the mirrored viewer, the geometric normal) and the material
-// pass's projector-space material (the θs maps sampled bilinearly at the pixel's uv, blended by
-// the preset, times the viewer's horizon, as half floats, and the geometric normal's z after
-// them). Read back by a compute shader.
+// (the position in the object's cube, n, the mirrored viewer, the geometric normal), the
+// material pass's projector-space material (the θs maps sampled bilinearly at the pixel's uv,
+// blended by the preset, times the viewer's horizon, coded as material_codes.h says, with 1/S
+// and the geometric normal's z after the codes) and its blend of coded regions (live weights).
+// Read back by a compute shader.
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -23,11 +24,13 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/bundle_scene.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
+#include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/material_pass.h"
 #include "vpe/renderer/gles/shading_geometry_pass.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
+#include "vpe/renderer/gles/weight_pass.h"
 #include "vpe/renderer/projector_pixels.h"
 #include "vpe/renderer/theta_material.h"
 
@@ -62,8 +65,10 @@ void main() {
 )GLSL";
     const std::string fetch =
         array ? "texelFetch(uTexture, ivec3(p, uLayer), 0)" : "texelFetch(uTexture, p, 0)";
-    source += std::string(type).find("usampler") != std::string::npos
-                  ? "    outputs[i] = " + fetch + ";\n}\n"
+    const std::string kind(type);
+    source += kind.find("usampler") != std::string::npos ? "    outputs[i] = " + fetch + ";\n}\n"
+              : kind.find("isampler") != std::string::npos
+                  ? "    outputs[i] = uvec4(" + fetch + ");\n}\n"
                   : "    outputs[i] = floatBitsToUint(" + fetch + ");\n}\n";
     const unsigned shader = gles::compileShader(GL_COMPUTE_SHADER, "read.comp", source);
     GlObject program = GlObject::program(gles::linkProgram("read", shader));
@@ -124,10 +129,11 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
     EXPECT_GT(covered, static_cast<std::size_t>(w * h / 10));
 }
 
-// The shading geometry pass against its C++ definition: per covered pixel the position about
-// the centre and 1/S (half floats), n, the mirrored viewer (mirroredViewer of the traced normal
-// and the direction to the viewer, in double) and the geometric normal, within half-float
-// rounding; the geometric normal's z is the material's (tested with the material pass).
+// The shading geometry pass against its C++ definition: per covered pixel the position as the
+// nearest 10-bit fraction of the cube (alpha 1; 0 off the object), n, the mirrored viewer
+// (mirroredViewer of the traced normal and the direction to the viewer, in double) and the
+// geometric normal's x, y, within half-float rounding; 1/S and the geometric normal's z are the
+// material's (tested with the material pass).
 TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
     MappedTestBundle bundle;
     const BundleScene scene(bundle.view(), "");
@@ -143,32 +149,34 @@ TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
     const int w = geometry.width(), h = geometry.height();
     const auto shading = readTexels(pass.shading().get(), w, h, "usampler2D");
     const auto position = readTexels(pass.position().get(), w, h, "sampler2D");
-    const std::array<double, 3>& centre = geometry.centre();
-    double worstPosition = 0, worstVector = 0;
-    std::size_t checked = 0;
+    const gles::GeometryBuffer::Cube& cube = geometry.cube();
+    double worstVector = 0;
+    int worstStep = 0;
+    std::size_t checked = 0, offObject = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
-            if (!traced) {
-                continue;
-            }
-            const gles::PackedPixel packed = gles::packProjectorPixel(traced);
             const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                        static_cast<std::size_t>(x));
-            const Vec3d& X = traced->point.position;
-            const std::array<double, 3> stored{X.x, X.y, X.z};
-            for (std::size_t k = 0; k < 3; ++k) {
-                const double expected = stored[k] - centre[k];
-                worstPosition =
-                    std::max(worstPosition,
-                             std::fabs(static_cast<double>(std::bit_cast<float>(position[i + k])) -
-                                       expected) /
-                                 std::max(std::fabs(expected), 1e-3));
+            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
+            const float alpha = std::bit_cast<float>(position[i + 3]);
+            if (!traced) {
+                ASSERT_EQ(alpha, 0.0f) << x << "," << y;
+                ++offObject;
+                continue;
             }
-            ASSERT_NEAR(std::bit_cast<float>(position[i + 3]),
-                        std::min(packed.geometry0[3], 65504.0f),
-                        std::fabs(packed.geometry0[3]) * 1e-3f)
-                << x << "," << y;
+            ASSERT_EQ(alpha, 1.0f) << x << "," << y;
+            const gles::PackedPixel packed = gles::packProjectorPixel(traced);
+            for (std::size_t k = 0; k < 3; ++k) {
+                // The pass's own float arithmetic on the stored float position.
+                const double fraction =
+                    (static_cast<double>(packed.geometry0[k]) - cube.low[k]) / cube.side * 1023.0;
+                const double got =
+                    static_cast<double>(std::bit_cast<float>(position[i + k])) * 1023.0;
+                worstStep = std::max(
+                    worstStep,
+                    static_cast<int>(std::lround(std::fabs(got - std::floor(fraction + 0.5)))));
+            }
+            const Vec3d& X = traced->point.position;
             const Vec3d& n = traced->point.normal;
             const Vec3d toViewer = proto::normalized(Vec3d{static_cast<double>(viewer[0]) - X.x,
                                                            static_cast<double>(viewer[1]) - X.y,
@@ -187,12 +195,15 @@ TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
             ++checked;
         }
     }
-    std::cout << "shading geometry: " << checked << " pixels, position within " << worstPosition
-              << " of its distance to the centre, n, m, g within " << worstVector << "\n";
+    std::cout << "shading geometry: " << checked << " pixels, position within " << worstStep
+              << " step of the nearest 1/1023 of the cube (side " << cube.side
+              << " m), n, m, g within " << worstVector << "; " << offObject
+              << " off the object with alpha 0\n";
     EXPECT_GT(checked, static_cast<std::size_t>(w * h / 10));
-    // Half floats: 2⁻¹¹ relative rounded to nearest, 2⁻¹⁰ truncated (llvmpipe writes an RGBA16F
-    // target truncating: measured 9.7e-4).
-    EXPECT_LT(worstPosition, 1.1e-3);
+    EXPECT_GT(offObject, 0u);
+    // The shader rounds to the nearest step itself: the texel holds it exactly unless the float
+    // arithmetic lands on the other side of a half step.
+    EXPECT_LE(worstStep, 1);
     EXPECT_LT(worstVector, 5e-4);  // half floats of unit vectors: ≤ 2⁻¹² each, and float m
 }
 
@@ -213,7 +224,56 @@ double bilinear(const std::vector<float>& texels, int width, int height, int str
            b * ((1 - a) * at(fs, ft + 1) + a * at(fs + 1, ft + 1));
 }
 
-TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
+// One coded material read back and decoded by material_codes.h's C++ side.
+struct DecodedMaterial {
+    std::vector<std::vector<std::uint32_t>> layers;
+    std::vector<std::uint32_t> diffuse;
+    int width = 0;
+    int basisSize = 0;
+
+    DecodedMaterial(const gles::CodedMaterial& material, const gles::ShaderLayout& layout, int w,
+                    int h)
+        : width(w), basisSize(layout.basisSize) {
+        for (int l = 0; l < layout.materialLayers(); ++l) {
+            layers.push_back(readTexels(material.codes.get(), w, h, "isampler2DArray", l));
+        }
+        diffuse = readTexels(material.diffuse.get(), w, h, "sampler2D");
+    }
+    std::uint32_t word(int x, int y, int w) const {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                              static_cast<std::size_t>(x);
+        return layers[static_cast<std::size_t>(w / 4)][4 * i + static_cast<std::size_t>(w % 4)];
+    }
+    // The code of value q (thetaMaterialSize order: kd RGB, then u_j RGB).
+    int code(int x, int y, int q) const {
+        if (q < 3) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                                  static_cast<std::size_t>(x);
+            return static_cast<int>(std::lround(static_cast<double>(std::bit_cast<float>(
+                                                    diffuse[4 * i + static_cast<std::size_t>(q)])) *
+                                                gles::kDiffuseCodeMax));
+        }
+        const int j = (q - 3) / 3, c = (q - 3) % 3;
+        const int perChannel = gles::basisWordsPerChannel(basisSize);
+        return gles::unpackSignedBytes(
+            word(x, y, c * perChannel + j / 4))[static_cast<std::size_t>(j % 4)];
+    }
+    float value(const gles::MaterialCoding& coding, int x, int y, int q) const {
+        return q < 3 ? coding.diffuse(code(x, y, q)) : coding.basis((q - 3) / 3, code(x, y, q));
+    }
+    // 1/S and the geometric normal's z.
+    std::array<float, 2> extra(int x, int y) const {
+        const std::uint32_t w = word(x, y, 3 * gles::basisWordsPerChannel(basisSize));
+        return {proto::halfToFloat(static_cast<std::uint16_t>(w & 0xffffu)),
+                proto::halfToFloat(static_cast<std::uint16_t>(w >> 16))};
+    }
+};
+
+// The material pass against its definition: the θs maps sampled bilinearly at the pixel's uv,
+// blended by the preset, times the viewer's horizon, coded (material_codes.h): every value
+// within half a step of its code plus the maps' half floats; 1/S and the geometric normal's z in
+// the word after the codes.
+TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndCodesAsItsDefinition) {
     MappedTestBundle bundle;
     const proto::BundleView& view = bundle.view();
     const BundleScene scene(view, "");
@@ -225,16 +285,15 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
     const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
     const std::array<float, 3> viewer = view.settings().viewerPosition;
     gles::MaterialPass pass(textures, geometry, tiles, viewer);
-    const GlObject target = pass.makeTarget();
+    const gles::CodedMaterial target = pass.makeTarget();
     const std::size_t preset = 1;  // "radial": half-float weights
     pass.composePreset(target, preset);
 
     const int w = geometry.width(), h = geometry.height();
-    const int values = textures.layout().materialValues();
-    std::vector<std::vector<std::uint32_t>> layers;
-    for (int l = 0; l < textures.layout().materialLayers(); ++l) {
-        layers.push_back(readTexels(target.get(), w, h, "usampler2DArray", l));
-    }
+    const gles::ShaderLayout& layout = textures.layout();
+    const gles::MaterialCoding& coding = textures.coding();
+    const DecodedMaterial decoded(target, layout, w, h);
+    const int values = layout.materialValues();
     std::vector<std::vector<float>> maps;
     for (const proto::RegionView& region : view.regions()) {
         maps.push_back(thetaMaterialMap(region.coefficients, basis));
@@ -248,7 +307,7 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
             alpha[t * maps.size() + r] = proto::halfToFloat(weights.halves[r * texels + t]);
         }
     }
-    double worst = 0, largest = 0, worstSpare = 0;
+    double worstSteps = 0, worstExtra = 0;
     std::size_t compared = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
@@ -266,45 +325,96 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndPacksAsItsDefinition) {
             const Vec3d normal{std::bit_cast<float>(packed.geometry1[0]),
                                std::bit_cast<float>(packed.geometry1[1]),
                                std::bit_cast<float>(packed.geometry1[2])};
-            const double horizon = proto::horizonFactor(std::min(
-                proto::dot(normal, toViewer),
-                proto::dot(gles::decodeOctahedralNormal(packed.geometry1[3]), toViewer)));
-            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                  static_cast<std::size_t>(x);
+            const Vec3d geometric = gles::decodeOctahedralNormal(packed.geometry1[3]);
+            const double horizon = proto::horizonFactor(
+                std::min(proto::dot(normal, toViewer), proto::dot(geometric, toViewer)));
             for (int q = 0; q < values; ++q) {
-                double expected = 0;
+                double expected = 0, magnitude = 0;
                 for (std::size_t r = 0; r < maps.size(); ++r) {
-                    expected += bilinear(alpha, tw, th, static_cast<int>(maps.size()),
-                                         static_cast<int>(r), u, v) *
-                                bilinear(maps[r], tw, th, values, q, u, v);
+                    const double term = bilinear(alpha, tw, th, static_cast<int>(maps.size()),
+                                                 static_cast<int>(r), u, v) *
+                                        bilinear(maps[r], tw, th, values, q, u, v);
+                    expected += term;
+                    magnitude += std::fabs(term);
                 }
                 expected *= horizon;
-                const std::uint32_t word =
-                    layers[static_cast<std::size_t>(q / 8)][4 * i + (q % 8) / 2];
-                const float got = proto::halfToFloat(
-                    static_cast<std::uint16_t>(q % 2 == 0 ? word & 0xffffu : word >> 16));
-                worst = std::max(worst, std::fabs(static_cast<double>(got) - expected));
-                largest = std::max(largest, std::fabs(expected));
+                const double step =
+                    q < 3 ? static_cast<double>(coding.diffuseSpan()) / gles::kDiffuseCodeMax
+                          : static_cast<double>(coding.basisStep((q - 3) / 3));
+                if (step == 0) {
+                    continue;
+                }
+                // The maps' half floats (2⁻¹¹ of each term) and the filter's weights on top of
+                // the coding's half step.
+                const double slack = 1e-3 * magnitude * horizon;
+                const double error =
+                    std::fabs(static_cast<double>(decoded.value(coding, x, y, q)) - expected);
+                worstSteps = std::max(worstSteps, (error - slack) / step);
                 ++compared;
             }
-            // The spare half after the values: the geometric normal's z (shading geometry).
-            const std::uint32_t spareWord =
-                layers[static_cast<std::size_t>(values / 8)][4 * i + (values % 8) / 2];
-            const float spare = proto::halfToFloat(static_cast<std::uint16_t>(
-                values % 2 == 0 ? spareWord & 0xffffu : spareWord >> 16));
-            worstSpare = std::max(worstSpare,
-                                  std::fabs(static_cast<double>(spare) -
-                                            gles::decodeOctahedralNormal(packed.geometry1[3]).z));
+            const std::array<float, 2> extra = decoded.extra(x, y);
+            worstExtra =
+                std::max({worstExtra,
+                          std::fabs(static_cast<double>(extra[0]) -
+                                    static_cast<double>(std::min(packed.geometry0[3], 65504.0f))) /
+                              std::max(1.0, std::fabs(static_cast<double>(packed.geometry0[3]))),
+                          std::fabs(static_cast<double>(extra[1]) - geometric.z)});
         }
     }
-    std::cout << "geometric normal's z in the spare half: within " << worstSpare << "\n";
-    EXPECT_LT(worstSpare, 5e-4);  // a half float of a unit vector's component (truncated)
-    std::cout << compared << " material values compared: largest |GPU − C++| " << worst
-              << " (values up to " << largest << ")\n";
-    // Half floats twice (the θs maps and the packed result: 2⁻¹¹ relative each) and the
-    // filtering's weights: measured 7.0e-4 of the largest value.
+    std::cout << compared << " material values compared: within " << worstSteps
+              << " of a code step of their definition beyond the maps' rounding; 1/S and g.z "
+                 "within "
+              << worstExtra << "\n";
     EXPECT_GT(compared, 10000u);
-    EXPECT_LT(worst, 1e-3 * largest);
+    EXPECT_LT(worstSteps, 0.5);     // the nearest code
+    EXPECT_LT(worstExtra, 1.1e-3);  // half floats, truncated as llvmpipe writes them: ≤ 2⁻¹⁰
+}
+
+// Live weights: the regions' coded materials blended by a preset's α in projector space give
+// the preset's material as the sampling pass composes it, to within a code (two roundings).
+TEST_F(GlesLoadPassesTest, BlendingCodedRegionsGivesThePresetsMaterial) {
+    MappedTestBundle bundle;
+    const proto::BundleView& view = bundle.view();
+    const BundleScene scene(view, "");
+    const RenderScene any = scene.scene({}, scene.bundleViewer());
+    const ProjectorPixels pixels(any.mesh, any.projector);
+    const gles::GeometryBuffer geometry(pixels, 2);
+    const proto::ThetaBasis basis = proto::ThetaBasis::full(view.model().harmonics);
+    const gles::ThetaTextures textures(view, basis, 256, 4096);
+    const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
+    gles::MaterialPass pass(textures, geometry, tiles, view.settings().viewerPosition);
+    const gles::WeightPass weights(textures, geometry, tiles);
+    std::vector<gles::CodedMaterial> regions;
+    for (int r = 0; r < textures.layout().regions; ++r) {
+        regions.push_back(pass.makeTarget());
+        pass.composeRegion(regions.back(), r);
+    }
+    const int w = geometry.width(), h = geometry.height();
+    for (std::size_t preset = 0; preset < textures.presetCount(); ++preset) {
+        const gles::CodedMaterial sampled = pass.makeTarget(), blended = pass.makeTarget();
+        pass.composePreset(sampled, preset);
+        pass.blendRegions(blended, regions, weights.alpha(preset));
+        const DecodedMaterial a(sampled, textures.layout(), w, h);
+        const DecodedMaterial b(blended, textures.layout(), w, h);
+        int worst = 0;
+        std::size_t compared = 0;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                if (!pixels.trace(x, y)) {
+                    continue;
+                }
+                for (int q = 0; q < textures.layout().materialValues(); ++q) {
+                    worst = std::max(worst, std::abs(a.code(x, y, q) - b.code(x, y, q)));
+                    ++compared;
+                }
+                ASSERT_EQ(a.extra(x, y), b.extra(x, y)) << x << "," << y;
+            }
+        }
+        std::cout << "preset " << preset << ": " << compared << " codes, blended within " << worst
+                  << " of sampled\n";
+        EXPECT_GT(compared, 10000u);
+        EXPECT_LE(worst, 1);
+    }
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "vpe/proto/surface_horizon.h"
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/material_textures.h"
 #include "vpe/renderer/measured_light.h"
@@ -90,6 +91,77 @@ void main() {
     }
     gles::checkGlError("shading test dispatch");
     return result;
+}
+
+// The material's codes (material_codes.h): words of four signed bytes unpacked and packed as
+// the C++ side does, bit for bit, and values coded by the material pass's expression as
+// MaterialCoding codes them.
+TEST_F(GlesShadingGlslTest, MaterialCodesMatchTheirCppSide) {
+    std::mt19937 random(31);
+    std::uniform_int_distribution<std::uint32_t> anyWord;
+    std::uniform_int_distribution<int> anyCode(-gles::kBasisCodeMax, gles::kBasisCodeMax);
+    std::uniform_real_distribution<float> anyValue(-0.75f, 0.75f);
+    gles::MaterialCoding coding(1);
+    const std::vector<float> texel{0.0f, 0.1f, 0.3f, -0.75f, 0.5f, 0.25f};  // kd RGB, u_0 RGB
+    coding.cover(texel);
+    const float inverseStep = 1.0f / coding.basisStep(0);
+    const int samples = 4000;
+    std::vector<std::uint32_t> words;
+    std::vector<float> inputs;
+    for (int i = 0; i < samples; ++i) {
+        std::uint32_t word = anyWord(random);
+        while (((word >> 23) & 0xffu) == 0xffu) {  // not a NaN's bits: they pass through floats
+            word = anyWord(random);
+        }
+        words.push_back(word);
+        inputs.push_back(std::bit_cast<float>(word));
+        std::array<int, 4> codes{};
+        do {  // whose packed word is no NaN's bits either (it comes back as a float)
+            for (int& code : codes) {
+                code = anyCode(random);
+            }
+        } while (((gles::packSignedBytes(codes) >> 23) & 0xffu) == 0xffu);
+        for (const int code : codes) {
+            inputs.push_back(static_cast<float>(code));
+        }
+        inputs.push_back(anyValue(random));
+    }
+    const std::string prelude = gles::materialCodesGlsl() +
+                                "const float INVERSE_STEP = " + gles::glslFloat(inverseStep) +
+                                ";\n";
+    const std::vector<float> unpacked =
+        runOnGpu(prelude, "    result = vpeSignedBytes(floatBitsToInt(in_[base]));\n", inputs, 6);
+    const std::vector<float> packed = runOnGpu(
+        prelude,
+        "    result.x = intBitsToFloat(vpePackSignedBytes(vec4(in_[base + 1], in_[base + 2], "
+        "in_[base + 3], in_[base + 4])));\n"
+        "    result.y = clamp(floor(in_[base + 5] * INVERSE_STEP + 0.5), -127.0, 127.0);\n",
+        inputs, 6);
+    for (int i = 0; i < samples; ++i) {
+        const auto s = static_cast<std::size_t>(i);
+        const std::array<int, 4> bytes = gles::unpackSignedBytes(words[s]);
+        for (std::size_t b = 0; b < 4; ++b) {
+            ASSERT_EQ(unpacked[4 * s + b], static_cast<float>(bytes[b])) << std::hex << words[s];
+        }
+        std::array<int, 4> codes{};
+        for (std::size_t b = 0; b < 4; ++b) {
+            codes[b] = static_cast<int>(inputs[6 * s + 1 + b]);
+        }
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(packed[4 * s]), gles::packSignedBytes(codes));
+        ASSERT_EQ(gles::unpackSignedBytes(gles::packSignedBytes(codes)), codes);
+        ASSERT_EQ(packed[4 * s + 1], static_cast<float>(coding.basisCode(0, inputs[6 * s + 5])))
+            << inputs[6 * s + 5];
+    }
+    // Codes decode to within half a step of what they code, in range.
+    for (int i = 0; i < samples; ++i) {
+        const float u = inputs[6 * static_cast<std::size_t>(i) + 5];
+        ASSERT_LE(std::fabs(coding.basis(0, coding.basisCode(0, u)) - u),
+                  0.5f * coding.basisStep(0) * 1.0001f);
+    }
+    EXPECT_EQ(coding.diffuseCode(0.0f), 0);
+    EXPECT_EQ(coding.diffuseCode(0.3f), gles::kDiffuseCodeMax);
+    EXPECT_FLOAT_EQ(coding.diffuse(gles::kDiffuseCodeMax), 0.3f);
+    EXPECT_FLOAT_EQ(coding.basisStep(0), 0.75f / gles::kBasisCodeMax);
 }
 
 TEST_F(GlesShadingGlslTest, HorizonFactorMatchesProto) {

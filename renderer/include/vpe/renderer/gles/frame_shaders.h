@@ -14,14 +14,14 @@ namespace vpe::renderer::gles {
 // Samples of the measured light's inverse response table (proto::InverseResponseTable).
 inline constexpr int kInverseResponseSamples = 256;
 
-// How a frame finds its material.
+// How a frame finds its material. (With live weights, the regions' materials are kept apart
+// and the preset's blend of them is composed in projector space when the weights change, not
+// every frame: a frame reads one composed material either way.)
 enum class FrameVariant {
-    kStatic,    // one composed material (the preset's regions blended once, at load)
-    kFade,      // two composed materials mixed: a preset change cross-fading
-    kLive,      // every region's material, blended per frame by the preset's weights
-    kLiveFade,  // the same, the weights of two presets mixed
+    kStatic,  // one composed material
+    kFade,    // two composed materials mixed: a preset change cross-fading
 };
-const char* frameVariantName(FrameVariant variant);  // "static", "fade", "live", "live-fade"
+const char* frameVariantName(FrameVariant variant);  // "static", "fade"
 
 // The sizes a shader is generated for.
 struct ShaderLayout {
@@ -36,11 +36,12 @@ struct ShaderLayout {
     int materialValues() const { return 3 * (1 + basisSize); }
     // In texture space, RGBA16F layers of 4 values.
     int mapLayers() const { return (materialValues() + 3) / 4; }
-    // In projector space, half floats, two a 32-bit word, in RGBA32UI layers of four words
-    // (eight values), then one more half: the geometric normal's z (value materialValues(),
-    // the shading geometry's ninth value, which has no room in its texel). K = 4: 15 values and
-    // the spare, two layers, 32 bytes.
-    int materialLayers() const { return (materialValues() + 1 + 7) / 8; }
+    // In projector space, the codes of material_codes.h: RGBA32I layers (K = 4: one, the three
+    // channels' u and a word of 1/S and the geometric normal's z) and kd in an RGB10_A2 texel.
+    int materialLayers() const;
+    // The frame evaluates f in units of the coding's frameUnit(), kd's span: kd = code/1023 +
+    // diffuseOffset in those units (MaterialCoding's low end over its span; 0 unless some kd < 0).
+    float diffuseOffset = 0.0f;
     // The bundle's textures repeat in u (the weight pass filters them as GL_REPEAT does).
     bool wrapU = false;
     // With live weights, the regions' α per projector pixel (the weight pass): four a texel.
@@ -50,15 +51,23 @@ struct ShaderLayout {
 // The frame's fragment shader (full-screen triangle): fetch the pixel's geometry and material,
 // evaluate the model for the light through the θs table, apply the horizon, compensate for the
 // projector, output RGBA8 drive levels. `settings` gives the response and whether room light
-// is subtracted.
+// is subtracted; `inverseSquare`, whether the light falls off with distance (a program each,
+// so that neither pays for the other's arithmetic).
 std::string frameShaderSource(const ShaderLayout& layout, FrameVariant variant,
-                              const proto::RenderSettings& settings);
+                              const proto::RenderSettings& settings, bool inverseSquare);
 
-// The material pass's fragment shader writing material layers [first, first + count) (count ≤
-// 4, one colour attachment each): per pixel, the texture-space θs maps at the pixel's uv, one
-// region alone or all blended by a preset's weights, scaled by the viewer's horizon factor
-// (fixed per pixel), packed as half floats.
-std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count);
+// The material pass's fragment shader writing code layers [first, first + count) (one colour
+// attachment each) and, with `diffuse`, the kd codes (one more): per pixel, the texture-space θs
+// maps at the pixel's uv, one region alone or all blended by a preset's weights, scaled by the
+// viewer's horizon factor (fixed per pixel), coded as material_codes.h says with the coding in
+// its uniforms (uDiffuseLow, uDiffuseScale = 1023/span, uInverseBasisStep[k]).
+std::string materialPassShaderSource(const ShaderLayout& layout, int first, int count,
+                                     bool diffuse);
+
+// The compose pass's (live weights): per pixel, the regions' coded materials blended by a
+// preset's α (the weight pass's) and coded again — in code units, since every region shares the
+// coding — writing code layers [first, first + count) and, with `diffuse`, the kd codes.
+std::string composePassShaderSource(const ShaderLayout& layout, int first, int count, bool diffuse);
 
 // The relief pass's fragment shader: per pixel, the regions' detail normals at the pixel's uv —
 // one region alone, or all blended by a preset's weights (a region without a relief map is flat

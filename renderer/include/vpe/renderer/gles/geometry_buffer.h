@@ -64,9 +64,14 @@ public:
     int width() const { return width_; }
     int height() const { return height_; }
     std::size_t coveredPixels() const { return covered_; }
-    // The centre of the covered pixels' positions' bounding box (object frame, metres): the
-    // frame's positions are half floats about it (ShadingGeometryPass).
-    const std::array<double, 3>& centre() const { return centre_; }
+    // The cube the covered pixels' positions lie in (object frame, metres): its low corner and
+    // side, the bounding box's longest. The frame's positions are 10-bit fractions of it
+    // (ShadingGeometryPass).
+    struct Cube {
+        std::array<double, 3> low{0, 0, 0};
+        double side = 1;
+    };
+    const Cube& cube() const { return cube_; }
     // Per kTileSize × kTileSize tile (tile_cover.h), row-major: whether a pixel sees the object.
     const std::vector<std::uint8_t>& coveredTiles() const { return coveredTiles_; }
 
@@ -74,7 +79,7 @@ private:
     int width_ = 0, height_ = 0;
     bool relief_ = false;
     std::size_t covered_ = 0;
-    std::array<double, 3> centre_{0, 0, 0};
+    Cube cube_;
     std::vector<std::uint8_t> coveredTiles_;
     GlObject geometry0_, geometry1_, uv_, tracedGeometry1_, tangents_;
 };

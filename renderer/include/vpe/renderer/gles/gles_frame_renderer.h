@@ -13,11 +13,11 @@
 // the table, f = kd·max(cos θd, 0) + Σ_j u_j·h_j, the light's horizon and falloff, the
 // compensation, the response. Changing the preset runs the material pass once and cross-fades
 // between the old and the new material over options.presetFadeSeconds. With liveWeights, the
-// regions' materials are kept apart and blended every frame by the preset's weight maps.
+// regions' materials are kept apart in projector space and a preset change blends them there.
 // A bundle's relief (detail normal maps) is folded into the geometry buffer's shading normal
 // by the relief pass, for the selected preset, at load and at each preset change: frames pay
 // nothing for it. A cross-fade fades the material; the relief switches to the new preset's at
-// its start. Live weights blend the materials per frame over the selected preset's relief.
+// its start. Live weights blend the regions' materials, composed on the selected preset's relief.
 #pragma once
 
 #include <array>
@@ -31,12 +31,12 @@
 #include "vpe/renderer/gles/frame_shaders.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/graphics_platform.h"
+#include "vpe/renderer/gles/material_pass.h"
 
 namespace vpe::renderer::gles {
 
 class GeometryBuffer;
 class ThetaTextures;
-class MaterialPass;
 class ReliefPass;
 class ShadingGeometryPass;
 class WeightPass;
@@ -45,8 +45,10 @@ class TileCover;
 struct GlesRendererOptions {
     // Largest texture side accepted, on top of GL_MAX_TEXTURE_SIZE (the Pi 4/5 guarantee).
     int maxTextureSize = 4096;
-    // Blend the regions every frame by the preset's weights (weight maps stay live), instead of
-    // composing the preset's material once: costs one material per region per pixel.
+    // Keep every region's material in projector space and blend them by the preset's weights
+    // there when the weights change (the weight maps stay live), instead of sampling the
+    // regions' maps again: a change costs a pass of reads and writes, a frame the same as
+    // without. Costs one coded material per region in memory.
     bool liveWeights = false;
     // A preset change cross-fades over this long (0: at once).
     double presetFadeSeconds = 0.5;
@@ -113,7 +115,10 @@ public:
                 FramePassTimes* passTimes = nullptr);
 
     // The frame shader of a variant as compiled (for reading and counting its operations).
-    std::string frameShader(FrameVariant variant) const;
+    std::string frameShader(FrameVariant variant, bool inverseSquare = false) const;
+    // With live weights, what a change of weights costs a pixel: the blend pass's first draw
+    // (the kd codes and up to three layers of codes; for K = 4 all of it), for counting.
+    std::string blendShader() const;
     // The texture-fetch floor of the next frame: a shader reading exactly the textures the
     // frame reads per pixel and doing nothing else (passThroughShaderSource), drawn into the
     // target. For benchmarks.
@@ -126,12 +131,13 @@ public:
 private:
     struct FrameProgram;
     void buildFramePrograms();
-    std::unique_ptr<FrameProgram> linkFrameProgram(FrameVariant variant, std::string source,
-                                                   const std::string& name);
+    std::unique_ptr<FrameProgram> linkFrameProgram(FrameVariant variant, bool inverseSquare,
+                                                   std::string source, const std::string& name);
     void bindFrameTextures();
     // Clears the target to black and readies `frame` to draw the covered tiles.
     void beginTiles(RenderTarget& target, const FrameProgram& frame);
-    FrameProgram& program(FrameVariant variant);
+    // The program of a variant (all linked at load).
+    FrameProgram& program(FrameVariant variant, bool inverseSquare);
     std::size_t presetIndex(const std::string& name) const;
     // With a relief: folds the selected preset's into geometry1 (and, with live weights,
     // recomposes the regions' materials, whose viewer horizon follows the shading normal).
@@ -152,16 +158,16 @@ private:
     std::unique_ptr<WeightPass> weightPass_;  // live weights with presets only
     std::vector<std::string> presetNames_;
     std::string presetName_;
-    std::size_t preset_ = 0, fadeFromPreset_ = 0;
-    // Composed materials (static): [shown] the current preset's, the other the previous one's
-    // while fading. Live: one per region.
-    std::array<GlObject, 2> composed_;
+    std::size_t preset_ = 0;
+    // Composed materials: [shown] the current preset's, the other the previous one's while
+    // fading. With live weights also one per region, which a preset change blends.
+    std::array<CodedMaterial, 2> composed_;
     int shown_ = 0;
-    std::vector<GlObject> regionMaterials_;
+    std::vector<CodedMaterial> regionMaterials_;
     bool fading_ = false;
     bool renderedOnce_ = false;
     std::optional<double> fadeStart_;
-    std::vector<std::unique_ptr<FrameProgram>> programs_;             // per FrameVariant
+    std::vector<std::unique_ptr<FrameProgram>> programs_;  // per variant and falloff, as needed
     std::vector<std::unique_ptr<FrameProgram>> passThroughPrograms_;  // built when first asked
     std::unique_ptr<TileCover> tiles_;
     // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and X⁻¹

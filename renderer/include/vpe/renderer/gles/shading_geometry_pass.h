@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: MIT
 // ShadingGeometryPass: the part of each projector pixel's geometry a frame shades with, packed
-// small. Its position less the centre of the object's covered bounding box and 1/S as half
-// floats (kPositionFormat, 8 bytes where geometry0 takes 16: about the centre a half float keeps
-// 2⁻¹¹ of the distance, 2⁻¹⁰ where the GPU truncates as it writes the target (llvmpipe does):
-// 0.5–1 mm at 1 m; 1/S at most 65504, which clips any wanted light above
-// 1.5e-5 as kNoProjectorLight does), and the shading normal n, the mirrored viewer m = 2(n·v)n − v
-// (mirroredViewer: the viewer is fixed, so cos θs = l·m per frame) and the geometric normal's x, y
-// as half floats, two a word, in one RGBA32UI texel (kShadingFormat): one fetch and four unpacks
-// where the frame fetched the normal's float bits, decoded an octahedral normal and normalised v.
-// The geometric normal's z rides in the material's spare half (materialPassShaderSource). Run at
-// load and after each relief pass (the relief tilts n, and with it m).
+// small. Its position as 10-bit fractions of the object's cube (GeometryBuffer::cube) in an
+// RGB10_A2 texel, alpha 1 where the pixel sees the object (kPositionFormat: 4 bytes, decoded by
+// the texture unit; a step is 1/1023 of the cube's side, ±0.7 mm on a 1.4 m object at most,
+// 0.05° of the light's direction at 1 m), and the shading normal n, the mirrored viewer
+// m = 2(n·v)n − v (mirroredViewer: the viewer is fixed, so cos θs = l·m per frame) and the
+// geometric normal's x, y as half floats, two a word, in one RGBA32UI texel (kShadingFormat).
+// 1/S and the geometric normal's z ride in the material's codes (material_codes.h). Run at load
+// and after each relief pass (the relief tilts n, and with it m).
 #pragma once
 
 #include <array>

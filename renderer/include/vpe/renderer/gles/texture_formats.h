@@ -14,9 +14,10 @@ namespace vpe::renderer::gles {
 inline constexpr GLenum kGeometry0Format = GL_RGBA32F;   // X, 1/S
 inline constexpr GLenum kGeometry1Format = GL_RGBA32UI;  // n (float bits), g (octahedral)
 inline constexpr GLenum kShadingFormat = GL_RGBA32UI;    // n, m, g.xy as half floats
-inline constexpr GLenum kPositionFormat = GL_RGBA16F;    // X − centre, 1/S
+inline constexpr GLenum kPositionFormat = GL_RGB10_A2;   // X in the object's cube, covered
 inline constexpr GLenum kUvFormat = GL_RG32F;            // uv
-inline constexpr GLenum kMaterialFormat = GL_RGBA32UI;   // half floats, two a word
+inline constexpr GLenum kMaterialFormat = GL_RGBA32I;    // u codes, 1/S and g.z
+inline constexpr GLenum kDiffuseFormat = GL_RGB10_A2;    // kd codes (material_codes.h)
 inline constexpr GLenum kThetaTableFormat = GL_RGBA16F;  // h_j(x)
 inline constexpr GLenum kLevelTableFormat = GL_RGBA16F;  // the response inverse
 inline constexpr GLenum kMeasuredFormat = GL_RGBA16F;    // F, D, the measured inverse

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // ThetaTextures: a bundle's material as the GLES renderer samples it at load — every region's
 // coefficient map re-expressed in the θs basis (renderer::thetaMaterialMap) as an RGBA16F array
-// in texture space, the presets' weight maps, and the θs table h_j(x).
+// in texture space, the presets' weight maps, the coding that covers the maps, and the θs table
+// h_j(x) scaled for the coded material.
 #pragma once
 
 #include <vector>
@@ -10,6 +11,7 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/gles/frame_shaders.h"
 #include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/gles/material_codes.h"
 
 namespace vpe::renderer::gles {
 
@@ -25,15 +27,16 @@ public:
     // One α layer per region; none when the bundle has no presets (a single region).
     const GlObject& weights(std::size_t preset) const { return weights_[preset]; }
     std::size_t presetCount() const { return weights_.size(); }
+    // h_j(x)·step_j/unit (scaledThetaTable), which a frame multiplies the u codes by.
     const GlObject& table() const { return table_; }
-    // The table as uploaded (GL rounds it to half floats).
-    const proto::ThetaTable& cpuTable() const { return cpuTable_; }
+    // How the projector-space materials are coded: covers every region's map.
+    const MaterialCoding& coding() const { return coding_; }
 
 private:
     ShaderLayout layout_;
     std::vector<GlObject> maps_, weights_;
     GlObject table_;
-    proto::ThetaTable cpuTable_;
+    MaterialCoding coding_;
 };
 
 }  // namespace vpe::renderer::gles
