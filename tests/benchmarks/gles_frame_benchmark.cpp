@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include <GLES3/gl31.h>
 #include <nlohmann/json.hpp>
 #include <time.h>
 #include <unistd.h>
@@ -134,6 +135,8 @@ struct Scene {
     bool liveWeights;
     bool fading;
     bool measuredLight = false;  // format 1.4's maps (two more fetches a pixel), a curve response
+    bool inverseSquare = false;  // the light falls off with distance (its own program)
+    bool roomLight = false;      // the bundle's E_ambient is subtracted (its own program)
 };
 
 }  // namespace
@@ -212,6 +215,16 @@ int main(int argc, char** argv) {
         }
         const vpe::proto::BundleFile measuredBundle =
             vpe::proto::BundleFile::open(measuredPath, {.verifyChecksum = false});
+        // The same scene with room light on the plaster (the assumed-light compensation's
+        // E_ambient).
+        const std::filesystem::path roomPath = folder / "room.vpeb";
+        {
+            vpe::bake::BundleContents room = bundleContents;
+            room.settings.ambientIrradiance = {0.02f, 0.02f, 0.018f};
+            vpe::bake::writeBundle(roomPath, room);
+        }
+        const vpe::proto::BundleFile roomBundle =
+            vpe::proto::BundleFile::open(roomPath, {.verifyChecksum = false});
 
         std::unique_ptr<gles::GraphicsPlatform> platform = gles::createHeadlessEglPlatform();
         std::unique_ptr<gles::RenderTarget> target = platform->createRenderTarget(kWidth, kHeight);
@@ -225,18 +238,25 @@ int main(int argc, char** argv) {
         std::printf("%-15s %8s %7s %9s %6s %8s %9s %9s %7s %8s %8s %8s\n", "scene", "frame ms",
                     "fps", "floor ms", "ratio", "CPU ms", "flop-eq", "fetches", "bytes", "pi4 fps",
                     "pi5 fps", "load ms");
-        for (const Scene scene :
-             {Scene{"static-preset", false, false}, Scene{"fade", false, true},
-              Scene{"live-2-regions", true, false}, Scene{"measured-light", false, false, true}}) {
+        for (const Scene scene : {Scene{"static-preset", false, false},
+                                  Scene{"static-falloff", false, false, false, true},
+                                  Scene{"static-room", false, false, false, false, true},
+                                  Scene{"static-falloff-room", false, false, false, true, true},
+                                  Scene{"fade", false, true}, Scene{"live-2-regions", true, false},
+                                  Scene{"measured-light", false, false, true}}) {
             gles::GlesRendererOptions options;
             options.liveWeights = scene.liveWeights;
             options.presetFadeSeconds = 1e9;  // "fade": every timed frame is a fading one
             const auto loadStart = Clock::now();
-            gles::GlesFrameRenderer renderer(
-                scene.measuredLight ? measuredBundle.view() : bundle.view(), options);
+            gles::GlesFrameRenderer renderer(scene.measuredLight ? measuredBundle.view()
+                                             : scene.roomLight   ? roomBundle.view()
+                                                                 : bundle.view(),
+                                             options);
             const double loadMs =
                 std::chrono::duration<double, std::milli>(Clock::now() - loadStart).count();
             gles::FrameInputs inputs;
+            inputs.inverseSquare = scene.inverseSquare;
+            inputs.referenceDistance = 1.5f;
             const auto renderFrame = [&](int i) {
                 const float phi = 0.3f * static_cast<float>(i);
                 inputs.lightPosition = {0.6f * std::cos(phi), 0.6f * std::sin(phi), -1.2f};
@@ -248,7 +268,8 @@ int main(int argc, char** argv) {
             if (scene.fading) {
                 renderer.selectPreset("stripes-swapped");
             }
-            const std::string source = renderer.frameShader(renderer.nextVariant());
+            const std::string source =
+                renderer.frameShader(renderer.nextVariant(), scene.inverseSquare);
             if (!shaderFolder.empty()) {
                 std::ofstream(std::filesystem::path(shaderFolder) /
                               (std::string(scene.name) + ".frag"))
@@ -280,6 +301,39 @@ int main(int argc, char** argv) {
                 floorMs.push_back(pass.wallMs);
                 ratio.push_back(frame.wallMs / pass.wallMs);
             }
+            // Live weights: what a change of weights costs (the blend pass), counted and timed.
+            nlohmann::json change;
+            if (scene.liveWeights) {
+                const vpe::shader_cost::ShaderReport blend =
+                    vpe::shader_cost::analyzeShader(compiler, renderer.blendShader(), "blend");
+                const vpe::shader_cost::FrameEstimate pi4Change = vpe::shader_cost::estimateFrame(
+                    blend.perPixel, vpe::shader_cost::raspberryPi4(), workload);
+                if (!shaderFolder.empty()) {
+                    std::ofstream(std::filesystem::path(shaderFolder) / "live-blend.frag")
+                        << renderer.blendShader();
+                }
+                std::vector<double> changeMs;
+                for (int i = 0; i < std::max(frames, 3); ++i) {
+                    const auto changeStart = Clock::now();
+                    renderer.selectPreset(i % 2 == 0 ? "stripes-swapped" : "stripes", false);
+                    glFinish();
+                    changeMs.push_back(
+                        std::chrono::duration<double, std::milli>(Clock::now() - changeStart)
+                            .count());
+                }
+                change = {{"flop_eq_per_pixel", blend.perPixel.flopEquivalent()},
+                          {"texture_fetches_per_pixel", blend.perPixel.textureFetches},
+                          {"memory_bytes_per_pixel", blend.perPixel.memoryBytes()},
+                          {"pi4_ms", 1000.0 / pi4Change.framesPerSecond},
+                          {"ms", median(changeMs)}};
+                std::printf(
+                    "  a change of weights (the blend pass): %lld FLOP-eq., %lld fetches, "
+                    "%lld bytes a pixel: %.1f ms on a Pi 4 by the roofline, %.1f ms here\n",
+                    static_cast<long long>(blend.perPixel.flopEquivalent()),
+                    static_cast<long long>(blend.perPixel.textureFetches),
+                    static_cast<long long>(blend.perPixel.memoryBytes()),
+                    1000.0 / pi4Change.framesPerSecond, median(changeMs));
+            }
             const double ms = median(frameMs);
             std::printf("%-15s %8.2f %7.1f %9.2f %6.2f %8.2f %9lld %9lld %7lld %8.1f %8.1f %8.0f\n",
                         scene.name, ms, 1000.0 / ms, median(floorMs), median(ratio), median(cpuMs),
@@ -310,7 +364,8 @@ int main(int argc, char** argv) {
                  {"load_ms", loadMs},
                  {"geometry_ms", renderer.loadTimes().geometryMs},
                  {"material_ms", renderer.loadTimes().materialMs},
-                 {"shaders_ms", renderer.loadTimes().shadersMs}});
+                 {"shaders_ms", renderer.loadTimes().shadersMs},
+                 {"change", change}});
         }
     } catch (const std::exception& error) {
         std::fprintf(stderr, "vpe_gles_frame_benchmark: %s\n", error.what());
