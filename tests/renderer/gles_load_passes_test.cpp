@@ -224,6 +224,19 @@ double bilinear(const std::vector<float>& texels, int width, int height, int str
            b * ((1 - a) * at(fs, ft + 1) + a * at(fs + 1, ft + 1));
 }
 
+// What the material pass reads: the test bundle's projector pixels traced, its θs maps (every
+// harmonic, as a bundle without a basis) and presets uploaded.
+struct MaterialPassInputs {
+    MappedTestBundle bundle;
+    BundleScene scene{bundle.view(), ""};
+    RenderScene any = scene.scene({}, scene.bundleViewer());
+    ProjectorPixels pixels{any.mesh, any.projector};
+    gles::GeometryBuffer geometry{pixels, 2};
+    proto::ThetaBasis basis = proto::ThetaBasis::full(bundle.view().model().harmonics);
+    gles::ThetaTextures textures{bundle.view(), basis, 256, 4096};
+    gles::TileCover tiles{geometry.width(), geometry.height(), geometry.coveredTiles()};
+};
+
 // One coded material read back and decoded by material_codes.h's C++ side.
 struct DecodedMaterial {
     std::vector<std::vector<std::uint32_t>> layers;
@@ -274,17 +287,14 @@ struct DecodedMaterial {
 // within half a step of its code plus the maps' half floats; 1/S and the geometric normal's z in
 // the word after the codes.
 TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndCodesAsItsDefinition) {
-    MappedTestBundle bundle;
-    const proto::BundleView& view = bundle.view();
-    const BundleScene scene(view, "");
-    const RenderScene any = scene.scene({}, scene.bundleViewer());
-    const ProjectorPixels pixels(any.mesh, any.projector);
-    const gles::GeometryBuffer geometry(pixels, 2);
-    const proto::ThetaBasis basis = proto::ThetaBasis::full(view.model().harmonics);
-    const gles::ThetaTextures textures(view, basis, 256, 4096);
-    const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
+    const MaterialPassInputs in;
+    const proto::BundleView& view = in.bundle.view();
+    const ProjectorPixels& pixels = in.pixels;
+    const gles::GeometryBuffer& geometry = in.geometry;
+    const proto::ThetaBasis& basis = in.basis;
+    const gles::ThetaTextures& textures = in.textures;
     const std::array<float, 3> viewer = view.settings().viewerPosition;
-    gles::MaterialPass pass(textures, geometry, tiles, viewer);
+    gles::MaterialPass pass(textures, geometry, in.tiles, viewer);
     const gles::CodedMaterial target = pass.makeTarget();
     const std::size_t preset = 1;  // "radial": half-float weights
     pass.composePreset(target, preset);
@@ -373,17 +383,13 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndCodesAsItsDefinition) {
 // Live weights: the regions' coded materials blended by a preset's α in projector space give
 // the preset's material as the sampling pass composes it, to within a code (two roundings).
 TEST_F(GlesLoadPassesTest, BlendingCodedRegionsGivesThePresetsMaterial) {
-    MappedTestBundle bundle;
-    const proto::BundleView& view = bundle.view();
-    const BundleScene scene(view, "");
-    const RenderScene any = scene.scene({}, scene.bundleViewer());
-    const ProjectorPixels pixels(any.mesh, any.projector);
-    const gles::GeometryBuffer geometry(pixels, 2);
-    const proto::ThetaBasis basis = proto::ThetaBasis::full(view.model().harmonics);
-    const gles::ThetaTextures textures(view, basis, 256, 4096);
-    const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
-    gles::MaterialPass pass(textures, geometry, tiles, view.settings().viewerPosition);
-    const gles::WeightPass weights(textures, geometry, tiles);
+    const MaterialPassInputs in;
+    const ProjectorPixels& pixels = in.pixels;
+    const gles::GeometryBuffer& geometry = in.geometry;
+    const gles::ThetaTextures& textures = in.textures;
+    gles::MaterialPass pass(textures, geometry, in.tiles,
+                            in.bundle.view().settings().viewerPosition);
+    const gles::WeightPass weights(textures, geometry, in.tiles);
     std::vector<gles::CodedMaterial> regions;
     for (int r = 0; r < textures.layout().regions; ++r) {
         regions.push_back(pass.makeTarget());
