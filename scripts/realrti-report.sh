@@ -3,7 +3,10 @@
 # Regenerates docs/realrti-accuracy.md: on each real capture of realrti-dev, the protocol of its
 # README (every 4th light, positions 3, 7, 11, …, held out; PSNR per held-out image, then the
 # mean), for the classic RTI bases (vpe fit --model ptm6|hsh9|hsh16), the paper's model and
-# vpe's extended model, with what the extended fit selected.
+# vpe's extended model, with what the extended fit selected; then the same protocol rotated
+# within each group of four lights (held out 0, 4, 8, … and 1, 5, 9, …: light files reordered
+# so that `--held-out 4` takes them), the worst rotation per item, and the fit times side by
+# side.
 #   scripts/realrti-report.sh [OUTPUT.md]   (needs ../shared/data/realrti-dev or $VPE_DATA)
 # Fits are kept in $REALRTI_WORK (default build/realrti-report) and reused when present: delete
 # a model there to refit it. Runs under nice: the fits of the extended model take minutes.
@@ -29,6 +32,40 @@ declare -A published=([item1]="32.74 36.17 36.78" [item3]="24.04 25.36 28.40"
     [item5]="28.51 18.62 18.18" [item7]="27.33 35.09 35.97" [item9]="22.68 23.61 23.65"
     [item11]="29.06 30.07 30.60")
 
+# rotated LP R OUT: the light file LP with each full group of four lines turned so that the one
+# at position R (0, 1 or 3) of the group is last — where `--held-out 4` leaves it out — the
+# images named by absolute paths.
+rotated() {
+    local lp=$1 r=$2 out=$3 dir
+    dir=$(dirname "$(realpath "$lp")")
+    awk -v r="$r" -v dir="$dir" 'NR == 1 { print; next }
+        { sub(/\r$/, "") } NF == 0 { next }
+        { if ($1 !~ /^\//) $1 = dir "/" $1; line[n++] = $0 }
+        END {
+            for (g = 0; g + 4 <= n; g += 4) {
+                for (k = 0; k < 4; k++) if (k != r) print line[g + k]
+                print line[g + r]
+            }
+            for (k = g; k < n; k++) print line[k]
+        }' "$lp" > "$out"
+}
+
+# One fit and evaluation: fit_eval LP MODEL OUT-STEM (reused when its evaluation is there).
+fit_eval() {
+    local lp=$1 model=$2 out=$3 options
+    [[ -s "$out.eval.json" ]] && return
+    options=(--model "$model")
+    [[ $model == extended-srgb ]] && options=(--model extended --response srgb)
+    nice -n 19 "$vpe" fit "$lp" "${options[@]}" --held-out 4 --out "$out.exr" \
+        --no-preview --json 2>/dev/null | tail -1 > "$out.fit.json"
+    nice -n 19 "$vpe" eval "$out.exr" "$lp" --held-out 4 --json 2>/dev/null \
+        | tail -1 > "$out.eval.json"
+}
+# The fit's total seconds from its report.
+fit_seconds() {
+    sed -n 's/.*"total": *\([0-9.eE+-]*\).*/\1/p' "$1.fit.json" | tail -1
+}
+
 rows="$work/rows.txt"
 : > "$rows"
 for item in $(cd "$data" && ls -d item* | sort -V); do
@@ -37,14 +74,7 @@ for item in $(cd "$data" && ls -d item* | sort -V); do
     line="$item $lights"
     for model in "${models[@]}"; do
         out="$work/$item-$model"
-        if [[ ! -s "$out.eval.json" ]]; then
-            options=(--model "$model")
-            [[ $model == extended-srgb ]] && options=(--model extended --response srgb)
-            nice -n 19 "$vpe" fit "$dir/dirs.lp" "${options[@]}" --held-out 4 --out "$out.exr" \
-                --no-preview --json 2>/dev/null | tail -1 > "$out.fit.json"
-            nice -n 19 "$vpe" eval "$out.exr" "$dir/dirs.lp" --held-out 4 --json 2>/dev/null \
-                | tail -1 > "$out.eval.json"
-        fi
+        fit_eval "$dir/dirs.lp" "$model" "$out"
         line+=" $(json_field psnr < "$out.eval.json")"
     done
     fit="$work/$item-extended.fit.json"
@@ -57,6 +87,32 @@ for item in $(cd "$data" && ls -d item* | sort -V); do
     normals=$(sed -n 's/.*"normals": *"\([^"]*\)".*/\1/p' "$fit" | tr ' ' '_')
     line+=" ${normals:-?} ${published[$item]:-nan nan nan}"
     echo "$line" | tee -a "$rows" >&2
+done
+
+# The rotations (r1: held out 0, 4, 8, …; r2: 1, 5, 9, …), r0 being the protocol above; and the
+# paper and extended fits' times, side by side (fitted one after the other, on one machine).
+rotation_models=(ptm6 hsh9 hsh16 paper extended)
+rotation_rows="$work/rotations.txt"
+: > "$rotation_rows"
+for item in $(cd "$data" && ls -d item* | sort -V); do
+    for r in 0 1 2; do
+        if [[ $r == 0 ]]; then
+            lp="$data/$item/dirs.lp"
+            stem="$work/$item"
+        else
+            mkdir -p "$work/r$r/$item"
+            lp="$work/r$r/$item/dirs.lp"
+            rotated "$data/$item/dirs.lp" $((r - 1)) "$lp"
+            stem="$work/r$r/$item"
+        fi
+        line="$item r$r"
+        for model in "${rotation_models[@]}"; do
+            fit_eval "$lp" "$model" "$stem-$model"
+            line+=" $(json_field psnr < "$stem-$model.eval.json")"
+        done
+        line+=" $(fit_seconds "$stem-paper") $(fit_seconds "$stem-extended")"
+        echo "$line" | tee -a "$rotation_rows" >&2
+    done
 done
 
 {
@@ -117,6 +173,46 @@ done
            printf "| %s | %s | %.2f / %.2f | %.1f | %.2f | %d | %g | %.2f | %.2f | %g (%.2f) | %d | %s | %.3f |\n",
                   $1, ($15 > 0 ? sprintf("%.1f", $15) : "sRGB"), $16, $17, $9, $10, $11, $12,
                   $13, $14, $18, $19, $20, $21, d }' "$rows" | tr '_' ' '
+    echo
+    echo "## Every rotation of the protocol"
+    echo
+    echo "The held-out lights rotated within each group of four: r0 holds out 3, 7, 11, … (the"
+    echo "protocol above), r1 0, 4, 8, …, r2 1, 5, 9, …; every model fitted on the rest as above."
+    echo "A capture's figure moves by tenths with the draw of held-out lights; a model that beats"
+    echo "HSH-16 on one draw and not the next has not beaten it."
+    echo
+    echo "| item | rotation | PTM-6 | HSH-9 | HSH-16 | paper | **extended** | extended − HSH-16 |"
+    echo "|---|---|---|---|---|---|---|---|"
+    awk '{ printf "| %s | %s | %.2f | %.2f | %.2f | %.2f | **%.2f** | %+.2f |\n", $1, $2, $3, $4, $5, $6, $7, $7 - $5 }' \
+        "$rotation_rows"
+    echo
+    echo "Per item, the worst rotation (extended − HSH-16), and the mean over the six items per"
+    echo "rotation:"
+    echo
+    echo "| item | worst rotation | extended − HSH-16 there |"
+    echo "|---|---|---|"
+    awk '{ d = $7 - $5; if (!($1 in worst) || d < worst[$1]) { worst[$1] = d; at[$1] = $2 }
+           if (!($1 in seen)) { order[n++] = $1; seen[$1] = 1 } }
+         END { for (i = 0; i < n; i++) printf "| %s | %s | %+.2f |\n", order[i], at[order[i]], worst[order[i]] }' \
+        "$rotation_rows"
+    echo
+    echo "| rotation | PTM-6 | HSH-9 | HSH-16 | paper | **extended** | items below HSH-16 |"
+    echo "|---|---|---|---|---|---|---|"
+    awk '{ for (i = 3; i <= 7; i++) s[$2, i] += $i; c[$2]++; below[$2] += ($7 < $5) }
+         END { for (r = 0; r < 3; r++) { k = "r" r
+                 printf "| %s | %.2f | %.2f | %.2f | %.2f | **%.2f** | %d of %d |\n", k,
+                        s[k, 3] / c[k], s[k, 4] / c[k], s[k, 5] / c[k], s[k, 6] / c[k], s[k, 7] / c[k],
+                        below[k], c[k] } }' "$rotation_rows"
+    echo
+    echo "## Fit times"
+    echo
+    echo "\`vpe fit\`'s total seconds (decode, normals, search and fit, write; its \`--json\`), the"
+    echo "paper's model and the extended one fitted one after the other on the same machine, under"
+    echo "nice, per item and rotation; the ratio is extended / paper (goal, issue 28: ≤ 3)."
+    echo
+    echo "| item | rotation | paper (s) | extended (s) | ratio |"
+    echo "|---|---|---|---|---|"
+    awk '{ printf "| %s | %s | %.1f | %.1f | %.1f |\n", $1, $2, $8, $9, $9 / $8 }' "$rotation_rows"
     echo
     echo "Where the loss came from on each item, and what was tried: [realrti-causes.md](realrti-causes.md)."
 } > "$work/report.md"
