@@ -9,6 +9,7 @@
 #include "vpe/common/atomic_folder.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/registration/surface_mesh.h"
 #include "vpe/scan/scan_accuracy.h"
 #include "vpe/scan/scan_files.h"
@@ -27,10 +28,6 @@ struct Arguments {
     int threads = 0;
     bool json = false;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 void runScan(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -16,6 +15,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/fit/band_fitter.h"
 #include "vpe/fit/held_out_search.h"
 #include "vpe/fit/rti_band_fitter.h"
@@ -35,10 +35,6 @@ using Clock = std::chrono::steady_clock;
 // realrti-dev 4°, 8° and 12° gave the same held-out PSNR within 0.05 dB on average, and every
 // tilt tried costs one more fit of the texel, so the smallest.
 constexpr double kNormalSearchDegrees = 4.0;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height) {
     if (!capture.mask) {
@@ -354,10 +350,9 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     ProgressBar progress("fit", static_cast<std::size_t>(report.height));
     // The bar names the phase under way and the time each has taken so far.
     auto showPhase = [&](const char* phase) {
-        char text[160];
-        std::snprintf(text, sizeof text, "%s  (decode %.1f s, fit %.1f s, write %.1f s)", phase,
-                      report.decodeSeconds, report.fitSeconds, report.writeSeconds);
-        progress.setPhase(text);
+        progress.setPhase(phase, {{"decode", report.decodeSeconds},
+                                  {"fit", report.fitSeconds},
+                                  {"write", report.writeSeconds}});
     };
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);

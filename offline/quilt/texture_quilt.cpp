@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +13,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/image/image_file.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/quilt/quilt_folder.h"
@@ -26,10 +26,6 @@ namespace vpe::quilt {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 nlohmann::json stretchJson(const scene::TexelStretch& s) {
     return {{"worst", s.worst},
@@ -138,7 +134,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     if (regions == 0) {
         throw InputError(options.labels, "no labelled pixel has a valid fit");
     }
-    report.loadSeconds = since(start);
+    report.loadSeconds = secondsSince(start);
 
     const std::filesystem::path out = options.out;
     AtomicFolder folder(out, "quilt.json", "vpe quilt");
@@ -156,10 +152,9 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     // Two steps per region: quilting it, writing its maps.
     ProgressBar progress("quilt", 2 * static_cast<std::size_t>(regions));
     auto showPhase = [&](const std::string& what) {
-        char text[160];
-        std::snprintf(text, sizeof text, "%s  (load %.1f s, quilt %.1f s, write %.1f s)",
-                      what.c_str(), report.loadSeconds, report.quiltSeconds, report.writeSeconds);
-        progress.setPhase(text);
+        progress.setPhase(what, {{"load", report.loadSeconds},
+                                 {"quilt", report.quiltSeconds},
+                                 {"write", report.writeSeconds}});
     };
     auto regionName = [regions](int region) {
         return "region " + std::to_string(region + 1) + " of " + std::to_string(regions);
@@ -177,7 +172,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         showPhase("quilting " + regionName(region));
         const auto quiltStart = Clock::now();
         RegionQuilt quilt = quiltRegion(source, labels, region, width, height, settings);
-        regionReport.seconds = since(quiltStart);
+        regionReport.seconds = secondsSince(quiltStart);
         report.quiltSeconds += regionReport.seconds;
         progress.advance();
         showPhase("writing " + regionName(region));
@@ -238,7 +233,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         }
         writer.finish();
         quilt::writePositionMap(quilt::positionsPath(partial, region), positions, region);
-        report.writeSeconds += since(writeStart);
+        report.writeSeconds += secondsSince(writeStart);
         if (width >= 3) {
             regionReport.seam = quilt::measureSeam(quilted, width, height, source.channels);
         }
@@ -261,7 +256,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     }
     showPhase("done");
     progress.finish();
-    report.seconds = since(start);
+    report.seconds = secondsSince(start);
     description["seconds"] = report.seconds;
     writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
     folder.commit();
