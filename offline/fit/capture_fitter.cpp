@@ -141,24 +141,9 @@ FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
     return report;
 }
 
-}  // namespace
-
-fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda) {
-    switch (precision) {
-        case FitPrecision::kFast:
-            return fit::AccumulationPrecision::kFloatBlocks;
-        case FitPrecision::kExact:
-            return fit::AccumulationPrecision::kDouble;
-        case FitPrecision::kAuto:
-            break;
-    }
-    return lambda < 1e-3 ? fit::AccumulationPrecision::kDouble
-                         : fit::AccumulationPrecision::kFloatBlocks;
-}
-
-FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
+// What can be refused before decoding anything: the options, the output's name, too few images.
+void checkFitRequest(const Capture& capture, const FitOptions& options,
                      const std::filesystem::path& modelPath) {
-    const auto start = Clock::now();
     const bool rti = options.variant == ModelVariant::kRti;
     const int coefficients =
         rti ? options.rtiBasis.terms : proto::coefficientCount(options.harmonics);
@@ -173,166 +158,145 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     if (modelPath.extension() != ".exr") {
         throw InputError(modelPath, "the model file must have the .exr extension");
     }
-    if (static_cast<int>(originalCapture.images.size()) < coefficients) {
-        throw InputError(originalCapture.source,
-                         std::to_string(originalCapture.images.size()) +
-                             " images cannot determine " + std::to_string(coefficients) +
+    if (static_cast<int>(capture.images.size()) < coefficients) {
+        throw InputError(capture.source,
+                         std::to_string(capture.images.size()) + " images cannot determine " +
+                             std::to_string(coefficients) +
                              (rti ? " coefficients of " + options.rtiBasis.name()
                                   : " coefficients: M = " + std::to_string(options.harmonics) +
                                         " needs N >= 2M + 2 = " + std::to_string(coefficients)));
     }
-    if (rti) {
-        return fitRtiCapture(originalCapture, options, modelPath);
-    }
+}
 
-    FitReport report;
-    auto decodeStart = Clock::now();
-    auto reader = std::make_unique<ImageBandReader>(originalCapture, options.threads);
-    report.decodeSeconds += secondsSince(decodeStart);
-    report.width = reader->width();
-    report.height = reader->height();
-    report.images = reader->imageCount();
-    report.pixels = static_cast<std::size_t>(report.width) * report.height;
-    const std::vector<std::uint8_t> mask = readMask(originalCapture, report.width, report.height);
-
-    const bool extended = options.variant == ModelVariant::kExtended;
-    Capture capture = originalCapture;
-    const auto normalsStart = Clock::now();
-    NormalsResult normals =
-        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
-    // The camera response, when the capture leaves it unstated: it changes what photometric
-    // stereo sees, so the normals are estimated again under the response chosen, and the
-    // response is chosen again under those normals (once). The held-out error decides between
-    // the two normal maps too: photometric stereo is a Lambertian estimate, and on glossy or
-    // shadowed captures a response that fits the radiance better can still give worse normals.
-    if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
-        reader->eightBitCodes()) {
-        const auto searchStart = Clock::now();
-        HeldOutSearchOptions search;
-        search.calibrateResponse = true;
-        search.calibrateGeometry = false;
-        search.selectRegularization = false;
-        search.threads = options.threads;
-        std::optional<NormalsResult> previous;
-        for (int round = 0; round < 2; ++round) {
-            const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
-            if (previous && found.rms >= report.responseRms) {
-                // The normals estimated under the capture's own response predict the held-out
-                // lights better: keep them, with the response chosen under them.
-                normals = std::move(*previous);
-                normals.source += " (estimated under sRGB)";
-                report.normalsUnderStatedResponse = true;
-                break;
-            }
-            if (round == 0) {  // both under the same (sRGB-estimated) normals
-                report.responseRms = found.rms;
-                report.statedResponseRms = std::numeric_limits<double>::infinity();
-                for (const HeldOutTrial& trial : found.trials) {
-                    if (trial.calibration.responseGamma == 0) {
-                        report.statedResponseRms = std::min(report.statedResponseRms, trial.rms);
-                    }
+// The camera response, when the capture leaves it unstated (docs/extended-model.md, step 1,
+// "Response"): it changes what photometric stereo sees, so the normals are estimated again
+// under the response chosen, and the response is chosen again under those normals (once).
+// The held-out error decides between the two normal maps too: photometric stereo is a
+// Lambertian estimate, and on glossy or shadowed captures a response that fits the radiance
+// better can still give worse normals. `capture`, `reader` and `normals` are replaced by those
+// under the response kept.
+void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reader,
+                       NormalsResult& normals, const FitOptions& options, FitReport& report) {
+    const auto searchStart = Clock::now();
+    HeldOutSearchOptions search;
+    search.calibrateResponse = true;
+    search.calibrateGeometry = false;
+    search.selectRegularization = false;
+    search.threads = options.threads;
+    std::optional<NormalsResult> previous;
+    for (int round = 0; round < 2; ++round) {
+        const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+        if (previous && found.rms >= report.responseRms) {
+            // The normals estimated under the capture's own response predict the held-out
+            // lights better: keep them, with the response chosen under them.
+            normals = std::move(*previous);
+            normals.source += " (estimated under sRGB)";
+            report.normalsUnderStatedResponse = true;
+            break;
+        }
+        if (round == 0) {  // both under the same (sRGB-estimated) normals
+            report.responseRms = found.rms;
+            report.statedResponseRms = std::numeric_limits<double>::infinity();
+            for (const HeldOutTrial& trial : found.trials) {
+                if (trial.calibration.responseGamma == 0) {
+                    report.statedResponseRms = std::min(report.statedResponseRms, trial.rms);
                 }
             }
-            const double gamma = found.calibration.responseGamma;
-            if (gamma == 0 || gamma == report.calibration.responseGamma) {
-                break;  // the capture's own (sRGB), or what the normals were estimated under
-            }
-            report.calibration.responseGamma = gamma;
-            capture =
-                applyGeometryCalibration(capture, found.calibration, report.width, report.height);
-            reader = std::make_unique<ImageBandReader>(capture, options.threads);
-            previous = std::move(normals);
-            normals = acquireNormals(capture, options.normals, report.width, report.height,
-                                     options.threads);
         }
-        report.calibrationSeconds += secondsSince(searchStart);
-    }
-    report.normalsSource = normals.source;
-    // The relief: measured against the macro shape, then either carried as a detail map or
-    // left for the coefficients (fitted against the macro normals).
-    report.macroSigma = options.macroSigma.value_or(defaultMacroSigma(report.width, report.height));
-    const NormalMap macro = lowPassNormals(normals.normals, report.macroSigma);
-    const Vec3d right = imageRightDirection(originalCapture);
-    {
-        double tilt = 0;
-        std::size_t counted = 0;
-        for (std::size_t p = 0; p < macro.valid.size(); ++p) {
-            if (macro.valid[p]) {
-                const Vec3d n{normals.normals.xyz[p * 3], normals.normals.xyz[p * 3 + 1],
-                              normals.normals.xyz[p * 3 + 2]};
-                const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
-                const float z = static_cast<float>(detailNormalOf(n, m, right).z);
-                tilt += std::acos(std::clamp(static_cast<double>(z), -1.0, 1.0));
-                ++counted;
-            }
+        const double gamma = found.calibration.responseGamma;
+        if (gamma == 0 || gamma == report.calibration.responseGamma) {
+            break;  // the capture's own (sRGB), or what the normals were estimated under
         }
-        report.meanReliefDegrees =
-            counted ? tilt / static_cast<double>(counted) * 180.0 / std::numbers::pi : 0;
-    }
-    if (options.relief == ReliefMode::kInCoefficients) {
-        normals.normals = macro;
-    }
-    report.normalsSeconds = secondsSince(normalsStart);
-
-    // The extended fit refines photometric stereo's normals, a Lambertian estimate that leaves
-    // out the darkest samples, where raking lights are most sensitive to the tilt. A given
-    // normal map is trusted, as a manifest's geometry is; in coefficients mode the normals are
-    // the macro shape by design.
-    if (extended && normals.estimated && options.relief == ReliefMode::kDetailMap) {
-        report.normalSearchDegrees = kNormalSearchDegrees;
-        report.normalsSource += ", refined by the fit";
-    }
-    int harmonics = options.harmonics;
-    double lambda = options.lambda;
-    const bool calibrate = extended && acceptsGeometryCalibration(capture);
-    if (calibrate || options.selectRegularization || extended) {
-        const auto searchStart = Clock::now();
-        HeldOutSearchOptions search;
-        search.calibrateGeometry = calibrate;
-        search.selectRegularization = options.selectRegularization;
-        search.selectTransportRidge = extended;
-        search.normalSearchDegrees = report.normalSearchDegrees;
-        search.calibrateLightIntensities = calibrate;
-        search.harmonics = options.harmonics;
-        search.lambda = options.lambda;
-        search.threads = options.threads;
-        const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
-        report.calibration.fieldOfViewDegrees = found.calibration.fieldOfViewDegrees;
-        report.calibration.lightDistance = found.calibration.lightDistance;
-        report.calibration.lightIntensities = found.calibration.lightIntensities;
-        report.lightIntensityRms = found.lightIntensityRms;
-        report.transportImageRms = found.transportImageRms;
-        report.calibratedRms = found.rms;
-        report.uncalibratedRms = found.baselineRms;
-        harmonics = found.harmonics;
-        lambda = found.lambda;
-        report.transportRidge = found.transportRidge;
-        report.transportRms = found.transportRms;
-        report.transportTrials = found.transportTrials;
+        report.calibration.responseGamma = gamma;
         capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
-        report.calibrationSeconds += secondsSince(searchStart);
+        reader = std::make_unique<ImageBandReader>(capture, options.threads);
+        previous = std::move(normals);
+        normals =
+            acquireNormals(capture, options.normals, report.width, report.height, options.threads);
     }
-    report.harmonics = harmonics;
-    report.lambda = lambda;
-    const SurfaceGeometry geometry(capture, report.width, report.height);
+    report.calibrationSeconds += secondsSince(searchStart);
+}
 
-    fit::BandFitSettings bandSettings;
-    bandSettings.harmonics = harmonics;
-    bandSettings.lambda = lambda;
-    bandSettings.precision = resolvePrecision(options.precision, lambda);
-    bandSettings.extended = extended;
-    if (extended) {  // the search always runs for it, and chose the ridge
-        bandSettings.transportRidge = report.transportRidge;
-        bandSettings.normalSearchDegrees = report.normalSearchDegrees;
+// The relief the normals carry: their mean tilt off the macro shape, in degrees, where the
+// macro shape is valid.
+double meanReliefDegrees(const NormalMap& normals, const NormalMap& macro, const Vec3d& right) {
+    double tilt = 0;
+    std::size_t counted = 0;
+    for (std::size_t p = 0; p < macro.valid.size(); ++p) {
+        if (macro.valid[p]) {
+            const Vec3d n{normals.xyz[p * 3], normals.xyz[p * 3 + 1], normals.xyz[p * 3 + 2]};
+            const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
+            const float z = static_cast<float>(detailNormalOf(n, m, right).z);
+            tilt += std::acos(std::clamp(static_cast<double>(z), -1.0, 1.0));
+            ++counted;
+        }
     }
-    bandSettings.threads = options.threads;
-    const fit::BandFitter fitter(capture, geometry, normals.normals, bandSettings);
+    return counted ? tilt / static_cast<double>(counted) * 180.0 / std::numbers::pi : 0;
+}
 
+// What the capture cannot state, chosen by the held-out search (docs/extended-model.md, step
+// 1): the rig's geometry, M and λ, T's ridge and the blocked lights, each as the options ask.
+// Returns the capture under the geometry chosen; M and λ go to the report, as given when not
+// selected.
+Capture searchUnstated(const Capture& capture, const NormalMap& normals, const FitOptions& options,
+                       FitReport& report) {
+    report.harmonics = options.harmonics;
+    report.lambda = options.lambda;
+    const bool extended = options.variant == ModelVariant::kExtended;
+    const bool calibrate = extended && acceptsGeometryCalibration(capture);
+    if (!calibrate && !options.selectRegularization && !extended) {
+        return capture;
+    }
+    const auto searchStart = Clock::now();
+    HeldOutSearchOptions search;
+    search.calibrateGeometry = calibrate;
+    search.selectRegularization = options.selectRegularization;
+    search.selectTransportRidge = extended;
+    search.normalSearchDegrees = report.normalSearchDegrees;
+    search.calibrateLightIntensities = calibrate;
+    search.harmonics = options.harmonics;
+    search.lambda = options.lambda;
+    search.threads = options.threads;
+    const HeldOutSearchResult found = searchHeldOut(capture, normals, search);
+    report.calibration.fieldOfViewDegrees = found.calibration.fieldOfViewDegrees;
+    report.calibration.lightDistance = found.calibration.lightDistance;
+    report.calibration.lightIntensities = found.calibration.lightIntensities;
+    report.lightIntensityRms = found.lightIntensityRms;
+    report.transportImageRms = found.transportImageRms;
+    report.calibratedRms = found.rms;
+    report.uncalibratedRms = found.baselineRms;
+    report.harmonics = found.harmonics;
+    report.lambda = found.lambda;
+    report.transportRidge = found.transportRidge;
+    report.transportRms = found.transportRms;
+    report.transportTrials = found.transportTrials;
+    Capture calibrated =
+        applyGeometryCalibration(capture, found.calibration, report.width, report.height);
+    report.calibrationSeconds += secondsSince(searchStart);
+    return calibrated;
+}
+
+fit::BandFitSettings bandFitSettings(const FitOptions& options, const FitReport& report) {
+    fit::BandFitSettings settings;
+    settings.harmonics = report.harmonics;
+    settings.lambda = report.lambda;
+    settings.precision = resolvePrecision(options.precision, report.lambda);
+    settings.extended = options.variant == ModelVariant::kExtended;
+    if (settings.extended) {  // the search always runs for it, and chose the ridge
+        settings.transportRidge = report.transportRidge;
+        settings.normalSearchDegrees = report.normalSearchDegrees;
+    }
+    settings.threads = options.threads;
+    return settings;
+}
+
+ModelInfo fittedModelInfo(const Capture& capture, const FitOptions& options,
+                          const FitReport& report) {
     ModelInfo info;
     info.width = report.width;
     info.height = report.height;
-    info.harmonics = harmonics;
-    info.lambda = lambda;
+    info.harmonics = report.harmonics;
+    info.lambda = report.lambda;
     info.samples = report.images;
     info.capture = capture.source.string();
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
@@ -340,15 +304,22 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     info.texelMm = capture.texelMm.value_or(0.0);
     info.storage = options.storage;
     info.detailNormals = options.relief == ReliefMode::kDetailMap;
-    ModelWriter writer(modelPath, info, options.threads);
-    RelightPreview preview(report.width, report.height, harmonics);
+    return info;
+}
 
-    const int bandRows = reader->rowsForBudget(options.bandBudgetBytes);
+// Decodes, fits and writes the capture band by band (a band as many rows as the memory budget
+// holds), with the relief's detail normals and the preview; the bar shows the step under way
+// and the time each kind of step has taken.
+void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mask,
+                   const fit::BandFitter& fitter, ModelWriter& writer, const ModelInfo& info,
+                   const NormalMap& macro, const Vec3d& right, const FitOptions& options,
+                   const std::filesystem::path& modelPath, FitReport& report) {
+    RelightPreview preview(report.width, report.height, info.harmonics);
+    const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
     SampleBand band;
     ModelRows rows;
     double rmsSum = 0;
     ProgressBar progress("fit", static_cast<std::size_t>(report.height));
-    // The bar names the phase under way and the time each has taken so far.
     auto showPhase = [&](const char* phase) {
         progress.setPhase(phase, {{"decode", report.decodeSeconds},
                                   {"fit", report.fitSeconds},
@@ -357,8 +328,8 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);
         showPhase("decoding");
-        decodeStart = Clock::now();
-        reader->readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
+        const auto decodeStart = Clock::now();
+        reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
         report.decodeSeconds += secondsSince(decodeStart);
 
         showPhase("fitting");
@@ -391,6 +362,80 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     showPhase("done");
     progress.finish();
     report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
+}
+
+}  // namespace
+
+fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda) {
+    switch (precision) {
+        case FitPrecision::kFast:
+            return fit::AccumulationPrecision::kFloatBlocks;
+        case FitPrecision::kExact:
+            return fit::AccumulationPrecision::kDouble;
+        case FitPrecision::kAuto:
+            break;
+    }
+    return lambda < 1e-3 ? fit::AccumulationPrecision::kDouble
+                         : fit::AccumulationPrecision::kFloatBlocks;
+}
+
+// docs/extended-model.md, "How it is fitted", in order: the response with the normals, the
+// relief, the held-out search, then the fit itself band by band.
+FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
+                     const std::filesystem::path& modelPath) {
+    const auto start = Clock::now();
+    checkFitRequest(originalCapture, options, modelPath);
+    if (options.variant == ModelVariant::kRti) {
+        return fitRtiCapture(originalCapture, options, modelPath);
+    }
+
+    FitReport report;
+    const auto decodeStart = Clock::now();
+    auto reader = std::make_unique<ImageBandReader>(originalCapture, options.threads);
+    report.decodeSeconds += secondsSince(decodeStart);
+    report.width = reader->width();
+    report.height = reader->height();
+    report.images = reader->imageCount();
+    report.pixels = static_cast<std::size_t>(report.width) * report.height;
+    const std::vector<std::uint8_t> mask = readMask(originalCapture, report.width, report.height);
+
+    const bool extended = options.variant == ModelVariant::kExtended;
+    Capture capture = originalCapture;
+    const auto normalsStart = Clock::now();
+    NormalsResult normals =
+        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+    if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
+        reader->eightBitCodes()) {
+        calibrateResponse(capture, reader, normals, options, report);
+    }
+    report.normalsSource = normals.source;
+    // The relief: measured against the macro shape, then either carried as a detail map or
+    // left for the coefficients (fitted against the macro normals).
+    report.macroSigma = options.macroSigma.value_or(defaultMacroSigma(report.width, report.height));
+    const NormalMap macro = lowPassNormals(normals.normals, report.macroSigma);
+    const Vec3d right = imageRightDirection(originalCapture);
+    report.meanReliefDegrees = meanReliefDegrees(normals.normals, macro, right);
+    if (options.relief == ReliefMode::kInCoefficients) {
+        normals.normals = macro;
+    }
+    report.normalsSeconds = secondsSince(normalsStart);
+
+    // The extended fit refines photometric stereo's normals, a Lambertian estimate that leaves
+    // out the darkest samples, where raking lights are most sensitive to the tilt. A given
+    // normal map is trusted, as a manifest's geometry is; in coefficients mode the normals are
+    // the macro shape by design.
+    if (extended && normals.estimated && options.relief == ReliefMode::kDetailMap) {
+        report.normalSearchDegrees = kNormalSearchDegrees;
+        report.normalsSource += ", refined by the fit";
+    }
+    capture = searchUnstated(capture, normals.normals, options, report);
+
+    const SurfaceGeometry geometry(capture, report.width, report.height);
+    const fit::BandFitter fitter(capture, geometry, normals.normals,
+                                 bandFitSettings(options, report));
+    const ModelInfo info = fittedModelInfo(capture, options, report);
+    ModelWriter writer(modelPath, info, options.threads);
+    fitBandByBand(*reader, mask, fitter, writer, info, macro, right, options, modelPath, report);
     report.totalSeconds = secondsSince(start);
     return report;
 }
