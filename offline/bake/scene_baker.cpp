@@ -59,16 +59,17 @@ int thetaBasisSize(const std::optional<int>& requested, int harmonics) {
 
 // Encodes a texture and adds what the device will render of it — the decoded low-rank code,
 // or the full coefficients — to the θs moment (when a basis is wanted).
-CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOptions& options,
+CoefficientMapData encodeMap(const CoefficientImage& texture, const BakeOptions& options,
                              ThetaMoment* moment, BakeReport& report) {
     CoefficientMapData map;
+    const std::vector<float> values = bundleCoefficients(texture);
     if (options.relief) {
-        map.detailNormals = texture.detailNormals;
+        map.detailNormals = bundleDetailNormals(texture);
         report.relief = report.relief || !map.detailNormals.empty();
     }
     if (!options.lowRank) {
         map.encoding = proto::CoefficientEncoding::kFull;
-        map.coefficients = texture.values;
+        map.coefficients = values;
         if (moment != nullptr) {
             moment->add(map.coefficients, texture.valid);
         }
@@ -78,7 +79,7 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
     LowRankOptions lowRank;
     lowRank.rank = std::min(options.rank, channels);
     lowRank.threads = options.threads;
-    LowRankCode code = encodeLowRank(texture.values, channels, texture.valid, lowRank);
+    LowRankCode code = encodeLowRank(values, channels, texture.valid, lowRank);
     double kept = 0;
     for (double share : code.explained) {
         kept += share;
@@ -97,8 +98,7 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
         for (int k = 0; k < channels; ++k) {
             const std::size_t i =
                 t * static_cast<std::size_t>(channels) + static_cast<std::size_t>(k);
-            const double d =
-                static_cast<double>(decoded[i]) - static_cast<double>(texture.values[i]);
+            const double d = static_cast<double>(decoded[i]) - static_cast<double>(values[i]);
             sum += d * d;
         }
         count += static_cast<std::size_t>(channels);
@@ -208,26 +208,26 @@ void addTextures(BundleContents& contents, const BakeOptions& options,
                  const scene::ScreenMesh& mesh, BakeReport& report) {
     report.vertices = mesh.vertexCount();
     report.triangles = mesh.triangleCount();
-    std::vector<CoefficientTexture> textures;
+    std::vector<CoefficientImage> textures;
     std::vector<std::string> names;
     if (!options.texture.empty()) {
-        textures.push_back(readCoefficientTexture(options.texture));
+        textures.push_back(readCoefficientImage(options.texture));
         names.push_back(options.texture.stem().string());
     } else {
         const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(options.quilt);
         texture::checkRegionMaps(maps);
         for (std::size_t r = 0; r < maps.size(); ++r) {
-            textures.push_back(readCoefficientTexture(maps[r]));
+            textures.push_back(readCoefficientImage(maps[r]));
             names.push_back("region" + std::to_string(r));
         }
     }
-    const CoefficientTexture& first = textures.front();
+    const CoefficientImage& first = textures.front();
     contents.textureWidth = first.width;
     contents.textureHeight = first.height;
     // Sampling wraps in u only when every map tiles: one that does not would blend its two
     // unrelated edges.
     contents.textureWrapsU = std::all_of(textures.begin(), textures.end(),
-                                         [](const CoefficientTexture& t) { return t.tilesU; });
+                                         [](const CoefficientImage& t) { return t.tilesU; });
     report.wrapU = contents.textureWrapsU;
     report.meshWrapsU = scene::measureSurfaceScale(mesh).wrapsU;
     contents.model.harmonics = first.harmonics;

@@ -123,7 +123,7 @@ struct Arguments {
 // What `vpe quilt-quality` does once its options are parsed.
 void runQuiltQuality(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
-    const quilt::CoefficientImage source = quilt::readCoefficientImage(args.model);
+    const CoefficientImage source = readCoefficientImage(args.model);
     const std::vector<std::uint8_t> labels =
         readLabelImage(args.labels, source.width, source.height).values;
     const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args.quilt);
@@ -139,8 +139,7 @@ void runQuiltQuality(const Arguments& args) {
     std::vector<quilt::PositionMap> positions;
     nlohmann::json regions = nlohmann::json::array();
     for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-        const quilt::CoefficientImage output =
-            quilt::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
+        const CoefficientImage output = readCoefficientImage(maps[static_cast<std::size_t>(k)]);
         if (output.harmonics != source.harmonics) {
             throw InputError(maps[static_cast<std::size_t>(k)],
                              std::to_string(output.harmonics) + " harmonics, but " + args.model +

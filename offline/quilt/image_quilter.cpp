@@ -187,7 +187,7 @@ ColumnLayout columnLayout(int width, int block, int overlap, bool wrap) {
 
 class Quilter {
 public:
-    Quilter(const SourceTexture& source, const RegionSearch& search, int region, int width,
+    Quilter(const CoefficientImage& source, const RegionSearch& search, int region, int width,
             int height, int block, int overlap, const QuiltSettings& settings)
         : source_(source),
           search_(search),
@@ -355,8 +355,7 @@ private:
             for (Candidate& c : shortlist) {
                 c.error = overlapError(
                     overlap.placed.data(), overlap.offsets.data(), overlap.placed.size(),
-                    source_.at(search_.boundsX() + c.px, search_.boundsY() + c.py),
-                    source_.channels);
+                    source_.at(search_.boundsX() + c.px, search_.boundsY() + c.py), source_.dims);
             }
             std::sort(shortlist.begin(), shortlist.end());
             if (shortlist.empty()) {
@@ -394,7 +393,7 @@ private:
                 if (shape.contains(qx, qy, block_)) {
                     pixels.placed.push_back(placed(ox + qx, oy + qy));
                     pixels.offsets.push_back(
-                        (static_cast<std::ptrdiff_t>(qy) * source_.width + qx) * source_.channels);
+                        (static_cast<std::ptrdiff_t>(qy) * source_.width + qx) * source_.dims);
                 }
             }
         }
@@ -470,7 +469,7 @@ private:
     // block's positions on the new side.
     void paste(int ox, int oy, int px, int py, const OverlapShape& shape) {
         const int sx = search_.boundsX() + px, sy = search_.boundsY() + py;
-        const int c = source_.channels;
+        const int c = source_.dims;
         auto error = [&](int qx, int qy) {
             return squaredDistance(placed(ox + qx, oy + qy), source_.at(sx + qx, sy + qy), c);
         };
@@ -550,7 +549,7 @@ private:
         return cut;
     }
 
-    const SourceTexture& source_;
+    const CoefficientImage& source_;
     const RegionSearch& search_;
     int region_, block_, overlap_, step_;
     QuiltSettings settings_;
@@ -566,7 +565,7 @@ private:
 
 }  // namespace
 
-RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
+RegionQuilt quiltRegion(const CoefficientImage& source, const std::vector<std::uint8_t>& labels,
                         int region, int width, int height, const QuiltSettings& settings) {
     if (width <= 0 || height <= 0) {
         throw InputError("output size must be positive");

@@ -54,32 +54,6 @@ std::vector<std::size_t> subsetOf(const std::vector<std::size_t>& pixels, std::s
 
 }  // namespace
 
-CoefficientImage readCoefficientImage(const std::filesystem::path& model) {
-    ModelReader reader(model);
-    const ModelInfo& info = reader.info();
-    CoefficientImage image;
-    image.width = info.width;
-    image.height = info.height;
-    image.harmonics = info.harmonics;
-    image.dims = 3 * proto::coefficientCount(info.harmonics);
-    const std::size_t pixels = static_cast<std::size_t>(info.width) * info.height;
-    image.values.resize(pixels * image.dims);
-    image.valid.resize(pixels);
-    ModelRows rows;
-    constexpr int kBand = 64;
-    for (int y = 0; y < info.height; y += kBand) {
-        const int count = std::min(kBand, info.height - y);
-        reader.readRows(y, count, rows);
-        const std::size_t first = static_cast<std::size_t>(y) * info.width;
-        // ModelRows is [pixel][channel][k], the layout of CoefficientImage.
-        std::copy(rows.coefficient.begin(), rows.coefficient.end(),
-                  image.values.begin() + static_cast<std::ptrdiff_t>(first * image.dims));
-        std::copy(rows.valid.begin(), rows.valid.end(),
-                  image.valid.begin() + static_cast<std::ptrdiff_t>(first));
-    }
-    return image;
-}
-
 RegionQuality measureRegionQuality(const CoefficientImage& source,
                                    const std::vector<std::uint8_t>& labels, int region,
                                    const CoefficientImage& output, const PositionMap& positions,

@@ -31,7 +31,7 @@ int fftFriendly(int n) {
 
 }  // namespace
 
-RegionSearch::RegionSearch(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
+RegionSearch::RegionSearch(const CoefficientImage& source, const std::vector<std::uint8_t>& labels,
                            int region, int block, const QuiltSettings& settings, std::size_t enough)
     : source_(source), block_(block) {
     findBounds(labels, region);
@@ -110,7 +110,7 @@ void RegionSearch::findCandidates(const std::vector<std::uint8_t>& labels, int r
 // that hold most of the variance (SSD of differences is unchanged by centring).
 void RegionSearch::buildProjection(const std::vector<std::uint8_t>& labels, int region,
                                    const QuiltSettings& settings) {
-    const int c = source_.channels;
+    const int c = source_.dims;
     std::vector<const float*> texels;
     for (int y = by_; y < by_ + bh_; ++y) {
         for (int x = bx_; x < bx_ + bw_; ++x) {

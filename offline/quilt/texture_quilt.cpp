@@ -15,6 +15,7 @@
 #include "vpe/common/progress_bar.h"
 #include "vpe/common/seconds_since.h"
 #include "vpe/image/image_file.h"
+#include "vpe/model/coefficient_image.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/quilt/quilt_folder.h"
 #include "vpe/scene/procedural_vase.h"
@@ -99,11 +100,10 @@ void chooseLayout(const QuiltTextureOptions& options, const ModelInfo& info,
         options.wrap == WrapMode::kOn || (options.wrap == WrapMode::kAuto && surface.wrapsU);
 }
 
-// What the regions are quilted from: the model's rows, every coefficient of every channel as
-// one vector per pixel, and the labels (pixels without a valid fit never a source).
+// What the regions are quilted from: the model, every coefficient of every channel as one
+// vector per pixel, and the labels (pixels without a valid fit never a source).
 struct QuiltSource {
-    ModelRows rows;
-    SourceTexture texture;
+    CoefficientImage texture;
     std::vector<std::uint8_t> labels;
     int regions = 0;
 };
@@ -112,15 +112,10 @@ struct QuiltSource {
 QuiltSource loadSource(ModelReader& reader, const QuiltTextureOptions& options) {
     const ModelInfo& info = reader.info();
     QuiltSource source;
-    reader.readRows(0, info.height, source.rows);
-    source.texture.width = info.width;
-    source.texture.height = info.height;
-    source.texture.channels = 3 * source.rows.coefficients;
-    // [pixel][channel][k] is already one vector per pixel
-    source.texture.values = source.rows.coefficient;
+    source.texture = readCoefficientImage(reader);
     source.labels = readLabelImage(options.labels, info.width, info.height).values;
     for (std::size_t p = 0; p < source.labels.size(); ++p) {
-        if (!source.rows.valid[p]) {
+        if (!source.texture.valid[p]) {
             source.labels[p] = LabelMap::kNoLabel;  // no fit: never a source
         } else if (source.labels[p] != LabelMap::kNoLabel) {
             source.regions = std::max(source.regions, source.labels[p] + 1);
@@ -152,8 +147,7 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
                                const RegionQuilt& quilt, const QuiltSource& source,
                                const ModelInfo& info, const QuiltTextureOptions& options, int width,
                                int height) {
-    const SourceTexture& texels = source.texture;
-    const ModelRows& rows = source.rows;
+    const CoefficientImage& texels = source.texture;
     ModelInfo texture = info;
     texture.width = width;
     texture.height = height;
@@ -171,11 +165,11 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
     positions.sourceX = quilt.sourceX;
     positions.sourceY = quilt.sourceY;
     ModelRows band;
-    std::vector<float> quilted(static_cast<std::size_t>(width) * height * texels.channels);
+    std::vector<float> quilted(static_cast<std::size_t>(width) * height * texels.dims);
     for (int y0 = 0; y0 < height; y0 += kBand) {
         const int bandRows = std::min(kBand, height - y0);
         if (band.rows != bandRows) {
-            band.resize(width, bandRows, rows.coefficients, false, texture.detailNormals);
+            band.resize(width, bandRows, texels.dims / 3, false, texture.detailNormals);
         }
         // Every pixel's coefficients are overwritten, on all threads; normal, rms and the
         // flag are the same for every band.
@@ -188,16 +182,15 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
                         const std::size_t p = band.pixel(static_cast<int>(r), x);
                         const int sx = quilt.sourceX[o], sy = quilt.sourceY[o];
                         const float* texel = texels.at(sx, sy);
-                        std::copy_n(
-                            texel, texels.channels,
-                            band.coefficient.begin() + static_cast<long>(p) * texels.channels);
-                        std::copy_n(texel, texels.channels,
-                                    quilted.begin() + static_cast<long>(o) * texels.channels);
+                        std::copy_n(texel, texels.dims,
+                                    band.coefficient.begin() + static_cast<long>(p) * texels.dims);
+                        std::copy_n(texel, texels.dims,
+                                    quilted.begin() + static_cast<long>(o) * texels.dims);
                         // The relief goes with its texel's coefficients.
                         if (texture.detailNormals) {
                             std::copy_n(
-                                rows.detail.begin() + static_cast<long>(rows.pixel(sy, sx) * 3), 3,
-                                band.detail.begin() + static_cast<long>(p * 3));
+                                texels.detail.begin() + static_cast<long>(texels.pixel(sx, sy) * 3),
+                                3, band.detail.begin() + static_cast<long>(p * 3));
                         }
                         band.normal[p * 3 + 2] = 1.0f;
                         band.valid[p] = 1;
@@ -257,7 +250,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     settings.wrapU = report.wrapU;
     const int width = report.width, height = report.height;
     const QuiltSource source = loadSource(reader, options);
-    report.channels = source.texture.channels;
+    report.channels = source.texture.dims;
     report.loadSeconds = secondsSince(start);
 
     AtomicFolder folder(options.out, "quilt.json", "vpe quilt");

@@ -60,10 +60,10 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     }
     const cv::Mat toOutside = distanceToZero(inside), toInside = distanceToZero(outside);
     const float clip = 0.5f * static_cast<float>(block);
-    quilt::SourceTexture source;
+    CoefficientImage source;
     source.width = labels.width;
     source.height = labels.height;
-    source.channels = 1;
+    source.dims = 1;
     source.values.resize(labels.values.size());
     for (std::size_t i = 0; i < labels.values.size(); ++i) {
         const float inner = reinterpret_cast<const float*>(toOutside.data)[i];

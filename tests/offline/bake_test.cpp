@@ -136,11 +136,12 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_FALSE(report["camera"].get<bool>());
     EXPECT_FALSE(view.camera().has_value());
     EXPECT_NE(result.err.find(", no camera, "), std::string::npos) << result.err;
-    const bake::CoefficientTexture relief = bake::readCoefficientTexture(path("model.exr"));
-    ASSERT_EQ(view.regions()[0].coefficients.detailNormals.size(), relief.detailNormals.size());
-    for (std::size_t i = 0; i < relief.detailNormals.size(); i += 7) {
-        EXPECT_NEAR(proto::halfToFloat(view.regions()[0].coefficients.detailNormals[i]),
-                    relief.detailNormals[i], 5e-4)
+    const std::vector<float> relief =
+        bake::bundleDetailNormals(readCoefficientImage(path("model.exr")));
+    ASSERT_EQ(view.regions()[0].coefficients.detailNormals.size(), relief.size());
+    for (std::size_t i = 0; i < relief.size(); i += 7) {
+        EXPECT_NEAR(proto::halfToFloat(view.regions()[0].coefficients.detailNormals[i]), relief[i],
+                    5e-4)
             << i;
     }
     // The vase's UVs are OBJ-style (v up); the bundle's rows run from the top.
@@ -149,7 +150,8 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
         EXPECT_FLOAT_EQ(view.mesh().uvs[2 * i + 1], 1.0f - vase.uvs[i].y);
     }
     // Low-rank decoding reproduces the model's coefficients.
-    const bake::CoefficientTexture texture = bake::readCoefficientTexture(path("model.exr"));
+    const std::vector<float> values =
+        bake::bundleCoefficients(readCoefficientImage(path("model.exr")));
     const proto::CoefficientMapView& map = view.regions()[0].coefficients;
     ASSERT_EQ(map.encoding, proto::CoefficientEncoding::kLowRank);
     ASSERT_EQ(map.rank, 8);
@@ -167,7 +169,7 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
                          map.basis[static_cast<std::size_t>(r * c + k)];
             }
             const double truth =
-                texture.values[t * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)];
+                values[t * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)];
             squared += (value - truth) * (value - truth);
             variance += (truth - map.mean[static_cast<std::size_t>(k)]) *
                         (truth - map.mean[static_cast<std::size_t>(k)]);

@@ -26,7 +26,6 @@
 namespace vpe {
 namespace {
 
-using quilt::CoefficientImage;
 using quilt::PositionMap;
 using quilt::RegionQuality;
 

@@ -17,10 +17,10 @@
 namespace vpe::quilt {
 namespace {
 
-SourceTexture texturedSource(int size, int channels, std::uint64_t seed) {
-    SourceTexture source;
+CoefficientImage texturedSource(int size, int channels, std::uint64_t seed) {
+    CoefficientImage source;
     source.width = source.height = size;
-    source.channels = channels;
+    source.dims = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
     GradientNoise noise(seed);
     for (int y = 0; y < size; ++y) {
@@ -45,7 +45,7 @@ std::vector<std::uint8_t> halves(int size) {  // left half region 0, right half 
 }
 
 TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
-    const SourceTexture source = texturedSource(48, 6, 3);
+    const CoefficientImage source = texturedSource(48, 6, 3);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -63,7 +63,7 @@ TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
 }
 
 TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
-    const SourceTexture source = texturedSource(64, 5, 4);
+    const CoefficientImage source = texturedSource(64, 5, 4);
     const std::vector<std::uint8_t> labels = halves(64);
     QuiltSettings settings;
     settings.block = 16;
@@ -81,7 +81,7 @@ TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
 }
 
 TEST(ImageQuilter, IsDeterministicForASeedWhateverTheThreads) {
-    const SourceTexture source = texturedSource(64, 4, 5);
+    const CoefficientImage source = texturedSource(64, 4, 5);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -98,7 +98,7 @@ TEST(ImageQuilter, IsDeterministicForASeedWhateverTheThreads) {
 }
 
 TEST(ImageQuilter, CopiesWholeBlocksAndUsesManyOfThem) {
-    const SourceTexture source = texturedSource(64, 4, 6);
+    const CoefficientImage source = texturedSource(64, 4, 6);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -123,7 +123,7 @@ TEST(ImageQuilter, CopiesWholeBlocksAndUsesManyOfThem) {
 }
 
 TEST(ImageQuilter, ShrinksTheBlockForAThinRegionAndRefusesATooThinOne) {
-    const SourceTexture source = texturedSource(64, 3, 7);
+    const CoefficientImage source = texturedSource(64, 3, 7);
     std::vector<std::uint8_t> labels(64 * 64, 0);
     for (int y = 0; y < 64; ++y) {
         for (int x = 20; x < 32; ++x) {
@@ -141,12 +141,12 @@ TEST(ImageQuilter, ShrinksTheBlockForAThinRegionAndRefusesATooThinOne) {
 }
 
 // The quilted values (all channels) of a quilt of `source`.
-std::vector<float> quiltedValues(const SourceTexture& source, const RegionQuilt& quilt) {
+std::vector<float> quiltedValues(const CoefficientImage& source, const RegionQuilt& quilt) {
     std::vector<float> values;
-    values.reserve(quilt.sourceX.size() * static_cast<std::size_t>(source.channels));
+    values.reserve(quilt.sourceX.size() * static_cast<std::size_t>(source.dims));
     for (std::size_t i = 0; i < quilt.sourceX.size(); ++i) {
         const float* v = source.at(quilt.sourceX[i], quilt.sourceY[i]);
-        values.insert(values.end(), v, v + source.channels);
+        values.insert(values.end(), v, v + source.dims);
     }
     return values;
 }
@@ -157,7 +157,7 @@ std::vector<float> quiltedValues(const SourceTexture& source, const RegionQuilt&
 // (each block overlapping the other on both sides) to many, including three a row (whose
 // wavefront needs a wider skew) and widths that do not divide into equal steps.
 TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
-    const SourceTexture source = texturedSource(64, 4, 8);
+    const CoefficientImage source = texturedSource(64, 4, 8);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -172,11 +172,11 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
             ASSERT_GE(wrapped.sourceX[i], 0) << "width " << width << ", pixel " << i;
         }
         const quilt::SeamStatistics on =
-            quilt::measureSeam(quiltedValues(source, wrapped), width, 70, source.channels);
+            quilt::measureSeam(quiltedValues(source, wrapped), width, 70, source.dims);
         settings.wrapU = false;
         const RegionQuilt plain = quiltRegion(source, labels, 0, width, 70, settings);
         const quilt::SeamStatistics off =
-            quilt::measureSeam(quiltedValues(source, plain), width, 70, source.channels);
+            quilt::measureSeam(quiltedValues(source, plain), width, 70, source.dims);
         std::cout << "width " << width << ": seam/interior mean " << on.ratio() << " wrapped, "
                   << off.ratio() << " not (interior p95/mean " << on.interiorP95 / on.interiorMean
                   << ")\n";
@@ -190,7 +190,7 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
 }
 
 TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
-    const SourceTexture source = texturedSource(48, 6, 9);
+    const CoefficientImage source = texturedSource(48, 6, 9);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -216,7 +216,7 @@ TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
 }
 
 TEST(ImageQuilter, RefusesToWrapATextureNoWiderThanABlock) {
-    const SourceTexture source = texturedSource(48, 3, 10);
+    const CoefficientImage source = texturedSource(48, 3, 10);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
