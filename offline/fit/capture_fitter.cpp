@@ -278,13 +278,13 @@ Capture searchUnstated(const Capture& capture, const NormalMap& normals, const F
 
 fit::BandFitSettings bandFitSettings(const FitOptions& options, const FitReport& report) {
     fit::BandFitSettings settings;
-    settings.harmonics = report.harmonics;
-    settings.lambda = report.lambda;
-    settings.precision = resolvePrecision(options.precision, report.lambda);
+    settings.fit.harmonics = report.harmonics;
+    settings.fit.lambda = report.lambda;
+    settings.fit.precision = resolvePrecision(options.precision, report.lambda);
     settings.extended = options.variant == ModelVariant::kExtended;
     if (settings.extended) {  // the search always runs for it, and chose the ridge
-        settings.transportRidge = report.transportRidge;
-        settings.normalSearchDegrees = report.normalSearchDegrees;
+        settings.fit.transportRidge = report.transportRidge;
+        settings.fit.normalSearchDegrees = report.normalSearchDegrees;
     }
     settings.threads = options.threads;
     return settings;

@@ -84,8 +84,8 @@ const BenchmarkBand& sharedBand() {
 void measureBandFit(benchmark::State& state, const BenchmarkBand& data,
                     fit::BandFitSettings settings) {
     const SurfaceGeometry geometry(data.capture, data.band.width, data.band.rows);
-    settings.harmonics = kHarmonics;
-    settings.lambda = kLambda;
+    settings.fit.harmonics = kHarmonics;
+    settings.fit.lambda = kLambda;
     settings.threads = resolveThreadCount(0);
     const fit::BandFitter fitter(data.capture, geometry, data.normals, settings);
     ModelRows rows;
@@ -109,7 +109,7 @@ void BM_FitBandExtended(benchmark::State& state) {
     static const BenchmarkBand data(256, 16);
     fit::BandFitSettings settings;
     settings.extended = true;
-    settings.normalSearchDegrees = static_cast<double>(state.range(0));
+    settings.fit.normalSearchDegrees = static_cast<double>(state.range(0));
     measureBandFit(state, data, settings);
 }
 

@@ -18,14 +18,10 @@
 namespace vpe::fit {
 
 struct BandFitSettings {
-    int harmonics = proto::kDefaultHarmonics;
-    double lambda = proto::kDefaultLambda;
-    AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
+    // M, λ and the precision of either model's fit; the rest for the extended model only
+    // (with normalSearchDegrees > 0, ModelRows::normal holds the refined normals).
+    ExtendedFitSettings fit;
     bool extended = false;
-    double transportRidge = ExtendedFitSettings{}.transportRidge;  // extended only
-    // Extended only: refine each texel's normal by the fit (ExtendedFitSettings); the refined
-    // normals are what ModelRows::normal then holds.
-    double normalSearchDegrees = 0;
     unsigned threads = 1;
 };
 
