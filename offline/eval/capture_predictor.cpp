@@ -8,7 +8,7 @@
 #include "vpe/model/light_transport.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 CapturePredictor::CapturePredictor(const ModelInfo& info, const Capture& capture,
                                    const TransferFunction& stored)
@@ -75,4 +75,4 @@ std::array<double, 3> CapturePredictor::predict(const ModelRows& rows, int row, 
     return out;
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

@@ -22,7 +22,7 @@
 #include "vpe/plot/svg_line_plot.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 namespace {
 
@@ -277,8 +277,8 @@ void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result)
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result) {
     // The paper's line styles: solid, dotted, dashed, dash-dot, dash-dot-dot.
     const char* const dashes[] = {"", "2,4", "8,5", "10,4,2,4", "10,4,2,4,2,4"};
-    SvgLinePlot plot("RMS error on held-out lights (paper Fig. 6)", "harmonics M",
-                     "RMS error (8-bit sRGB levels)");
+    plot::SvgLinePlot plot("RMS error on held-out lights (paper Fig. 6)", "harmonics M",
+                           "RMS error (8-bit sRGB levels)");
     double best = 1e300;
     for (std::size_t l = 0; l < result.lambdas.size(); ++l) {
         std::vector<double> x(result.harmonics.begin(), result.harmonics.end());
@@ -295,4 +295,4 @@ void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result
     plot.write(path);
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

@@ -16,7 +16,7 @@
 #include "vpe/image/image_file.h"
 #include "vpe/model/fourier_model_file.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 double psnrFromMse(double mse) {
     // A perfect prediction is capped at 100 dB rather than infinity, so JSON stays numeric.
@@ -142,4 +142,4 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
     return report;
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

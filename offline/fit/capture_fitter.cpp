@@ -314,7 +314,7 @@ void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mas
                    const fit::BandFitter& fitter, ModelWriter& writer, const ModelInfo& info,
                    const NormalMap& macro, const Vec3d& right, const FitOptions& options,
                    const std::filesystem::path& modelPath, FitReport& report) {
-    RelightPreview preview(report.width, report.height, info.harmonics);
+    preview::RelightPreview preview(report.width, report.height, info.harmonics);
     const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
     SampleBand band;
     ModelRows rows;

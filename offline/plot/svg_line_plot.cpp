@@ -10,7 +10,7 @@
 
 #include "vpe/common/atomic_output.h"
 
-namespace vpe {
+namespace vpe::plot {
 
 namespace {
 
@@ -169,4 +169,4 @@ void SvgLinePlot::write(const std::filesystem::path& path) const {
     writeTextFileAtomically(path, render());
 }
 
-}  // namespace vpe
+}  // namespace vpe::plot

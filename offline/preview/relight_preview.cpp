@@ -9,7 +9,7 @@
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::preview {
 
 const std::vector<Vec3d>& RelightPreview::lights() {
     // Head-on, then three lights 45° up at azimuths 0°, 120° and 240°.
@@ -66,4 +66,4 @@ void RelightPreview::write(const std::filesystem::path& path) const {
     writeImage8(path, tileWidth_ * static_cast<int>(lights().size()), tileHeight_, 3, pixels_);
 }
 
-}  // namespace vpe
+}  // namespace vpe::preview

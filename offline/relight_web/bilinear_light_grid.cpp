@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace vpe {
+namespace vpe::relight_web {
 
 BilinearLightGrid::BilinearLightGrid(int resolution) : resolution_(resolution) {
     if (resolution < kMinResolution || resolution > kMaxResolution) {
@@ -48,4 +48,4 @@ LightGridWeights BilinearLightGrid::weights(const Vec3d& towardsLight) const {
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -13,7 +13,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/relight_web/relight_web_reader.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 namespace {
 
@@ -38,7 +38,7 @@ Capture underOneLight(const Capture& capture, const Vec3d& towardsLight) {
 void predictAll(const ModelInfo& info, const ModelRows& rows, const Capture& capture,
                 const TransferFunction& stored, unsigned threads,
                 std::vector<std::vector<float>>& out) {
-    const CapturePredictor predictor(info, capture, stored);
+    const eval::CapturePredictor predictor(info, capture, stored);
     const int lights = predictor.lightCount();
     out.assign(static_cast<std::size_t>(lights),
                std::vector<float>(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f));
@@ -152,4 +152,4 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

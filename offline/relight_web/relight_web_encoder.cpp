@@ -15,7 +15,7 @@
 #include "vpe/common/parallel_for.h"
 #include "vpe/relight_web/bilinear_light_grid.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 namespace {
 
@@ -324,4 +324,4 @@ RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width
     return summary;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

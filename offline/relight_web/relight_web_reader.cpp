@@ -12,7 +12,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 namespace {
 
@@ -226,4 +226,4 @@ std::vector<float> RelightWebReader::relight(const Vec3d& towardsLight) const {
     return rgb;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -181,7 +181,8 @@ SetResult evaluateSet(const std::filesystem::path& dir, const std::string& name,
             }
             double sum = 0;
             for (Eigen::Index s = 0; s < testCount; ++s) {
-                const double psnr = psnrFromMse(squaredError(s) / static_cast<double>(columns));
+                const double psnr =
+                    eval::psnrFromMse(squaredError(s) / static_cast<double>(columns));
                 result.imagePsnr[d][b].push_back(psnr);
                 sum += psnr;
             }

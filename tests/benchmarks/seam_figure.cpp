@@ -39,8 +39,8 @@ vpe::quilt::SeamStatistics regionSeam(const std::filesystem::path& map) {
 
 // The interior column steps sorted, over their share (a quantile curve at 101 points), in
 // units of their mean.
-void addSorted(vpe::SvgLinePlot& plot, const std::string& name, const vpe::quilt::SeamStatistics& s,
-               const std::string& dash) {
+void addSorted(vpe::plot::SvgLinePlot& plot, const std::string& name,
+               const vpe::quilt::SeamStatistics& s, const std::string& dash) {
     std::vector<double> steps = s.columnSteps;
     std::sort(steps.begin(), steps.end());
     std::vector<double> x, y;
@@ -84,7 +84,7 @@ int run(int argc, char** argv) {
     for (std::size_t r = 0; r < tiledMaps.size() && r < plainMaps.size(); ++r) {
         const vpe::quilt::SeamStatistics on = regionSeam(tiledMaps[r]);
         const vpe::quilt::SeamStatistics off = regionSeam(plainMaps[r]);
-        vpe::SvgLinePlot plot(
+        vpe::plot::SvgLinePlot plot(
             "Region " + std::to_string(r) + ": the u seam against interior neighbours",
             "interior neighbour-column pairs, sorted by their step (share)",
             "mean step over the rows / interior mean");

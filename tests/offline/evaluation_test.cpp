@@ -164,7 +164,7 @@ void expectRelativelyNear(double actual, double expected, double tolerance, cons
     EXPECT_NEAR(actual, expected, tolerance * std::fabs(expected)) << what;
 }
 
-void expectFigures(const EvaluationReport& report, const Expected& e, double tolerance) {
+void expectFigures(const eval::EvaluationReport& report, const Expected& e, double tolerance) {
     ASSERT_EQ(report.images.size(), kLights.size());
     EXPECT_EQ(report.pixels, e.scored);
     EXPECT_EQ(report.skippedPixels, kWidth * kHeight - e.scored);
@@ -190,9 +190,9 @@ TEST(Evaluation, ReproducesTheDocumentedFiguresForAConstantPrediction) {
     testing::TemporaryFolder folder;
     writeModel(folder / "model.exr", halfGrey);
     writeTestCapture(folder / "test");
-    EvaluationOptions options;
-    const EvaluationReport report =
-        evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    eval::EvaluationOptions options;
+    const eval::EvaluationReport report =
+        eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
     expectFigures(report, expectedFigures(halfGrey, codeThroughFloatDecode), 1e-9);
     // Measured: ~3e-9 relative, from the float decode alone.
     expectFigures(report, expectedFigures(halfGrey, codeOver255), 1e-8);
@@ -213,10 +213,10 @@ TEST(Evaluation, ClampsPredictionsAndFollowsTheLight) {
     testing::TemporaryFolder folder;
     writeModel(folder / "model.exr", model);
     writeTestCapture(folder / "test");
-    EvaluationOptions options;
+    eval::EvaluationOptions options;
     options.threads = 3;
-    const EvaluationReport report =
-        evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    const eval::EvaluationReport report =
+        eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
 }
 
@@ -233,8 +233,8 @@ TEST(Evaluation, SkipsAndCountsPixelsWithoutAValidFit) {
     testing::TemporaryFolder folder;
     writeModel(folder / "model.exr", model);
     writeTestCapture(folder / "test");
-    const EvaluationReport report =
-        evaluateModel(folder / "model.exr", openCapture(folder / "test"), EvaluationOptions{});
+    const eval::EvaluationReport report = eval::evaluateModel(
+        folder / "model.exr", openCapture(folder / "test"), eval::EvaluationOptions{});
     EXPECT_EQ(report.skippedPixels, 4u);  // (0,0) (3,0) (1,2) (2,1)
     EXPECT_EQ(report.pixels, 8u);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
@@ -251,9 +251,9 @@ TEST(Evaluation, WritesOnePredictedPngPerTestImage) {
     testing::TemporaryFolder folder;
     writeModel(folder / "model.exr", model);
     writeTestCapture(folder / "test");
-    EvaluationOptions options;
+    eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
 
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(folder / "predicted")) {
@@ -292,9 +292,9 @@ TEST(Evaluation, HalfGreyPredictsCode188) {
     testing::TemporaryFolder folder;
     writeModel(folder / "model.exr", halfGrey);
     writeTestCapture(folder / "test");
-    EvaluationOptions options;
+    eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
     auto input = OIIO::ImageInput::open((folder / "predicted/image1.png").string());
     ASSERT_TRUE(input);
     std::vector<std::uint8_t> codes(static_cast<std::size_t>(kWidth) * kHeight * 3);

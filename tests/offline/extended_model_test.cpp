@@ -62,7 +62,7 @@ double heldOutPsnr(const std::filesystem::path& train, const std::filesystem::pa
     options.calibrateResponse = calibrateResponse;
     options.writePreview = false;
     fitCapture(openCapture(train), options, model);
-    return evaluateModel(model, openCapture(test), EvaluationOptions{}).psnr;
+    return eval::evaluateModel(model, openCapture(test), eval::EvaluationOptions{}).psnr;
 }
 
 TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
@@ -519,8 +519,9 @@ TEST(ExtendedModelRealData, ColourTransportKeepsADarkBackgroundQuiet) {
     options.writePreview = false;
     options.threads = 2;
     fitCapture(openCapture(set / "Dome"), options, folder / "model.exr");
-    const double psnr =
-        evaluateModel(folder / "model.exr", openCapture(set / "Test"), EvaluationOptions{}).psnr;
+    const double psnr = eval::evaluateModel(folder / "model.exr", openCapture(set / "Test"),
+                                            eval::EvaluationOptions{})
+                            .psnr;
     // Measured: 46.31 dB (`vpe fit --model extended`: 45.79; grey T 45.77; the faulty colour
     // fit 23.99).
     EXPECT_GT(psnr, 45.5);

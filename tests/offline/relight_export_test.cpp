@@ -63,7 +63,7 @@ TEST_F(ExportRelight, ReadsBackCloseToTheModel) {
         vpe({"export-relight", modelPath(), capturePath(), "--out", out.string(), "--json"}));
     ASSERT_EQ(result.exitStatus, 0) << result.err;
     const nlohmann::json report = lastJson(result.out);
-    const RelightWebReader reader(out);
+    const relight_web::RelightWebReader reader(out);
     EXPECT_EQ(reader.width(), 40);
     EXPECT_EQ(reader.planes(), 9);
     EXPECT_EQ(reader.resolution(), 8);

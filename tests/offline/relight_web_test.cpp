@@ -60,13 +60,13 @@ double psnr(const std::vector<float>& a, const std::vector<float>& b) {
 
 TEST(BilinearLightGrid, EveryNodeLooksUpItself) {
     for (const int resolution : {2, 8, 13}) {
-        const BilinearLightGrid grid(resolution);
+        const relight_web::BilinearLightGrid grid(resolution);
         for (int node = 0; node < grid.nodeCount(); ++node) {
             const Vec3d d = grid.nodeDirection(node);
             EXPECT_NEAR(proto::dot(d, d), 1.0, 1e-12);
             EXPECT_GE(d.z, 0.0);
             double weightOfNode = 0;
-            const LightGridWeights w = grid.weights(d);
+            const relight_web::LightGridWeights w = grid.weights(d);
             for (int k = 0; k < 4; ++k) {
                 if (w.nodes[static_cast<std::size_t>(k)] == node) {
                     weightOfNode += w.weights[static_cast<std::size_t>(k)];
@@ -78,7 +78,7 @@ TEST(BilinearLightGrid, EveryNodeLooksUpItself) {
 }
 
 TEST(BilinearLightGrid, ZenithIsTheSquaresCentreAndCornersTheHorizon) {
-    const BilinearLightGrid grid(9);
+    const relight_web::BilinearLightGrid grid(9);
     const Vec3d centre = grid.nodeDirection(4 + 4 * 9);
     EXPECT_NEAR(centre.z, 1.0, 1e-12);
     // Node (R−1, 0): u = 1, v = −1 → towards +x on the horizon (OpenLIME's 45° rotation).
@@ -93,7 +93,7 @@ struct Psnrs {
 };
 
 // The reader's pictures against the source under `lights`.
-Psnrs compare(const RelightWebReader& reader, const std::vector<Vec3d>& lights) {
+Psnrs compare(const relight_web::RelightWebReader& reader, const std::vector<Vec3d>& lights) {
     std::vector<float> truth(static_cast<std::size_t>(kWidth) * kHeight * 3);
     Psnrs result;
     for (const Vec3d& light : lights) {
@@ -106,7 +106,7 @@ Psnrs compare(const RelightWebReader& reader, const std::vector<Vec3d>& lights) 
 }
 
 std::vector<Vec3d> gridLights(int resolution) {
-    const BilinearLightGrid grid(resolution);
+    const relight_web::BilinearLightGrid grid(resolution);
     std::vector<Vec3d> lights;
     for (int node = 0; node < grid.nodeCount(); ++node) {
         lights.push_back(grid.nodeDirection(node));
@@ -132,13 +132,15 @@ class RelightWebRoundTrip : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         folder_ = new testing::TemporaryFolder();
-        RelightWebOptions options;
+        relight_web::RelightWebOptions options;
         options.resolution = 8;
         options.planes = 9;
-        summary_ = writeRelightWeb(folder_->path() / "export", kWidth, kHeight, renderSynthetic,
-                                   options, {Vec3d{0, 0, 1}, Vec3d{0.6, 0, 0.8}});
-        options.grid = GridValues::kNodes;
-        writeRelightWeb(folder_->path() / "nodes", kWidth, kHeight, renderSynthetic, options);
+        summary_ = relight_web::writeRelightWeb(folder_->path() / "export", kWidth, kHeight,
+                                                renderSynthetic, options,
+                                                {Vec3d{0, 0, 1}, Vec3d{0.6, 0, 0.8}});
+        options.grid = relight_web::GridValues::kNodes;
+        relight_web::writeRelightWeb(folder_->path() / "nodes", kWidth, kHeight, renderSynthetic,
+                                     options);
     }
     static void TearDownTestSuite() {
         delete folder_;
@@ -147,11 +149,11 @@ protected:
     static std::filesystem::path exportPath() { return folder_->path() / "export"; }
     static std::filesystem::path nodesPath() { return folder_->path() / "nodes"; }
     static testing::TemporaryFolder* folder_;
-    static RelightWebSummary summary_;
+    static relight_web::RelightWebSummary summary_;
 };
 
 testing::TemporaryFolder* RelightWebRoundTrip::folder_ = nullptr;
-RelightWebSummary RelightWebRoundTrip::summary_;
+relight_web::RelightWebSummary RelightWebRoundTrip::summary_;
 
 TEST_F(RelightWebRoundTrip, WritesTheFilesOpenLimeLoads) {
     EXPECT_TRUE(std::filesystem::exists(exportPath() / "info.json"));
@@ -169,7 +171,7 @@ TEST_F(RelightWebRoundTrip, WritesTheFilesOpenLimeLoads) {
     EXPECT_EQ(info["materials"][0]["range"].size(), std::size_t{9});
     // Measured 0.988: the horizon's kinked shading is what nine planes leave out.
     EXPECT_GT(summary_.retainedVariance, 0.98);
-    const RelightWebReader reader(exportPath());
+    const relight_web::RelightWebReader reader(exportPath());
     ASSERT_EQ(reader.lights().size(), std::size_t{2});
     EXPECT_NEAR(reader.lights()[1].x, 0.6, 1e-9);
 }
@@ -178,7 +180,7 @@ TEST_F(RelightWebRoundTrip, NodeValuesRelightTheGridLightsCloseToTheSource) {
     // Only the planes' loss is left at the nodes: nine PCA planes, 8-bit JPEG planes, the
     // uint8 basis. Measured: mean 38.6 dB, worst 32.6 dB (a horizon node, where the shading
     // has its kink).
-    const Psnrs measured = compare(RelightWebReader(nodesPath()), gridLights(8));
+    const Psnrs measured = compare(relight_web::RelightWebReader(nodesPath()), gridLights(8));
     std::printf("[ measure  ] nodes, grid lights: mean PSNR %.2f dB, worst %.2f dB\n",
                 measured.mean, measured.worst);
     EXPECT_GT(measured.mean, 38.0);
@@ -189,8 +191,8 @@ TEST_F(RelightWebRoundTrip, LeastSquaresNodesRelightViewerLightsCloseToTheSource
     // Between the nodes the grid's interpolation dominates; fitting the nodes to a finer grid
     // spreads that error. Measured: least squares mean 38.7 / worst 31.5 dB, node values
     // 35.4 / 30.8 dB.
-    const Psnrs leastSquares = compare(RelightWebReader(exportPath()), viewerLights());
-    const Psnrs nodes = compare(RelightWebReader(nodesPath()), viewerLights());
+    const Psnrs leastSquares = compare(relight_web::RelightWebReader(exportPath()), viewerLights());
+    const Psnrs nodes = compare(relight_web::RelightWebReader(nodesPath()), viewerLights());
     std::printf(
         "[ measure  ] viewer lights: least squares mean %.2f dB, worst %.2f dB; "
         "nodes mean %.2f dB, worst %.2f dB\n",
@@ -204,7 +206,7 @@ TEST_F(RelightWebRoundTrip, LeastSquaresNodesRelightViewerLightsCloseToTheSource
 // The message of the InputError reading `folder` throws; a failure if it reads.
 std::string rejectionOf(const std::filesystem::path& folder) {
     try {
-        RelightWebReader reader(folder);
+        relight_web::RelightWebReader reader(folder);
     } catch (const InputError& error) {
         return error.what();
     }
@@ -280,11 +282,12 @@ TEST_F(BrokenRelightWeb, PlaneOfTheWrongSizeIsNamed) {
 }
 
 TEST(RelightWebEncoder, RefusesPlaneCountsOpenLimeCannotRead) {
-    RelightWebOptions options;
+    relight_web::RelightWebOptions options;
     options.planes = 8;
     testing::TemporaryFolder folder;
-    EXPECT_THROW(writeRelightWeb(folder / "x", kWidth, kHeight, renderSynthetic, options),
-                 InputError);
+    EXPECT_THROW(
+        relight_web::writeRelightWeb(folder / "x", kWidth, kHeight, renderSynthetic, options),
+        InputError);
     EXPECT_FALSE(std::filesystem::exists(folder / "x"));
 }
 

@@ -168,13 +168,13 @@ TEST(Synth, FitOfAFourierTruthIsExact) {
     fit.lambda = 0.0;  // exact accumulation
     fit.writePreview = false;
     fitCapture(openCapture(folder / "capture/train"), fit, folder / "model.exr");
-    const EvaluationReport report = evaluateModel(
-        folder / "model.exr", openCapture(folder / "capture/test"), EvaluationOptions{});
+    const eval::EvaluationReport report = eval::evaluateModel(
+        folder / "model.exr", openCapture(folder / "capture/test"), eval::EvaluationOptions{});
     EXPECT_GT(report.psnr, 80.0);
     // The truth file is itself a model: evaluating it reproduces the test images exactly.
-    const EvaluationReport truth =
-        evaluateModel(folder / "capture/truth/fourier.exr", openCapture(folder / "capture/test"),
-                      EvaluationOptions{});
+    const eval::EvaluationReport truth =
+        eval::evaluateModel(folder / "capture/truth/fourier.exr",
+                            openCapture(folder / "capture/test"), eval::EvaluationOptions{});
     EXPECT_GT(truth.psnr, 90.0);
     // The physical scale travels: manifest → fit → model; and the truth carries it too.
     const double texel = 108.38 / 24;  // 100 mm a unit, 1.0838 units across the front

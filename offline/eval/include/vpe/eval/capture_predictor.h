@@ -14,7 +14,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/model/rti_basis.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 class CapturePredictor {
 public:
@@ -42,4 +42,4 @@ private:
     std::vector<Vec3d> transportDirections_;  // [light]
 };
 
-}  // namespace vpe
+}  // namespace vpe::eval

@@ -11,7 +11,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 struct SweepOptions {
     int maxHarmonics = 15;
@@ -38,4 +38,4 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
 void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result);
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result);
 
-}  // namespace vpe
+}  // namespace vpe::eval

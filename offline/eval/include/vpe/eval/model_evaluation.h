@@ -14,7 +14,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 struct ImageScore {
     std::string name;
@@ -42,4 +42,4 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
 
 double psnrFromMse(double mse);
 
-}  // namespace vpe
+}  // namespace vpe::eval

@@ -11,7 +11,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/model/fourier_model_file.h"
 
-namespace vpe {
+namespace vpe::preview {
 
 class RelightPreview {
 public:
@@ -29,4 +29,4 @@ private:
     std::vector<std::uint8_t> pixels_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::preview

@@ -8,7 +8,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 // The four grid nodes (index x + y·R) a light blends and their weights (summing to 1).
 struct LightGridWeights {
@@ -39,4 +39,4 @@ private:
     int resolution_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

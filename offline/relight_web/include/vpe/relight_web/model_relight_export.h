@@ -11,7 +11,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/relight_web/relight_web_encoder.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 struct RelightRoundTrip {
     int lights = 0;                // capture lights compared
@@ -33,4 +33,4 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
                                         const RelightWebOptions& options,
                                         const Capture& checkLights);
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -11,7 +11,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 // Fills `rgb` (width·height·3, interleaved, row 0 at the top) with the subject as seen under
 // a directional light towards `towardsLight` (unit): sRGB-encoded values in [0, 1], the
@@ -48,4 +48,4 @@ RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width
                                   const LightRenderer& render, const RelightWebOptions& options,
                                   const std::vector<Vec3d>& captureLights = {});
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -10,7 +10,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/relight_web/bilinear_light_grid.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 class RelightWebReader {
 public:
@@ -43,4 +43,4 @@ private:
 // normalized; empty when it has none. Throws InputError naming the file.
 std::vector<Vec3d> readRelightExportLights(const std::filesystem::path& infoJson);
 
-}  // namespace vpe
+}  // namespace vpe::relight_web
