@@ -125,7 +125,7 @@ void runQuiltQuality(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const CoefficientImage source = readCoefficientImage(args.model);
     const std::vector<std::uint8_t> labels =
-        readLabelImage(args.labels, source.width, source.height).values;
+        segment::readLabelImage(args.labels, source.width, source.height).values;
     const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args.quilt);
     for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
         if (std::find(labels.begin(), labels.end(), k) == labels.end()) {

@@ -58,7 +58,7 @@ struct SweepInputs {
     const Capture& test;
     const SurfaceGeometry& trainGeometry;
     const SurfaceGeometry& testGeometry;
-    const NormalMap& normals;
+    const normals::NormalMap& normals;
     const fit::KernelLightSet& trainSet;
     const SweepOptions& options;
     int width;
@@ -204,7 +204,8 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
                                           " but the training images are " + std::to_string(width) +
                                           "x" + std::to_string(height));
     }
-    NormalsResult normals = acquireNormals(train, options.normals, width, height, options.threads);
+    normals::NormalsResult normals =
+        normals::acquireNormals(train, options.normals, width, height, options.threads);
     const SurfaceGeometry trainGeometry(train, width, height);
     const SurfaceGeometry testGeometry(test, width, height);
     const std::vector<fit::KernelLight> trainLights = fit::kernelLights(train);

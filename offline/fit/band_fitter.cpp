@@ -10,7 +10,7 @@
 namespace vpe::fit {
 
 BandFitter::BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
-                       const NormalMap& normals, const BandFitSettings& settings)
+                       const normals::NormalMap& normals, const BandFitSettings& settings)
     : capture_(capture),
       geometry_(geometry),
       normals_(normals),

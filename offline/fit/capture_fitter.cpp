@@ -25,7 +25,7 @@
 #include "vpe/normals/normal_source.h"
 #include "vpe/preview/relight_preview.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 namespace {
 
@@ -57,7 +57,8 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
 // The relief the fitted normals carry (refined by the extended fit, or as estimated): each
 // row's detail normal against the macro shape, (0, 0, 1) where that is invalid. The macro shape
 // is valid only where the normals are.
-void fillDetailRows(ModelRows& rows, const NormalMap& macro, int rowBegin, const Vec3d& right) {
+void fillDetailRows(ModelRows& rows, const normals::NormalMap& macro, int rowBegin,
+                    const Vec3d& right) {
     const std::size_t first = static_cast<std::size_t>(rowBegin) * macro.width;
     rows.detail.assign(rows.valid.size() * 3, 0.0f);
     for (std::size_t p = 0; p < rows.valid.size(); ++p) {
@@ -66,9 +67,9 @@ void fillDetailRows(ModelRows& rows, const NormalMap& macro, int rowBegin, const
         if (!macro.valid[m]) {
             continue;
         }
-        const Vec3d d =
-            detailNormalOf({rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
-                           {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
+        const Vec3d d = normals::detailNormalOf(
+            {rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
+            {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
         rows.detail[p * 3] = static_cast<float>(d.x);
         rows.detail[p * 3 + 1] = static_cast<float>(d.y);
         rows.detail[p * 3 + 2] = static_cast<float>(d.z);
@@ -176,14 +177,15 @@ void checkFitRequest(const Capture& capture, const FitOptions& options,
 // better can still give worse normals. `capture`, `reader` and `normals` are replaced by those
 // under the response kept.
 void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reader,
-                       NormalsResult& normals, const FitOptions& options, FitReport& report) {
+                       normals::NormalsResult& normals, const FitOptions& options,
+                       FitReport& report) {
     const auto searchStart = Clock::now();
     HeldOutSearchOptions search;
     search.calibrateResponse = true;
     search.calibrateGeometry = false;
     search.selectRegularization = false;
     search.threads = options.threads;
-    std::optional<NormalsResult> previous;
+    std::optional<normals::NormalsResult> previous;
     for (int round = 0; round < 2; ++round) {
         const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
         if (previous && found.rms >= report.responseRms) {
@@ -211,22 +213,23 @@ void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reade
         capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
         reader = std::make_unique<ImageBandReader>(capture, options.threads);
         previous = std::move(normals);
-        normals =
-            acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+        normals = normals::acquireNormals(capture, options.normals, report.width, report.height,
+                                          options.threads);
     }
     report.calibrationSeconds += secondsSince(searchStart);
 }
 
 // The relief the normals carry: their mean tilt off the macro shape, in degrees, where the
 // macro shape is valid.
-double meanReliefDegrees(const NormalMap& normals, const NormalMap& macro, const Vec3d& right) {
+double meanReliefDegrees(const normals::NormalMap& normals, const normals::NormalMap& macro,
+                         const Vec3d& right) {
     double tilt = 0;
     std::size_t counted = 0;
     for (std::size_t p = 0; p < macro.valid.size(); ++p) {
         if (macro.valid[p]) {
             const Vec3d n{normals.xyz[p * 3], normals.xyz[p * 3 + 1], normals.xyz[p * 3 + 2]};
             const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
-            const float z = static_cast<float>(detailNormalOf(n, m, right).z);
+            const float z = static_cast<float>(normals::detailNormalOf(n, m, right).z);
             tilt += std::acos(std::clamp(static_cast<double>(z), -1.0, 1.0));
             ++counted;
         }
@@ -238,8 +241,8 @@ double meanReliefDegrees(const NormalMap& normals, const NormalMap& macro, const
 // 1): the rig's geometry, M and λ, T's ridge and the blocked lights, each as the options ask.
 // Returns the capture under the geometry chosen; M and λ go to the report, as given when not
 // selected.
-Capture searchUnstated(const Capture& capture, const NormalMap& normals, const FitOptions& options,
-                       FitReport& report) {
+Capture searchUnstated(const Capture& capture, const normals::NormalMap& normals,
+                       const FitOptions& options, FitReport& report) {
     report.harmonics = options.harmonics;
     report.lambda = options.lambda;
     const bool extended = options.variant == ModelVariant::kExtended;
@@ -312,7 +315,7 @@ ModelInfo fittedModelInfo(const Capture& capture, const FitOptions& options,
 // and the time each kind of step has taken.
 void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mask,
                    const fit::BandFitter& fitter, ModelWriter& writer, const ModelInfo& info,
-                   const NormalMap& macro, const Vec3d& right, const FitOptions& options,
+                   const normals::NormalMap& macro, const Vec3d& right, const FitOptions& options,
                    const std::filesystem::path& modelPath, FitReport& report) {
     preview::RelightPreview preview(report.width, report.height, info.harmonics);
     const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
@@ -402,8 +405,8 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     const bool extended = options.variant == ModelVariant::kExtended;
     Capture capture = originalCapture;
     const auto normalsStart = Clock::now();
-    NormalsResult normals =
-        acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+    normals::NormalsResult normals = normals::acquireNormals(capture, options.normals, report.width,
+                                                             report.height, options.threads);
     if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
         reader->eightBitCodes()) {
         calibrateResponse(capture, reader, normals, options, report);
@@ -411,9 +414,10 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     report.normalsSource = normals.source;
     // The relief: measured against the macro shape, then either carried as a detail map or
     // left for the coefficients (fitted against the macro normals).
-    report.macroSigma = options.macroSigma.value_or(defaultMacroSigma(report.width, report.height));
-    const NormalMap macro = lowPassNormals(normals.normals, report.macroSigma);
-    const Vec3d right = imageRightDirection(originalCapture);
+    report.macroSigma =
+        options.macroSigma.value_or(normals::defaultMacroSigma(report.width, report.height));
+    const normals::NormalMap macro = normals::lowPassNormals(normals.normals, report.macroSigma);
+    const Vec3d right = normals::imageRightDirection(originalCapture);
     report.meanReliefDegrees = meanReliefDegrees(normals.normals, macro, right);
     if (options.relief == ReliefMode::kInCoefficients) {
         normals.normals = macro;
@@ -440,4 +444,4 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     return report;
 }
 
-}  // namespace vpe
+}  // namespace vpe::fit

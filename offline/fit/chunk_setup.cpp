@@ -25,7 +25,7 @@ KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLi
     return set;
 }
 
-void fillChunkLane(const SurfaceGeometry& geometry, const NormalMap& normals, int x, int y,
+void fillChunkLane(const SurfaceGeometry& geometry, const normals::NormalMap& normals, int x, int y,
                    int lane, ChunkGeometry& chunk, bool& laneValid) {
     const bool inside = x >= 0 && x < geometry.width();
     laneValid = inside && normals.validAt(x, y);
@@ -48,8 +48,8 @@ void fillChunkLane(const SurfaceGeometry& geometry, const NormalMap& normals, in
     chunk.position[2][lane] = static_cast<float>(p.z);
 }
 
-void fillChunkGeometry(const SurfaceGeometry& geometry, const NormalMap& normals, int x0, int y,
-                       ChunkGeometry& chunk, bool (&laneValid)[kLanes]) {
+void fillChunkGeometry(const SurfaceGeometry& geometry, const normals::NormalMap& normals, int x0,
+                       int y, ChunkGeometry& chunk, bool (&laneValid)[kLanes]) {
     for (int lane = 0; lane < kLanes; ++lane) {
         const int x = x0 + lane < geometry.width() ? x0 + lane : -1;
         fillChunkLane(geometry, normals, x, y, lane, chunk, laneValid[lane]);

@@ -17,7 +17,7 @@
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/model/light_transport.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 // Every image's observations of a grid of pixels, in the kernel's lane layout: pixel p sits
 // in chunk p / kLanes, lane p % kLanes.
@@ -40,8 +40,8 @@ struct HeldOutValidator::Samples {
 namespace {
 
 std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
-                                                         const NormalMap& normals, int wanted,
-                                                         unsigned threads) {
+                                                         const normals::NormalMap& normals,
+                                                         int wanted, unsigned threads) {
     std::size_t validCount = 0;
     for (std::uint8_t v : normals.valid) {
         validCount += v;
@@ -95,7 +95,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
 
 }  // namespace
 
-HeldOutValidator::HeldOutValidator(const Capture& capture, const NormalMap& normals,
+HeldOutValidator::HeldOutValidator(const Capture& capture, const normals::NormalMap& normals,
                                    int samplePixels, int holdOutEvery, unsigned threads)
     : capture_(capture),
       normals_(normals),
@@ -283,7 +283,7 @@ struct LightGainSums {
 
 // The grid's geometry for one chunk of lanes.
 void fillSampleChunk(const HeldOutValidator::Samples& samples, const SurfaceGeometry& geometry,
-                     const NormalMap& normals, int chunk, fit::ChunkGeometry& out,
+                     const normals::NormalMap& normals, int chunk, fit::ChunkGeometry& out,
                      bool (&laneValid)[fit::kLanes]) {
     for (int lane = 0; lane < fit::kLanes; ++lane) {
         const std::size_t p = static_cast<std::size_t>(chunk) * fit::kLanes + lane;
@@ -392,7 +392,7 @@ SampleBand gridBand(const HeldOutValidator::Samples& samples, const std::vector<
 // pixel) takes each fitted pixel into its thread's accumulator, and the accumulators merge.
 template <typename Accumulator, typename Add>
 Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
-                                  const NormalMap& normals, const Hypothesis& hypothesis,
+                                  const normals::NormalMap& normals, const Hypothesis& hypothesis,
                                   const SampleBand& training,
                                   const fit::ExtendedFitSettings& settings, unsigned threads,
                                   const Accumulator& empty, Add add) {
@@ -519,7 +519,7 @@ GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
 // into one result, which keeps the best so far.
 class HeldOutSearch {
 public:
-    HeldOutSearch(const Capture& capture, const NormalMap& normals,
+    HeldOutSearch(const Capture& capture, const normals::NormalMap& normals,
                   const HeldOutSearchOptions& options);
     HeldOutSearchResult run();
 
@@ -551,7 +551,7 @@ private:
     HeldOutFolds folds_;
 };
 
-HeldOutSearch::HeldOutSearch(const Capture& capture, const NormalMap& normals,
+HeldOutSearch::HeldOutSearch(const Capture& capture, const normals::NormalMap& normals,
                              const HeldOutSearchOptions& options)
     : capture_(capture),
       options_(options),
@@ -783,9 +783,9 @@ void HeldOutSearch::searchLightIntensities() {
 
 }  // namespace
 
-HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
+HeldOutSearchResult searchHeldOut(const Capture& capture, const normals::NormalMap& normals,
                                   const HeldOutSearchOptions& options) {
     return HeldOutSearch(capture, normals, options).run();
 }
 
-}  // namespace vpe
+}  // namespace vpe::fit

@@ -10,7 +10,7 @@
 
 #include "vpe/proto/detail_normal.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 namespace {
 
@@ -210,4 +210,4 @@ Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d&
     return proto::detailNormalIn(proto::tangentFrame(macroNormal, imageRight, up), normal);
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

@@ -8,7 +8,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 NormalMap readNormalMap(const std::filesystem::path& path, NormalEncoding encoding) {
     const FloatImage image = readImage(path);
@@ -88,4 +88,4 @@ AngularError compareNormalMaps(const NormalMap& estimate, const NormalMap& truth
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

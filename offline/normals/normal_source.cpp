@@ -5,7 +5,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/normals/photometric_stereo.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 NormalsResult acquireNormals(const Capture& capture,
                              const std::optional<std::filesystem::path>& overridePath, int width,
@@ -32,4 +32,4 @@ NormalsResult acquireNormals(const Capture& capture,
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

@@ -15,7 +15,7 @@
 #include "vpe/image/image_file.h"
 #include "vpe/proto/luminance.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 namespace {
 
@@ -169,4 +169,4 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
     return normals;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

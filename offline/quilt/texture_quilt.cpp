@@ -113,11 +113,11 @@ QuiltSource loadSource(ModelReader& reader, const QuiltTextureOptions& options) 
     const ModelInfo& info = reader.info();
     QuiltSource source;
     source.texture = readCoefficientImage(reader);
-    source.labels = readLabelImage(options.labels, info.width, info.height).values;
+    source.labels = segment::readLabelImage(options.labels, info.width, info.height).values;
     for (std::size_t p = 0; p < source.labels.size(); ++p) {
         if (!source.texture.valid[p]) {
-            source.labels[p] = LabelMap::kNoLabel;  // no fit: never a source
-        } else if (source.labels[p] != LabelMap::kNoLabel) {
+            source.labels[p] = segment::LabelMap::kNoLabel;  // no fit: never a source
+        } else if (source.labels[p] != segment::LabelMap::kNoLabel) {
             source.regions = std::max(source.regions, source.labels[p] + 1);
         }
     }

@@ -14,7 +14,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -237,4 +237,4 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     return a;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -10,7 +10,7 @@
 
 #include "vpe/common/parallel_for.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -296,4 +296,4 @@ ClusterCountChoice chooseClusterCount(const std::vector<float>& points, int dims
     return choice;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -14,7 +14,7 @@
 #include "vpe/proto/luminance.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -350,4 +350,4 @@ std::filesystem::path overlayPathFor(const std::filesystem::path& labels) {
     return overlay;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -8,7 +8,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/segment/kmeans.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -108,4 +108,4 @@ SegmentResult segmentAppearance(const Appearance& appearance, const SegmentOptio
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -29,7 +29,7 @@ cv::Mat distanceToZero(const cv::Mat& mask) {
 }  // namespace
 
 std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, int height) {
-    const LabelMap labels = readLabelImage(p.labels);
+    const segment::LabelMap labels = segment::readLabelImage(p.labels);
     if (p.region < 0 || p.region >= labels.labels) {
         throw InputError(p.labels, "has labels 0.." + std::to_string(labels.labels - 1) +
                                        ", not region " + std::to_string(p.region));
@@ -56,7 +56,7 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
         const bool in = labels.values[i] == p.region;
         inside.data[i] = in ? 255 : 0;
         outside.data[i] = in ? 0 : 255;
-        labelled[i] = labels.values[i] == LabelMap::kNoLabel ? 1 : 0;  // quilt "region" 0
+        labelled[i] = labels.values[i] == segment::LabelMap::kNoLabel ? 1 : 0;  // quilt "region" 0
     }
     const cv::Mat toOutside = distanceToZero(inside), toInside = distanceToZero(outside);
     const float clip = 0.5f * static_cast<float>(block);

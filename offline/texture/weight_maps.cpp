@@ -144,7 +144,7 @@ void parseStrokes(ParameterParser parser, const std::vector<std::string_view>& p
             }
             strokes.labels = std::filesystem::path(std::string(parser.text()));
         } else if (name == "region") {
-            strokes.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            strokes.region = static_cast<int>(parser.integer(0, segment::LabelMap::kMaxLabels - 1));
         } else if (name == "coverage") {
             strokes.coverage = parser.number(0, 0.9, false);
         } else if (name == "count") {
@@ -203,7 +203,7 @@ void parseQuilted(ParameterParser parser, const std::vector<std::string_view>& p
             }
             quilted.labels = std::filesystem::path(std::string(parser.text()));
         } else if (name == "region") {
-            quilted.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            quilted.region = static_cast<int>(parser.integer(0, segment::LabelMap::kMaxLabels - 1));
             hasRegion = true;
         } else if (name == "block") {
             quilted.block = static_cast<int>(parser.integer(8, 4096));

@@ -43,7 +43,7 @@ SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
     const FloatImage normals = readTruthImage(truth / "normals.exr", 3, width_, height_);
     const FloatImage macro = readTruthImage(truth / "macro-normals.exr", 3, width_, height_);
     // The frame the fit measures the relief in: the capture camera's right.
-    const Vec3d right = imageRightDirection(openCapture(capture / "train"));
+    const Vec3d right = normals::imageRightDirection(openCapture(capture / "train"));
 
     const std::size_t texels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
     parameters_.assign(texels * 6, 0.0f);
@@ -60,7 +60,8 @@ SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
         };
         const Vec3d n = vec(normals), m = vec(macro);
         if (proto::dot(n, n) > 0.25 && proto::dot(m, m) > 0.25) {  // the object is there
-            const Vec3d d = detailNormalOf(proto::normalized(n), proto::normalized(m), right);
+            const Vec3d d =
+                normals::detailNormalOf(proto::normalized(n), proto::normalized(m), right);
             detail_[2 * t] = static_cast<float>(d.x);
             detail_[2 * t + 1] = static_cast<float>(d.y);
         }

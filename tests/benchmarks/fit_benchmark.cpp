@@ -28,7 +28,7 @@ constexpr double kLambda = 3.14;
 // A band of a capture rendered from per-pixel Fourier coefficients under the paper's rig.
 struct BenchmarkBand {
     Capture capture;
-    NormalMap normals;
+    normals::NormalMap normals;
     SampleBand band;
 
     BenchmarkBand(int width, int rows) {

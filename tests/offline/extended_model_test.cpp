@@ -53,15 +53,15 @@ testing::SyntheticCaptureSpec domeSpec(const std::vector<double>& elevations, in
 }
 
 double heldOutPsnr(const std::filesystem::path& train, const std::filesystem::path& test,
-                   const std::filesystem::path& model, ModelVariant variant,
+                   const std::filesystem::path& model, fit::ModelVariant variant,
                    bool calibrateResponse = true) {
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
     options.variant = variant;
     options.calibrateResponse = calibrateResponse;
     options.writePreview = false;
-    fitCapture(openCapture(train), options, model);
+    fit::fitCapture(openCapture(train), options, model);
     return eval::evaluateModel(model, openCapture(test), eval::EvaluationOptions{}).psnr;
 }
 
@@ -71,12 +71,12 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     spec.geometry = {40.0, 5.0, 0.0, {}};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
     const Capture capture = openCapture(folder / "train");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    HeldOutSearchOptions options;
+    const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
+    fit::HeldOutSearchOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
     options.selectRegularization = false;
-    const HeldOutSearchResult result = searchHeldOut(capture, normals, options);
+    const fit::HeldOutSearchResult result = fit::searchHeldOut(capture, normals, options);
     EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
     EXPECT_LT(result.rms, 0.25 * result.baselineRms);
@@ -91,8 +91,8 @@ TEST(ExtendedModel, CalibrationSurvivesAMisfiredExposure) {
     spec.geometry = {40.0, 5.0, 0.0, {}};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
     Capture capture = openCapture(folder / "train");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    HeldOutSearchOptions options;
+    const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
+    fit::HeldOutSearchOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
     options.selectRegularization = false;
@@ -102,7 +102,7 @@ TEST(ExtendedModel, CalibrationSurvivesAMisfiredExposure) {
         ASSERT_TRUE(dark.write((folder / "misfired.exr").string()));
     }
     capture.images[7].file = folder / "misfired.exr";
-    const HeldOutSearchResult result = searchHeldOut(capture, normals, options);
+    const fit::HeldOutSearchResult result = fit::searchHeldOut(capture, normals, options);
     EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
 }
@@ -115,10 +115,10 @@ TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {
     auto test = domeSpec({20, 40, 60, 80}, 5, 18);
     test.geometry = train.geometry;
     writeSyntheticCapture(folder / "test", test);
-    const double paper =
-        heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr", ModelVariant::kPaper);
+    const double paper = heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr",
+                                     fit::ModelVariant::kPaper);
     const double extended = heldOutPsnr(folder / "train", folder / "test", folder / "extended.exr",
-                                        ModelVariant::kExtended);
+                                        fit::ModelVariant::kExtended);
     EXPECT_GT(extended, paper + 6.0) << "paper " << paper << " dB, extended " << extended;
 
     ModelReader reader(folder / "extended.exr");
@@ -144,9 +144,9 @@ TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
     test.format = train.format;
     writeSyntheticCapture(folder / "test", test);
     const double srgb = heldOutPsnr(folder / "train", folder / "test", folder / "srgb.exr",
-                                    ModelVariant::kExtended, false);
+                                    fit::ModelVariant::kExtended, false);
     const double calibrated = heldOutPsnr(folder / "train", folder / "test",
-                                          folder / "calibrated.exr", ModelVariant::kExtended);
+                                          folder / "calibrated.exr", fit::ModelVariant::kExtended);
     EXPECT_EQ(ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
     EXPECT_EQ(ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
     EXPECT_GT(calibrated, srgb + 8.0) << "sRGB " << srgb << " dB, calibrated " << calibrated;
@@ -162,12 +162,12 @@ TEST(ExtendedModel, AStatedEncodingIsNotCalibrated) {
     writeSyntheticCapture(folder / "train", train);
     Capture capture = openCapture(folder / "train");
     capture.encoding = ImageEncoding::kSrgb;
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    options.variant = ModelVariant::kExtended;
+    options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
-    EXPECT_EQ(fitCapture(capture, options, folder / "m.exr").calibration.responseGamma, 0.0);
+    EXPECT_EQ(fit::fitCapture(capture, options, folder / "m.exr").calibration.responseGamma, 0.0);
     GeometryCalibration calibration;
     calibration.responseGamma = 1.0;
     EXPECT_EQ(applyAcceptedCalibration(capture, calibration, train.width, train.height).encoding,
@@ -185,12 +185,13 @@ TEST(ExtendedModel, ResponseCalibrationKeepsSrgbImages) {
     auto train = domeSpec({40, 60, 80}, 12, 0);
     train.format = testing::SyntheticFormat::kPng8Srgb;
     writeSyntheticCapture(folder / "train", train);
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    options.variant = ModelVariant::kExtended;
+    options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
-    const FitReport report = fitCapture(openCapture(folder / "train"), options, folder / "m.exr");
+    const fit::FitReport report =
+        fit::fitCapture(openCapture(folder / "train"), options, folder / "m.exr");
     const double gamma = report.calibration.responseGamma;
     EXPECT_TRUE(gamma == 0.0 || gamma >= 2.0) << "chose γ " << gamma;
 }
@@ -224,10 +225,10 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
     auto test = domeSpec({20, 40, 60, 80}, 5, 18);
     test.transport = train.transport;
     writeSyntheticCapture(folder / "test", test);
-    const double paper =
-        heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr", ModelVariant::kPaper);
+    const double paper = heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr",
+                                     fit::ModelVariant::kPaper);
     const double extended = heldOutPsnr(folder / "train", folder / "test", folder / "extended.exr",
-                                        ModelVariant::kExtended);
+                                        fit::ModelVariant::kExtended);
     EXPECT_GT(extended, paper + 1.0) << "paper " << paper << " dB, extended " << extended;
 
     // The transferable part: both models' BRDFs rendered without shadows, against the truth.
@@ -261,8 +262,8 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
 }
 
 // The search's light-transport stage alone, at the glossy material's M and λ.
-HeldOutSearchOptions transportSearch() {
-    HeldOutSearchOptions search;
+fit::HeldOutSearchOptions transportSearch() {
+    fit::HeldOutSearchOptions search;
     search.calibrateGeometry = false;
     search.selectRegularization = false;
     search.selectTransportRidge = true;
@@ -276,13 +277,13 @@ HeldOutSearchOptions transportSearch() {
 // its whole picture.
 struct ValidatedCapture {
     Capture capture;
-    NormalMap normals;
-    std::unique_ptr<HeldOutValidator> validator;
+    normals::NormalMap normals;
+    std::unique_ptr<fit::HeldOutValidator> validator;
     ValidatedCapture(const std::filesystem::path& folder, const testing::SyntheticCaptureSpec& spec)
         : normals(testing::trueNormalMap(writeSyntheticCapture(folder / "capture", spec),
                                          spec.width, spec.height)) {
         capture = openCapture(folder / "capture");
-        validator = std::make_unique<HeldOutValidator>(capture, normals, 4096, 4, 2);
+        validator = std::make_unique<fit::HeldOutValidator>(capture, normals, 4096, 4, 2);
     }
 };
 
@@ -302,16 +303,16 @@ TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
     const auto spec = shadowedDomeSpec();
     const ValidatedCapture validated(folder.path(), spec);
     const Capture& capture = validated.capture;
-    const NormalMap& normals = validated.normals;
+    const normals::NormalMap& normals = validated.normals;
     const double plain = validated.validator->score(GeometryCalibration{}, 3, 0.1);
     const double withTransport =
         validated.validator->scoreWithTransport(GeometryCalibration{}, glossySettings()).pooled;
     // Measured: 17.9 → 13.9 levels with the default ridge.
     EXPECT_LT(withTransport, 0.85 * plain) << "plain " << plain << ", with T " << withTransport;
 
-    const HeldOutSearchResult found = searchHeldOut(capture, normals, transportSearch());
+    const fit::HeldOutSearchResult found = fit::searchHeldOut(capture, normals, transportSearch());
     ASSERT_EQ(found.transportTrials.size(), 5u);
-    for (const TransportRidgeTrial& trial : found.transportTrials) {
+    for (const fit::TransportRidgeTrial& trial : found.transportTrials) {
         EXPECT_GE(trial.rms, found.transportRms) << "ridge " << trial.ridge;
     }
     // Measured: 12.3 levels, a weaker ridge than the default.
@@ -415,10 +416,10 @@ TEST(ExtendedModel, HeldOutSearchFindsBlockedLights) {
     spec.transport = [&](int, int, const Vec3d& light) { return blocked(light) ? 0.05 : 1.0; };
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     const Capture capture = openCapture(folder / "capture");
-    const NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    HeldOutSearchOptions search = transportSearch();
+    const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
+    fit::HeldOutSearchOptions search = transportSearch();
     search.calibrateLightIntensities = true;
-    const HeldOutSearchResult found = searchHeldOut(capture, normals, search);
+    const fit::HeldOutSearchResult found = fit::searchHeldOut(capture, normals, search);
     // Measured: per-image held-out RMS 3.92 levels as stated, 1.51 with the blocked lights.
     EXPECT_LT(found.lightIntensityRms, 0.45 * found.transportImageRms)
         << found.lightIntensityRms << " against " << found.transportImageRms;
@@ -448,11 +449,11 @@ TEST(ExtendedModel, StatedGeometryIsNotRecalibrated) {
     }
     capture.lightReferenceDistance = 10;
     EXPECT_FALSE(acceptsGeometryCalibration(capture));
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 2;
-    options.variant = ModelVariant::kExtended;
+    options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
-    const FitReport report = fitCapture(capture, options, folder / "model.exr");
+    const fit::FitReport report = fit::fitCapture(capture, options, folder / "model.exr");
     EXPECT_TRUE(report.calibration.isIdentity());
     EXPECT_TRUE(ModelReader(folder / "model.exr").info().calibration.isIdentity());
 }
@@ -465,12 +466,12 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     std::filesystem::remove(folder / "capture" / "normals.png");  // estimated, not given
     const Capture capture = openCapture(folder / "capture");
-    const NormalMap trueNormals = testing::trueNormalMap(truth, spec.width, spec.height);
-    PhotometricStereoOptions stereo;
+    const normals::NormalMap trueNormals = testing::trueNormalMap(truth, spec.width, spec.height);
+    normals::PhotometricStereoOptions stereo;
     stereo.threads = 2;
-    const NormalMap estimated = estimateNormals(capture, stereo);
+    const normals::NormalMap estimated = normals::estimateNormals(capture, stereo);
 
-    const HeldOutValidator validator(capture, estimated, 4096, 4, 2);
+    const fit::HeldOutValidator validator(capture, estimated, 4096, 4, 2);
     fit::ExtendedFitSettings settings;
     settings.harmonics = 3;
     settings.lambda = 0.1;
@@ -480,25 +481,25 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     // Measured: 5.81 → 4.77 levels.
     EXPECT_LT(refined, 0.85 * asEstimated) << "held-out RMS " << asEstimated << " → " << refined;
 
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    options.variant = ModelVariant::kExtended;
+    options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     options.threads = 2;
-    const FitReport report = fitCapture(capture, options, folder / "model.exr");
+    const fit::FitReport report = fit::fitCapture(capture, options, folder / "model.exr");
     EXPECT_EQ(report.normalSearchDegrees, 4.0);
     ModelReader reader(folder / "model.exr");
     ModelRows rows;
     reader.readRows(0, spec.height, rows);
-    NormalMap fitted;
+    normals::NormalMap fitted;
     fitted.resize(spec.width, spec.height);
     for (std::size_t p = 0; p < rows.valid.size(); ++p) {
         fitted.valid[p] = rows.valid[p];
         std::copy_n(&rows.normal[p * 3], 3, &fitted.xyz[p * 3]);
     }
-    const AngularError before = compareNormalMaps(estimated, trueNormals);
-    const AngularError after = compareNormalMaps(fitted, trueNormals);
+    const normals::AngularError before = normals::compareNormalMaps(estimated, trueNormals);
+    const normals::AngularError after = normals::compareNormalMaps(fitted, trueNormals);
     // Measured: 13.5° → 8.7° (the search moves a normal by at most 4 + 2 + 1°).
     EXPECT_LT(after.meanDegrees, 0.7 * before.meanDegrees)
         << "mean angular error " << before.meanDegrees << "° → " << after.meanDegrees << "°";
@@ -514,11 +515,11 @@ TEST(ExtendedModelRealData, ColourTransportKeepsADarkBackgroundQuiet) {
         GTEST_SKIP() << set << " not found";
     }
     testing::TemporaryFolder folder;
-    FitOptions options;
-    options.variant = ModelVariant::kExtended;
+    fit::FitOptions options;
+    options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     options.threads = 2;
-    fitCapture(openCapture(set / "Dome"), options, folder / "model.exr");
+    fit::fitCapture(openCapture(set / "Dome"), options, folder / "model.exr");
     const double psnr = eval::evaluateModel(folder / "model.exr", openCapture(set / "Test"),
                                             eval::EvaluationOptions{})
                             .psnr;

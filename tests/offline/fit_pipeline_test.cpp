@@ -30,11 +30,11 @@ TEST(FitPipeline, RecoversKnownCoefficientsFromNoiselessExrCapture) {
     spec.harmonics = 4;
     spec.lights = testing::sphereLights(100);
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 4;
     options.lambda = 0.0;  // auto precision: exact
     options.threads = 2;
-    fitCapture(openCapture(folder / "capture"), options, folder / "model.exr");
+    fit::fitCapture(openCapture(folder / "capture"), options, folder / "model.exr");
 
     ModelInfo info;
     const ModelRows rows = readWholeModel(folder / "model.exr", &info);
@@ -63,13 +63,13 @@ TEST(FitPipeline, ResultDoesNotDependOnTheThreadCount) {
     spec.harmonics = 2;
     writeSyntheticCapture(folder / "capture", spec);
     const Capture capture = openCapture(folder / "capture");
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 6;
     options.threads = 1;
-    fitCapture(capture, options, folder / "one.exr");
+    fit::fitCapture(capture, options, folder / "one.exr");
     options.threads = 3;
     options.bandBudgetBytes = 1;  // one row per band
-    fitCapture(capture, options, folder / "three.exr");
+    fit::fitCapture(capture, options, folder / "three.exr");
     const ModelRows one = readWholeModel(folder / "one.exr");
     const ModelRows three = readWholeModel(folder / "three.exr");
     EXPECT_EQ(one.coefficient, three.coefficient);
@@ -84,11 +84,11 @@ TEST(FitPipeline, SixteenBitLinearPngAndEightBitSrgbDecodeToTheSameRadiance) {
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "linear", spec);
     spec.format = testing::SyntheticFormat::kPng8Srgb;
     writeSyntheticCapture(folder / "srgb", spec);
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    fitCapture(openCapture(folder / "linear"), options, folder / "linear.exr");
-    fitCapture(openCapture(folder / "srgb"), options, folder / "srgb.exr");
+    fit::fitCapture(openCapture(folder / "linear"), options, folder / "linear.exr");
+    fit::fitCapture(openCapture(folder / "srgb"), options, folder / "srgb.exr");
     // Compare what the two models predict (coefficients themselves are poorly conditioned):
     // 8-bit quantization allows ~0.01; a missing or doubled sRGB decode is off by ~0.1.
     const ModelRows linear = readWholeModel(folder / "linear.exr");

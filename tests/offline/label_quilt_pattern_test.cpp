@@ -21,7 +21,7 @@ namespace {
 
 // Label 1: diagonal bands 6 pixels across every 24 pixels (along x + y), label 0 elsewhere.
 void writeDiagonalBands(const std::filesystem::path& path) {
-    LabelMap labels;
+    segment::LabelMap labels;
     labels.width = labels.height = 96;
     labels.labels = 2;
     labels.values.assign(96 * 96, 0);
@@ -31,7 +31,7 @@ void writeDiagonalBands(const std::filesystem::path& path) {
             labels.values[static_cast<std::size_t>(y) * 96 + x] = (x + y) % 34 < 8 ? 1 : 0;
         }
     }
-    writeLabelImage(path, labels);
+    segment::writeLabelImage(path, labels);
 }
 
 TEST(LabelQuiltPattern, KeepsTheBandsWidthsAndCoverage) {
@@ -64,16 +64,16 @@ TEST(LabelQuiltPattern, RefusesWhatCannotBeQuilted) {
     EXPECT_THROW(texture::parseWeightSpec(from + ":region=0:block=4"), InputError);
     EXPECT_THROW(generate(from + ":region=2"), InputError);
     // Labelled pixels too few for one block of 8.
-    LabelMap speck;
+    segment::LabelMap speck;
     speck.width = speck.height = 32;
     speck.labels = 2;
-    speck.values.assign(32 * 32, LabelMap::kNoLabel);
+    speck.values.assign(32 * 32, segment::LabelMap::kNoLabel);
     for (int y = 10; y < 15; ++y) {
         for (int x = 10; x < 15; ++x) {
             speck.values[static_cast<std::size_t>(y) * 32 + x] = x < 12 ? 1 : 0;
         }
     }
-    writeLabelImage(folder / "speck.png", speck);
+    segment::writeLabelImage(folder / "speck.png", speck);
     try {
         generate("quilted:from=" + (folder / "speck.png").string() + ":region=1:block=8");
         ADD_FAILURE() << "a 5 × 5 labelled area was quilted";

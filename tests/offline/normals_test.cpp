@@ -48,8 +48,8 @@ testing::SyntheticCaptureSpec lambertianSpec() {
     return spec;
 }
 
-PhotometricStereoOptions stereoOptions() {
-    PhotometricStereoOptions options;
+normals::PhotometricStereoOptions stereoOptions() {
+    normals::PhotometricStereoOptions options;
     options.threads = allThreads();
     return options;
 }
@@ -58,9 +58,10 @@ TEST(PhotometricStereo, RecoversLambertianNormals) {
     testing::TemporaryFolder folder;
     const testing::SyntheticCaptureSpec spec = lambertianSpec();
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    const NormalMap estimate = estimateNormals(openCapture(folder / "capture"), stereoOptions());
-    const AngularError error =
-        compareNormalMaps(estimate, testing::trueNormalMap(truth, spec.width, spec.height));
+    const normals::NormalMap estimate =
+        normals::estimateNormals(openCapture(folder / "capture"), stereoOptions());
+    const normals::AngularError error = normals::compareNormalMaps(
+        estimate, testing::trueNormalMap(truth, spec.width, spec.height));
     EXPECT_EQ(error.pixels, static_cast<std::size_t>(spec.width * spec.height));
     EXPECT_LT(error.meanDegrees, 0.5);
 }
@@ -126,12 +127,12 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
     EXPECT_GT(shadowed, pixels * images / 15);
     EXPECT_GT(highlighted, pixels / 2);
 
-    const NormalMap truthMap = testing::trueNormalMap(truth, spec.width, spec.height);
-    const AngularError robust = compareNormalMaps(
-        estimateNormals(openCapture(folder / "capture"), stereoOptions()), truthMap);
+    const normals::NormalMap truthMap = testing::trueNormalMap(truth, spec.width, spec.height);
+    const normals::AngularError robust = normals::compareNormalMaps(
+        normals::estimateNormals(openCapture(folder / "capture"), stereoOptions()), truthMap);
 
     // Baseline: plain least squares on every sample, as textbook photometric stereo does.
-    NormalMap plain;
+    normals::NormalMap plain;
     plain.resize(spec.width, spec.height);
     for (std::size_t p = 0; p < pixels; ++p) {
         Eigen::MatrixXd lights(images, 3);
@@ -147,7 +148,7 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
         }
         plain.valid[p] = 1;
     }
-    const AngularError baseline = compareNormalMaps(plain, truthMap);
+    const normals::AngularError baseline = normals::compareNormalMaps(plain, truthMap);
     std::cout << "robust photometric stereo: mean " << robust.meanDegrees << "°, median "
               << robust.medianDegrees << "°; plain least squares: mean " << baseline.meanDegrees
               << "°, median " << baseline.medianDegrees << "°\n";
@@ -184,7 +185,7 @@ void writeMap(const std::filesystem::path& path, OIIO::TypeDesc type, bool offse
 
 // Largest angle between the map and mapNormal(), over valid pixels, and the black pixel's
 // validity.
-void expectMap(const NormalMap& map, double maxDegrees) {
+void expectMap(const normals::NormalMap& map, double maxDegrees) {
     ASSERT_EQ(map.width, kMapWidth);
     ASSERT_EQ(map.height, kMapHeight);
     EXPECT_FALSE(map.valid[map.index(0, 0)]) << "black background must be invalid";
@@ -211,42 +212,43 @@ TEST(NormalMapFile, EightBitOffsetEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "n8.png", OIIO::TypeDesc::UINT8, true);
     // Half a code per component: at most ~0.4° off.
-    expectMap(readNormalMap(folder / "n8.png", NormalEncoding::kAuto), 0.5);
-    expectMap(readNormalMap(folder / "n8.png", NormalEncoding::kOffsetRgb), 0.5);
+    expectMap(normals::readNormalMap(folder / "n8.png", NormalEncoding::kAuto), 0.5);
+    expectMap(normals::readNormalMap(folder / "n8.png", NormalEncoding::kOffsetRgb), 0.5);
 }
 
 TEST(NormalMapFile, SixteenBitOffsetEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "n16.png", OIIO::TypeDesc::UINT16, true);
-    expectMap(readNormalMap(folder / "n16.png", NormalEncoding::kAuto), 0.005);
+    expectMap(normals::readNormalMap(folder / "n16.png", NormalEncoding::kAuto), 0.005);
 }
 
 TEST(NormalMapFile, FloatRawEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "raw.exr", OIIO::TypeDesc::FLOAT, false);
-    expectMap(readNormalMap(folder / "raw.exr", NormalEncoding::kAuto), 1e-4);
-    expectMap(readNormalMap(folder / "raw.exr", NormalEncoding::kRaw), 1e-4);
+    expectMap(normals::readNormalMap(folder / "raw.exr", NormalEncoding::kAuto), 1e-4);
+    expectMap(normals::readNormalMap(folder / "raw.exr", NormalEncoding::kRaw), 1e-4);
 }
 
 TEST(NormalMapFile, FloatOffsetEncodingWhenAskedFor) {
     testing::TemporaryFolder folder;
     writeMap(folder / "offset.exr", OIIO::TypeDesc::FLOAT, true);
-    expectMap(readNormalMap(folder / "offset.exr", NormalEncoding::kOffsetRgb), 1e-4);
+    expectMap(normals::readNormalMap(folder / "offset.exr", NormalEncoding::kOffsetRgb), 1e-4);
 }
 
 // SynthRTI sets: the dome's images against the rendered normals.png beside them.
-AngularError stereoOnSynthRti(const std::filesystem::path& dome) {
+normals::AngularError stereoOnSynthRti(const std::filesystem::path& dome) {
     const Capture capture = openCapture(dome);
     EXPECT_TRUE(capture.normalMap.has_value()) << dome;
     if (!capture.normalMap) {
         return {};
     }
-    const NormalMap truth = readNormalMap(*capture.normalMap, capture.normalEncoding);
-    const NormalMap estimate = estimateNormals(capture, stereoOptions());
-    return compareNormalMaps(estimate, truth);
+    const normals::NormalMap truth =
+        normals::readNormalMap(*capture.normalMap, capture.normalEncoding);
+    const normals::NormalMap estimate = normals::estimateNormals(capture, stereoOptions());
+    return normals::compareNormalMaps(estimate, truth);
 }
 
-void reportAngularError(const std::string& name, const AngularError& error) {
+void reportAngularError(const std::string& name, const normals::AngularError& error) {
     std::cout << name << ": mean angular error " << error.meanDegrees << "°, median "
               << error.medianDegrees << "° over " << error.pixels << " pixels\n";
 }
@@ -257,7 +259,7 @@ TEST(PhotometricStereoRealData, SynthRtiSingleObject1Material1) {
     if (!std::filesystem::exists(dome)) {
         GTEST_SKIP() << dome << " not found";
     }
-    const AngularError error = stereoOnSynthRti(dome);
+    const normals::AngularError error = stereoOnSynthRti(dome);
     reportAngularError("SynthRTI Single/Object1/material1", error);
     // Measured 0.36° mean, 0.31° median (one material, nearly Lambertian); bounds ~1.5×.
     EXPECT_EQ(error.pixels, 320u * 320u);
@@ -271,7 +273,7 @@ TEST(PhotometricStereoRealData, SynthRtiMultiObject1Material1) {
     if (!std::filesystem::exists(dome)) {
         GTEST_SKIP() << dome << " not found";
     }
-    const AngularError error = stereoOnSynthRti(dome);
+    const normals::AngularError error = stereoOnSynthRti(dome);
     reportAngularError("SynthRTI Multi/Object1/material1", error);
     // Measured 5.68° mean, 2.62° median: some of the materials are far from Lambertian.
     // Bounds ~1.5×.
@@ -286,7 +288,7 @@ TEST(PhotometricStereoRealData, LoewenkopfNormalsFaceTheCamera) {
     if (!std::filesystem::exists(dir)) {
         GTEST_SKIP() << dir << " not found";
     }
-    const NormalMap normals = estimateNormals(openCapture(dir), stereoOptions());
+    const normals::NormalMap normals = normals::estimateNormals(openCapture(dir), stereoOptions());
     std::size_t valid = 0, facing = 0;
     double zSum = 0;
     for (std::size_t i = 0; i < normals.valid.size(); ++i) {

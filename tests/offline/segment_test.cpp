@@ -24,9 +24,11 @@ namespace {
 
 // An appearance made by hand: each pixel's CIELAB colour and features come from `material`,
 // plus a little noise. Features: 3 colour values, then one "gloss" value.
-Appearance makeAppearance(int width, int height, const std::vector<std::array<float, 4>>& materials,
-                          const std::function<int(int x, int y)>& material, float noise = 0.01f) {
-    Appearance a;
+segment::Appearance makeAppearance(int width, int height,
+                                   const std::vector<std::array<float, 4>>& materials,
+                                   const std::function<int(int x, int y)>& material,
+                                   float noise = 0.01f) {
+    segment::Appearance a;
     a.width = width;
     a.height = height;
     const std::size_t pixels = static_cast<std::size_t>(width) * height;
@@ -54,8 +56,8 @@ Appearance makeAppearance(int width, int height, const std::vector<std::array<fl
     return a;
 }
 
-LabelMap mapOf(int width, int height, const std::function<int(int x, int y)>& label) {
-    LabelMap map;
+segment::LabelMap mapOf(int width, int height, const std::function<int(int x, int y)>& label) {
+    segment::LabelMap map;
     map.width = width;
     map.height = height;
     map.values.resize(static_cast<std::size_t>(width) * height);
@@ -64,7 +66,7 @@ LabelMap mapOf(int width, int height, const std::function<int(int x, int y)>& la
         for (int x = 0; x < width; ++x) {
             const int value = label(x, y);
             map.values[static_cast<std::size_t>(y) * width + x] = static_cast<std::uint8_t>(value);
-            if (value != LabelMap::kNoLabel) {
+            if (value != segment::LabelMap::kNoLabel) {
                 highest = std::max(highest, value);
             }
         }
@@ -81,66 +83,67 @@ int thirds(int x, int) {
 }
 
 TEST(SeededSegmentation, AppearanceSeparatesMaterialsOfOneColourThatColourCannot) {
-    const Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
-    const std::vector<PixelSeed> seeds{{4, 5}, {15, 5}, {25, 5}};
-    const LabelMap truth = mapOf(30, 12, thirds);
-    const LabelMap byAppearance = labelBySeeds(appearance, seeds, SeedSpace::kAppearance);
+    const segment::Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
+    const std::vector<segment::PixelSeed> seeds{{4, 5}, {15, 5}, {25, 5}};
+    const segment::LabelMap truth = mapOf(30, 12, thirds);
+    const segment::LabelMap byAppearance =
+        segment::labelBySeeds(appearance, seeds, segment::SeedSpace::kAppearance);
     EXPECT_EQ(byAppearance.labels, 3);
-    EXPECT_DOUBLE_EQ(compareLabels(byAppearance, truth).meanIou, 1.0);
+    EXPECT_DOUBLE_EQ(segment::compareLabels(byAppearance, truth).meanIou, 1.0);
     // In colour alone, materials 0 and 1 are one: their pixels split between the two seeds by
     // noise, so at least one of them is badly recovered.
-    const LabelComparison byColour =
-        compareLabels(labelBySeeds(appearance, seeds, SeedSpace::kColour), truth);
+    const segment::LabelComparison byColour = segment::compareLabels(
+        segment::labelBySeeds(appearance, seeds, segment::SeedSpace::kColour), truth);
     EXPECT_LT(std::min(byColour.iou[0], byColour.iou[1]), 0.8);
     EXPECT_DOUBLE_EQ(byColour.iou[2], 1.0);
 }
 
 TEST(SeededSegmentation, LabelsFollowTheSeedsOrderAndBadSeedsAreNamed) {
-    const Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
-    SegmentOptions options;
+    const segment::Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
+    segment::SegmentOptions options;
     options.seeds = {{25, 5}, {4, 5}, {15, 5}};
-    const SegmentResult result = segmentAppearance(appearance, options);
+    const segment::SegmentResult result = segment::segmentAppearance(appearance, options);
     EXPECT_EQ(result.map.values[appearance.pixel(27, 1)], 0);
     EXPECT_EQ(result.map.values[appearance.pixel(1, 1)], 1);
     EXPECT_EQ(result.map.values[appearance.pixel(12, 11)], 2);
 
     options.seeds = {{4, 5}, {30, 5}};
     try {
-        segmentAppearance(appearance, options);
+        segment::segmentAppearance(appearance, options);
         FAIL() << "a seed outside the model was accepted";
     } catch (const InputError& error) {
         EXPECT_NE(std::string(error.what()).find("(30, 5)"), std::string::npos) << error.what();
     }
-    Appearance holes = appearance;
+    segment::Appearance holes = appearance;
     holes.valid[holes.pixel(4, 5)] = 0;
     options.seeds = {{4, 5}, {25, 5}};
-    EXPECT_THROW(segmentAppearance(holes, options), InputError);
+    EXPECT_THROW(segment::segmentAppearance(holes, options), InputError);
 }
 
 TEST(Islands, SmallRegionsJoinTheLabelAroundThem) {
     // A 2 × 2 speck of label 1 inside label 0, and a big region of label 1 on the right.
-    LabelMap map = mapOf(20, 10, [](int x, int y) {
+    segment::LabelMap map = mapOf(20, 10, [](int x, int y) {
         return (x >= 4 && x < 6 && y >= 4 && y < 6) || x >= 14 ? 1 : 0;
     });
-    EXPECT_EQ(removeIslands(map, 5), 1u);
+    EXPECT_EQ(segment::removeIslands(map, 5), 1u);
     EXPECT_EQ(map.values[5 * 20 + 5], 0);
-    EXPECT_EQ(map.values[5 * 20 + 15], 1);  // the big region stays
-    EXPECT_EQ(removeIslands(map, 5), 0u);   // nothing left to merge
+    EXPECT_EQ(map.values[5 * 20 + 15], 1);          // the big region stays
+    EXPECT_EQ(segment::removeIslands(map, 5), 0u);  // nothing left to merge
 }
 
 TEST(Islands, UnlabelledPixelsStayUnlabelled) {
-    LabelMap map = mapOf(12, 6, [](int x, int) {
-        return x < 2 ? LabelMap::kNoLabel : x < 3 ? 1 : 0;
+    segment::LabelMap map = mapOf(12, 6, [](int x, int) {
+        return x < 2 ? segment::LabelMap::kNoLabel : x < 3 ? 1 : 0;
     });
-    removeIslands(map, 10);
-    EXPECT_EQ(map.values[0], LabelMap::kNoLabel);
+    segment::removeIslands(map, 10);
+    EXPECT_EQ(map.values[0], segment::LabelMap::kNoLabel);
     EXPECT_EQ(map.values[2], 0);
 }
 
 TEST(LabelOrder, ClustersAreNumberedByIncreasingLuminance) {
-    const Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
-    LabelMap map = mapOf(30, 12, [](int x, int y) { return 2 - thirds(x, y); });
-    orderLabelsByLuminance(map, appearance);
+    const segment::Appearance appearance = makeAppearance(30, 12, kThreeMaterials, thirds);
+    segment::LabelMap map = mapOf(30, 12, [](int x, int y) { return 2 - thirds(x, y); });
+    segment::orderLabelsByLuminance(map, appearance);
     // Materials 0 and 1 have the same average (0.1 + 0.5 · colour); material 2 is brighter in
     // the channels luminance weighs most, so it is last.
     EXPECT_EQ(map.values[25], 2);
@@ -155,35 +158,39 @@ TEST(KMeans, IsDeterministicAndFindsSeparatedClusters) {
         points.push_back(centres[i % 3][0] + noise(random));
         points.push_back(centres[i % 3][1] + noise(random));
     }
-    KMeansOptions options;
+    segment::KMeansOptions options;
     options.clusters = 3;
-    const KMeansResult first = kMeans(points, 2, options);
+    const segment::KMeansResult first = segment::kMeans(points, 2, options);
     options.threads = 2;
-    const KMeansResult second = kMeans(points, 2, options);
+    const segment::KMeansResult second = segment::kMeans(points, 2, options);
     EXPECT_EQ(first.labels, second.labels);
     for (int i = 3; i < 600; ++i) {
         EXPECT_EQ(first.labels[static_cast<std::size_t>(i)],
                   first.labels[static_cast<std::size_t>(i % 3)]);
     }
-    const ClusterCountChoice choice = chooseClusterCount(points, 2, 2, 6, options);
+    const segment::ClusterCountChoice choice =
+        segment::chooseClusterCount(points, 2, 2, 6, options);
     EXPECT_EQ(choice.chosen, 3);
     EXPECT_EQ(choice.candidates.size(), 5u);
 }
 
 TEST(LabelComparison, MatchesArbitraryLabelNumbers) {
-    const LabelMap truth = mapOf(30, 12, thirds);
-    const LabelMap renamed = mapOf(30, 12, [](int x, int y) { return (thirds(x, y) + 1) % 3; });
-    const LabelComparison same = compareLabels(renamed, truth);
+    const segment::LabelMap truth = mapOf(30, 12, thirds);
+    const segment::LabelMap renamed =
+        mapOf(30, 12, [](int x, int y) { return (thirds(x, y) + 1) % 3; });
+    const segment::LabelComparison same = segment::compareLabels(renamed, truth);
     EXPECT_DOUBLE_EQ(same.meanIou, 1.0);
     EXPECT_EQ(same.matchedLabels, (std::vector<int>{1, 2, 0}));
     // Half of region 2 predicted as region 1: IoU(1) = 10 / 15, IoU(2) = 5 / 10.
-    const LabelMap shifted = mapOf(30, 12, [](int x, int) { return x < 10 ? 0 : x < 25 ? 1 : 2; });
-    const LabelComparison partly = compareLabels(shifted, truth);
+    const segment::LabelMap shifted = mapOf(30, 12, [](int x, int) {
+        return x < 10 ? 0 : x < 25 ? 1 : 2;
+    });
+    const segment::LabelComparison partly = segment::compareLabels(shifted, truth);
     EXPECT_NEAR(partly.iou[1], 10.0 / 15.0, 1e-12);
     EXPECT_NEAR(partly.iou[2], 5.0 / 10.0, 1e-12);
     // Fewer predicted labels than reference ones: the unmatched reference label scores 0.
-    const LabelMap two = mapOf(30, 12, [](int x, int) { return x < 10 ? 0 : 1; });
-    const LabelComparison merged = compareLabels(two, truth);
+    const segment::LabelMap two = mapOf(30, 12, [](int x, int) { return x < 10 ? 0 : 1; });
+    const segment::LabelComparison merged = segment::compareLabels(two, truth);
     EXPECT_EQ(std::count(merged.matchedLabels.begin(), merged.matchedLabels.end(), -1), 1);
 }
 
@@ -191,24 +198,26 @@ TEST(LabelComparison, HungarianFindsTheCheapestAssignment) {
     // Greedy (row 0 takes its cheapest column, 1) ends at 1 + 9 + 3 = 13; the optimum is
     // rows → columns 1, 0, 2: 2 + 2 + 4 = 8, the only assignment that cheap.
     const std::vector<std::vector<double>> cost = {{1, 2, 9}, {2, 9, 9}, {9, 3, 4}};
-    EXPECT_EQ(minimumCostAssignment(cost), (std::vector<int>{1, 0, 2}));
+    EXPECT_EQ(segment::minimumCostAssignment(cost), (std::vector<int>{1, 0, 2}));
 }
 
 TEST(LabelFiles, RoundTripAndRefuseWhatIsNotALabelImage) {
     testing::TemporaryFolder folder;
-    const LabelMap map = mapOf(
-        7, 5, [](int x, int y) { return x == 0 && y == 0 ? LabelMap::kNoLabel : (x + y) % 4; });
-    writeLabelImage(folder / "labels.png", map);
-    const LabelMap read = readLabelImage(folder / "labels.png");
+    const segment::LabelMap map = mapOf(7, 5, [](int x, int y) {
+        return x == 0 && y == 0 ? segment::LabelMap::kNoLabel : (x + y) % 4;
+    });
+    segment::writeLabelImage(folder / "labels.png", map);
+    const segment::LabelMap read = segment::readLabelImage(folder / "labels.png");
     EXPECT_EQ(read.values, map.values);
     EXPECT_EQ(read.labels, 4);
-    EXPECT_THROW(readLabelImage(folder / "missing.png"), InputError);
-    EXPECT_EQ(overlayPathFor("dir/labels.png"), std::filesystem::path("dir/labels-overlay.png"));
+    EXPECT_THROW(segment::readLabelImage(folder / "missing.png"), InputError);
+    EXPECT_EQ(segment::overlayPathFor("dir/labels.png"),
+              std::filesystem::path("dir/labels-overlay.png"));
 }
 
 TEST(LabelSeeds, PickThePixelDeepestInsideEachRegion) {
-    const LabelMap map = mapOf(30, 11, thirds);
-    const std::vector<PixelSeed> seeds = testing::innermostPixels(map);
+    const segment::LabelMap map = mapOf(30, 11, thirds);
+    const std::vector<segment::PixelSeed> seeds = testing::innermostPixels(map);
     ASSERT_EQ(seeds.size(), 3u);
     EXPECT_EQ(map.values[static_cast<std::size_t>(seeds[1].y) * 30 + seeds[1].x], 1);
     // Deepest possible in a 10 × 11 band: 5 pixels from its sides, 5 from the picture's edges.

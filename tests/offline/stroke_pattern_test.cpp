@@ -258,7 +258,7 @@ TEST(StrokePattern, DefaultsComeFromTheLabelMap) {
     const testing::TemporaryFolder folder;
     // Label 1: horizontal bands 7 pixels wide every 40 rows; label 0 elsewhere; a corner
     // unlabelled.
-    LabelMap labels;
+    segment::LabelMap labels;
     labels.width = 120;
     labels.height = 160;
     labels.labels = 2;
@@ -267,10 +267,10 @@ TEST(StrokePattern, DefaultsComeFromTheLabelMap) {
         for (int x = 0; x < 120; ++x) {
             const int row = (y + 20) % 40;
             labels.values[static_cast<std::size_t>(y) * 120 + x] =
-                x < 10 && y < 10 ? LabelMap::kNoLabel : static_cast<std::uint8_t>(row < 7);
+                x < 10 && y < 10 ? segment::LabelMap::kNoLabel : static_cast<std::uint8_t>(row < 7);
         }
     }
-    writeLabelImage(folder / "labels.png", labels);
+    segment::writeLabelImage(folder / "labels.png", labels);
     const std::string from = "strokes:from=" + (folder / "labels.png").string() + ":region=1";
     ResolvedStrokes strokes = strokesFromSpec(from);
     ASSERT_TRUE(strokes.source.has_value());
@@ -341,11 +341,11 @@ TEST(StrokePattern, ComposeReportsTheStreaksItMade) {
 TEST(StrokePattern, BadParametersExitTwoWithOneLine) {
     const testing::TemporaryFolder folder;
     writeUniformRegionMaps(folder.path(), 1, 16, 16);
-    LabelMap labels;
+    segment::LabelMap labels;
     labels.width = labels.height = 8;
     labels.labels = 1;
     labels.values.assign(64, 0);
-    writeLabelImage(folder / "labels.png", labels);
+    segment::writeLabelImage(folder / "labels.png", labels);
     const std::string labelPath = (folder / "labels.png").string();
     struct Case {
         std::string entry;

@@ -163,11 +163,11 @@ TEST(Synth, FitOfAFourierTruthIsExact) {
     options.encoding = SynthEncoding::kExr;
     options.shadows = false;  // shadows are not in any BRDF
     synthesizeCapture(options);
-    FitOptions fit;
+    fit::FitOptions fit;
     fit.harmonics = 4;
     fit.lambda = 0.0;  // exact accumulation
     fit.writePreview = false;
-    fitCapture(openCapture(folder / "capture/train"), fit, folder / "model.exr");
+    fit::fitCapture(openCapture(folder / "capture/train"), fit, folder / "model.exr");
     const eval::EvaluationReport report = eval::evaluateModel(
         folder / "model.exr", openCapture(folder / "capture/test"), eval::EvaluationOptions{});
     EXPECT_GT(report.psnr, 80.0);

@@ -73,7 +73,7 @@ TEST_F(TexturePipeline, AutomaticSegmentationFindsTheTwoMaterials) {
 
 TEST_F(TexturePipeline, SeededSegmentationFindsTheTwoMaterials) {
     const std::string seeds =
-        testing::seedsArgument(testing::innermostPixels(readLabelImage(truth())));
+        testing::seedsArgument(testing::innermostPixels(segment::readLabelImage(truth())));
     for (const char* space : {"appearance", "colour"}) {
         const testing::CommandResult result =
             runCommand(vpe({"segment", model(), "--out", path("seeded.png"), "--seeds", seeds,

@@ -172,8 +172,8 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     return capture;
 }
 
-NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height) {
-    NormalMap map;
+normals::NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height) {
+    normals::NormalMap map;
     map.resize(width, height);
     for (std::size_t p = 0; p < capture.normals.size(); ++p) {
         map.xyz[p * 3] = static_cast<float>(capture.normals[p].x);

@@ -60,7 +60,7 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
                                        const SyntheticCaptureSpec& spec);
 
 // The capture's true normals as a NormalMap, every pixel valid.
-NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height);
+normals::NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height);
 
 // Lights spread over the whole sphere (Fibonacci lattice): well-conditioned fits.
 std::vector<Vec3d> sphereLights(int count);

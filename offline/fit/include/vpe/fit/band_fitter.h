@@ -29,8 +29,8 @@ class BandFitter {
 public:
     // `capture` is the geometry the fit runs under (calibrated, for the extended model);
     // all references must outlive the fitter.
-    BandFitter(const Capture& capture, const SurfaceGeometry& geometry, const NormalMap& normals,
-               const BandFitSettings& settings);
+    BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
+               const normals::NormalMap& normals, const BandFitSettings& settings);
 
     // Fits rows band.rowBegin .. + band.rows into `rows` (resized here).
     void fit(const SampleBand& band, ModelRows& rows) const;
@@ -38,7 +38,7 @@ public:
 private:
     const Capture& capture_;
     const SurfaceGeometry& geometry_;
-    const NormalMap& normals_;
+    const normals::NormalMap& normals_;
     BandFitSettings settings_;
     std::vector<KernelLight> lights_;
     KernelLightSet lightSet_;

@@ -18,7 +18,7 @@
 #include "vpe/model/rti_basis.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 enum class FitPrecision {
     kAuto,   // exact for unregularized fits (λ < 1e-3), fast otherwise
@@ -116,4 +116,4 @@ fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambd
 FitReport fitCapture(const Capture& capture, const FitOptions& options,
                      const std::filesystem::path& modelPath);
 
-}  // namespace vpe
+}  // namespace vpe::fit

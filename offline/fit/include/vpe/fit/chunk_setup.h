@@ -19,11 +19,11 @@ KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLi
 
 // Geometry of pixels x0 .. x0 + kLanes − 1 of image row y; lanes past the row end or without
 // a normal get a harmless placeholder and laneValid = false.
-void fillChunkGeometry(const SurfaceGeometry& geometry, const NormalMap& normals, int x0, int y,
-                       ChunkGeometry& chunk, bool (&laneValid)[kLanes]);
+void fillChunkGeometry(const SurfaceGeometry& geometry, const normals::NormalMap& normals, int x0,
+                       int y, ChunkGeometry& chunk, bool (&laneValid)[kLanes]);
 
 // One lane of a chunk: pixel (x, y), or a placeholder when x < 0.
-void fillChunkLane(const SurfaceGeometry& geometry, const NormalMap& normals, int x, int y,
+void fillChunkLane(const SurfaceGeometry& geometry, const normals::NormalMap& normals, int x, int y,
                    int lane, ChunkGeometry& chunk, bool& laneValid);
 
 ChunkObservations chunkObservations(const SampleBand& band, int row, int x0);

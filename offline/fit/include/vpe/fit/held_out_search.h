@@ -15,7 +15,7 @@
 #include "vpe/fit/extended_chunk_fit.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 // Held-out RMS in 8-bit levels: pooled over every held-out sample, and the geometric mean
 // of the held-out images' RMS (whose PSNR is the images' mean PSNR, vpe eval's figure).
@@ -31,7 +31,7 @@ enum class HeldOutFolds { kOne, kEvery };
 // Scores hypotheses on a fixed grid of pixels, decoded once.
 class HeldOutValidator {
 public:
-    HeldOutValidator(const Capture& capture, const NormalMap& normals, int samplePixels,
+    HeldOutValidator(const Capture& capture, const normals::NormalMap& normals, int samplePixels,
                      int holdOutEvery, unsigned threads);
     ~HeldOutValidator();
     HeldOutValidator(const HeldOutValidator&) = delete;
@@ -54,7 +54,7 @@ public:
 
 private:
     const Capture& capture_;
-    const NormalMap& normals_;
+    const normals::NormalMap& normals_;
     int holdOutEvery_;
     unsigned threads_;
     std::unique_ptr<Samples> samples_;
@@ -114,7 +114,7 @@ struct HeldOutSearchResult {
     double lightIntensityRms = 0;
 };
 
-HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
+HeldOutSearchResult searchHeldOut(const Capture& capture, const normals::NormalMap& normals,
                                   const HeldOutSearchOptions& options);
 
-}  // namespace vpe
+}  // namespace vpe::fit

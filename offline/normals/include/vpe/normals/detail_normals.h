@@ -12,7 +12,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 // The regression window's σ as a share of the image's larger side: chosen on the synthetic
 // capture, whose true macro shape is known (docs/transfer-fidelity.md).
@@ -35,4 +35,4 @@ Vec3d imageRightDirection(const Capture& capture);
 // (proto::tangentFrame(macro, right, up), proto::detailNormalIn).
 Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d& imageRight);
 
-}  // namespace vpe
+}  // namespace vpe::normals

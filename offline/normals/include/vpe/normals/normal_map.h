@@ -8,7 +8,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct NormalMap {
     int width = 0;
@@ -45,4 +45,4 @@ struct AngularError {
 
 AngularError compareNormalMaps(const NormalMap& estimate, const NormalMap& truth);
 
-}  // namespace vpe
+}  // namespace vpe::normals

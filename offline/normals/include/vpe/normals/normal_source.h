@@ -10,7 +10,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct NormalsResult {
     NormalMap normals;
@@ -22,4 +22,4 @@ NormalsResult acquireNormals(const Capture& capture,
                              const std::optional<std::filesystem::path>& overridePath, int width,
                              int height, unsigned threads);
 
-}  // namespace vpe
+}  // namespace vpe::normals

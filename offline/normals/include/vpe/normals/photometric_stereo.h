@@ -8,7 +8,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct PhotometricStereoOptions {
     double darkFraction = 0.3;    // share of darkest samples left out of the first fit
@@ -19,4 +19,4 @@ struct PhotometricStereoOptions {
 
 NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions& options);
 
-}  // namespace vpe
+}  // namespace vpe::normals

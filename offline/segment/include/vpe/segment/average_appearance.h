@@ -11,7 +11,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 struct AppearanceOptions {
     // Principal components of the coefficients kept as features.
@@ -52,4 +52,4 @@ Appearance computeAppearance(const std::filesystem::path& model, const Appearanc
 // CIELAB (D65 white, Y of white = 1) of a linear sRGB colour.
 void linearRgbToLab(const float* rgb, float* lab);
 
-}  // namespace vpe
+}  // namespace vpe::segment
