@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/firmware/loop/service_watchdog.h"
+#include "vpe/firmware/player/service_watchdog.h"
 
 #include <cstdlib>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // BoardConfig: reading a board's TOML file (toml++), strictly: unknown keys and wrong types are
 // refused with one line naming file:key.
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 #include <charconv>
 #include <fstream>

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/input/input_device.h"
 #include "vpe/firmware/player/board_check.h"
 #include "vpe/firmware/player/input_setup.h"
