@@ -7,7 +7,7 @@
 
 namespace vpe::bake {
 
-std::vector<float> bundleCoefficients(const CoefficientImage& model) {
+std::vector<float> bundleCoefficients(const model::CoefficientImage& model) {
     const int k = proto::coefficientCount(model.harmonics);
     const std::size_t perTexel = 3 * static_cast<std::size_t>(k);
     std::vector<float> values(model.valid.size() * perTexel, 0.0f);
@@ -26,7 +26,7 @@ std::vector<float> bundleCoefficients(const CoefficientImage& model) {
     return values;
 }
 
-std::vector<float> bundleDetailNormals(const CoefficientImage& model) {
+std::vector<float> bundleDetailNormals(const model::CoefficientImage& model) {
     if (model.detail.empty()) {
         return {};
     }

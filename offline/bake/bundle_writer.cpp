@@ -82,7 +82,9 @@ public:
     }
 
 private:
-    [[noreturn]] void fail(const std::string& problem) const { throw InputError(path_, problem); }
+    [[noreturn]] void fail(const std::string& problem) const {
+        throw common::InputError(path_, problem);
+    }
 
     void ruleFromProto(const std::string& problem) const {
         if (!problem.empty()) {
@@ -297,7 +299,7 @@ public:
 
 private:
     [[noreturn]] void fail(const std::string& what) const {
-        throw InputError(name_, what + ": " + std::strerror(errno));
+        throw common::InputError(name_, what + ": " + std::strerror(errno));
     }
 
     std::filesystem::path name_;
@@ -641,7 +643,7 @@ BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleCon
             return MetadataBuilder(contents, placed, index).build();
         });
 
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     proto::BundleHeader header = payloads.layout.header();
     {
         BundleOutput out(output.temporaryPath(), path);

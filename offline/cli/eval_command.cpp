@@ -28,13 +28,13 @@ struct Arguments {
 // What `vpe eval` does once its options are parsed.
 void runEval(const Arguments& args) {
     eval::EvaluationOptions options;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     if (!args.predictions.empty()) {
         options.predictionsDir = args.predictions;
     }
-    Capture capture = openCapture(args.capture);
+    capture::Capture capture = capture::openCapture(args.capture);
     if (args.heldOut > 0) {
-        capture = selectHeldOutLights(capture, args.heldOut, true);
+        capture = capture::selectHeldOutLights(capture, args.heldOut, true);
     }
     const eval::EvaluationReport report = eval::evaluateModel(args.model, capture, options);
     if (!args.json) {

@@ -35,12 +35,13 @@ void runExportRelight(const Arguments& args) {
     options.resolution = args.resolution;
     options.planes = args.planes;
     options.quality = args.quality;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     options.grid = args.grid == "nodes" ? relight_web::GridValues::kNodes
                                         : relight_web::GridValues::kLeastSquares;
-    const Capture capture = openCapture(args.capture);
-    const Capture check =
-        args.heldOut > 0 ? selectHeldOutLights(capture, args.heldOut, true) : Capture{};
+    const capture::Capture capture = capture::openCapture(args.capture);
+    const capture::Capture check = args.heldOut > 0
+                                       ? capture::selectHeldOutLights(capture, args.heldOut, true)
+                                       : capture::Capture{};
     const relight_web::RelightModelExport result =
         relight_web::exportModelToRelight(args.model, capture, args.out, options, check);
     std::fprintf(stderr,

@@ -44,7 +44,7 @@ struct Arguments {
 nlohmann::json lightIntensitiesJson(const fit::FitReport& report) {
     int blocked = 0;
     double lowest = 1;
-    for (const LightIntensity& entry : report.calibration.lightIntensities) {
+    for (const capture::LightIntensity& entry : report.calibration.lightIntensities) {
         blocked += entry.intensity < 1 ? 1 : 0;
         lowest = std::min(lowest, entry.intensity);
     }
@@ -59,7 +59,7 @@ void runFit(const Arguments& args) {
     fit::FitOptions options;
     options.harmonics = args.harmonics;
     options.lambda = args.lambda;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     options.precision = args.precision == "fast"    ? fit::FitPrecision::kFast
                         : args.precision == "exact" ? fit::FitPrecision::kExact
                                                     : fit::FitPrecision::kAuto;
@@ -67,12 +67,12 @@ void runFit(const Arguments& args) {
         options.normals = args.normals;
     }
     options.writePreview = !args.noPreview;
-    options.storage = parseStorage(args.storage).value_or(ModelStorage::kHalf);
+    options.storage = parseStorage(args.storage).value_or(model::ModelStorage::kHalf);
     options.relief = args.relief == "coefficients" ? fit::ReliefMode::kInCoefficients
                                                    : fit::ReliefMode::kDetailMap;
     options.calibrateResponse = args.response == "auto";
     if (!(args.macroSigma >= 0) || !std::isfinite(args.macroSigma)) {
-        throw InputError("--macro-sigma must be a number of pixels ≥ 0");
+        throw common::InputError("--macro-sigma must be a number of pixels ≥ 0");
     }
     if (args.macroSigma > 0) {
         options.macroSigma = args.macroSigma;
@@ -81,15 +81,15 @@ void runFit(const Arguments& args) {
                       : args.model == "paper"  ? fit::ModelVariant::kPaper
                                                : fit::ModelVariant::kRti;
     if (options.variant == fit::ModelVariant::kRti) {
-        options.rtiBasis = *RtiBasis::parse(args.model);
+        options.rtiBasis = *model::RtiBasis::parse(args.model);
         options.writePreview = false;  // the preview relights a BRDF
     }
     // The extended model picks M and λ by held-out validation unless they are given.
     options.selectRegularization =
         options.variant == fit::ModelVariant::kExtended && !args.regularizationGiven;
-    Capture capture = openCapture(args.capture);
+    capture::Capture capture = capture::openCapture(args.capture);
     if (args.heldOut > 0) {
-        capture = selectHeldOutLights(capture, args.heldOut, false);
+        capture = capture::selectHeldOutLights(capture, args.heldOut, false);
     }
     const fit::FitReport report = fit::fitCapture(capture, options, args.out);
     if (options.variant == fit::ModelVariant::kRti) {
@@ -212,7 +212,7 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "ptm6, ptm10, hsh4, hsh9, hsh16, hsh25: a classic RTI basis fitted on the "
                      "stored image values, for comparison (not a BRDF; docs/rti-bases.md)")
         ->check([](const std::string& model) {
-            return model == "paper" || model == "extended" || RtiBasis::parse(model)
+            return model == "paper" || model == "extended" || model::RtiBasis::parse(model)
                        ? std::string()
                        : "expected paper, extended, ptm6, ptm10, hsh4, hsh9, hsh16 or hsh25, "
                          "found '" +

@@ -26,9 +26,9 @@ struct Arguments {
 
 // What `vpe normals` does once its options are parsed.
 void runNormals(const Arguments& args) {
-    const Capture capture = openCapture(args.capture);
+    const capture::Capture capture = capture::openCapture(args.capture);
     normals::PhotometricStereoOptions options;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     const normals::NormalMap estimate = normals::estimateNormals(capture, options);
     normals::writeNormalMapPng(args.out, estimate);
     nlohmann::json json;
@@ -45,8 +45,9 @@ void runNormals(const Arguments& args) {
         truthPath = capture.normalMap;
     }
     if (truthPath) {
-        const normals::NormalMap truth = normals::readNormalMap(
-            *truthPath, args.truth.empty() ? capture.normalEncoding : NormalEncoding::kAuto);
+        const normals::NormalMap truth =
+            normals::readNormalMap(*truthPath, args.truth.empty() ? capture.normalEncoding
+                                                                  : capture::NormalEncoding::kAuto);
         const normals::AngularError error = normals::compareNormalMaps(estimate, truth);
         std::fprintf(stderr, "normals vs %s: mean %.3f°, median %.3f° over %zu pixels\n",
                      truthPath->c_str(), error.meanDegrees, error.medianDegrees, error.pixels);

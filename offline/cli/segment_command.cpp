@@ -42,7 +42,8 @@ std::vector<segment::PixelSeed> parseSeeds(const std::string& text) {
             ok = false;
         }
         if (!ok) {
-            throw InputError("--seeds: '" + item + "' is not a pixel x,y (expected x,y[;x,y...])");
+            throw common::InputError("--seeds: '" + item +
+                                     "' is not a pixel x,y (expected x,y[;x,y...])");
         }
         seeds.push_back(seed);
         start = end + 1;
@@ -62,8 +63,9 @@ int parseClusters(const std::string& text) {
         used = 0;
     }
     if (used != text.size() || k < 1 || k > segment::LabelMap::kMaxLabels) {
-        throw InputError("--auto: expected 'auto' or a number of labels K from 1 to " +
-                         std::to_string(segment::LabelMap::kMaxLabels) + ", got '" + text + "'");
+        throw common::InputError("--auto: expected 'auto' or a number of labels K from 1 to " +
+                                 std::to_string(segment::LabelMap::kMaxLabels) + ", got '" + text +
+                                 "'");
     }
     return k;
 }
@@ -90,7 +92,7 @@ struct Arguments {
 void runSegment(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     if (args.seeds.empty() == args.autoClusters.empty()) {
-        throw InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
+        throw common::InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
     }
     segment::SegmentOptions options;
     if (!args.seeds.empty()) {
@@ -102,7 +104,7 @@ void runSegment(const Arguments& args) {
     }
     options.minIsland = args.minIsland;
     options.seed = args.seed;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     // The truth is read first, so a bad one stops the command before any work.
     std::optional<segment::LabelMap> truth;
     if (!args.truth.empty()) {
@@ -113,18 +115,18 @@ void runSegment(const Arguments& args) {
     const segment::Appearance appearance =
         segment::computeAppearance(args.model, appearanceOptions);
     if (truth && (truth->width != appearance.width || truth->height != appearance.height)) {
-        throw InputError(args.truth, "is " + std::to_string(truth->width) + "x" +
-                                         std::to_string(truth->height) + ", the model " +
-                                         std::to_string(appearance.width) + "x" +
-                                         std::to_string(appearance.height));
+        throw common::InputError(args.truth, "is " + std::to_string(truth->width) + "x" +
+                                                 std::to_string(truth->height) + ", the model " +
+                                                 std::to_string(appearance.width) + "x" +
+                                                 std::to_string(appearance.height));
     }
     const segment::SegmentResult result = segment::segmentAppearance(appearance, options);
     const std::filesystem::path overlay = segment::overlayPathFor(args.out);
     segment::writeLabelImage(args.out, result.map);
     segment::writeLabelOverlay(overlay, result.map, appearance);
     if (!args.average.empty()) {
-        writeImage8(args.average, appearance.width, appearance.height, 3,
-                    segment::averagePicture(appearance));
+        image::writeImage8(args.average, appearance.width, appearance.height, 3,
+                           segment::averagePicture(appearance));
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

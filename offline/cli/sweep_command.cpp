@@ -32,12 +32,12 @@ void runSweep(const Arguments& args) {
     eval::SweepOptions options;
     options.maxHarmonics = args.maxHarmonics;
     options.lambdas = args.lambdas;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     if (!args.normals.empty()) {
         options.normals = args.normals;
     }
-    const Capture train = openCapture(args.train);
-    const Capture test = openCapture(args.test);
+    const capture::Capture train = capture::openCapture(args.train);
+    const capture::Capture test = capture::openCapture(args.test);
     const eval::SweepResult result = eval::runSweep(train, test, options);
     const std::filesystem::path out(args.out);
     eval::writeSweepCsv(out / "sweep.csv", result);

@@ -7,7 +7,7 @@
 
 #include <unistd.h>
 
-namespace vpe {
+namespace vpe::common {
 
 ProgressBar::ProgressBar(std::string label, std::size_t total)
     : label_(std::move(label)),
@@ -103,4 +103,4 @@ void ProgressBar::draw(std::size_t done, bool final) {
     std::fflush(stderr);
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

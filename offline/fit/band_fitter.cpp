@@ -9,7 +9,7 @@
 
 namespace vpe::fit {
 
-BandFitter::BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
+BandFitter::BandFitter(const capture::Capture& capture, const capture::SurfaceGeometry& geometry,
                        const normals::NormalMap& normals, const BandFitSettings& settings)
     : capture_(capture),
       geometry_(geometry),
@@ -22,11 +22,11 @@ BandFitter::BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
     }
 }
 
-void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
+void BandFitter::fit(const capture::SampleBand& band, model::ModelRows& rows) const {
     const int coefficients = proto::coefficientCount(settings_.fit.harmonics);
     const int chunksPerRow = (band.width + kLanes - 1) / kLanes;
     rows.resize(band.width, band.rows, coefficients, settings_.extended);
-    parallelFor(
+    common::parallelFor(
         static_cast<std::size_t>(band.rows) * chunksPerRow, 4, settings_.threads,
         [&](std::size_t begin, std::size_t end) {
             // Not value-initialized: the kernel clears the sums it uses and the solve writes
@@ -70,9 +70,9 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
                         rows.rms[p * kChannels + c] = solution.rms[lane][c];
                     }
                     if (settings_.extended) {
-                        std::copy_n(
-                            withTransport->transport[lane], kTransportValues,
-                            rows.transport.begin() + static_cast<long>(p * kTransportValues));
+                        std::copy_n(withTransport->transport[lane], model::kTransportValues,
+                                    rows.transport.begin() +
+                                        static_cast<long>(p * model::kTransportValues));
                     }
                 }
             }

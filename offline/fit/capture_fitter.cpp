@@ -36,16 +36,16 @@ using Clock = std::chrono::steady_clock;
 // tilt tried costs one more fit of the texel, so the smallest.
 constexpr double kNormalSearchDegrees = 4.0;
 
-std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height) {
+std::vector<std::uint8_t> readMask(const capture::Capture& capture, int width, int height) {
     if (!capture.mask) {
         return {};
     }
-    const FloatImage image = readImage(*capture.mask);
+    const image::FloatImage image = image::readImage(*capture.mask);
     if (image.width != width || image.height != height) {
-        throw InputError(*capture.mask, "mask size " + std::to_string(image.width) + "x" +
-                                            std::to_string(image.height) +
-                                            " differs from the images' " + std::to_string(width) +
-                                            "x" + std::to_string(height));
+        throw common::InputError(*capture.mask,
+                                 "mask size " + std::to_string(image.width) + "x" +
+                                     std::to_string(image.height) + " differs from the images' " +
+                                     std::to_string(width) + "x" + std::to_string(height));
     }
     std::vector<std::uint8_t> mask(static_cast<std::size_t>(width) * height);
     for (std::size_t i = 0; i < mask.size(); ++i) {
@@ -57,8 +57,8 @@ std::vector<std::uint8_t> readMask(const Capture& capture, int width, int height
 // The relief the fitted normals carry (refined by the extended fit, or as estimated): each
 // row's detail normal against the macro shape, (0, 0, 1) where that is invalid. The macro shape
 // is valid only where the normals are.
-void fillDetailRows(ModelRows& rows, const normals::NormalMap& macro, int rowBegin,
-                    const Vec3d& right) {
+void fillDetailRows(model::ModelRows& rows, const normals::NormalMap& macro, int rowBegin,
+                    const proto::Vec3d& right) {
     const std::size_t first = static_cast<std::size_t>(rowBegin) * macro.width;
     rows.detail.assign(rows.valid.size() * 3, 0.0f);
     for (std::size_t p = 0; p < rows.valid.size(); ++p) {
@@ -67,7 +67,7 @@ void fillDetailRows(ModelRows& rows, const normals::NormalMap& macro, int rowBeg
         if (!macro.valid[m]) {
             continue;
         }
-        const Vec3d d = normals::detailNormalOf(
+        const proto::Vec3d d = normals::detailNormalOf(
             {rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]},
             {macro.xyz[m * 3], macro.xyz[m * 3 + 1], macro.xyz[m * 3 + 2]}, right);
         rows.detail[p * 3] = static_cast<float>(d.x);
@@ -79,7 +79,7 @@ void fillDetailRows(ModelRows& rows, const normals::NormalMap& macro, int rowBeg
 // The RTI bases: no normals, no calibration, the images' stored values fitted as they are.
 // Adds a fitted band's valid pixels to the report, and their mean RMS over the channels to
 // rmsSum (the report's mean is taken at the end).
-void countValid(const ModelRows& rows, FitReport& report, double& rmsSum) {
+void countValid(const model::ModelRows& rows, FitReport& report, double& rmsSum) {
     for (std::size_t p = 0; p < rows.valid.size(); ++p) {
         if (rows.valid[p]) {
             ++report.validPixels;
@@ -90,13 +90,13 @@ void countValid(const ModelRows& rows, FitReport& report, double& rmsSum) {
     }
 }
 
-FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
+FitReport fitRtiCapture(const capture::Capture& capture, const FitOptions& options,
                         const std::filesystem::path& modelPath) {
     const auto start = Clock::now();
     FitReport report;
     auto decodeStart = Clock::now();
-    ImageBandReader reader(capture, options.threads);
-    report.decodeSeconds += secondsSince(decodeStart);
+    capture::ImageBandReader reader(capture, options.threads);
+    report.decodeSeconds += common::secondsSince(decodeStart);
     report.width = reader.width();
     report.height = reader.height();
     report.images = reader.imageCount();
@@ -104,68 +104,69 @@ FitReport fitRtiCapture(const Capture& capture, const FitOptions& options,
     report.normalsSource = "none (RTI basis)";
     const std::vector<std::uint8_t> mask = readMask(capture, report.width, report.height);
     const fit::RtiBandFitter fitter(capture, options.rtiBasis,
-                                    storedTransfer(capture, reader.eightBitCodes()),
+                                    capture::storedTransfer(capture, reader.eightBitCodes()),
                                     options.threads);
-    ModelInfo info;
+    model::ModelInfo info;
     info.width = report.width;
     info.height = report.height;
     info.samples = report.images;
     info.capture = capture.source.string();
-    info.variant = options.rtiBasis.kind == RtiBasis::Kind::kPtm ? "ptm" : "hsh";
+    info.variant = options.rtiBasis.kind == model::RtiBasis::Kind::kPtm ? "ptm" : "hsh";
     info.terms = options.rtiBasis.terms;
-    ModelWriter writer(modelPath, info);
+    model::ModelWriter writer(modelPath, info);
     const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
-    SampleBand band;
-    ModelRows rows;
+    capture::SampleBand band;
+    model::ModelRows rows;
     double rmsSum = 0;
-    ProgressBar progress("fit", static_cast<std::size_t>(report.height));
+    common::ProgressBar progress("fit", static_cast<std::size_t>(report.height));
     for (int rowBegin = 0; rowBegin < report.height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, report.height - rowBegin);
         decodeStart = Clock::now();
         reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
-        report.decodeSeconds += secondsSince(decodeStart);
+        report.decodeSeconds += common::secondsSince(decodeStart);
         const auto fitStart = Clock::now();
         fitter.fit(band, rows);
         countValid(rows, report, rmsSum);
-        report.fitSeconds += secondsSince(fitStart);
+        report.fitSeconds += common::secondsSince(fitStart);
         const auto writeStart = Clock::now();
         writer.writeRows(rowBegin, rows);
-        report.writeSeconds += secondsSince(writeStart);
+        report.writeSeconds += common::secondsSince(writeStart);
         progress.advance(static_cast<std::size_t>(bandHeight));
     }
     progress.finish();
     const auto writeStart = Clock::now();
     writer.finish();
-    report.writeSeconds += secondsSince(writeStart);
+    report.writeSeconds += common::secondsSince(writeStart);
     report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
-    report.totalSeconds = secondsSince(start);
+    report.totalSeconds = common::secondsSince(start);
     return report;
 }
 
 // What can be refused before decoding anything: the options, the output's name, too few images.
-void checkFitRequest(const Capture& capture, const FitOptions& options,
+void checkFitRequest(const capture::Capture& capture, const FitOptions& options,
                      const std::filesystem::path& modelPath) {
     const bool rti = options.variant == ModelVariant::kRti;
     const int coefficients =
         rti ? options.rtiBasis.terms : proto::coefficientCount(options.harmonics);
     if (options.harmonics < 0 || options.harmonics > proto::kMaxHarmonics) {
-        throw InputError("--harmonics " + std::to_string(options.harmonics) +
-                         " is out of range (0.." + std::to_string(proto::kMaxHarmonics) + ")");
+        throw common::InputError("--harmonics " + std::to_string(options.harmonics) +
+                                 " is out of range (0.." + std::to_string(proto::kMaxHarmonics) +
+                                 ")");
     }
     if (!(options.lambda >= 0) || !std::isfinite(options.lambda)) {
-        throw InputError("--lambda must be a finite number >= 0");
+        throw common::InputError("--lambda must be a finite number >= 0");
     }
     // Refuse a wrong output name before decoding anything.
     if (modelPath.extension() != ".exr") {
-        throw InputError(modelPath, "the model file must have the .exr extension");
+        throw common::InputError(modelPath, "the model file must have the .exr extension");
     }
     if (static_cast<int>(capture.images.size()) < coefficients) {
-        throw InputError(capture.source,
-                         std::to_string(capture.images.size()) + " images cannot determine " +
-                             std::to_string(coefficients) +
-                             (rti ? " coefficients of " + options.rtiBasis.name()
-                                  : " coefficients: M = " + std::to_string(options.harmonics) +
-                                        " needs N >= 2M + 2 = " + std::to_string(coefficients)));
+        throw common::InputError(
+            capture.source, std::to_string(capture.images.size()) + " images cannot determine " +
+                                std::to_string(coefficients) +
+                                (rti ? " coefficients of " + options.rtiBasis.name()
+                                     : " coefficients: M = " + std::to_string(options.harmonics) +
+                                           " needs N >= 2M + 2 = " + std::to_string(coefficients)));
     }
 }
 
@@ -176,7 +177,7 @@ void checkFitRequest(const Capture& capture, const FitOptions& options,
 // Lambertian estimate, and on glossy or shadowed captures a response that fits the radiance
 // better can still give worse normals. `capture`, `reader` and `normals` are replaced by those
 // under the response kept.
-void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reader,
+void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::ImageBandReader>& reader,
                        normals::NormalsResult& normals, const FitOptions& options,
                        FitReport& report) {
     const auto searchStart = Clock::now();
@@ -210,25 +211,27 @@ void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reade
             break;  // the capture's own (sRGB), or what the normals were estimated under
         }
         report.calibration.responseGamma = gamma;
-        capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
-        reader = std::make_unique<ImageBandReader>(capture, options.threads);
+        capture = capture::applyGeometryCalibration(capture, found.calibration, report.width,
+                                                    report.height);
+        reader = std::make_unique<capture::ImageBandReader>(capture, options.threads);
         previous = std::move(normals);
         normals = normals::acquireNormals(capture, options.normals, report.width, report.height,
                                           options.threads);
     }
-    report.calibrationSeconds += secondsSince(searchStart);
+    report.calibrationSeconds += common::secondsSince(searchStart);
 }
 
 // The relief the normals carry: their mean tilt off the macro shape, in degrees, where the
 // macro shape is valid.
 double meanReliefDegrees(const normals::NormalMap& normals, const normals::NormalMap& macro,
-                         const Vec3d& right) {
+                         const proto::Vec3d& right) {
     double tilt = 0;
     std::size_t counted = 0;
     for (std::size_t p = 0; p < macro.valid.size(); ++p) {
         if (macro.valid[p]) {
-            const Vec3d n{normals.xyz[p * 3], normals.xyz[p * 3 + 1], normals.xyz[p * 3 + 2]};
-            const Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
+            const proto::Vec3d n{normals.xyz[p * 3], normals.xyz[p * 3 + 1],
+                                 normals.xyz[p * 3 + 2]};
+            const proto::Vec3d m{macro.xyz[p * 3], macro.xyz[p * 3 + 1], macro.xyz[p * 3 + 2]};
             const float z = static_cast<float>(normals::detailNormalOf(n, m, right).z);
             tilt += std::acos(std::clamp(static_cast<double>(z), -1.0, 1.0));
             ++counted;
@@ -241,12 +244,12 @@ double meanReliefDegrees(const normals::NormalMap& normals, const normals::Norma
 // 1): the rig's geometry, M and λ, T's ridge and the blocked lights, each as the options ask.
 // Returns the capture under the geometry chosen; M and λ go to the report, as given when not
 // selected.
-Capture searchUnstated(const Capture& capture, const normals::NormalMap& normals,
-                       const FitOptions& options, FitReport& report) {
+capture::Capture searchUnstated(const capture::Capture& capture, const normals::NormalMap& normals,
+                                const FitOptions& options, FitReport& report) {
     report.harmonics = options.harmonics;
     report.lambda = options.lambda;
     const bool extended = options.variant == ModelVariant::kExtended;
-    const bool calibrate = extended && acceptsGeometryCalibration(capture);
+    const bool calibrate = extended && capture::acceptsGeometryCalibration(capture);
     if (!calibrate && !options.selectRegularization && !extended) {
         return capture;
     }
@@ -273,9 +276,9 @@ Capture searchUnstated(const Capture& capture, const normals::NormalMap& normals
     report.transportRidge = found.transportRidge;
     report.transportRms = found.transportRms;
     report.transportTrials = found.transportTrials;
-    Capture calibrated =
-        applyGeometryCalibration(capture, found.calibration, report.width, report.height);
-    report.calibrationSeconds += secondsSince(searchStart);
+    capture::Capture calibrated =
+        capture::applyGeometryCalibration(capture, found.calibration, report.width, report.height);
+    report.calibrationSeconds += common::secondsSince(searchStart);
     return calibrated;
 }
 
@@ -293,9 +296,9 @@ fit::BandFitSettings bandFitSettings(const FitOptions& options, const FitReport&
     return settings;
 }
 
-ModelInfo fittedModelInfo(const Capture& capture, const FitOptions& options,
-                          const FitReport& report) {
-    ModelInfo info;
+model::ModelInfo fittedModelInfo(const capture::Capture& capture, const FitOptions& options,
+                                 const FitReport& report) {
+    model::ModelInfo info;
     info.width = report.width;
     info.height = report.height;
     info.harmonics = report.harmonics;
@@ -313,16 +316,17 @@ ModelInfo fittedModelInfo(const Capture& capture, const FitOptions& options,
 // Decodes, fits and writes the capture band by band (a band as many rows as the memory budget
 // holds), with the relief's detail normals and the preview; the bar shows the step under way
 // and the time each kind of step has taken.
-void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mask,
-                   const fit::BandFitter& fitter, ModelWriter& writer, const ModelInfo& info,
-                   const normals::NormalMap& macro, const Vec3d& right, const FitOptions& options,
+void fitBandByBand(capture::ImageBandReader& reader, const std::vector<std::uint8_t>& mask,
+                   const fit::BandFitter& fitter, model::ModelWriter& writer,
+                   const model::ModelInfo& info, const normals::NormalMap& macro,
+                   const proto::Vec3d& right, const FitOptions& options,
                    const std::filesystem::path& modelPath, FitReport& report) {
     preview::RelightPreview preview(report.width, report.height, info.harmonics);
     const int bandRows = reader.rowsForBudget(options.bandBudgetBytes);
-    SampleBand band;
-    ModelRows rows;
+    capture::SampleBand band;
+    model::ModelRows rows;
     double rmsSum = 0;
-    ProgressBar progress("fit", static_cast<std::size_t>(report.height));
+    common::ProgressBar progress("fit", static_cast<std::size_t>(report.height));
     auto showPhase = [&](const char* phase) {
         progress.setPhase(phase, {{"decode", report.decodeSeconds},
                                   {"fit", report.fitSeconds},
@@ -333,7 +337,7 @@ void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mas
         showPhase("decoding");
         const auto decodeStart = Clock::now();
         reader.readBand(rowBegin, bandHeight, mask.empty() ? nullptr : mask.data(), band);
-        report.decodeSeconds += secondsSince(decodeStart);
+        report.decodeSeconds += common::secondsSince(decodeStart);
 
         showPhase("fitting");
         const auto fitStart = Clock::now();
@@ -342,7 +346,7 @@ void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mas
             fillDetailRows(rows, macro, rowBegin, right);
         }
         countValid(rows, report, rmsSum);
-        report.fitSeconds += secondsSince(fitStart);
+        report.fitSeconds += common::secondsSince(fitStart);
 
         showPhase("writing");
         const auto writeStart = Clock::now();
@@ -350,7 +354,7 @@ void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mas
         if (options.writePreview) {
             preview.addRows(rowBegin, rows);
         }
-        report.writeSeconds += secondsSince(writeStart);
+        report.writeSeconds += common::secondsSince(writeStart);
         progress.advance(static_cast<std::size_t>(bandHeight));
     }
     showPhase("finishing");
@@ -361,7 +365,7 @@ void fitBandByBand(ImageBandReader& reader, const std::vector<std::uint8_t>& mas
         report.preview.replace_extension(".preview.png");
         preview.write(report.preview);
     }
-    report.writeSeconds += secondsSince(writeStart);
+    report.writeSeconds += common::secondsSince(writeStart);
     showPhase("done");
     progress.finish();
     report.meanRms = report.validPixels ? rmsSum / static_cast<double>(report.validPixels) : 0.0;
@@ -384,7 +388,7 @@ fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambd
 
 // docs/extended-model.md, "How it is fitted", in order: the response with the normals, the
 // relief, the held-out search, then the fit itself band by band.
-FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
+FitReport fitCapture(const capture::Capture& originalCapture, const FitOptions& options,
                      const std::filesystem::path& modelPath) {
     const auto start = Clock::now();
     checkFitRequest(originalCapture, options, modelPath);
@@ -394,8 +398,8 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
 
     FitReport report;
     const auto decodeStart = Clock::now();
-    auto reader = std::make_unique<ImageBandReader>(originalCapture, options.threads);
-    report.decodeSeconds += secondsSince(decodeStart);
+    auto reader = std::make_unique<capture::ImageBandReader>(originalCapture, options.threads);
+    report.decodeSeconds += common::secondsSince(decodeStart);
     report.width = reader->width();
     report.height = reader->height();
     report.images = reader->imageCount();
@@ -403,11 +407,11 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     const std::vector<std::uint8_t> mask = readMask(originalCapture, report.width, report.height);
 
     const bool extended = options.variant == ModelVariant::kExtended;
-    Capture capture = originalCapture;
+    capture::Capture capture = originalCapture;
     const auto normalsStart = Clock::now();
     normals::NormalsResult normals = normals::acquireNormals(capture, options.normals, report.width,
                                                              report.height, options.threads);
-    if (extended && options.calibrateResponse && acceptsResponseCalibration(capture) &&
+    if (extended && options.calibrateResponse && capture::acceptsResponseCalibration(capture) &&
         reader->eightBitCodes()) {
         calibrateResponse(capture, reader, normals, options, report);
     }
@@ -417,12 +421,12 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     report.macroSigma =
         options.macroSigma.value_or(normals::defaultMacroSigma(report.width, report.height));
     const normals::NormalMap macro = normals::lowPassNormals(normals.normals, report.macroSigma);
-    const Vec3d right = normals::imageRightDirection(originalCapture);
+    const proto::Vec3d right = normals::imageRightDirection(originalCapture);
     report.meanReliefDegrees = meanReliefDegrees(normals.normals, macro, right);
     if (options.relief == ReliefMode::kInCoefficients) {
         normals.normals = macro;
     }
-    report.normalsSeconds = secondsSince(normalsStart);
+    report.normalsSeconds = common::secondsSince(normalsStart);
 
     // The extended fit refines photometric stereo's normals, a Lambertian estimate that leaves
     // out the darkest samples, where raking lights are most sensitive to the tilt. A given
@@ -434,13 +438,13 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
     }
     capture = searchUnstated(capture, normals.normals, options, report);
 
-    const SurfaceGeometry geometry(capture, report.width, report.height);
+    const capture::SurfaceGeometry geometry(capture, report.width, report.height);
     const fit::BandFitter fitter(capture, geometry, normals.normals,
                                  bandFitSettings(options, report));
-    const ModelInfo info = fittedModelInfo(capture, options, report);
-    ModelWriter writer(modelPath, info, options.threads);
+    const model::ModelInfo info = fittedModelInfo(capture, options, report);
+    model::ModelWriter writer(modelPath, info, options.threads);
     fitBandByBand(*reader, mask, fitter, writer, info, macro, right, options, modelPath, report);
-    report.totalSeconds = secondsSince(start);
+    report.totalSeconds = common::secondsSince(start);
     return report;
 }
 

@@ -25,8 +25,8 @@ double luminance(float r, float g, float b) {
     return luminance(static_cast<double>(r), static_cast<double>(g), static_cast<double>(b));
 }
 
-using TransportMatrix = Eigen::Matrix<double, kTransportTerms, kTransportTerms>;
-using TransportVector = Eigen::Matrix<double, kTransportTerms, 1>;
+using TransportMatrix = Eigen::Matrix<double, model::kTransportTerms, model::kTransportTerms>;
+using TransportVector = Eigen::Matrix<double, model::kTransportTerms, 1>;
 
 // One sample of a texel's T fit: T(l)·P ≈ L with weight w.
 struct TransportSample {
@@ -119,11 +119,11 @@ void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, 
 
 }  // namespace
 
-ExtendedLightTable::ExtendedLightTable(const Capture& capture) {
+ExtendedLightTable::ExtendedLightTable(const capture::Capture& capture) {
     transportBasis.reserve(capture.images.size());
-    for (const CaptureImage& image : capture.images) {
-        std::array<double, kTransportTerms> basis;
-        lightTransportBasis(transportDirection(capture, image), basis.data());
+    for (const capture::CaptureImage& image : capture.images) {
+        std::array<double, model::kTransportTerms> basis;
+        model::lightTransportBasis(model::transportDirection(capture, image), basis.data());
         transportBasis.push_back(basis);
     }
 }
@@ -136,9 +136,10 @@ namespace {
 // one chunk to the next, so each thread has one (fitChunkExtended).
 class ExtendedChunkFit {
 public:
-    void fit(const Capture& capture, const ExtendedLightTable& table, const ChunkGeometry& geometry,
-             const bool (&laneValid)[kLanes], const KernelLightSet& lights, const SampleBand& band,
-             int row, int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+    void fit(const capture::Capture& capture, const ExtendedLightTable& table,
+             const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+             const KernelLightSet& lights, const capture::SampleBand& band, int row, int x0,
+             const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
 
 private:
     // Index of sample s, lane `lane` in the per-sample buffers; of its channel c in values_.
@@ -146,8 +147,8 @@ private:
     static std::size_t valueAt(int s, int c, int lane) {
         return (static_cast<std::size_t>(s) * 3 + c) * kLanes + lane;
     }
-    void readObservations(const Capture& capture, const ChunkGeometry& geometry,
-                          const SampleBand& band, int row, int x0);
+    void readObservations(const capture::Capture& capture, const ChunkGeometry& geometry,
+                          const capture::SampleBand& band, int row, int x0);
     void setGreyTransport(int lane, const double* coefficients);
     double observedLuminance(int s, int lane) const;
     void predictLane(int lane);
@@ -167,7 +168,7 @@ private:
     ExtendedChunkSolution* out_ = nullptr;
     int samples_ = 0;
     std::size_t laneBlock_ = 0;
-    double identity_[kTransportTerms] = {};
+    double identity_[model::kTransportTerms] = {};
     // The luminance T fit's mean weight per lane; 0 while the lane has no fitted T.
     double luminanceWeight_[kLanes] = {};
 
@@ -181,17 +182,18 @@ private:
     std::vector<TransportSample> fitted_;  // the samples of the T fit under way
 };
 
-void ExtendedChunkFit::fit(const Capture& capture, const ExtendedLightTable& table,
+void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightTable& table,
                            const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                           const KernelLightSet& lights, const SampleBand& band, int row, int x0,
-                           const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
+                           const KernelLightSet& lights, const capture::SampleBand& band, int row,
+                           int x0, const ExtendedFitSettings& settings,
+                           ExtendedChunkSolution& out) {
     table_ = &table;
     settings_ = &settings;
     out_ = &out;
     samples_ = lights.count;
     laneBlock_ = static_cast<std::size_t>(samples_) * kLanes;
     readObservations(capture, geometry, band, row, x0);
-    identityTransport(identity_);
+    model::identityTransport(identity_);
     for (int lane = 0; lane < kLanes; ++lane) {
         setGreyTransport(lane, identity_);
         luminanceWeight_[lane] = 0;
@@ -232,8 +234,9 @@ void ExtendedChunkFit::fit(const Capture& capture, const ExtendedLightTable& tab
     }
 }
 
-void ExtendedChunkFit::readObservations(const Capture& capture, const ChunkGeometry& geometry,
-                                        const SampleBand& band, int row, int x0) {
+void ExtendedChunkFit::readObservations(const capture::Capture& capture,
+                                        const ChunkGeometry& geometry,
+                                        const capture::SampleBand& band, int row, int x0) {
     values_.resize(laneBlock_ * 3);
     scaled_.resize(laneBlock_ * 3);
     weights_.resize(laneBlock_);
@@ -246,7 +249,7 @@ void ExtendedChunkFit::readObservations(const Capture& capture, const ChunkGeome
     cosS_.resize(laneBlock_);
     irradiance_.resize(laneBlock_);
     for (int s = 0; s < samples_; ++s) {
-        const CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
+        const capture::CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
         for (int lane = 0; lane < kLanes; ++lane) {
             const std::size_t i = at(s, lane);
             weights_[i] = band.weight(s, row, x0 + lane);
@@ -254,12 +257,13 @@ void ExtendedChunkFit::readObservations(const Capture& capture, const ChunkGeome
             for (int c = 0; c < 3; ++c) {
                 values_[valueAt(s, c, lane)] = band.value(s, c, row, x0 + lane);
             }
-            const Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
-                          geometry.normal[2][lane]};
-            const Vec3d v{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]};
-            const Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
-                          geometry.position[2][lane]};
-            const IncidentLight light = incidentLight(capture, image, p);
+            const proto::Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
+                                 geometry.normal[2][lane]};
+            const proto::Vec3d v{geometry.view[0][lane], geometry.view[1][lane],
+                                 geometry.view[2][lane]};
+            const proto::Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
+                                 geometry.position[2][lane]};
+            const capture::IncidentLight light = capture::incidentLight(capture, image, p);
             const auto angles = proto::reflectionAngles(n, light.direction, v);
             cosD_[i] = angles.cosThetaD;
             cosS_[i] = angles.cosThetaS;
@@ -269,9 +273,10 @@ void ExtendedChunkFit::readObservations(const Capture& capture, const ChunkGeome
 }
 
 void ExtendedChunkFit::setGreyTransport(int lane, const double* coefficients) {
-    for (int c = 0; c < kTransportChannels; ++c) {
-        for (int k = 0; k < kTransportTerms; ++k) {
-            out_->transport[lane][c * kTransportTerms + k] = static_cast<float>(coefficients[k]);
+    for (int c = 0; c < model::kTransportChannels; ++c) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            out_->transport[lane][c * model::kTransportTerms + k] =
+                static_cast<float>(coefficients[k]);
         }
     }
 }
@@ -346,11 +351,11 @@ void ExtendedChunkFit::fitTransport(int lane) {
 void ExtendedChunkFit::fitColourTransport(int lane) {
     ExtendedChunkSolution& out = *out_;
     TransportVector grey;
-    for (int k = 0; k < kTransportTerms; ++k) {
+    for (int k = 0; k < model::kTransportTerms; ++k) {
         grey[k] = static_cast<double>(out.transport[lane][k]);
     }
-    TransportVector colour[kTransportChannels] = {grey, grey, grey};
-    for (int c = 0; c < kTransportChannels; ++c) {
+    TransportVector colour[model::kTransportChannels] = {grey, grey, grey};
+    for (int c = 0; c < model::kTransportChannels; ++c) {
         gatherSamples(lane, c, [&](int, std::size_t i) {
             return irradiance_[i] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
                                                                settings_->harmonics, cosD_[i],
@@ -374,10 +379,10 @@ void ExtendedChunkFit::fitColourTransport(int lane) {
     const TransportVector shift =
         grey - (kLuminance709[0] * colour[0] + kLuminance709[1] * colour[1] +
                 kLuminance709[2] * colour[2]);
-    for (int c = 0; c < kTransportChannels; ++c) {
+    for (int c = 0; c < model::kTransportChannels; ++c) {
         const TransportVector t = colour[c] + shift;
-        for (int k = 0; k < kTransportTerms; ++k) {
-            out.transport[lane][c * kTransportTerms + k] = static_cast<float>(t[k]);
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            out.transport[lane][c * model::kTransportTerms + k] = static_cast<float>(t[k]);
         }
         sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
     }
@@ -487,8 +492,9 @@ double ExtendedChunkFit::trainingError(int lane) const {
         const double* basis = table_->transportBasis[static_cast<std::size_t>(s)].data();
         for (int c = 0; c < 3; ++c) {
             double t = 0;
-            for (int k = 0; k < kTransportTerms; ++k) {
-                t += static_cast<double>(out.transport[lane][c * kTransportTerms + k]) * basis[k];
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                t += static_cast<double>(out.transport[lane][c * model::kTransportTerms + k]) *
+                     basis[k];
             }
             const double shading = std::clamp(t, 0.0, 4.0) * irradiance_[i];
             const double model =
@@ -505,10 +511,10 @@ double ExtendedChunkFit::trainingError(int lane) const {
 
 }  // namespace
 
-void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
+void fitChunkExtended(const capture::Capture& capture, const ExtendedLightTable& table,
                       const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                      const KernelLightSet& lights, const SampleBand& band, int row, int x0,
-                      const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
+                      const KernelLightSet& lights, const capture::SampleBand& band, int row,
+                      int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
     thread_local ExtendedChunkFit fit;
     fit.fit(capture, table, geometry, laneValid, lights, band, row, x0, settings, out);
 }
@@ -517,20 +523,21 @@ namespace {
 
 // n tilted by `radians` towards the azimuth `phi` of its own tangent plane (any tangent frame
 // will do: the pattern covers all azimuths).
-Vec3d tilted(const Vec3d& n, double radians, double phi) {
-    const auto frame = proto::tangentFrame(n, Vec3d{1, 0, 0}, Vec3d{0, 1, 0});
+proto::Vec3d tilted(const proto::Vec3d& n, double radians, double phi) {
+    const auto frame = proto::tangentFrame(n, proto::Vec3d{1, 0, 0}, proto::Vec3d{0, 1, 0});
     const double u = std::tan(radians) * std::cos(phi), v = std::tan(radians) * std::sin(phi);
-    return proto::normalized(Vec3d{n.x + u * frame.t.x + v * frame.b.x,
-                                   n.y + u * frame.t.y + v * frame.b.y,
-                                   n.z + u * frame.t.z + v * frame.b.z});
+    return proto::normalized(proto::Vec3d{n.x + u * frame.t.x + v * frame.b.x,
+                                          n.y + u * frame.t.y + v * frame.b.y,
+                                          n.z + u * frame.t.z + v * frame.b.z});
 }
 
 }  // namespace
 
-void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
-                                     ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                                     const KernelLightSet& lights, const SampleBand& band, int row,
-                                     int x0, const ExtendedFitSettings& settings,
+void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
+                                     const ExtendedLightTable& table, ChunkGeometry& geometry,
+                                     const bool (&laneValid)[kLanes], const KernelLightSet& lights,
+                                     const capture::SampleBand& band, int row, int x0,
+                                     const ExtendedFitSettings& settings,
                                      ExtendedChunkSolution& out) {
     fitChunkExtended(capture, table, geometry, laneValid, lights, band, row, x0, settings, out);
     if (!(settings.normalSearchDegrees > 0)) {
@@ -550,7 +557,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
         for (int direction = 0; direction < kDirections; ++direction) {
             const double phi = 2.0 * std::numbers::pi * direction / kDirections;
             for (int lane = 0; lane < kLanes; ++lane) {
-                const Vec3d n =
+                const proto::Vec3d n =
                     tilted({centre.normal[0][lane], centre.normal[1][lane], centre.normal[2][lane]},
                            radians, phi);
                 candidate.normal[0][lane] = static_cast<float>(n.x);
@@ -571,7 +578,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
                 std::copy_n(&trial->brdf.coefficients[lane][0][0], kChannels * kMaxCoefficients,
                             &out.brdf.coefficients[lane][0][0]);
                 std::copy_n(trial->brdf.rms[lane], kChannels, out.brdf.rms[lane]);
-                std::copy_n(trial->transport[lane], kTransportValues, out.transport[lane]);
+                std::copy_n(trial->transport[lane], model::kTransportValues, out.transport[lane]);
                 out.brdf.valid[lane] = true;
                 out.trainingError[lane] = trial->trainingError[lane];
             }

@@ -39,7 +39,7 @@ struct HeldOutValidator::Samples {
 
 namespace {
 
-std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
+std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
                                                          const normals::NormalMap& normals,
                                                          int wanted, unsigned threads) {
     std::size_t validCount = 0;
@@ -47,7 +47,8 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
         validCount += v;
     }
     if (validCount == 0) {
-        throw InputError(capture.source, "no pixel has a normal: cannot calibrate geometry");
+        throw common::InputError(capture.source,
+                                 "no pixel has a normal: cannot calibrate geometry");
     }
     const int step =
         std::max(1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / wanted)));
@@ -61,7 +62,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
             }
         }
     }
-    ImageBandReader reader(capture, threads);
+    capture::ImageBandReader reader(capture, threads);
     samples.images = reader.imageCount();
     samples.values.assign(
         static_cast<std::size_t>(samples.chunks()) * samples.images * 3 * fit::kLanes, 0.0f);
@@ -69,7 +70,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
         static_cast<std::size_t>(samples.chunks()) * samples.images * fit::kLanes, 0.0f);
     samples.saturated.assign(samples.weights.size(), 0);
     const int bandRows = reader.rowsForBudget(std::size_t{96} << 20);
-    SampleBand band;
+    capture::SampleBand band;
     std::size_t next = 0;  // samples are in row order
     for (int rowBegin = 0; rowBegin < reader.height(); rowBegin += bandRows) {
         const int rows = std::min(bandRows, reader.height() - rowBegin);
@@ -95,8 +96,9 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
 
 }  // namespace
 
-HeldOutValidator::HeldOutValidator(const Capture& capture, const normals::NormalMap& normals,
-                                   int samplePixels, int holdOutEvery, unsigned threads)
+HeldOutValidator::HeldOutValidator(const capture::Capture& capture,
+                                   const normals::NormalMap& normals, int samplePixels,
+                                   int holdOutEvery, unsigned threads)
     : capture_(capture),
       normals_(normals),
       holdOutEvery_(holdOutEvery),
@@ -112,25 +114,25 @@ namespace {
 // them: the capture's sRGB, or the response under test, whose images are the same codes
 // decoded another way.
 struct Hypothesis {
-    Capture calibrated;
-    SurfaceGeometry geometry;
-    TransferFunction metric;
+    capture::Capture calibrated;
+    capture::SurfaceGeometry geometry;
+    capture::TransferFunction metric;
     std::vector<fit::KernelLight> lights;
     fit::KernelLightSet lightSet;
     std::vector<float> recoded;  // empty: the samples' own values
     const std::vector<float>* values;
 
-    Hypothesis(const Capture& capture, const HeldOutValidator::Samples& samples,
-               const GeometryCalibration& calibration, int width, int height)
-        : calibrated(applyGeometryCalibration(capture, calibration, width, height)),
+    Hypothesis(const capture::Capture& capture, const HeldOutValidator::Samples& samples,
+               const capture::GeometryCalibration& calibration, int width, int height)
+        : calibrated(capture::applyGeometryCalibration(capture, calibration, width, height)),
           geometry(calibrated, width, height),
-          metric(metricTransfer(calibrated)),
+          metric(capture::metricTransfer(calibrated)),
           lights(fit::kernelLights(calibrated)),
           lightSet(fit::kernelLightSet(calibrated, lights)),
           values(&samples.values) {
         if (calibrated.encoding != capture.encoding || calibrated.gamma != capture.gamma) {
-            const TransferFunction stated = storedTransfer(capture, true);
-            const TransferFunction response = storedTransfer(calibrated, true);
+            const capture::TransferFunction stated = capture::storedTransfer(capture, true);
+            const capture::TransferFunction response = capture::storedTransfer(calibrated, true);
             recoded.resize(samples.values.size());
             for (std::size_t i = 0; i < recoded.size(); ++i) {
                 recoded[i] = static_cast<float>(
@@ -149,7 +151,7 @@ struct Hypothesis {
 class FittedPixel {
 public:
     FittedPixel(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis, int chunk,
-                int lane, const Vec3d& normal,
+                int lane, const proto::Vec3d& normal,
                 const float (&coefficients)[3][fit::kMaxCoefficients], int harmonics,
                 const float* transport)
         : hypothesis_(hypothesis),
@@ -164,13 +166,15 @@ public:
 
     // The prediction of image s, channel by channel.
     std::array<double, 3> predict(int s) const {
-        const CaptureImage& image = hypothesis_.calibrated.images[static_cast<std::size_t>(s)];
-        const IncidentLight light = incidentLight(hypothesis_.calibrated, image, position_);
+        const capture::CaptureImage& image =
+            hypothesis_.calibrated.images[static_cast<std::size_t>(s)];
+        const capture::IncidentLight light =
+            capture::incidentLight(hypothesis_.calibrated, image, position_);
         const auto angles = proto::reflectionAngles(normal_, light.direction, toViewer_);
-        const std::array<double, kTransportChannels> t =
-            transport_ ? evaluateColourTransport(transport_,
-                                                 transportDirection(hypothesis_.calibrated, image))
-                       : std::array<double, kTransportChannels>{1.0, 1.0, 1.0};
+        const std::array<double, model::kTransportChannels> t =
+            transport_ ? model::evaluateColourTransport(
+                             transport_, model::transportDirection(hypothesis_.calibrated, image))
+                       : std::array<double, model::kTransportChannels>{1.0, 1.0, 1.0};
         std::array<double, 3> rgb;
         for (int k = 0; k < 3; ++k) {
             rgb[static_cast<std::size_t>(k)] =
@@ -183,11 +187,11 @@ public:
 
 private:
     const Hypothesis& hypothesis_;
-    Vec3d normal_;
+    proto::Vec3d normal_;
     const float (&coefficients_)[3][fit::kMaxCoefficients];
     int harmonics_;
     const float* transport_;
-    Vec3d toViewer_, position_;
+    proto::Vec3d toViewer_, position_;
 };
 
 // Squared errors, in the metric's full-scale units, of fitted pixels' predictions at the
@@ -257,7 +261,7 @@ struct LightGainSums {
           square(static_cast<std::size_t>(images), 0.0) {}
 
     void add(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis,
-             const SampleBand& training, int chunk, int lane, const FittedPixel& pixel) {
+             const capture::SampleBand& training, int chunk, int lane, const FittedPixel& pixel) {
         for (int s = 0; s < samples.images; ++s) {
             const std::size_t w = samples.weightIndex(chunk, s, lane);
             if (training.weights[w] <= 0 || samples.saturated[w]) {
@@ -282,9 +286,9 @@ struct LightGainSums {
 };
 
 // The grid's geometry for one chunk of lanes.
-void fillSampleChunk(const HeldOutValidator::Samples& samples, const SurfaceGeometry& geometry,
-                     const normals::NormalMap& normals, int chunk, fit::ChunkGeometry& out,
-                     bool (&laneValid)[fit::kLanes]) {
+void fillSampleChunk(const HeldOutValidator::Samples& samples,
+                     const capture::SurfaceGeometry& geometry, const normals::NormalMap& normals,
+                     int chunk, fit::ChunkGeometry& out, bool (&laneValid)[fit::kLanes]) {
     for (int lane = 0; lane < fit::kLanes; ++lane) {
         const std::size_t p = static_cast<std::size_t>(chunk) * fit::kLanes + lane;
         const bool present = p < samples.x.size();
@@ -293,7 +297,7 @@ void fillSampleChunk(const HeldOutValidator::Samples& samples, const SurfaceGeom
     }
 }
 
-Vec3d laneNormal(const fit::ChunkGeometry& chunk, int lane) {
+proto::Vec3d laneNormal(const fit::ChunkGeometry& chunk, int lane) {
     return {chunk.normal[0][lane], chunk.normal[1][lane], chunk.normal[2][lane]};
 }
 
@@ -304,23 +308,23 @@ Accumulator reduceEveryChunk(const HeldOutValidator::Samples& samples, unsigned 
                              const Accumulator& empty, MakeWorker makeWorker) {
     Accumulator total = empty;
     std::mutex mergeMutex;
-    parallelFor(static_cast<std::size_t>(samples.chunks()), 4, threads,
-                [&](std::size_t begin, std::size_t end) {
-                    auto worker = makeWorker();
-                    Accumulator local = empty;
-                    for (std::size_t c = begin; c < end; ++c) {
-                        worker(static_cast<int>(c), local);
-                    }
-                    std::lock_guard lock(mergeMutex);
-                    total.merge(local);
-                });
+    common::parallelFor(static_cast<std::size_t>(samples.chunks()), 4, threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            auto worker = makeWorker();
+                            Accumulator local = empty;
+                            for (std::size_t c = begin; c < end; ++c) {
+                                worker(static_cast<int>(c), local);
+                            }
+                            std::lock_guard lock(mergeMutex);
+                            total.merge(local);
+                        });
     return total;
 }
 
 }  // namespace
 
-double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics, double lambda,
-                               HeldOutFolds folds) const {
+double HeldOutValidator::score(const capture::GeometryCalibration& calibration, int harmonics,
+                               double lambda, HeldOutFolds folds) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     const int firstFold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1;
@@ -370,10 +374,10 @@ namespace {
 
 // The grid as one row of a band (the same chunk layout), the fold's lights unusable when
 // `holdOut`.
-SampleBand gridBand(const HeldOutValidator::Samples& samples, const std::vector<float>& values,
-                    int holdOutEvery, bool holdOut) {
+capture::SampleBand gridBand(const HeldOutValidator::Samples& samples,
+                             const std::vector<float>& values, int holdOutEvery, bool holdOut) {
     const int fold = holdOutEvery - 1;
-    SampleBand band;
+    capture::SampleBand band;
     band.resize(samples.images, static_cast<int>(samples.x.size()), 1);
     std::copy(values.begin(), values.end(), band.values.begin());
     for (int c = 0; c < samples.chunks(); ++c) {
@@ -393,10 +397,11 @@ SampleBand gridBand(const HeldOutValidator::Samples& samples, const std::vector<
 template <typename Accumulator, typename Add>
 Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
                                   const normals::NormalMap& normals, const Hypothesis& hypothesis,
-                                  const SampleBand& training,
+                                  const capture::SampleBand& training,
                                   const fit::ExtendedFitSettings& settings, unsigned threads,
                                   const Accumulator& empty, Add add) {
-    static_assert(fit::kLanes == SampleBand::kChunkWidth, "the grid's chunks are the band's");
+    static_assert(fit::kLanes == capture::SampleBand::kChunkWidth,
+                  "the grid's chunks are the band's");
     const fit::ExtendedLightTable table(hypothesis.calibrated);
     return reduceEveryChunk(samples, threads, empty, [&] {
         return [&, solution = std::make_unique<fit::ExtendedChunkSolution>(),
@@ -420,7 +425,7 @@ Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
 
 }  // namespace
 
-HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibration,
+HeldOutScore HeldOutValidator::scoreWithTransport(const capture::GeometryCalibration& calibration,
                                                   const fit::ExtendedFitSettings& settings) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
@@ -435,12 +440,13 @@ HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& cal
     return {heldOut.rms(), heldOut.imageMeanRms()};
 }
 
-std::vector<double> HeldOutValidator::lightGains(const GeometryCalibration& calibration,
+std::vector<double> HeldOutValidator::lightGains(const capture::GeometryCalibration& calibration,
                                                  const fit::ExtendedFitSettings& settings,
                                                  bool holdOut) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
-    const SampleBand training = gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut);
+    const capture::SampleBand training =
+        gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut);
     const LightGainSums sums = fitEveryChunkExtended(
         samples, normals_, hypothesis, training, settings, threads_, LightGainSums(samples.images),
         [&](LightGainSums& gains, int chunk, int lane, const FittedPixel& pixel) {
@@ -468,17 +474,17 @@ namespace {
 // The gains are measured under a grey T. An intensity is the light's luminance; T's colour
 // traded a blocked ring's darkness against tint (item7: the lights beside the ring fell to
 // 0.76–0.85 of the model, and the fold rejected the table).
-GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
-                                              const Capture& capture,
-                                              GeometryCalibration calibration,
-                                              const fit::ExtendedFitSettings& settings,
-                                              int holdOutEvery, bool holdOut) {
+capture::GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
+                                                       const capture::Capture& capture,
+                                                       capture::GeometryCalibration calibration,
+                                                       const fit::ExtendedFitSettings& settings,
+                                                       int holdOutEvery, bool holdOut) {
     constexpr int kRounds = 2;
     constexpr double kLowest = 1e-3;  // a light that shows nothing keeps a little
     constexpr double kBlockedBelow = 0.9;
     std::vector<double> intensity(capture.images.size(), 1.0);
     auto table = [&] {
-        std::vector<LightIntensity> entries;
+        std::vector<capture::LightIntensity> entries;
         for (std::size_t s = 0; s < capture.images.size(); ++s) {
             if (!holdOut || static_cast<int>(s) % holdOutEvery != holdOutEvery - 1) {
                 entries.push_back({proto::normalized(capture.images[s].light), intensity[s]});
@@ -519,12 +525,12 @@ GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
 // into one result, which keeps the best so far.
 class HeldOutSearch {
 public:
-    HeldOutSearch(const Capture& capture, const normals::NormalMap& normals,
+    HeldOutSearch(const capture::Capture& capture, const normals::NormalMap& normals,
                   const HeldOutSearchOptions& options);
     HeldOutSearchResult run();
 
 private:
-    double score(const GeometryCalibration& calibration, int harmonics, double lambda);
+    double score(const capture::GeometryCalibration& calibration, int harmonics, double lambda);
     void judgeBy(HeldOutFolds next);
     void refineGeometry(int rounds);
     int trainingLights() const;
@@ -536,7 +542,7 @@ private:
     void searchTransportRidge();
     void searchLightIntensities();
 
-    const Capture& capture_;
+    const capture::Capture& capture_;
     const HeldOutSearchOptions& options_;
     const HeldOutValidator validator_;
     HeldOutSearchResult result_;
@@ -551,7 +557,7 @@ private:
     HeldOutFolds folds_;
 };
 
-HeldOutSearch::HeldOutSearch(const Capture& capture, const normals::NormalMap& normals,
+HeldOutSearch::HeldOutSearch(const capture::Capture& capture, const normals::NormalMap& normals,
                              const HeldOutSearchOptions& options)
     : capture_(capture),
       options_(options),
@@ -563,7 +569,7 @@ HeldOutSearch::HeldOutSearch(const Capture& capture, const normals::NormalMap& n
 }
 
 HeldOutSearchResult HeldOutSearch::run() {
-    score(GeometryCalibration{}, options_.harmonics, options_.lambda);
+    score(capture::GeometryCalibration{}, options_.harmonics, options_.lambda);
     if (options_.calibrateResponse) {
         searchResponse();
     }
@@ -585,7 +591,8 @@ HeldOutSearchResult HeldOutSearch::run() {
 
 // The held-out RMS of one hypothesis over the current folds (a hypothesis scored before is
 // not fitted again); the result takes it when it is the best so far.
-double HeldOutSearch::score(const GeometryCalibration& calibration, int harmonics, double lambda) {
+double HeldOutSearch::score(const capture::GeometryCalibration& calibration, int harmonics,
+                            double lambda) {
     for (const HeldOutTrial& known : result_.trials) {
         if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
             known.calibration.lightDistance == calibration.lightDistance &&
@@ -697,7 +704,7 @@ void HeldOutSearch::searchGeometry() {
 // candidates, so selection can only keep or improve the held-out error.
 void HeldOutSearch::searchRegularization() {
     judgeBy(HeldOutFolds::kOne);
-    const GeometryCalibration geometry = result_.calibration;
+    const capture::GeometryCalibration geometry = result_.calibration;
     for (int harmonics : {6, 10, 15}) {
         if (proto::coefficientCount(harmonics) > trainingLights()) {
             continue;  // the held-out fit could not determine the coefficients
@@ -721,10 +728,10 @@ void HeldOutSearch::scoreStatedGeometry() {
                    trial.harmonics == options_.harmonics && trial.lambda == options_.lambda &&
                    trial.folds == folds_;
         });
-    result_.baselineRms =
-        stated != result_.trials.end()
-            ? stated->rms
-            : validator_.score(GeometryCalibration{}, options_.harmonics, options_.lambda, folds_);
+    result_.baselineRms = stated != result_.trials.end()
+                              ? stated->rms
+                              : validator_.score(capture::GeometryCalibration{}, options_.harmonics,
+                                                 options_.lambda, folds_);
 }
 
 // The extended fit under everything chosen so far (T's ridge left at its default).
@@ -759,11 +766,12 @@ void HeldOutSearch::searchTransportRidge() {
 void HeldOutSearch::searchLightIntensities() {
     fit::ExtendedFitSettings settings = extendedSettings();
     settings.transportRidge = result_.transportRidge;
-    const GeometryCalibration heldOut = calibrateLightIntensities(
+    const capture::GeometryCalibration heldOut = calibrateLightIntensities(
         validator_, capture_, result_.calibration, settings, options_.holdOutEvery, true);
-    auto anyBlocked = [](const std::vector<LightIntensity>& table) {
-        return std::any_of(table.begin(), table.end(),
-                           [](const LightIntensity& entry) { return entry.intensity < 1; });
+    auto anyBlocked = [](const std::vector<capture::LightIntensity>& table) {
+        return std::any_of(table.begin(), table.end(), [](const capture::LightIntensity& entry) {
+            return entry.intensity < 1;
+        });
     };
     // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
     // calibrates are the dark ones, which pooling over all samples barely counts.
@@ -771,7 +779,7 @@ void HeldOutSearch::searchLightIntensities() {
                                     ? validator_.scoreWithTransport(heldOut, settings).imageMean
                                     : result_.transportImageRms;
     if (result_.lightIntensityRms < result_.transportImageRms) {
-        std::vector<LightIntensity> table =
+        std::vector<capture::LightIntensity> table =
             calibrateLightIntensities(validator_, capture_, result_.calibration, settings,
                                       options_.holdOutEvery, false)
                 .lightIntensities;
@@ -783,7 +791,8 @@ void HeldOutSearch::searchLightIntensities() {
 
 }  // namespace
 
-HeldOutSearchResult searchHeldOut(const Capture& capture, const normals::NormalMap& normals,
+HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
+                                  const normals::NormalMap& normals,
                                   const HeldOutSearchOptions& options) {
     return HeldOutSearch(capture, normals, options).run();
 }

@@ -7,7 +7,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::model {
 
 CoefficientImage readCoefficientImage(const std::filesystem::path& model) {
     ModelReader reader(model);
@@ -48,4 +48,4 @@ CoefficientImage readCoefficientImage(ModelReader& reader) {
     return image;
 }
 
-}  // namespace vpe
+}  // namespace vpe::model

@@ -36,7 +36,8 @@ using metrics::evenSubset;
 using metrics::kNaN;
 
 // The vectors of the given pixels, gathered contiguously.
-std::vector<float> gather(const CoefficientImage& image, const std::vector<std::size_t>& pixels) {
+std::vector<float> gather(const model::CoefficientImage& image,
+                          const std::vector<std::size_t>& pixels) {
     std::vector<float> out(pixels.size() * static_cast<std::size_t>(image.dims));
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         std::copy_n(image.at(pixels[i]), image.dims, out.data() + i * image.dims);
@@ -54,19 +55,19 @@ std::vector<std::size_t> subsetOf(const std::vector<std::size_t>& pixels, std::s
 
 }  // namespace
 
-RegionQuality measureRegionQuality(const CoefficientImage& source,
+RegionQuality measureRegionQuality(const model::CoefficientImage& source,
                                    const std::vector<std::uint8_t>& labels, int region,
-                                   const CoefficientImage& output, const PositionMap& positions,
-                                   const QualityOptions& options) {
+                                   const model::CoefficientImage& output,
+                                   const PositionMap& positions, const QualityOptions& options) {
     if (output.dims != source.dims) {
-        throw InputError("region " + std::to_string(region) + ": the output has " +
-                         std::to_string(output.harmonics) + " harmonics, the source " +
-                         std::to_string(source.harmonics));
+        throw common::InputError("region " + std::to_string(region) + ": the output has " +
+                                 std::to_string(output.harmonics) + " harmonics, the source " +
+                                 std::to_string(source.harmonics));
     }
     if (labels.size() != static_cast<std::size_t>(source.width) * source.height ||
         positions.width != output.width || positions.height != output.height) {
-        throw InputError("region " + std::to_string(region) +
-                         ": labels or positions do not match the model sizes");
+        throw common::InputError("region " + std::to_string(region) +
+                                 ": labels or positions do not match the model sizes");
     }
     RegionQuality quality;
     quality.region = region;

@@ -76,7 +76,7 @@ class RegionSearch {
 public:
     // The search structures are built only when the region holds at least `enough`
     // candidates: a block size that will be refused costs no PCA and no spectra.
-    RegionSearch(const CoefficientImage& source, const std::vector<std::uint8_t>& labels,
+    RegionSearch(const model::CoefficientImage& source, const std::vector<std::uint8_t>& labels,
                  int region, int block, const QuiltSettings& settings, std::size_t enough);
     ~RegionSearch();
     RegionSearch(const RegionSearch&) = delete;
@@ -152,7 +152,7 @@ private:
     // is exact for every valid block: a candidate corner plus a block offset stays inside.
     void buildSpectra();
 
-    const CoefficientImage& source_;
+    const model::CoefficientImage& source_;
     int block_;
     int bx_ = 0, by_ = 0, bw_ = 0, bh_ = 0, fw_ = 0, fh_ = 0;
     std::vector<std::uint8_t> valid_;

@@ -55,16 +55,16 @@ void checkQuiltOptions(const QuiltTextureOptions& options) {
     if (options.width.has_value() != options.height.has_value() ||
         (options.width && (*options.width <= 0 || *options.height <= 0 || *options.width > 16384 ||
                            *options.height > 16384))) {
-        throw InputError("--size must be auto or between 1x1 and 16384x16384");
+        throw common::InputError("--size must be auto or between 1x1 and 16384x16384");
     }
     if (options.texelMm && !(*options.texelMm > 0 && std::isfinite(*options.texelMm))) {
-        throw InputError("--texel-mm must be a positive number of millimetres");
+        throw common::InputError("--texel-mm must be a positive number of millimetres");
     }
 }
 
 // Sizing: the screen object's surface lengths give the size (unless it is given), its seam
 // the wrapping; the report takes the layout and the texels' stretch on the object.
-void chooseLayout(const QuiltTextureOptions& options, const ModelInfo& info,
+void chooseLayout(const QuiltTextureOptions& options, const model::ModelInfo& info,
                   QuiltTextureReport& report) {
     scene::ScreenMesh mesh;
     if (options.mesh.empty()) {
@@ -85,9 +85,9 @@ void chooseLayout(const QuiltTextureOptions& options, const ModelInfo& info,
         report.height = *options.height;
     } else {
         if (!(report.texelMm > 0)) {
-            throw InputError(options.model,
-                             "--size auto: the model states no texel size (its "
-                             "capture manifest has no texel_mm); give --texel-mm");
+            throw common::InputError(options.model,
+                                     "--size auto: the model states no texel size (its "
+                                     "capture manifest has no texel_mm); give --texel-mm");
         }
         const scene::AutoTextureSize size =
             scene::chooseTextureSize(surface, report.texelMm, kMaxAutoSide);
@@ -103,16 +103,16 @@ void chooseLayout(const QuiltTextureOptions& options, const ModelInfo& info,
 // What the regions are quilted from: the model, every coefficient of every channel as one
 // vector per pixel, and the labels (pixels without a valid fit never a source).
 struct QuiltSource {
-    CoefficientImage texture;
+    model::CoefficientImage texture;
     std::vector<std::uint8_t> labels;
     int regions = 0;
 };
 
 // Loading.
-QuiltSource loadSource(ModelReader& reader, const QuiltTextureOptions& options) {
-    const ModelInfo& info = reader.info();
+QuiltSource loadSource(model::ModelReader& reader, const QuiltTextureOptions& options) {
+    const model::ModelInfo& info = reader.info();
     QuiltSource source;
-    source.texture = readCoefficientImage(reader);
+    source.texture = model::readCoefficientImage(reader);
     source.labels = segment::readLabelImage(options.labels, info.width, info.height).values;
     for (std::size_t p = 0; p < source.labels.size(); ++p) {
         if (!source.texture.valid[p]) {
@@ -122,7 +122,7 @@ QuiltSource loadSource(ModelReader& reader, const QuiltTextureOptions& options) 
         }
     }
     if (source.regions == 0) {
-        throw InputError(options.labels, "no labelled pixel has a valid fit");
+        throw common::InputError(options.labels, "no labelled pixel has a valid fit");
     }
     return source;
 }
@@ -134,7 +134,7 @@ std::size_t regionPixels(const QuiltSource& source, int region,
         pixels += l == region ? 1 : 0;
     }
     if (pixels == 0) {
-        throw InputError(
+        throw common::InputError(
             labels, "region " + std::to_string(region) + " has no pixel (labels must be 0..K-1)");
     }
     return pixels;
@@ -145,10 +145,10 @@ std::size_t regionPixels(const QuiltSource& source, int region,
 // vector per output pixel, for the seam's statistics.
 std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
                                const RegionQuilt& quilt, const QuiltSource& source,
-                               const ModelInfo& info, const QuiltTextureOptions& options, int width,
-                               int height) {
-    const CoefficientImage& texels = source.texture;
-    ModelInfo texture = info;
+                               const model::ModelInfo& info, const QuiltTextureOptions& options,
+                               int width, int height) {
+    const model::CoefficientImage& texels = source.texture;
+    model::ModelInfo texture = info;
     texture.width = width;
     texture.height = height;
     texture.tilesU = quilt.wrapU;  // texelMm: the source's, as copied pixels keep their size
@@ -157,14 +157,15 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
     texture.storage = options.storage.value_or(info.storage);
     texture.capture =
         "vpe quilt of " + options.model.string() + ", region " + std::to_string(region);
-    ModelWriter writer(quilt::regionMapPath(folder, region), texture, options.settings.threads);
+    model::ModelWriter writer(quilt::regionMapPath(folder, region), texture,
+                              options.settings.threads);
     constexpr int kBand = 64;
     quilt::PositionMap positions;
     positions.width = width;
     positions.height = height;
     positions.sourceX = quilt.sourceX;
     positions.sourceY = quilt.sourceY;
-    ModelRows band;
+    model::ModelRows band;
     std::vector<float> quilted(static_cast<std::size_t>(width) * height * texels.dims);
     for (int y0 = 0; y0 < height; y0 += kBand) {
         const int bandRows = std::min(kBand, height - y0);
@@ -173,7 +174,7 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
         }
         // Every pixel's coefficients are overwritten, on all threads; normal, rms and the
         // flag are the same for every band.
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(bandRows), 1, options.settings.threads,
             [&](std::size_t begin, std::size_t end) {
                 for (std::size_t r = begin; r < end; ++r) {
@@ -205,7 +206,7 @@ std::vector<float> writeRegion(const std::filesystem::path& folder, int region,
 }
 
 // quilt.json's description of the whole quilt, its regions still to come.
-nlohmann::json quiltDescription(const QuiltTextureOptions& options, const ModelInfo& info,
+nlohmann::json quiltDescription(const QuiltTextureOptions& options, const model::ModelInfo& info,
                                 const QuiltTextureReport& report) {
     nlohmann::json description;
     description["model"] = options.model.string();
@@ -243,21 +244,21 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     const auto start = Clock::now();
     checkQuiltOptions(options);
     QuiltTextureReport report;
-    ModelReader reader(options.model);
-    const ModelInfo info = reader.info();
+    model::ModelReader reader(options.model);
+    const model::ModelInfo info = reader.info();
     chooseLayout(options, info, report);
     QuiltSettings settings = options.settings;
     settings.wrapU = report.wrapU;
     const int width = report.width, height = report.height;
     const QuiltSource source = loadSource(reader, options);
     report.channels = source.texture.dims;
-    report.loadSeconds = secondsSince(start);
+    report.loadSeconds = common::secondsSince(start);
 
-    AtomicFolder folder(options.out, "quilt.json", "vpe quilt");
+    common::AtomicFolder folder(options.out, "quilt.json", "vpe quilt");
     const std::filesystem::path& partial = folder.temporaryPath();
     nlohmann::json description = quiltDescription(options, info, report);
     // Two steps per region: quilting it, writing its maps.
-    ProgressBar progress("quilt", 2 * static_cast<std::size_t>(source.regions));
+    common::ProgressBar progress("quilt", 2 * static_cast<std::size_t>(source.regions));
     auto showPhase = [&](const std::string& what) {
         progress.setPhase(what, {{"load", report.loadSeconds},
                                  {"quilt", report.quiltSeconds},
@@ -274,7 +275,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         const auto quiltStart = Clock::now();
         RegionQuilt quilt =
             quiltRegion(source.texture, source.labels, region, width, height, settings);
-        regionReport.seconds = secondsSince(quiltStart);
+        regionReport.seconds = common::secondsSince(quiltStart);
         report.quiltSeconds += regionReport.seconds;
         progress.advance();
 
@@ -282,7 +283,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
         const auto writeStart = Clock::now();
         const std::vector<float> quilted =
             writeRegion(partial, region, quilt, source, info, options, width, height);
-        report.writeSeconds += secondsSince(writeStart);
+        report.writeSeconds += common::secondsSince(writeStart);
         if (width >= 3) {
             regionReport.seam = quilt::measureSeam(quilted, width, height, report.channels);
         }
@@ -296,9 +297,9 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     }
     showPhase("done");
     progress.finish();
-    report.seconds = secondsSince(start);
+    report.seconds = common::secondsSince(start);
     description["seconds"] = report.seconds;
-    writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
+    common::writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
     folder.commit();
     return report;
 }

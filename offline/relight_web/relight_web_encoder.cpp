@@ -25,24 +25,26 @@ constexpr std::size_t kCovarianceSamples = 262144;
 
 void validate(int width, int height, const RelightWebOptions& options) {
     if (width <= 0 || height <= 0) {
-        throw InputError("relight export: the picture is empty");
+        throw common::InputError("relight export: the picture is empty");
     }
     if (options.resolution < BilinearLightGrid::kMinResolution ||
         options.resolution > BilinearLightGrid::kMaxResolution) {
-        throw InputError("--resolution " + std::to_string(options.resolution) + " is outside " +
-                         std::to_string(BilinearLightGrid::kMinResolution) + ".." +
-                         std::to_string(BilinearLightGrid::kMaxResolution));
+        throw common::InputError("--resolution " + std::to_string(options.resolution) +
+                                 " is outside " +
+                                 std::to_string(BilinearLightGrid::kMinResolution) + ".." +
+                                 std::to_string(BilinearLightGrid::kMaxResolution));
     }
     const int dimensions = options.resolution * options.resolution * 3;
     // OpenLIME's mrgb shader reads three planes from every JPEG and indexes its uniform arrays
     // by them, so a count that is not a multiple of 3 would read past the arrays.
     if (options.planes < 3 || options.planes % 3 != 0 || options.planes > dimensions) {
-        throw InputError("--planes " + std::to_string(options.planes) +
-                         " must be a multiple of 3 between 3 and " + std::to_string(dimensions) +
-                         " (3 · resolution²)");
+        throw common::InputError("--planes " + std::to_string(options.planes) +
+                                 " must be a multiple of 3 between 3 and " +
+                                 std::to_string(dimensions) + " (3 · resolution²)");
     }
     if (options.quality < 1 || options.quality > 100) {
-        throw InputError("--quality " + std::to_string(options.quality) + " is outside 1..100");
+        throw common::InputError("--quality " + std::to_string(options.quality) +
+                                 " is outside 1..100");
     }
 }
 
@@ -60,7 +62,8 @@ void writeJpeg(const std::filesystem::path& path, int width, int height,
     spec.attribute("jpeg:subsampling", "4:4:4");
     if (!out || !out->open(path.string(), spec) ||
         !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
-        throw InputError(path, "cannot write plane: " + (out ? out->geterror() : OIIO::geterror()));
+        throw common::InputError(
+            path, "cannot write plane: " + (out ? out->geterror() : OIIO::geterror()));
     }
 }
 
@@ -75,7 +78,7 @@ Eigen::MatrixXf renderGridValues(const BilinearLightGrid& grid, Eigen::Index pix
     Eigen::MatrixXf samples = Eigen::MatrixXf::Zero(dimensions, pixels);
     std::vector<float> rgb;
     // samples += (perNode ⊗ I₃) · image: one matrix product rather than strided row updates.
-    const auto addRendering = [&](const Vec3d& light, const Eigen::VectorXd& perNode) {
+    const auto addRendering = [&](const proto::Vec3d& light, const Eigen::VectorXd& perNode) {
         rgb.assign(static_cast<std::size_t>(pixels) * 3, 0.0f);
         render(light, rgb);
         const Eigen::Map<const Eigen::MatrixXf> image(rgb.data(), 3, pixels);
@@ -207,13 +210,13 @@ Eigen::MatrixXf projectOntoBasis(const Eigen::MatrixXf& samples, const Quantized
     const Eigen::MatrixXf projectorF = projector.cast<float>();
     const Eigen::VectorXf meanF = basis.meanDecoded.cast<float>();
     Eigen::MatrixXf coefficients(decoded.cols(), samples.cols());
-    parallelFor(static_cast<std::size_t>(samples.cols()), 4096, threads,
-                [&](std::size_t begin, std::size_t end) {
-                    const auto b = static_cast<Eigen::Index>(begin);
-                    const auto n = static_cast<Eigen::Index>(end - begin);
-                    coefficients.middleCols(b, n).noalias() =
-                        projectorF * (samples.middleCols(b, n).colwise() - meanF);
-                });
+    common::parallelFor(static_cast<std::size_t>(samples.cols()), 4096, threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            const auto b = static_cast<Eigen::Index>(begin);
+                            const auto n = static_cast<Eigen::Index>(end - begin);
+                            coefficients.middleCols(b, n).noalias() =
+                                projectorF * (samples.middleCols(b, n).colwise() - meanF);
+                        });
     return coefficients;
 }
 
@@ -257,7 +260,7 @@ void writePlanes(const std::filesystem::path& dir, int width, int height,
 }
 
 void writeInfo(const std::filesystem::path& dir, int width, int height,
-               const RelightWebOptions& options, const std::vector<Vec3d>& captureLights,
+               const RelightWebOptions& options, const std::vector<proto::Vec3d>& captureLights,
                const QuantizedBasis& basis, const PlaneScaling& scaling) {
     nlohmann::ordered_json info;
     info["width"] = width;
@@ -268,7 +271,7 @@ void writeInfo(const std::filesystem::path& dir, int width, int height,
     info["colorspace"] = "mrgb";
     if (!captureLights.empty()) {
         nlohmann::json lights = nlohmann::json::array();
-        for (const Vec3d& l : captureLights) {
+        for (const proto::Vec3d& l : captureLights) {
             // Relight writes three decimals.
             for (const double v : {l.x, l.y, l.z}) {
                 lights.push_back(std::round(v * 1000.0) / 1000.0);
@@ -286,7 +289,7 @@ void writeInfo(const std::filesystem::path& dir, int width, int height,
     std::ofstream file(dir / "info.json");
     file << info.dump() << '\n';
     if (!file) {
-        throw InputError(dir / "info.json", "cannot write");
+        throw common::InputError(dir / "info.json", "cannot write");
     }
 }
 
@@ -296,7 +299,7 @@ void writeInfo(const std::filesystem::path& dir, int width, int height,
 // coefficients against it, the planes and info.json.
 RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width, int height,
                                   const LightRenderer& render, const RelightWebOptions& options,
-                                  const std::vector<Vec3d>& captureLights) {
+                                  const std::vector<proto::Vec3d>& captureLights) {
     validate(width, height, options);
     const BilinearLightGrid grid(options.resolution);
     const Eigen::Index pixels = static_cast<Eigen::Index>(width) * height;
@@ -306,7 +309,7 @@ RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width
     const Eigen::MatrixXf coefficients = projectOntoBasis(samples, basis, options.threads);
     const PlaneScaling scaling = scalePlanes(coefficients);
 
-    AtomicFolder output(folder, "info.json", "vpe export-relight");
+    common::AtomicFolder output(folder, "info.json", "vpe export-relight");
     const std::filesystem::path& dir = output.temporaryPath();
     writePlanes(dir, width, height, coefficients, scaling, options.quality);
     writeInfo(dir, width, height, options, captureLights, basis, scaling);

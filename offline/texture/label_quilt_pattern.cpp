@@ -31,8 +31,8 @@ cv::Mat distanceToZero(const cv::Mat& mask) {
 std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, int height) {
     const segment::LabelMap labels = segment::readLabelImage(p.labels);
     if (p.region < 0 || p.region >= labels.labels) {
-        throw InputError(p.labels, "has labels 0.." + std::to_string(labels.labels - 1) +
-                                       ", not region " + std::to_string(p.region));
+        throw common::InputError(p.labels, "has labels 0.." + std::to_string(labels.labels - 1) +
+                                               ", not region " + std::to_string(p.region));
     }
     int block = 0;
     if (p.block) {
@@ -40,9 +40,9 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     } else {
         const StreakStatistics streaks = measureStreaks(streakMaskFromLabels(labels, p.region));
         if (std::isnan(streaks.widthMedian)) {
-            throw InputError(p.labels,
-                             "region " + std::to_string(p.region) +
-                                 " has no band whose width can be measured (give block=)");
+            throw common::InputError(p.labels,
+                                     "region " + std::to_string(p.region) +
+                                         " has no band whose width can be measured (give block=)");
         }
         block = std::max(8, static_cast<int>(std::lround(4 * streaks.widthMedian)));
     }
@@ -60,7 +60,7 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     }
     const cv::Mat toOutside = distanceToZero(inside), toInside = distanceToZero(outside);
     const float clip = 0.5f * static_cast<float>(block);
-    CoefficientImage source;
+    model::CoefficientImage source;
     source.width = labels.width;
     source.height = labels.height;
     source.dims = 1;
@@ -79,8 +79,8 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     quilt::RegionQuilt quilted;
     try {
         quilted = quilt::quiltRegion(source, labelled, 0, width, height, settings);
-    } catch (const InputError& error) {
-        throw InputError(p.labels, std::string("cannot be quilted: ") + error.what());
+    } catch (const common::InputError& error) {
+        throw common::InputError(p.labels, std::string("cannot be quilted: ") + error.what());
     }
     std::vector<float> weight(static_cast<std::size_t>(width) * height);
     for (std::size_t i = 0; i < weight.size(); ++i) {

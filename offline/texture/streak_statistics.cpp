@@ -195,12 +195,12 @@ StreakMask streakMaskFromWeights(const std::vector<float>& weight, int width, in
 StreakStatistics measureLabelStreaks(const std::filesystem::path& labels, int region) {
     const segment::LabelMap map = segment::readLabelImage(labels);
     if (region < 0 || region >= map.labels) {
-        throw InputError(labels, "has labels 0.." + std::to_string(map.labels - 1) +
-                                     ", not region " + std::to_string(region));
+        throw common::InputError(labels, "has labels 0.." + std::to_string(map.labels - 1) +
+                                             ", not region " + std::to_string(region));
     }
     StreakStatistics stats = measureStreaks(streakMaskFromLabels(map, region));
     if (stats.streakPixels == 0) {
-        throw InputError(labels, "region " + std::to_string(region) + " has no pixels");
+        throw common::InputError(labels, "region " + std::to_string(region) + " has no pixels");
     }
     return stats;
 }

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
         const vpe::segment::LabelMap map = vpe::segment::readLabelImage(argv[1]);
         std::printf("%s\n",
                     vpe::testing::seedsArgument(vpe::testing::innermostPixels(map)).c_str());
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         std::fprintf(stderr, "%s\n", error.what());
         return 2;
     } catch (const std::exception& error) {

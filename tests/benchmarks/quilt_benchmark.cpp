@@ -19,7 +19,7 @@
 
 namespace {
 
-using vpe::CoefficientImage;
+using vpe::model::CoefficientImage;
 using vpe::quilt::QuiltSettings;
 
 // A textured coefficient map: each channel a mix of a few shared noise fields, as fitted
@@ -29,7 +29,7 @@ CoefficientImage makeSource(int size, int channels) {
     source.width = source.height = size;
     source.dims = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
-    vpe::GradientNoise noise(7);
+    vpe::common::GradientNoise noise(7);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             double fields[4];
@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     }
     constexpr int kChannels = 66;  // M = 10: 22 coefficients × RGB
     QuiltSettings settings;
-    settings.threads = vpe::resolveThreadCount(0);
+    settings.threads = vpe::common::resolveThreadCount(0);
     std::printf("quilting %d channels on %u threads\n", kChannels, settings.threads);
     const CoefficientImage source = makeSource(size, kChannels);
     std::printf("FFT search (block %d, overlap %d):\n", settings.block, settings.overlap);

@@ -29,9 +29,9 @@
 namespace {
 
 vpe::quilt::SeamStatistics regionSeam(const std::filesystem::path& map) {
-    vpe::ModelReader reader(map);
-    const vpe::ModelInfo info = reader.info();
-    vpe::ModelRows rows;
+    vpe::model::ModelReader reader(map);
+    const vpe::model::ModelInfo info = reader.info();
+    vpe::model::ModelRows rows;
     reader.readRows(0, info.height, rows);
     return vpe::quilt::measureSeam(rows.coefficient, info.width, info.height,
                                    3 * rows.coefficients);
@@ -67,7 +67,7 @@ int run(int argc, char** argv) {
         } else if (plain.empty()) {
             plain = args[i];
         } else {
-            throw vpe::InputError("unexpected argument '" + args[i] + "'");
+            throw vpe::common::InputError("unexpected argument '" + args[i] + "'");
         }
     }
     if (tiled.empty() || plain.empty() || out.empty()) {

@@ -137,7 +137,7 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     EXPECT_FALSE(view.camera().has_value());
     EXPECT_NE(result.err.find(", no camera, "), std::string::npos) << result.err;
     const std::vector<float> relief =
-        bake::bundleDetailNormals(readCoefficientImage(path("model.exr")));
+        bake::bundleDetailNormals(model::readCoefficientImage(path("model.exr")));
     ASSERT_EQ(view.regions()[0].coefficients.detailNormals.size(), relief.size());
     for (std::size_t i = 0; i < relief.size(); i += 7) {
         EXPECT_NEAR(proto::halfToFloat(view.regions()[0].coefficients.detailNormals[i]), relief[i],
@@ -151,7 +151,7 @@ TEST_F(Bake, ATextureOnTheVaseReadsBackAsTheDeviceSeesIt) {
     }
     // Low-rank decoding reproduces the model's coefficients.
     const std::vector<float> values =
-        bake::bundleCoefficients(readCoefficientImage(path("model.exr")));
+        bake::bundleCoefficients(model::readCoefficientImage(path("model.exr")));
     const proto::CoefficientMapView& map = view.regions()[0].coefficients;
     ASSERT_EQ(map.encoding, proto::CoefficientEncoding::kLowRank);
     ASSERT_EQ(map.rank, 8);

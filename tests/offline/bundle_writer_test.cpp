@@ -49,7 +49,7 @@ protected:
     std::string refusal(const BundleContents& contents) {
         try {
             bake::writeBundle(path(), contents);
-        } catch (const InputError& error) {
+        } catch (const common::InputError& error) {
             return error.what();
         }
         return "";

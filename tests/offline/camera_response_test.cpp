@@ -103,7 +103,7 @@ template <typename F>
 std::string errorOf(F f) {
     try {
         f();
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         const std::string message = error.what();
         EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
         return message;

@@ -17,14 +17,14 @@ namespace {
 const std::filesystem::path kFolder = "/captures/vase";
 const std::filesystem::path kSource = kFolder / "capture.json";
 
-void expectVector(const Vec3d& actual, const Vec3d& expected) {
+void expectVector(const proto::Vec3d& actual, const proto::Vec3d& expected) {
     EXPECT_NEAR(actual.x, expected.x, 1e-12);
     EXPECT_NEAR(actual.y, expected.y, 1e-12);
     EXPECT_NEAR(actual.z, expected.z, 1e-12);
 }
 
 TEST(CaptureManifest, ReadsEveryField) {
-    const Capture capture = parseCaptureManifest(R"({
+    const capture::Capture capture = capture::parseCaptureManifest(R"({
         "format": "vpe-capture",
         "version": 1,
         "encoding": "linear",
@@ -45,11 +45,11 @@ TEST(CaptureManifest, ReadsEveryField) {
         "mask": "mask.png",
         "texel_mm": 0.25
     })",
-                                                 kSource);
+                                                                   kSource);
     EXPECT_EQ(capture.source, kSource);
-    EXPECT_EQ(capture.encoding, ImageEncoding::kLinear);
+    EXPECT_EQ(capture.encoding, capture::ImageEncoding::kLinear);
 
-    const auto* camera = std::get_if<PinholeCamera>(&capture.camera);
+    const auto* camera = std::get_if<capture::PinholeCamera>(&capture.camera);
     ASSERT_NE(camera, nullptr);
     EXPECT_EQ(camera->fx, 1200);
     EXPECT_EQ(camera->fy, 1210.5);
@@ -58,7 +58,7 @@ TEST(CaptureManifest, ReadsEveryField) {
     EXPECT_EQ(camera->rotation, (std::array<double, 9>{1, 0, 0, 0, -1, 0, 0, 0, -1}));
     expectVector(camera->translation, {0.1, -0.2, 2});
 
-    EXPECT_EQ(capture.lightKind, LightKind::kPoint);
+    EXPECT_EQ(capture.lightKind, capture::LightKind::kPoint);
     EXPECT_EQ(capture.lightReferenceDistance, 0.75);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].file, kFolder / "img" / "a 1.png");
@@ -71,7 +71,7 @@ TEST(CaptureManifest, ReadsEveryField) {
 
     ASSERT_TRUE(capture.normalMap);
     EXPECT_EQ(*capture.normalMap, kFolder / "normals.exr");
-    EXPECT_EQ(capture.normalEncoding, NormalEncoding::kAuto);
+    EXPECT_EQ(capture.normalEncoding, capture::NormalEncoding::kAuto);
     ASSERT_TRUE(capture.positionMap);
     EXPECT_EQ(*capture.positionMap, kFolder / "geometry" / "positions.exr");
     ASSERT_TRUE(capture.plane);
@@ -84,7 +84,7 @@ TEST(CaptureManifest, ReadsEveryField) {
 }
 
 TEST(CaptureManifest, ReadsRotationAsRowsAndNormalsAsObject) {
-    const Capture capture = parseCaptureManifest(R"({
+    const capture::Capture capture = capture::parseCaptureManifest(R"({
         "version": 1,
         "camera": {"model": "pinhole", "fx": 800, "fy": 800, "cx": 320, "cy": 240,
                    "rotation": [[0.6, -0.8, 0], [0.8, 0.6, 0], [0, 0, 1]],
@@ -93,57 +93,58 @@ TEST(CaptureManifest, ReadsRotationAsRowsAndNormalsAsObject) {
         "normals": {"file": "n.png", "encoding": "raw"},
         "positions": "p.exr"
     })",
-                                                 kSource);
-    const auto* camera = std::get_if<PinholeCamera>(&capture.camera);
+                                                                   kSource);
+    const auto* camera = std::get_if<capture::PinholeCamera>(&capture.camera);
     ASSERT_NE(camera, nullptr);
     EXPECT_EQ(camera->rotation, (std::array<double, 9>{0.6, -0.8, 0, 0.8, 0.6, 0, 0, 0, 1}));
     ASSERT_TRUE(capture.normalMap);
     EXPECT_EQ(*capture.normalMap, kFolder / "n.png");
-    EXPECT_EQ(capture.normalEncoding, NormalEncoding::kRaw);
+    EXPECT_EQ(capture.normalEncoding, capture::NormalEncoding::kRaw);
     EXPECT_FALSE(capture.plane);
 }
 
 TEST(CaptureManifest, ReadsNormalEncodings) {
     const auto encodingOf = [](std::string_view encoding) {
-        return parseCaptureManifest(R"({"version": 1,
+        return capture::parseCaptureManifest(R"({"version": 1,
             "images": [{"file": "a.png", "light": [0, 0, 1]}],
             "normals": {"file": "n.png", "encoding": ")" +
-                                        std::string(encoding) + R"("}})",
-                                    kSource)
+                                                 std::string(encoding) + R"("}})",
+                                             kSource)
             .normalEncoding;
     };
-    EXPECT_EQ(encodingOf("auto"), NormalEncoding::kAuto);
-    EXPECT_EQ(encodingOf("offset_rgb"), NormalEncoding::kOffsetRgb);
-    EXPECT_EQ(encodingOf("raw"), NormalEncoding::kRaw);
+    EXPECT_EQ(encodingOf("auto"), capture::NormalEncoding::kAuto);
+    EXPECT_EQ(encodingOf("offset_rgb"), capture::NormalEncoding::kOffsetRgb);
+    EXPECT_EQ(encodingOf("raw"), capture::NormalEncoding::kRaw);
 }
 
 TEST(CaptureManifest, ReadsImageEncodings) {
     const auto encodingOf = [](std::string_view encoding) {
-        return parseCaptureManifest(R"({"version": 1, "encoding": ")" + std::string(encoding) +
-                                        R"(", "images": [{"file": "a.png", "light": [0, 0, 1]}]})",
-                                    kSource)
+        return capture::parseCaptureManifest(
+                   R"({"version": 1, "encoding": ")" + std::string(encoding) +
+                       R"(", "images": [{"file": "a.png", "light": [0, 0, 1]}]})",
+                   kSource)
             .encoding;
     };
-    EXPECT_EQ(encodingOf("auto"), ImageEncoding::kAuto);
-    EXPECT_EQ(encodingOf("srgb"), ImageEncoding::kSrgb);
-    EXPECT_EQ(encodingOf("linear"), ImageEncoding::kLinear);
+    EXPECT_EQ(encodingOf("auto"), capture::ImageEncoding::kAuto);
+    EXPECT_EQ(encodingOf("srgb"), capture::ImageEncoding::kSrgb);
+    EXPECT_EQ(encodingOf("linear"), capture::ImageEncoding::kLinear);
 }
 
 TEST(CaptureManifest, DefaultsToOrthographicCameraAndDirectionalLights) {
-    const Capture capture = parseCaptureManifest(
+    const capture::Capture capture = capture::parseCaptureManifest(
         R"({"version": 1, "images": [{"file": "a.png", "light": [0, 3, 4]}]})", kSource);
-    const auto* camera = std::get_if<OrthographicCamera>(&capture.camera);
+    const auto* camera = std::get_if<capture::OrthographicCamera>(&capture.camera);
     ASSERT_NE(camera, nullptr);
     EXPECT_EQ(camera->pixelSize, 1.0);
-    EXPECT_EQ(capture.lightKind, LightKind::kDirectional);
+    EXPECT_EQ(capture.lightKind, capture::LightKind::kDirectional);
     EXPECT_EQ(capture.lightReferenceDistance, 1.0);
-    EXPECT_EQ(capture.encoding, ImageEncoding::kAuto);
+    EXPECT_EQ(capture.encoding, capture::ImageEncoding::kAuto);
     ASSERT_EQ(capture.images.size(), 1u);
     // Directional lights are directions: normalized on read.
     expectVector(capture.images[0].light, {0, 0.6, 0.8});
     EXPECT_EQ(capture.images[0].intensity, 1.0);
     EXPECT_FALSE(capture.normalMap);
-    EXPECT_EQ(capture.normalEncoding, NormalEncoding::kAuto);
+    EXPECT_EQ(capture.normalEncoding, capture::NormalEncoding::kAuto);
     EXPECT_FALSE(capture.positionMap);
     EXPECT_FALSE(capture.plane);
     EXPECT_FALSE(capture.mask);
@@ -151,15 +152,15 @@ TEST(CaptureManifest, DefaultsToOrthographicCameraAndDirectionalLights) {
 }
 
 TEST(CaptureManifest, ReadsOrthographicCameraAndPartialPlane) {
-    const Capture capture = parseCaptureManifest(R"({
+    const capture::Capture capture = capture::parseCaptureManifest(R"({
         "version": 1.0,
         "camera": {"model": "orthographic", "pixel_size": 0.02},
         "lights": {"type": "directional"},
         "images": [{"file": "a.png", "light": [1e200, 0, 1e200]}],
         "plane": {}
     })",
-                                                 kSource);
-    const auto* camera = std::get_if<OrthographicCamera>(&capture.camera);
+                                                                   kSource);
+    const auto* camera = std::get_if<capture::OrthographicCamera>(&capture.camera);
     ASSERT_NE(camera, nullptr);
     EXPECT_EQ(camera->pixelSize, 0.02);
     // Regression: squaring 1e200 overflowed and made the direction (0, 0, 0).
@@ -203,9 +204,9 @@ class CaptureManifestError : public ::testing::TestWithParam<BadManifest> {};
 TEST_P(CaptureManifestError, NamesFileAndKey) {
     const BadManifest& bad = GetParam();
     try {
-        parseCaptureManifest(bad.text, kSource);
+        capture::parseCaptureManifest(bad.text, kSource);
         ADD_FAILURE() << "accepted:\n" << bad.text;
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         // "/captures/vase/capture.json: images[0].light: ..."
         const std::string expected = kSource.string() + ": " + bad.key + ": ";
         EXPECT_EQ(std::string(error.what()).rfind(expected, 0), 0u)
@@ -332,8 +333,8 @@ INSTANTIATE_TEST_SUITE_P(
 // The message of the InputError that parsing `text` throws; a failure if it parses.
 std::string rejectionOf(std::string_view text) {
     try {
-        parseCaptureManifest(text, kSource);
-    } catch (const InputError& error) {
+        capture::parseCaptureManifest(text, kSource);
+    } catch (const common::InputError& error) {
         return error.what();
     }
     ADD_FAILURE() << "accepted:\n" << text;

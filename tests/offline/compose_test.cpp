@@ -38,12 +38,12 @@ using CoefficientFunction = std::function<float(int x, int y, int c, int k)>;
 void writeRegionMap(const std::filesystem::path& path, int width, int height, int harmonics,
                     const CoefficientFunction& coefficient,
                     const std::function<bool(int x, int y)>& valid = {}) {
-    ModelInfo info;
+    model::ModelInfo info;
     info.width = width;
     info.height = height;
     info.harmonics = harmonics;
     info.capture = "compose test";
-    ModelRows rows;
+    model::ModelRows rows;
     const int k = proto::coefficientCount(harmonics);
     rows.resize(width, height, k);
     for (int y = 0; y < height; ++y) {
@@ -60,14 +60,14 @@ void writeRegionMap(const std::filesystem::path& path, int width, int height, in
             }
         }
     }
-    ModelWriter writer(path, info);
+    model::ModelWriter writer(path, info);
     writer.writeRows(0, rows);
     writer.finish();
 }
 
-ModelRows readModel(const std::filesystem::path& path, ModelInfo* infoOut = nullptr) {
-    ModelReader reader(path);
-    ModelRows rows;
+model::ModelRows readModel(const std::filesystem::path& path, model::ModelInfo* infoOut = nullptr) {
+    model::ModelReader reader(path);
+    model::ModelRows rows;
     reader.readRows(0, reader.info().height, rows);
     if (infoOut != nullptr) {
         *infoOut = reader.info();
@@ -108,7 +108,7 @@ void expectInputErrorMentioning(const std::function<void()>& call,
     try {
         call();
         ADD_FAILURE() << "no InputError";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         const std::string message = error.what();
         for (const std::string& mention : mentions) {
             EXPECT_NE(message.find(mention), std::string::npos)
@@ -202,7 +202,7 @@ TEST(WeightMaps, SumToOneForEveryGenerator) {
     for (std::size_t i = 0; i < grey.size(); ++i) {
         grey[i] = static_cast<float>(i % 7) / 6.0f;
     }
-    writeImage(folder / "grey.exr", 17, 13, 1, grey, PixelFormat::kFloat);
+    image::writeImage(folder / "grey.exr", 17, 13, 1, grey, image::PixelFormat::kFloat);
     const std::vector<std::string> specs = {
         "stripes:angle=30:period=9,stripes:angle=30:period=9:invert",
         "stripes:angle=-45:period=5:sharpness=4,radial:radius=20,noise:scale=6:seed=3",
@@ -310,7 +310,7 @@ TEST(WeightMaps, GeneratorShapes) {
 TEST(WeightMaps, ImagesAreReadAsGreyAndResizedBilinearly) {
     const testing::TemporaryFolder folder;
     // 2 × 2 checker, float: [0 1; 1 0].
-    writeImage(folder / "checker.exr", 2, 2, 1, {0, 1, 1, 0}, PixelFormat::kFloat);
+    image::writeImage(folder / "checker.exr", 2, 2, 1, {0, 1, 1, 0}, image::PixelFormat::kFloat);
     const WeightSource checker = parse("image:" + (folder / "checker.exr").string()).front();
     EXPECT_EQ(texture::generateWeight(checker, 2, 2), (std::vector<float>{0, 1, 1, 0}));
     // To 4 × 4 with pixel centres aligned: output x = 1 samples source x = 0.25.
@@ -323,11 +323,11 @@ TEST(WeightMaps, ImagesAreReadAsGreyAndResizedBilinearly) {
     // Down to 1 × 1: the centre, the mean here.
     EXPECT_FLOAT_EQ(texture::generateWeight(checker, 1, 1)[0], 0.5f);
     // RGB: Rec. 709 luma of the stored values; 8-bit values scaled to [0, 1].
-    writeImage8(folder / "rgb.png", 1, 1, 3, {255, 0, 0});
+    image::writeImage8(folder / "rgb.png", 1, 1, 3, {255, 0, 0});
     EXPECT_NEAR(
         texture::generateWeight(parse("image:" + (folder / "rgb.png").string()).front(), 1, 1)[0],
         0.2126, 1e-6);
-    writeImage8(folder / "grey.png", 1, 1, 1, {51});
+    image::writeImage8(folder / "grey.png", 1, 1, 1, {51});
     EXPECT_NEAR(texture::generateWeight(
                     parse("image:" + (folder / "grey.png").string() + ":invert").front(), 1, 1)[0],
                 0.8, 1e-6);
@@ -335,7 +335,8 @@ TEST(WeightMaps, ImagesAreReadAsGreyAndResizedBilinearly) {
 
 TEST(WeightMaps, BadImagesNameTheFileAndPixel) {
     const testing::TemporaryFolder folder;
-    writeImage(folder / "negative.exr", 3, 2, 1, {0, 0, 0, 0, -0.5f, 0}, PixelFormat::kFloat);
+    image::writeImage(folder / "negative.exr", 3, 2, 1, {0, 0, 0, 0, -0.5f, 0},
+                      image::PixelFormat::kFloat);
     expectInputErrorMentioning(
         [&] {
             texture::generateWeight(parse("image:" + (folder / "negative.exr").string()).front(), 3,
@@ -377,13 +378,13 @@ TEST(Compose, BlendedCoefficientsRenderAsBlendedRenderings) {
     }
     EXPECT_NEAR(meanSum, 1.0, 1e-6);  // each α is rounded to float
 
-    ModelInfo info;
-    const ModelRows composed = readModel(folder / "composed.exr", &info);
+    model::ModelInfo info;
+    const model::ModelRows composed = readModel(folder / "composed.exr", &info);
     EXPECT_EQ(info.width, width);
     EXPECT_EQ(info.height, height);
     EXPECT_EQ(info.harmonics, harmonics);
     EXPECT_EQ(info.variant, "paper");
-    std::vector<ModelRows> inputs;
+    std::vector<model::ModelRows> inputs;
     for (const auto& map : maps) {
         inputs.push_back(readModel(map));
     }
@@ -454,13 +455,13 @@ TEST(Compose, RmsIsTheBlendOfRmsAndInvalidPixelsStayInvalidWhereWeighted) {
     const std::filesystem::path mask = folder / "mask.exr";
     std::vector<float> pixels(static_cast<std::size_t>(width) * height, 1.0f);
     std::fill(pixels.begin(), pixels.begin() + width, 0.0f);
-    writeImage(mask, width, height, 1, pixels, PixelFormat::kFloat);
+    image::writeImage(mask, width, height, 1, pixels, image::PixelFormat::kFloat);
     const WeightMaps weights =
         texture::buildWeightMaps(parse("constant,image:" + mask.string()), width, height);
     const auto report = texture::composeRegionMaps(quilt::listRegionMaps(folder.path()), weights,
                                                    folder / "composed.exr");
     EXPECT_EQ(report.invalidPixels, static_cast<std::size_t>(height - 1));
-    const ModelRows composed = readModel(folder / "composed.exr");
+    const model::ModelRows composed = readModel(folder / "composed.exr");
     EXPECT_TRUE(composed.valid[composed.pixel(0, 0)]);  // α₁ = 0 there: the hole is unused
     EXPECT_EQ(composed.coefficientsAt(0, 0, 0)[0], 1.0f);
     EXPECT_FALSE(composed.valid[composed.pixel(1, 0)]);
@@ -523,7 +524,7 @@ TEST(ComposeCli, BlendsTwoHandMadeRegionMaps) {
     EXPECT_EQ(json["weights_picture"], (folder / "weights.png").string());
 
     const WeightMaps weights = texture::buildWeightMaps(parse(spec), width, height);
-    const ModelRows composed = readModel(folder / "composed.exr");
+    const model::ModelRows composed = readModel(folder / "composed.exr");
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             for (int c = 0; c < 3; ++c) {
@@ -534,7 +535,7 @@ TEST(ComposeCli, BlendsTwoHandMadeRegionMaps) {
         }
     }
     // Two grey tiles and a colour tile, 4 pixels apart.
-    const FloatImage picture = readImage(folder / "weights.png");
+    const image::FloatImage picture = image::readImage(folder / "weights.png");
     EXPECT_EQ(picture.width, 3 * width + 2 * 4);
     EXPECT_EQ(picture.height, height);
     EXPECT_EQ(picture.channels, 3);

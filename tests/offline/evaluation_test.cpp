@@ -25,7 +25,7 @@ namespace {
 constexpr int kWidth = 4;
 constexpr int kHeight = 3;
 // Directions towards the lights, already unit length so the .lp reader keeps them exactly.
-const std::vector<Vec3d> kLights = {{0, 0, 1}, {0.6, 0, 0.8}, {0, -0.8, 0.6}};
+const std::vector<proto::Vec3d> kLights = {{0, 0, 1}, {0.6, 0, 0.8}, {0, -0.8, 0.6}};
 
 // Varied codes, including both ends of the range.
 std::uint8_t truthCode(int image, int x, int y, int c) {
@@ -46,12 +46,12 @@ using ModelFunction = std::function<PixelModel(int x, int y, int c)>;
 // A model with M = 0 whose normals all face the camera: the prediction is
 // kd·max(l_z, 0) + a0/√2.
 void writeModel(const std::filesystem::path& path, const ModelFunction& model) {
-    ModelInfo info;
+    model::ModelInfo info;
     info.width = kWidth;
     info.height = kHeight;
     info.harmonics = 0;
-    ModelWriter writer(path, info);
-    ModelRows rows;
+    model::ModelWriter writer(path, info);
+    model::ModelRows rows;
     rows.resize(kWidth, kHeight, proto::coefficientCount(0));
     for (int y = 0; y < kHeight; ++y) {
         for (int x = 0; x < kWidth; ++x) {
@@ -94,7 +94,7 @@ void writeTestCapture(const std::filesystem::path& dir) {
 
 // The prediction as the metric defines it: the model's value for this light, clamped to
 // [0, 1] and sRGB-encoded.
-double encodedPrediction(const PixelModel& m, const Vec3d& light) {
+double encodedPrediction(const PixelModel& m, const proto::Vec3d& light) {
     const double linear = static_cast<double>(m.kd) * std::max(light.z, 0.0) +
                           static_cast<double>(m.a0) * proto::kConstantBasis;
     return proto::linearToSrgb(std::clamp(linear, 0.0, 1.0));
@@ -192,7 +192,7 @@ TEST(Evaluation, ReproducesTheDocumentedFiguresForAConstantPrediction) {
     writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     const eval::EvaluationReport report =
-        eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+        eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
     expectFigures(report, expectedFigures(halfGrey, codeThroughFloatDecode), 1e-9);
     // Measured: ~3e-9 relative, from the float decode alone.
     expectFigures(report, expectedFigures(halfGrey, codeOver255), 1e-8);
@@ -216,7 +216,7 @@ TEST(Evaluation, ClampsPredictionsAndFollowsTheLight) {
     eval::EvaluationOptions options;
     options.threads = 3;
     const eval::EvaluationReport report =
-        eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+        eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
 }
 
@@ -234,7 +234,7 @@ TEST(Evaluation, SkipsAndCountsPixelsWithoutAValidFit) {
     writeModel(folder / "model.exr", model);
     writeTestCapture(folder / "test");
     const eval::EvaluationReport report = eval::evaluateModel(
-        folder / "model.exr", openCapture(folder / "test"), eval::EvaluationOptions{});
+        folder / "model.exr", capture::openCapture(folder / "test"), eval::EvaluationOptions{});
     EXPECT_EQ(report.skippedPixels, 4u);  // (0,0) (3,0) (1,2) (2,1)
     EXPECT_EQ(report.pixels, 8u);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
@@ -253,7 +253,7 @@ TEST(Evaluation, WritesOnePredictedPngPerTestImage) {
     writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
 
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(folder / "predicted")) {
@@ -294,7 +294,7 @@ TEST(Evaluation, HalfGreyPredictsCode188) {
     writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    eval::evaluateModel(folder / "model.exr", openCapture(folder / "test"), options);
+    eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
     auto input = OIIO::ImageInput::open((folder / "predicted/image1.png").string());
     ASSERT_TRUE(input);
     std::vector<std::uint8_t> codes(static_cast<std::size_t>(kWidth) * kHeight * 3);

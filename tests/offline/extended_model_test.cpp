@@ -47,7 +47,7 @@ testing::SyntheticCaptureSpec domeSpec(const std::vector<double>& elevations, in
     spec.lights = testing::domeLights(elevations, perRing, azimuthOffset);
     spec.coefficients = glossy;
     spec.normal = [](int x, int y) {
-        return Vec3d{0.3 * std::sin(0.2 * x), 0.3 * std::cos(0.15 * y), 1.0};
+        return proto::Vec3d{0.3 * std::sin(0.2 * x), 0.3 * std::cos(0.15 * y), 1.0};
     };
     return spec;
 }
@@ -61,8 +61,8 @@ double heldOutPsnr(const std::filesystem::path& train, const std::filesystem::pa
     options.variant = variant;
     options.calibrateResponse = calibrateResponse;
     options.writePreview = false;
-    fit::fitCapture(openCapture(train), options, model);
-    return eval::evaluateModel(model, openCapture(test), eval::EvaluationOptions{}).psnr;
+    fit::fitCapture(capture::openCapture(train), options, model);
+    return eval::evaluateModel(model, capture::openCapture(test), eval::EvaluationOptions{}).psnr;
 }
 
 TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
@@ -70,7 +70,7 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     spec.geometry = {40.0, 5.0, 0.0, {}};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
-    const Capture capture = openCapture(folder / "train");
+    const capture::Capture capture = capture::openCapture(folder / "train");
     const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     fit::HeldOutSearchOptions options;
     options.harmonics = 3;
@@ -90,7 +90,7 @@ TEST(ExtendedModel, CalibrationSurvivesAMisfiredExposure) {
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     spec.geometry = {40.0, 5.0, 0.0, {}};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
-    Capture capture = openCapture(folder / "train");
+    capture::Capture capture = capture::openCapture(folder / "train");
     const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     fit::HeldOutSearchOptions options;
     options.harmonics = 3;
@@ -121,13 +121,14 @@ TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {
                                         fit::ModelVariant::kExtended);
     EXPECT_GT(extended, paper + 6.0) << "paper " << paper << " dB, extended " << extended;
 
-    ModelReader reader(folder / "extended.exr");
+    model::ModelReader reader(folder / "extended.exr");
     EXPECT_EQ(reader.info().variant, "extended");
     EXPECT_NEAR(reader.info().calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(reader.info().calibration.lightDistance, 5.0, 1.0);
-    ModelRows rows;
+    model::ModelRows rows;
     reader.readRows(0, 1, rows);
-    EXPECT_EQ(rows.transport.size(), static_cast<std::size_t>(train.width) * kTransportValues);
+    EXPECT_EQ(rows.transport.size(),
+              static_cast<std::size_t>(train.width) * model::kTransportValues);
 }
 
 // 8-bit images that store radiance linearly, under a light file that cannot say so: decoded
@@ -147,8 +148,8 @@ TEST(ExtendedModel, ResponseCalibrationFindsLinearlyStoredImages) {
                                     fit::ModelVariant::kExtended, false);
     const double calibrated = heldOutPsnr(folder / "train", folder / "test",
                                           folder / "calibrated.exr", fit::ModelVariant::kExtended);
-    EXPECT_EQ(ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
-    EXPECT_EQ(ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
+    EXPECT_EQ(model::ModelReader(folder / "srgb.exr").info().calibration.responseGamma, 0.0);
+    EXPECT_EQ(model::ModelReader(folder / "calibrated.exr").info().calibration.responseGamma, 1.0);
     EXPECT_GT(calibrated, srgb + 8.0) << "sRGB " << srgb << " dB, calibrated " << calibrated;
 }
 
@@ -160,22 +161,23 @@ TEST(ExtendedModel, AStatedEncodingIsNotCalibrated) {
     train.format = testing::SyntheticFormat::kPng8Linear;
     train.manifest = true;
     writeSyntheticCapture(folder / "train", train);
-    Capture capture = openCapture(folder / "train");
-    capture.encoding = ImageEncoding::kSrgb;
+    capture::Capture capture = capture::openCapture(folder / "train");
+    capture.encoding = capture::ImageEncoding::kSrgb;
     fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
     options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     EXPECT_EQ(fit::fitCapture(capture, options, folder / "m.exr").calibration.responseGamma, 0.0);
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     calibration.responseGamma = 1.0;
-    EXPECT_EQ(applyAcceptedCalibration(capture, calibration, train.width, train.height).encoding,
-              ImageEncoding::kSrgb);
-    capture.encoding = ImageEncoding::kAuto;
-    const Capture calibrated =
-        applyAcceptedCalibration(capture, calibration, train.width, train.height);
-    EXPECT_EQ(calibrated.encoding, ImageEncoding::kGamma);
+    EXPECT_EQ(
+        capture::applyAcceptedCalibration(capture, calibration, train.width, train.height).encoding,
+        capture::ImageEncoding::kSrgb);
+    capture.encoding = capture::ImageEncoding::kAuto;
+    const capture::Capture calibrated =
+        capture::applyAcceptedCalibration(capture, calibration, train.width, train.height);
+    EXPECT_EQ(calibrated.encoding, capture::ImageEncoding::kGamma);
     EXPECT_EQ(calibrated.gamma, 1.0);
 }
 
@@ -191,14 +193,14 @@ TEST(ExtendedModel, ResponseCalibrationKeepsSrgbImages) {
     options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     const fit::FitReport report =
-        fit::fitCapture(openCapture(folder / "train"), options, folder / "m.exr");
+        fit::fitCapture(capture::openCapture(folder / "train"), options, folder / "m.exr");
     const double gamma = report.calibration.responseGamma;
     EXPECT_TRUE(gamma == 0.0 || gamma >= 2.0) << "chose γ " << gamma;
 }
 
 // A ridge to the right of the left half of the image casts a shadow there: lights from the
 // +x side below its horizon (35°) are blocked, but for a little light from the sky.
-double leftHalfShadow(int x, int width, const Vec3d& light) {
+double leftHalfShadow(int x, int width, const proto::Vec3d& light) {
     if (x >= width / 2) {
         return 1.0;
     }
@@ -211,7 +213,7 @@ double leftHalfShadow(int x, int width, const Vec3d& light) {
 testing::SyntheticCaptureSpec shadowedDomeSpec() {
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     const int width = spec.width;
-    spec.transport = [width](int x, int, const Vec3d& light) {
+    spec.transport = [width](int x, int, const proto::Vec3d& light) {
         return leftHalfShadow(x, width, light);
     };
     return spec;
@@ -233,16 +235,16 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
 
     // The transferable part: both models' BRDFs rendered without shadows, against the truth.
     auto brdfError = [&](const char* name) {
-        ModelReader reader(folder / name);
-        ModelRows rows;
+        model::ModelReader reader(folder / name);
+        model::ModelRows rows;
         reader.readRows(0, train.height, rows);
         double squared = 0;
         int count = 0;
-        for (const Vec3d& light : testing::domeLights({25, 55}, 8, 10)) {
+        for (const proto::Vec3d& light : testing::domeLights({25, 55}, 8, 10)) {
             for (int y = 0; y < train.height; ++y) {
                 for (int x = 0; x < width / 2; ++x) {
-                    const Vec3d n = truth.normals[static_cast<std::size_t>(y) * width + x];
-                    const auto a = proto::reflectionAngles(n, light, Vec3d{0, 0, 1});
+                    const proto::Vec3d n = truth.normals[static_cast<std::size_t>(y) * width + x];
+                    const auto a = proto::reflectionAngles(n, light, proto::Vec3d{0, 0, 1});
                     const double expected = proto::evaluateFourierBrdf(truth.at(x, y, 1, width), 3,
                                                                        a.cosThetaD, a.cosThetaS);
                     const double actual = proto::evaluateFourierBrdf(rows.coefficientsAt(y, x, 1),
@@ -276,13 +278,13 @@ fit::HeldOutSearchOptions transportSearch() {
 // A synthetic capture written to `folder`, its true normals, and the search's validator over
 // its whole picture.
 struct ValidatedCapture {
-    Capture capture;
+    capture::Capture capture;
     normals::NormalMap normals;
     std::unique_ptr<fit::HeldOutValidator> validator;
     ValidatedCapture(const std::filesystem::path& folder, const testing::SyntheticCaptureSpec& spec)
         : normals(testing::trueNormalMap(writeSyntheticCapture(folder / "capture", spec),
                                          spec.width, spec.height)) {
-        capture = openCapture(folder / "capture");
+        capture = capture::openCapture(folder / "capture");
         validator = std::make_unique<fit::HeldOutValidator>(capture, normals, 4096, 4, 2);
     }
 };
@@ -302,11 +304,12 @@ TEST(ExtendedModel, TransportRidgeIsChosenByTheHeldOutExtendedFit) {
     testing::TemporaryFolder folder;
     const auto spec = shadowedDomeSpec();
     const ValidatedCapture validated(folder.path(), spec);
-    const Capture& capture = validated.capture;
+    const capture::Capture& capture = validated.capture;
     const normals::NormalMap& normals = validated.normals;
-    const double plain = validated.validator->score(GeometryCalibration{}, 3, 0.1);
+    const double plain = validated.validator->score(capture::GeometryCalibration{}, 3, 0.1);
     const double withTransport =
-        validated.validator->scoreWithTransport(GeometryCalibration{}, glossySettings()).pooled;
+        validated.validator->scoreWithTransport(capture::GeometryCalibration{}, glossySettings())
+            .pooled;
     // Measured: 17.9 → 13.9 levels with the default ridge.
     EXPECT_LT(withTransport, 0.85 * plain) << "plain " << plain << ", with T " << withTransport;
 
@@ -329,10 +332,11 @@ std::pair<double, double> heldOutWithoutAndWith(const std::filesystem::path& fol
     fit::ExtendedFitSettings settings = glossySettings();
     settings.*option = false;
     const double without =
-        validated.validator->scoreWithTransport(GeometryCalibration{}, settings).pooled;
+        validated.validator->scoreWithTransport(capture::GeometryCalibration{}, settings).pooled;
     settings.*option = true;
-    return {without,
-            validated.validator->scoreWithTransport(GeometryCalibration{}, settings).pooled};
+    return {
+        without,
+        validated.validator->scoreWithTransport(capture::GeometryCalibration{}, settings).pooled};
 }
 
 // Light off a red neighbour: on the left half of the picture, lights from the +x side reach
@@ -342,7 +346,7 @@ TEST(ExtendedModel, LightTransportTakesTheColourOfInterreflection) {
     testing::TemporaryFolder folder;
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     const int width = spec.width;
-    spec.tint = [width](int x, int, int c, const Vec3d& light) {
+    spec.tint = [width](int x, int, int c, const proto::Vec3d& light) {
         if (x >= width / 2) {
             return 1.0;
         }
@@ -362,7 +366,7 @@ TEST(ExtendedModel, LightTransportTakesTheColourOfInterreflection) {
 TEST(ExtendedModel, VeinTexelsTakeAWeakerTransportRidge) {
     testing::TemporaryFolder folder;
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
-    spec.transport = [](int x, int, const Vec3d& light) {
+    spec.transport = [](int x, int, const proto::Vec3d& light) {
         if (x % 4 != 0) {
             return 1.0;
         }
@@ -383,22 +387,25 @@ TEST(ExtendedModel, VeinTexelsTakeAWeakerTransportRidge) {
 TEST(ExtendedModel, LightIntensityTableInterpolatesAlongTheRing) {
     auto direction = [](double elevation, double azimuth) {
         const double e = elevation * M_PI / 180, a = azimuth * M_PI / 180;
-        return Vec3d{std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+        return proto::Vec3d{std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
     };
-    const std::vector<LightIntensity> table = {
+    const std::vector<capture::LightIntensity> table = {
         {direction(5, 0), 0.1}, {direction(5, 40), 0.3}, {direction(25, 20), 1.0}};
-    EXPECT_EQ(lightIntensityAt(table, direction(5, 40)), 0.3);  // a calibrated light: its own
-    EXPECT_NEAR(lightIntensityAt(table, direction(5, 20)), 0.2, 1e-3);  // midway on the ring
-    EXPECT_NEAR(lightIntensityAt(table, direction(5, 10)), 0.15, 1e-3);
-    EXPECT_EQ(lightIntensityAt({}, direction(5, 20)), 1.0);  // no table: as stated
+    EXPECT_EQ(capture::lightIntensityAt(table, direction(5, 40)),
+              0.3);  // a calibrated light: its own
+    EXPECT_NEAR(capture::lightIntensityAt(table, direction(5, 20)), 0.2,
+                1e-3);  // midway on the ring
+    EXPECT_NEAR(capture::lightIntensityAt(table, direction(5, 10)), 0.15, 1e-3);
+    EXPECT_EQ(capture::lightIntensityAt({}, direction(5, 20)), 1.0);  // no table: as stated
 
-    Capture capture;
+    capture::Capture capture;
     capture.images.push_back({});
     capture.images[0].light = direction(5, 20);
     capture.images[0].intensity = 2.0;
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     calibration.lightIntensities = table;
-    const Capture calibrated = applyGeometryCalibration(capture, calibration, 8, 8);
+    const capture::Capture calibrated =
+        capture::applyGeometryCalibration(capture, calibration, 8, 8);
     EXPECT_NEAR(calibrated.images[0].intensity, 0.4, 1e-3);  // stated × calibrated
 }
 
@@ -408,14 +415,16 @@ TEST(ExtendedModel, LightIntensityTableInterpolatesAlongTheRing) {
 TEST(ExtendedModel, HeldOutSearchFindsBlockedLights) {
     testing::TemporaryFolder folder;
     auto spec = domeSpec({4, 8, 25, 45, 65, 85}, 12, 0);
-    auto blocked = [](const Vec3d& light) {
+    auto blocked = [](const proto::Vec3d& light) {
         const double azimuth = std::atan2(light.y, light.x) * 180 / M_PI;
         const double elevation = std::asin(std::clamp(light.z, -1.0, 1.0)) * 180 / M_PI;
         return elevation < 12 && azimuth > -70 && azimuth < 50;
     };
-    spec.transport = [&](int, int, const Vec3d& light) { return blocked(light) ? 0.05 : 1.0; };
+    spec.transport = [&](int, int, const proto::Vec3d& light) {
+        return blocked(light) ? 0.05 : 1.0;
+    };
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
-    const Capture capture = openCapture(folder / "capture");
+    const capture::Capture capture = capture::openCapture(folder / "capture");
     const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     fit::HeldOutSearchOptions search = transportSearch();
     search.calibrateLightIntensities = true;
@@ -426,7 +435,7 @@ TEST(ExtendedModel, HeldOutSearchFindsBlockedLights) {
     const auto& table = found.calibration.lightIntensities;
     ASSERT_EQ(table.size(), capture.images.size());
     int blockedCount = 0;
-    for (const LightIntensity& entry : table) {
+    for (const capture::LightIntensity& entry : table) {
         if (blocked(entry.direction)) {
             ++blockedCount;
             EXPECT_LT(entry.intensity, 0.2) << "a blocked light at z " << entry.direction.z;
@@ -442,20 +451,20 @@ TEST(ExtendedModel, StatedGeometryIsNotRecalibrated) {
     testing::SyntheticCaptureSpec spec;  // a manifest: geometry as stated there
     spec.harmonics = 2;
     writeSyntheticCapture(folder / "capture", spec);
-    Capture capture = openCapture(folder / "capture");
-    capture.lightKind = LightKind::kPoint;  // a rig that says where its lights are
-    for (CaptureImage& image : capture.images) {
+    capture::Capture capture = capture::openCapture(folder / "capture");
+    capture.lightKind = capture::LightKind::kPoint;  // a rig that says where its lights are
+    for (capture::CaptureImage& image : capture.images) {
         image.light = {image.light.x * 10, image.light.y * 10, image.light.z * 10};
     }
     capture.lightReferenceDistance = 10;
-    EXPECT_FALSE(acceptsGeometryCalibration(capture));
+    EXPECT_FALSE(capture::acceptsGeometryCalibration(capture));
     fit::FitOptions options;
     options.harmonics = 2;
     options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     const fit::FitReport report = fit::fitCapture(capture, options, folder / "model.exr");
     EXPECT_TRUE(report.calibration.isIdentity());
-    EXPECT_TRUE(ModelReader(folder / "model.exr").info().calibration.isIdentity());
+    EXPECT_TRUE(model::ModelReader(folder / "model.exr").info().calibration.isIdentity());
 }
 
 // Photometric stereo is a Lambertian estimate: on a glossy material its normals lean towards
@@ -465,7 +474,7 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     const auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     std::filesystem::remove(folder / "capture" / "normals.png");  // estimated, not given
-    const Capture capture = openCapture(folder / "capture");
+    const capture::Capture capture = capture::openCapture(folder / "capture");
     const normals::NormalMap trueNormals = testing::trueNormalMap(truth, spec.width, spec.height);
     normals::PhotometricStereoOptions stereo;
     stereo.threads = 2;
@@ -475,9 +484,11 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     fit::ExtendedFitSettings settings;
     settings.harmonics = 3;
     settings.lambda = 0.1;
-    const double asEstimated = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
+    const double asEstimated =
+        validator.scoreWithTransport(capture::GeometryCalibration{}, settings).pooled;
     settings.normalSearchDegrees = 4;
-    const double refined = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
+    const double refined =
+        validator.scoreWithTransport(capture::GeometryCalibration{}, settings).pooled;
     // Measured: 5.81 → 4.77 levels.
     EXPECT_LT(refined, 0.85 * asEstimated) << "held-out RMS " << asEstimated << " → " << refined;
 
@@ -489,8 +500,8 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     options.threads = 2;
     const fit::FitReport report = fit::fitCapture(capture, options, folder / "model.exr");
     EXPECT_EQ(report.normalSearchDegrees, 4.0);
-    ModelReader reader(folder / "model.exr");
-    ModelRows rows;
+    model::ModelReader reader(folder / "model.exr");
+    model::ModelRows rows;
     reader.readRows(0, spec.height, rows);
     normals::NormalMap fitted;
     fitted.resize(spec.width, spec.height);
@@ -519,10 +530,11 @@ TEST(ExtendedModelRealData, ColourTransportKeepsADarkBackgroundQuiet) {
     options.variant = fit::ModelVariant::kExtended;
     options.writePreview = false;
     options.threads = 2;
-    fit::fitCapture(openCapture(set / "Dome"), options, folder / "model.exr");
-    const double psnr = eval::evaluateModel(folder / "model.exr", openCapture(set / "Test"),
-                                            eval::EvaluationOptions{})
-                            .psnr;
+    fit::fitCapture(capture::openCapture(set / "Dome"), options, folder / "model.exr");
+    const double psnr =
+        eval::evaluateModel(folder / "model.exr", capture::openCapture(set / "Test"),
+                            eval::EvaluationOptions{})
+            .psnr;
     // Measured: 46.31 dB (`vpe fit --model extended`: 45.79; grey T 45.77; the faulty colour
     // fit 23.99).
     EXPECT_GT(psnr, 45.5);

@@ -27,23 +27,23 @@ struct KernelFixture {
     std::vector<double> truth;   // [lane][c][k]
     bool point = false;
 
-    KernelFixture(int m, std::vector<Vec3d> directions, double tilt, double noise,
+    KernelFixture(int m, std::vector<proto::Vec3d> directions, double tilt, double noise,
                   std::uint32_t seed, bool pointLights = false)
         : harmonics(m), samples(static_cast<int>(directions.size())), point(pointLights) {
         std::mt19937 random(seed);
         std::uniform_real_distribution<double> uniform(-1.0, 1.0);
         std::normal_distribution<double> gaussian(0.0, noise > 0 ? noise : 1.0);
         const int k = proto::coefficientCount(m);
-        for (const Vec3d& d : directions) {
+        for (const proto::Vec3d& d : directions) {
             const double scale = point ? 6.0 : 1.0;
             lights.push_back({static_cast<float>(d.x * scale), static_cast<float>(d.y * scale),
                               static_cast<float>(d.z * scale), 1.0f});
         }
         for (int lane = 0; lane < kLanes; ++lane) {
-            const Vec3d n =
-                proto::normalized(Vec3d{tilt * uniform(random), tilt * uniform(random), 1.0});
-            const Vec3d v =
-                proto::normalized(Vec3d{0.2 * uniform(random), 0.2 * uniform(random), 1.0});
+            const proto::Vec3d n = proto::normalized(
+                proto::Vec3d{tilt * uniform(random), tilt * uniform(random), 1.0});
+            const proto::Vec3d v =
+                proto::normalized(proto::Vec3d{0.2 * uniform(random), 0.2 * uniform(random), 1.0});
             const float n3[3] = {static_cast<float>(n.x), static_cast<float>(n.y),
                                  static_cast<float>(n.z)};
             const float v3[3] = {static_cast<float>(v.x), static_cast<float>(v.y),
@@ -78,13 +78,15 @@ struct KernelFixture {
 
     // The angles and irradiance of sample s at a lane, computed independently in double.
     std::pair<proto::ReflectionAngles<double>, double> anglesOf(int s, int lane) const {
-        const Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane], geometry.normal[2][lane]};
-        const Vec3d v{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]};
-        Vec3d l{lights[s].x, lights[s].y, lights[s].z};
+        const proto::Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
+                             geometry.normal[2][lane]};
+        const proto::Vec3d v{geometry.view[0][lane], geometry.view[1][lane],
+                             geometry.view[2][lane]};
+        proto::Vec3d l{lights[s].x, lights[s].y, lights[s].z};
         double irradiance = 1.0;
         if (point) {
-            const Vec3d d{l.x - geometry.position[0][lane], l.y - geometry.position[1][lane],
-                          l.z - geometry.position[2][lane]};
+            const proto::Vec3d d{l.x - geometry.position[0][lane], l.y - geometry.position[1][lane],
+                                 l.z - geometry.position[2][lane]};
             irradiance = 1.0 / proto::dot(d, d);  // reference distance 1
             l = proto::normalized(d);
         }
@@ -123,7 +125,7 @@ struct KernelFixture {
     }
 };
 
-std::vector<Vec3d> dome() {
+std::vector<proto::Vec3d> dome() {
     return testing::domeLights({10, 30, 50, 70, 90}, 12);
 }
 

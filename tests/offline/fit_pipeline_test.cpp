@@ -14,9 +14,10 @@
 namespace vpe {
 namespace {
 
-ModelRows readWholeModel(const std::filesystem::path& path, ModelInfo* info = nullptr) {
-    ModelReader reader(path);
-    ModelRows rows;
+model::ModelRows readWholeModel(const std::filesystem::path& path,
+                                model::ModelInfo* info = nullptr) {
+    model::ModelReader reader(path);
+    model::ModelRows rows;
     reader.readRows(0, reader.info().height, rows);
     if (info) {
         *info = reader.info();
@@ -34,10 +35,10 @@ TEST(FitPipeline, RecoversKnownCoefficientsFromNoiselessExrCapture) {
     options.harmonics = 4;
     options.lambda = 0.0;  // auto precision: exact
     options.threads = 2;
-    fit::fitCapture(openCapture(folder / "capture"), options, folder / "model.exr");
+    fit::fitCapture(capture::openCapture(folder / "capture"), options, folder / "model.exr");
 
-    ModelInfo info;
-    const ModelRows rows = readWholeModel(folder / "model.exr", &info);
+    model::ModelInfo info;
+    const model::ModelRows rows = readWholeModel(folder / "model.exr", &info);
     EXPECT_EQ(info.harmonics, 4);
     EXPECT_EQ(info.samples, 100);
     double worst = 0;
@@ -62,7 +63,7 @@ TEST(FitPipeline, ResultDoesNotDependOnTheThreadCount) {
     spec.height = 9;
     spec.harmonics = 2;
     writeSyntheticCapture(folder / "capture", spec);
-    const Capture capture = openCapture(folder / "capture");
+    const capture::Capture capture = capture::openCapture(folder / "capture");
     fit::FitOptions options;
     options.harmonics = 6;
     options.threads = 1;
@@ -70,8 +71,8 @@ TEST(FitPipeline, ResultDoesNotDependOnTheThreadCount) {
     options.threads = 3;
     options.bandBudgetBytes = 1;  // one row per band
     fit::fitCapture(capture, options, folder / "three.exr");
-    const ModelRows one = readWholeModel(folder / "one.exr");
-    const ModelRows three = readWholeModel(folder / "three.exr");
+    const model::ModelRows one = readWholeModel(folder / "one.exr");
+    const model::ModelRows three = readWholeModel(folder / "three.exr");
     EXPECT_EQ(one.coefficient, three.coefficient);
     EXPECT_EQ(one.valid, three.valid);
 }
@@ -87,18 +88,18 @@ TEST(FitPipeline, SixteenBitLinearPngAndEightBitSrgbDecodeToTheSameRadiance) {
     fit::FitOptions options;
     options.harmonics = 3;
     options.lambda = 0.1;
-    fit::fitCapture(openCapture(folder / "linear"), options, folder / "linear.exr");
-    fit::fitCapture(openCapture(folder / "srgb"), options, folder / "srgb.exr");
+    fit::fitCapture(capture::openCapture(folder / "linear"), options, folder / "linear.exr");
+    fit::fitCapture(capture::openCapture(folder / "srgb"), options, folder / "srgb.exr");
     // Compare what the two models predict (coefficients themselves are poorly conditioned):
     // 8-bit quantization allows ~0.01; a missing or doubled sRGB decode is off by ~0.1.
-    const ModelRows linear = readWholeModel(folder / "linear.exr");
-    const ModelRows srgb = readWholeModel(folder / "srgb.exr");
+    const model::ModelRows linear = readWholeModel(folder / "linear.exr");
+    const model::ModelRows srgb = readWholeModel(folder / "srgb.exr");
     double worst = 0;
-    for (const Vec3d& light : testing::domeLights({20, 45, 70}, 6, 15)) {
+    for (const proto::Vec3d& light : testing::domeLights({20, 45, 70}, 6, 15)) {
         for (int y = 0; y < spec.height; ++y) {
             for (int x = 0; x < spec.width; ++x) {
-                const Vec3d n = truth.normals[static_cast<std::size_t>(y) * spec.width + x];
-                const auto a = proto::reflectionAngles(n, light, Vec3d{0, 0, 1});
+                const proto::Vec3d n = truth.normals[static_cast<std::size_t>(y) * spec.width + x];
+                const auto a = proto::reflectionAngles(n, light, proto::Vec3d{0, 0, 1});
                 for (int c = 0; c < 3; ++c) {
                     worst = std::max(
                         worst, std::fabs(proto::evaluateFourierBrdf(linear.coefficientsAt(y, x, c),

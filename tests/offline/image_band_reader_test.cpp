@@ -62,13 +62,13 @@ void writeImage(const std::filesystem::path& path, const ImageKind& kind, std::u
         << path;
 }
 
-Capture writeCapture(const std::filesystem::path& dir, const ImageKind& kind, int images) {
-    Capture capture;
+capture::Capture writeCapture(const std::filesystem::path& dir, const ImageKind& kind, int images) {
+    capture::Capture capture;
     capture.source = dir / "capture.json";
     for (int i = 0; i < images; ++i) {
         const std::filesystem::path file = dir / ("image" + std::to_string(i) + kind.extension);
         writeImage(file, kind, static_cast<std::uint32_t>(i + 1));
-        capture.images.push_back({file, Vec3d{0, 0, 1}, 1.0, 0});
+        capture.images.push_back({file, proto::Vec3d{0, 0, 1}, 1.0, 0});
     }
     return capture;
 }
@@ -81,15 +81,15 @@ struct Decoded {
     std::vector<std::uint8_t> saturated;
 };
 
-Decoded readAll(const Capture& capture, unsigned threads, int bandRows,
+Decoded readAll(const capture::Capture& capture, unsigned threads, int bandRows,
                 const std::vector<std::uint8_t>& mask) {
-    ImageBandReader reader(capture, threads);
+    capture::ImageBandReader reader(capture, threads);
     const int n = reader.imageCount();
     Decoded out;
     out.values.resize(static_cast<std::size_t>(n) * 3 * kWidth * kHeight);
     out.weights.resize(static_cast<std::size_t>(n) * kWidth * kHeight);
     out.saturated.resize(out.weights.size());
-    SampleBand band;
+    capture::SampleBand band;
     for (int y0 = 0; y0 < kHeight; y0 += bandRows) {
         const int rows = std::min(bandRows, kHeight - y0);
         reader.readBand(y0, rows, mask.empty() ? nullptr : mask.data(), band);
@@ -110,7 +110,7 @@ Decoded readAll(const Capture& capture, unsigned threads, int bandRows,
         }
         // Lanes past the row's end stay empty.
         for (int r = 0; r < rows; ++r) {
-            for (int x = kWidth; x < band.chunksPerRow * SampleBand::kChunkWidth; ++x) {
+            for (int x = kWidth; x < band.chunksPerRow * capture::SampleBand::kChunkWidth; ++x) {
                 EXPECT_EQ(band.weights[band.sampleIndex(0, r, x)], 0.0f);
                 EXPECT_EQ(band.values[band.valueIndex(0, 2, r, x)], 0.0f);
             }
@@ -120,7 +120,8 @@ Decoded readAll(const Capture& capture, unsigned threads, int bandRows,
 }
 
 // What the decoder must produce, value by value, from the whole image.
-Decoded reference(const Capture& capture, const std::vector<std::uint8_t>& mask, bool srgb) {
+Decoded reference(const capture::Capture& capture, const std::vector<std::uint8_t>& mask,
+                  bool srgb) {
     const auto n = capture.images.size();
     Decoded out;
     out.values.resize(n * 3 * kWidth * kHeight);
@@ -189,18 +190,24 @@ void expectSame(const Decoded& a, const Decoded& b, const std::string& what) {
 struct Case {
     const char* name;
     ImageKind kind;
-    ImageEncoding encoding;
+    capture::ImageEncoding encoding;
     bool srgb;  // what the encoding resolves to for this kind
 };
 
 const Case kCases[] = {
-    {"jpeg_srgb8", {".jpg", OIIO::TypeDesc::UINT8, 3}, ImageEncoding::kAuto, true},
-    {"png8_grey", {".png", OIIO::TypeDesc::UINT8, 1}, ImageEncoding::kAuto, true},
-    {"png8_linear_rgba", {".png", OIIO::TypeDesc::UINT8, 4}, ImageEncoding::kLinear, false},
-    {"png16_linear_rgb", {".png", OIIO::TypeDesc::UINT16, 3}, ImageEncoding::kAuto, false},
-    {"png16_srgb_grey_alpha", {".png", OIIO::TypeDesc::UINT16, 2}, ImageEncoding::kSrgb, true},
-    {"exr_float", {".exr", OIIO::TypeDesc::FLOAT, 3}, ImageEncoding::kAuto, false},
-    {"exr_float_srgb", {".exr", OIIO::TypeDesc::FLOAT, 4}, ImageEncoding::kSrgb, true},
+    {"jpeg_srgb8", {".jpg", OIIO::TypeDesc::UINT8, 3}, capture::ImageEncoding::kAuto, true},
+    {"png8_grey", {".png", OIIO::TypeDesc::UINT8, 1}, capture::ImageEncoding::kAuto, true},
+    {"png8_linear_rgba",
+     {".png", OIIO::TypeDesc::UINT8, 4},
+     capture::ImageEncoding::kLinear,
+     false},
+    {"png16_linear_rgb", {".png", OIIO::TypeDesc::UINT16, 3}, capture::ImageEncoding::kAuto, false},
+    {"png16_srgb_grey_alpha",
+     {".png", OIIO::TypeDesc::UINT16, 2},
+     capture::ImageEncoding::kSrgb,
+     true},
+    {"exr_float", {".exr", OIIO::TypeDesc::FLOAT, 3}, capture::ImageEncoding::kAuto, false},
+    {"exr_float_srgb", {".exr", OIIO::TypeDesc::FLOAT, 4}, capture::ImageEncoding::kSrgb, true},
 };
 
 void PrintTo(const Case& c, std::ostream* out) {
@@ -212,7 +219,7 @@ class ImageBandReaderFormats : public ::testing::TestWithParam<Case> {};
 TEST_P(ImageBandReaderFormats, ParallelDecodingEqualsSerialAndTheReference) {
     const Case& c = GetParam();
     testing::TemporaryFolder folder;
-    Capture capture = writeCapture(folder.path(), c.kind, 9);
+    capture::Capture capture = writeCapture(folder.path(), c.kind, 9);
     capture.encoding = c.encoding;
     std::vector<std::uint8_t> mask(static_cast<std::size_t>(kWidth) * kHeight);
     for (std::size_t p = 0; p < mask.size(); ++p) {
@@ -240,15 +247,16 @@ INSTANTIATE_TEST_SUITE_P(All, ImageBandReaderFormats, ::testing::ValuesIn(kCases
 
 TEST(ImageBandReader, ABandReusedForTheSameShapeHoldsOnlyNewSamples) {
     testing::TemporaryFolder folder;
-    const Capture capture = writeCapture(folder.path(), {".png", OIIO::TypeDesc::UINT8, 3}, 3);
-    ImageBandReader reader(capture, 2);
-    SampleBand first, reused;
+    const capture::Capture capture =
+        writeCapture(folder.path(), {".png", OIIO::TypeDesc::UINT8, 3}, 3);
+    capture::ImageBandReader reader(capture, 2);
+    capture::SampleBand first, reused;
     reader.readBand(0, 6, nullptr, reused);
     // Rows 6..11 into the band that held rows 0..5, and into a fresh one.
-    ImageBandReader again(capture, 2);
+    capture::ImageBandReader again(capture, 2);
     again.readBand(0, 6, nullptr, first);
     reader.readBand(6, 6, nullptr, reused);
-    SampleBand fresh;
+    capture::SampleBand fresh;
     again.readBand(6, 6, nullptr, fresh);
     EXPECT_TRUE(sameBits(reused.values, fresh.values));
     EXPECT_TRUE(sameBits(reused.weights, fresh.weights));
@@ -258,15 +266,15 @@ TEST(ImageBandReader, ABandReusedForTheSameShapeHoldsOnlyNewSamples) {
 
 TEST(ImageBandReader, ACorruptImageIsNamedInOneLine) {
     testing::TemporaryFolder folder;
-    Capture capture = writeCapture(folder.path(), {".png", OIIO::TypeDesc::UINT8, 3}, 4);
+    capture::Capture capture = writeCapture(folder.path(), {".png", OIIO::TypeDesc::UINT8, 3}, 4);
     {
         std::ofstream broken(capture.images[2].file, std::ios::binary | std::ios::trunc);
         broken << "not a png";
     }
     try {
-        ImageBandReader reader(capture, 4);
+        capture::ImageBandReader reader(capture, 4);
         FAIL() << "a corrupt image was accepted";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         const std::string message = error.what();
         EXPECT_NE(message.find("image2.png"), std::string::npos) << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
@@ -278,14 +286,14 @@ TEST(ImageBandReader, ACorruptImageIsNamedInOneLine) {
 TEST(ImageBandReader, ACalibratedResponseDecodesCodesAsAPowerLaw) {
     for (const OIIO::TypeDesc format : {OIIO::TypeDesc::UINT8, OIIO::TypeDesc::UINT16}) {
         testing::TemporaryFolder folder;
-        Capture capture = writeCapture(folder.path(), {".png", format, 3}, 2);
-        capture.encoding = ImageEncoding::kLinear;
-        SampleBand codes;
-        ImageBandReader(capture, 1).readBand(0, kHeight, nullptr, codes);
-        capture.encoding = ImageEncoding::kGamma;
+        capture::Capture capture = writeCapture(folder.path(), {".png", format, 3}, 2);
+        capture.encoding = capture::ImageEncoding::kLinear;
+        capture::SampleBand codes;
+        capture::ImageBandReader(capture, 1).readBand(0, kHeight, nullptr, codes);
+        capture.encoding = capture::ImageEncoding::kGamma;
         capture.gamma = 1.4;
-        SampleBand decoded;
-        ImageBandReader(capture, 2).readBand(0, kHeight, nullptr, decoded);
+        capture::SampleBand decoded;
+        capture::ImageBandReader(capture, 2).readBand(0, kHeight, nullptr, decoded);
         ASSERT_EQ(codes.values.size(), decoded.values.size());
         for (std::size_t i = 0; i < codes.values.size(); ++i) {
             ASSERT_NEAR(decoded.values[i], std::pow(static_cast<double>(codes.values[i]), 1.4),
@@ -298,13 +306,13 @@ TEST(ImageBandReader, ACalibratedResponseDecodesCodesAsAPowerLaw) {
 
 TEST(ImageBandReader, ACalibratedResponseRefusesFloatImagesByName) {
     testing::TemporaryFolder folder;
-    Capture capture = writeCapture(folder.path(), {".exr", OIIO::TypeDesc::FLOAT, 3}, 1);
-    capture.encoding = ImageEncoding::kGamma;
+    capture::Capture capture = writeCapture(folder.path(), {".exr", OIIO::TypeDesc::FLOAT, 3}, 1);
+    capture.encoding = capture::ImageEncoding::kGamma;
     capture.gamma = 1.4;
     try {
-        ImageBandReader reader(capture, 1);
+        capture::ImageBandReader reader(capture, 1);
         FAIL() << "a float image under a calibrated response was accepted";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find(".exr"), std::string::npos) << error.what();
         EXPECT_NE(std::string(error.what()).find("integer images only"), std::string::npos);
     }

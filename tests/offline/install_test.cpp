@@ -217,8 +217,8 @@ TEST(Install, WithoutAMeshTheScansSurfaceIsTheObject) {
     const nlohmann::json frame = nlohmann::json::parse(frameFile);
     const auto R = frame["object_to_camera"]["R"].get<std::vector<double>>();
     const auto t = frame["object_to_camera"]["t"].get<std::vector<double>>();
-    const FloatImage truth = readImageChannels(room() / "truth" / "projector-truth.exr",
-                                               {"position.X", "position.Y", "position.Z"});
+    const image::FloatImage truth = image::readImageChannels(
+        room() / "truth" / "projector-truth.exr", {"position.X", "position.Y", "position.Z"});
     std::ifstream obj(out / "scan" / "surface-mesh.obj");
     std::ifstream truthJson(room() / "truth" / "truth.json");
     const nlohmann::json projector = nlohmann::json::parse(truthJson)["projector"];
@@ -394,10 +394,10 @@ TEST(Install, InterreflectionIsDroppedNotGuessed) {
     EXPECT_GT(report["undecoded"]["ambiguous"].get<int>(), 2000);
     EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.02);
     EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.7);
-    const FloatImage decoded = readImageChannels(
+    const image::FloatImage decoded = image::readImageChannels(
         out / "result" / "decoded.exr", {"projector.x", "projector.y", "direct", "global"});
-    const FloatImage truth = readImageChannels(out / "scan" / "truth" / "camera-truth.exr",
-                                               {"projector.x", "projector.y"});
+    const image::FloatImage truth = image::readImageChannels(
+        out / "scan" / "truth" / "camera-truth.exr", {"projector.x", "projector.y"});
     std::size_t strongGlobal = 0, wrongThere = 0;
     for (std::size_t p = 0; p < truth.pixels.size() / 2; ++p) {
         const float* d = &decoded.pixels[4 * p];

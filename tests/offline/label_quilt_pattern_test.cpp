@@ -59,10 +59,10 @@ TEST(LabelQuiltPattern, RefusesWhatCannotBeQuilted) {
     auto generate = [](const std::string& spec) {
         texture::generateWeight(texture::parseWeightSpec(spec).front(), 64, 64);
     };
-    EXPECT_THROW(texture::parseWeightSpec("quilted:region=0"), InputError);
-    EXPECT_THROW(texture::parseWeightSpec(from), InputError);
-    EXPECT_THROW(texture::parseWeightSpec(from + ":region=0:block=4"), InputError);
-    EXPECT_THROW(generate(from + ":region=2"), InputError);
+    EXPECT_THROW(texture::parseWeightSpec("quilted:region=0"), common::InputError);
+    EXPECT_THROW(texture::parseWeightSpec(from), common::InputError);
+    EXPECT_THROW(texture::parseWeightSpec(from + ":region=0:block=4"), common::InputError);
+    EXPECT_THROW(generate(from + ":region=2"), common::InputError);
     // Labelled pixels too few for one block of 8.
     segment::LabelMap speck;
     speck.width = speck.height = 32;
@@ -77,7 +77,7 @@ TEST(LabelQuiltPattern, RefusesWhatCannotBeQuilted) {
     try {
         generate("quilted:from=" + (folder / "speck.png").string() + ":region=1:block=8");
         ADD_FAILURE() << "a 5 × 5 labelled area was quilted";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find("speck.png"), std::string::npos) << error.what();
     }
 }

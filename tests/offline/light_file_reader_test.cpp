@@ -21,15 +21,15 @@ namespace {
 const std::filesystem::path kFolder = "/captures/head";
 const std::filesystem::path kSource = kFolder / "dirs.lp";
 
-double lengthOf(const Vec3d& v) {
+double lengthOf(const proto::Vec3d& v) {
     return std::sqrt(proto::dot(v, v));
 }
 
 // The message of the InputError that parsing `text` throws; a failure if it parses.
 std::string rejectionOf(std::string_view text) {
     try {
-        parseLightFile(text, kSource);
-    } catch (const InputError& error) {
+        capture::parseLightFile(text, kSource);
+    } catch (const common::InputError& error) {
         return error.what();
     }
     ADD_FAILURE() << "accepted:\n" << text;
@@ -56,17 +56,18 @@ void writeFile(const std::filesystem::path& path, std::string_view contents) {
     stream << contents;
 }
 
-void expectDirection(const Vec3d& actual, const Vec3d& expected) {
+void expectDirection(const proto::Vec3d& actual, const proto::Vec3d& expected) {
     EXPECT_NEAR(actual.x, expected.x, 1e-12);
     EXPECT_NEAR(actual.y, expected.y, 1e-12);
     EXPECT_NEAR(actual.z, expected.z, 1e-12);
 }
 
 TEST(LightFileReader, ReadsPlainFile) {
-    const Capture capture = parseLightFile("2\na.jpg 0 0 1\nb.jpg 0.6 0 0.8\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("2\na.jpg 0 0 1\nb.jpg 0.6 0 0.8\n", kSource);
     EXPECT_EQ(capture.source, kSource);
-    EXPECT_EQ(capture.lightKind, LightKind::kDirectional);
-    EXPECT_TRUE(std::holds_alternative<OrthographicCamera>(capture.camera));
+    EXPECT_EQ(capture.lightKind, capture::LightKind::kDirectional);
+    EXPECT_TRUE(std::holds_alternative<capture::OrthographicCamera>(capture.camera));
     EXPECT_FALSE(capture.normalMap);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].file, kFolder / "a.jpg");
@@ -79,32 +80,33 @@ TEST(LightFileReader, ReadsPlainFile) {
 }
 
 TEST(LightFileReader, ResolvesImagesAgainstTheFilesFolder) {
-    const Capture capture = parseLightFile("1\na.jpg 0 0 1\n", "dirs.lp");
+    const capture::Capture capture = capture::parseLightFile("1\na.jpg 0 0 1\n", "dirs.lp");
     EXPECT_EQ(capture.images[0].file, std::filesystem::path("a.jpg"));
 }
 
 TEST(LightFileReader, AcceptsTabs) {
-    const Capture capture = parseLightFile("1\t\na.jpg\t0\t0\t1\n", kSource);
+    const capture::Capture capture = capture::parseLightFile("1\t\na.jpg\t0\t0\t1\n", kSource);
     ASSERT_EQ(capture.images.size(), 1u);
     EXPECT_EQ(capture.images[0].file, kFolder / "a.jpg");
     expectDirection(capture.images[0].light, {0, 0, 1});
 }
 
 TEST(LightFileReader, AcceptsCrLfLineEndings) {
-    const Capture capture = parseLightFile("2\r\na.jpg 0 0 1\r\nb.jpg 0 1 0\r\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("2\r\na.jpg 0 0 1\r\nb.jpg 0 1 0\r\n", kSource);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[1].file, kFolder / "b.jpg");
     expectDirection(capture.images[1].light, {0, 1, 0});
 }
 
 TEST(LightFileReader, AcceptsTrailingSpaces) {
-    const Capture capture = parseLightFile("1   \na.jpg 0 0 1   \t\n", kSource);
+    const capture::Capture capture = capture::parseLightFile("1   \na.jpg 0 0 1   \t\n", kSource);
     ASSERT_EQ(capture.images.size(), 1u);
     EXPECT_EQ(capture.images[0].file, kFolder / "a.jpg");
 }
 
 TEST(LightFileReader, AcceptsByteOrderMark) {
-    const Capture capture = parseLightFile(
+    const capture::Capture capture = capture::parseLightFile(
         "\xEF\xBB\xBF"
         "1\na.jpg 0 0 1\n",
         kSource);
@@ -112,47 +114,50 @@ TEST(LightFileReader, AcceptsByteOrderMark) {
 }
 
 TEST(LightFileReader, SkipsBlankLinesAndKeepsLineNumbers) {
-    const Capture capture =
-        parseLightFile("\n2\n\n  \na.jpg 0 0 1\n\nb.jpg 1 0 0\n\n\n  \n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("\n2\n\n  \na.jpg 0 0 1\n\nb.jpg 1 0 0\n\n\n  \n", kSource);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].line, 5);
     EXPECT_EQ(capture.images[1].line, 7);
 }
 
 TEST(LightFileReader, AcceptsMissingFinalNewline) {
-    const Capture capture = parseLightFile("1\na.jpg 0 0 1", kSource);
+    const capture::Capture capture = capture::parseLightFile("1\na.jpg 0 0 1", kSource);
     ASSERT_EQ(capture.images.size(), 1u);
 }
 
 TEST(LightFileReader, AcceptsImagePathsWithFolders) {
-    const Capture capture = parseLightFile("2\njpg/a.jpg 0 0 1\nraw/day 1/b.tif 0 0 1\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("2\njpg/a.jpg 0 0 1\nraw/day 1/b.tif 0 0 1\n", kSource);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].file, kFolder / "jpg" / "a.jpg");
     EXPECT_EQ(capture.images[1].file, kFolder / "raw" / "day 1" / "b.tif");
 }
 
 TEST(LightFileReader, AcceptsImagePathsWithSpaces) {
-    const Capture capture = parseLightFile("1\nmy photo  01.jpg 0 0 1\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("1\nmy photo  01.jpg 0 0 1\n", kSource);
     ASSERT_EQ(capture.images.size(), 1u);
     // Inner blanks belong to the name, as the file system has them.
     EXPECT_EQ(capture.images[0].file, kFolder / "my photo  01.jpg");
 }
 
 TEST(LightFileReader, AcceptsScientificNotation) {
-    const Capture capture = parseLightFile("1\na.jpg 6e-1 0.0E+0 8.0e-01\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("1\na.jpg 6e-1 0.0E+0 8.0e-01\n", kSource);
     expectDirection(capture.images[0].light, {0.6, 0, 0.8});
 }
 
 TEST(LightFileReader, AcceptsLeadingPlusSign) {
-    const Capture capture = parseLightFile("1\na.jpg +0.6 -0 +0.8\n", kSource);
+    const capture::Capture capture = capture::parseLightFile("1\na.jpg +0.6 -0 +0.8\n", kSource);
     expectDirection(capture.images[0].light, {0.6, 0, 0.8});
 }
 
 TEST(LightFileReader, NormalizesLightVectors) {
-    const Capture capture =
-        parseLightFile("3\na.jpg 0 3 4\nb.jpg -2 -2 1\nc.jpg 0.001 0 0.001\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("3\na.jpg 0 3 4\nb.jpg -2 -2 1\nc.jpg 0.001 0 0.001\n", kSource);
     ASSERT_EQ(capture.images.size(), 3u);
-    for (const CaptureImage& image : capture.images) {
+    for (const capture::CaptureImage& image : capture.images) {
         EXPECT_NEAR(lengthOf(image.light), 1.0, 1e-12);
     }
     expectDirection(capture.images[0].light, {0, 0.6, 0.8});
@@ -163,7 +168,8 @@ TEST(LightFileReader, NormalizesLightVectors) {
 TEST(LightFileReader, NormalizesVectorsWhoseSquaresOverflowOrUnderflow) {
     // Regression: the length was computed from squared components, which made these (0, 0, 0)
     // and "zero-length" respectively.
-    const Capture capture = parseLightFile("2\na.jpg 3e200 0 4e200\nb.jpg 0 3e-5 4e-5\n", kSource);
+    const capture::Capture capture =
+        capture::parseLightFile("2\na.jpg 3e200 0 4e200\nb.jpg 0 3e-5 4e-5\n", kSource);
     expectDirection(capture.images[0].light, {0.6, 0, 0.8});
     expectDirection(capture.images[1].light, {0, 0.6, 0.8});
 }
@@ -251,25 +257,25 @@ TEST(LightFileReader, RejectsNonFiniteComponents) {
 TEST(LightFileReader, ReadsFileAndPicksUpNormalsBesideIt) {
     const testing::TemporaryFolder folder;
     writeFile(folder / "dirs.lp", "1\na.jpg 0 0 1\n");
-    const Capture without = readLightFile(folder / "dirs.lp");
+    const capture::Capture without = capture::readLightFile(folder / "dirs.lp");
     EXPECT_EQ(without.source, folder / "dirs.lp");
     EXPECT_EQ(without.images[0].file, folder / "a.jpg");
     EXPECT_FALSE(without.normalMap);
 
     // Only its presence matters here; the image is decoded later.
     writeFile(folder / "normals.png", "");
-    const Capture with = readLightFile(folder / "dirs.lp");
+    const capture::Capture with = capture::readLightFile(folder / "dirs.lp");
     ASSERT_TRUE(with.normalMap);
     EXPECT_EQ(*with.normalMap, folder / "normals.png");
-    EXPECT_EQ(with.normalEncoding, NormalEncoding::kOffsetRgb);
+    EXPECT_EQ(with.normalEncoding, capture::NormalEncoding::kOffsetRgb);
 }
 
 TEST(LightFileReader, ReportsUnreadableFile) {
     const testing::TemporaryFolder folder;
     try {
-        readLightFile(folder / "missing.lp");
+        capture::readLightFile(folder / "missing.lp");
         ADD_FAILURE() << "read a missing file";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_TRUE(contains(error.what(), (folder / "missing.lp").string())) << error.what();
     }
 }
@@ -278,9 +284,9 @@ TEST(LightFileReader, ErrorsFromFilesNameThePath) {
     const testing::TemporaryFolder folder;
     writeFile(folder / "dirs.lp", "2\na.jpg 0 0 1\nb.jpg 0 0 zero\n");
     try {
-        readLightFile(folder / "dirs.lp");
+        capture::readLightFile(folder / "dirs.lp");
         ADD_FAILURE() << "accepted a bad component";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_EQ(std::string(error.what()).rfind((folder / "dirs.lp").string() + ":3: ", 0), 0u)
             << error.what();
     }
@@ -289,8 +295,8 @@ TEST(LightFileReader, ErrorsFromFilesNameThePath) {
 // The message of the InputError that opening `path` throws; a failure if it opens.
 std::string openingRejectionOf(const std::filesystem::path& path) {
     try {
-        openCapture(path);
-    } catch (const InputError& error) {
+        capture::openCapture(path);
+    } catch (const common::InputError& error) {
         return error.what();
     }
     ADD_FAILURE() << "opened " << path;
@@ -301,7 +307,7 @@ TEST(OpenCapture, ReadsTheOnlyLightFileOfAFolder) {
     const testing::TemporaryFolder folder;
     writeFile(folder / "head.lp", "1\njpg/a.jpg 0 0 1\n");
     writeFile(folder / "notes.txt", "not a light file");
-    const Capture capture = openCapture(folder.path());
+    const capture::Capture capture = capture::openCapture(folder.path());
     EXPECT_EQ(capture.source, folder / "head.lp");
     ASSERT_EQ(capture.images.size(), 1u);
     EXPECT_EQ(capture.images[0].file, folder / "jpg" / "a.jpg");
@@ -311,10 +317,10 @@ TEST(OpenCapture, ReadsAFileNamedDirectly) {
     const testing::TemporaryFolder folder;
     writeFile(folder / "a.lp", "1\na.jpg 0 0 1\n");
     writeFile(folder / "b.lp", "1\nb.jpg 0 0 1\n");
-    EXPECT_EQ(openCapture(folder / "b.lp").images[0].file, folder / "b.jpg");
+    EXPECT_EQ(capture::openCapture(folder / "b.lp").images[0].file, folder / "b.jpg");
     writeFile(folder / "scene.json",
               R"({"version": 1, "images": [{"file": "c.png", "light": [0, 0, 1]}]})");
-    EXPECT_EQ(openCapture(folder / "scene.json").images[0].file, folder / "c.png");
+    EXPECT_EQ(capture::openCapture(folder / "scene.json").images[0].file, folder / "c.png");
 }
 
 TEST(OpenCapture, RejectsFolderWithSeveralLightFiles) {
@@ -354,9 +360,9 @@ TEST(OpenCapture, PrefersManifestOverLightFile) {
         "lights": {"type": "point"},
         "images": [{"file": "m.png", "light": [0, 0, 5]}]
     })");
-    const Capture capture = openCapture(folder.path());
+    const capture::Capture capture = capture::openCapture(folder.path());
     EXPECT_EQ(capture.source, folder / "capture.json");
-    EXPECT_EQ(capture.lightKind, LightKind::kPoint);
+    EXPECT_EQ(capture.lightKind, capture::LightKind::kPoint);
     ASSERT_EQ(capture.images.size(), 1u);
     EXPECT_EQ(capture.images[0].file, folder / "m.png");
 }
@@ -367,10 +373,10 @@ TEST(LightFileReader, ReadsRealCapture) {
     if (!std::filesystem::exists(lightFile)) {
         GTEST_SKIP() << lightFile << " not found";
     }
-    const Capture capture = openCapture(data / "loewenkopf");
+    const capture::Capture capture = capture::openCapture(data / "loewenkopf");
     EXPECT_EQ(capture.source, lightFile);
     ASSERT_EQ(capture.images.size(), 240u);
-    for (const CaptureImage& image : capture.images) {
+    for (const capture::CaptureImage& image : capture.images) {
         EXPECT_EQ(image.file.parent_path().filename(), "jpg") << image.file;
         EXPECT_TRUE(std::filesystem::is_regular_file(image.file)) << image.file;
         EXPECT_NEAR(lengthOf(image.light), 1.0, 1e-12) << image.file;

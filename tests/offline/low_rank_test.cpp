@@ -135,11 +135,11 @@ TEST(LowRankCode, RefusesRanksOutsideTheChannels) {
     const std::vector<float> data(60, 1.0f);
     LowRankOptions options;
     options.rank = 0;
-    EXPECT_THROW(encodeLowRank(data, 6, {}, options), InputError);
+    EXPECT_THROW(encodeLowRank(data, 6, {}, options), common::InputError);
     options.rank = 7;
-    EXPECT_THROW(encodeLowRank(data, 6, {}, options), InputError);
+    EXPECT_THROW(encodeLowRank(data, 6, {}, options), common::InputError);
     options.rank = 2;
-    EXPECT_THROW(encodeLowRank(data, 7, {}, options), InputError);  // 60 is not 7 × n
+    EXPECT_THROW(encodeLowRank(data, 7, {}, options), common::InputError);  // 60 is not 7 × n
 }
 
 }  // namespace

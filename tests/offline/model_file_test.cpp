@@ -27,8 +27,8 @@
 namespace vpe {
 namespace {
 
-ModelInfo sampleInfo(int width, int height, int harmonics) {
-    ModelInfo info;
+model::ModelInfo sampleInfo(int width, int height, int harmonics) {
+    model::ModelInfo info;
     info.width = width;
     info.height = height;
     info.harmonics = harmonics;
@@ -40,12 +40,12 @@ ModelInfo sampleInfo(int width, int height, int harmonics) {
 }
 
 // Random values over many magnitudes and both signs, so any conversion would show.
-ModelRows randomRows(int width, int rows, int harmonics, std::uint32_t seed) {
+model::ModelRows randomRows(int width, int rows, int harmonics, std::uint32_t seed) {
     std::mt19937 random(seed);
     std::uniform_real_distribution<float> mantissa(-1.0f, 1.0f);
     std::uniform_int_distribution<int> exponent(-20, 20);
     auto value = [&] { return std::ldexp(mantissa(random), exponent(random)); };
-    ModelRows out;
+    model::ModelRows out;
     out.resize(width, rows, proto::coefficientCount(harmonics));
     for (float& v : out.coefficient) {
         v = value();
@@ -62,11 +62,12 @@ ModelRows randomRows(int width, int rows, int harmonics, std::uint32_t seed) {
     return out;
 }
 
-void writeModel(const std::filesystem::path& path, const ModelInfo& info, const ModelRows& rows) {
-    ModelWriter writer(path, info);
+void writeModel(const std::filesystem::path& path, const model::ModelInfo& info,
+                const model::ModelRows& rows) {
+    model::ModelWriter writer(path, info);
     // Two bands, as the fitter writes them.
     const int split = info.height / 2;
-    ModelRows band;
+    model::ModelRows band;
     for (int begin : {0, split}) {
         const int count = begin == 0 ? split : info.height - split;
         band.resize(rows.width, count, rows.coefficients);
@@ -91,7 +92,7 @@ bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
 std::string inputErrorOf(const std::function<void()>& action) {
     try {
         action();
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         return error.what();
     }
     return "(no InputError)";
@@ -112,19 +113,19 @@ void writePlainExr(const std::filesystem::path& path, int width, int height,
 TEST(ModelFile, CoefficientNamesFollowTheInterleavedLayout) {
     const char* const expected[] = {"kd", "a0", "a1", "b1", "a2", "b2"};
     for (int k = 0; k < 6; ++k) {
-        EXPECT_EQ(coefficientName(k), expected[k]) << k;
+        EXPECT_EQ(model::coefficientName(k), expected[k]) << k;
     }
-    EXPECT_EQ(coefficientName(proto::cosineIndex(15)), "a15");
-    EXPECT_EQ(coefficientName(proto::sineIndex(15)), "b15");
+    EXPECT_EQ(model::coefficientName(proto::cosineIndex(15)), "a15");
+    EXPECT_EQ(model::coefficientName(proto::sineIndex(15)), "b15");
 }
 
 TEST(ModelFile, RoundTripIsBitExact) {
     testing::TemporaryFolder folder;
-    const ModelInfo info = sampleInfo(7, 5, 2);
-    const ModelRows written = randomRows(info.width, info.height, info.harmonics, 3);
+    const model::ModelInfo info = sampleInfo(7, 5, 2);
+    const model::ModelRows written = randomRows(info.width, info.height, info.harmonics, 3);
     writeModel(folder / "model.exr", info, written);
 
-    ModelReader reader(folder / "model.exr");
+    model::ModelReader reader(folder / "model.exr");
     EXPECT_EQ(reader.info().width, info.width);
     EXPECT_EQ(reader.info().height, info.height);
     EXPECT_EQ(reader.info().harmonics, info.harmonics);
@@ -134,12 +135,12 @@ TEST(ModelFile, RoundTripIsBitExact) {
     EXPECT_EQ(reader.info().capture, info.capture);
     EXPECT_EQ(reader.info().texelMm, 0.0);  // unknown: no attribute
     EXPECT_FALSE(reader.info().tilesU);
-    ModelRows read;
+    model::ModelRows read;
     reader.readRows(0, info.height, read);
     EXPECT_EQ(read.width, info.width);
     EXPECT_EQ(read.rows, info.height);
     EXPECT_EQ(read.coefficients, 6);
-    EXPECT_EQ(reader.info().storage, ModelStorage::kFloat);  // the default: exact
+    EXPECT_EQ(reader.info().storage, model::ModelStorage::kFloat);  // the default: exact
     EXPECT_TRUE(sameBits(read.coefficient, written.coefficient));
     EXPECT_TRUE(sameBits(read.normal, written.normal));
     EXPECT_TRUE(sameBits(read.rms, written.rms));
@@ -149,11 +150,11 @@ TEST(ModelFile, RoundTripIsBitExact) {
 // The capture's texel size and whether the texture tiles in u travel in the header.
 TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(4, 3, 1);
+    model::ModelInfo info = sampleInfo(4, 3, 1);
     info.texelMm = 0.625;  // exact in float
     info.tilesU = true;
     writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
-    ModelReader reader(folder / "model.exr");
+    model::ModelReader reader(folder / "model.exr");
     EXPECT_EQ(reader.info().texelMm, 0.625);
     EXPECT_TRUE(reader.info().tilesU);
 }
@@ -162,10 +163,11 @@ TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
 // vpe eval of another capture from the same rig applies it.
 TEST(ModelFile, KeepsTheCaptureCalibration) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(4, 3, 1);
+    model::ModelInfo info = sampleInfo(4, 3, 1);
     info.calibration = {12.5, 6.0, 1.4, {{{0.6, 0.0, 0.8}, 0.25}, {{0.0, 0.0, 1.0}, 1.0}}};
     writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
-    const GeometryCalibration read = ModelReader(folder / "model.exr").info().calibration;
+    const capture::GeometryCalibration read =
+        model::ModelReader(folder / "model.exr").info().calibration;
     EXPECT_EQ(read.fieldOfViewDegrees, 12.5);
     EXPECT_EQ(read.lightDistance, 6.0);
     EXPECT_NEAR(read.responseGamma, 1.4, 1e-6);  // stored as a float attribute
@@ -175,22 +177,23 @@ TEST(ModelFile, KeepsTheCaptureCalibration) {
     EXPECT_EQ(read.lightIntensities[0].intensity, 0.25);
     EXPECT_EQ(read.lightIntensities[1].intensity, 1.0);
     // A model without a calibrated response reads as "as the capture states".
-    ModelInfo plain = sampleInfo(4, 3, 1);
+    model::ModelInfo plain = sampleInfo(4, 3, 1);
     writeModel(folder / "plain.exr", plain, randomRows(4, 3, 1, 5));
-    EXPECT_EQ(ModelReader(folder / "plain.exr").info().calibration.responseGamma, 0.0);
-    EXPECT_TRUE(ModelReader(folder / "plain.exr").info().calibration.lightIntensities.empty());
+    EXPECT_EQ(model::ModelReader(folder / "plain.exr").info().calibration.responseGamma, 0.0);
+    EXPECT_TRUE(
+        model::ModelReader(folder / "plain.exr").info().calibration.lightIntensities.empty());
 }
 
 // A light table that is not 4 floats per light, or holds no unit direction, is a corrupt model.
 TEST(ModelFile, RejectsAMalformedLightTable) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(4, 3, 1);
+    model::ModelInfo info = sampleInfo(4, 3, 1);
     info.calibration.lightIntensities = {{{3.0, 0.0, 4.0}, 0.5}};  // not a unit direction
     writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
     try {
-        ModelReader reader(folder / "model.exr");
+        model::ModelReader reader(folder / "model.exr");
         FAIL() << "read a light table whose direction has length 5";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find("vpeLightIntensities"), std::string::npos)
             << error.what();
     }
@@ -206,15 +209,15 @@ bool withinHalfTolerance(float read, float written) {
 
 TEST(ModelFile, RoundTripInHalfIsWithinItsStatedTolerance) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(9, 6, 3);
+    model::ModelInfo info = sampleInfo(9, 6, 3);
     info.variant = "extended";  // every kind of channel, the transport too
-    info.storage = ModelStorage::kHalf;
+    info.storage = model::ModelStorage::kHalf;
     // Magnitudes from 2⁻²⁴ (subnormal in half) to 2¹⁵, both signs.
     std::mt19937 random(17);
     std::uniform_real_distribution<float> mantissa(-1.0f, 1.0f);
     std::uniform_int_distribution<int> exponent(-24, 15);
     auto value = [&] { return std::ldexp(mantissa(random), exponent(random)); };
-    ModelRows written;
+    model::ModelRows written;
     written.resize(info.width, info.height, proto::coefficientCount(info.harmonics), true);
     for (std::vector<float>* values :
          {&written.coefficient, &written.normal, &written.rms, &written.transport}) {
@@ -226,13 +229,13 @@ TEST(ModelFile, RoundTripInHalfIsWithinItsStatedTolerance) {
         written.valid[i] = i % 3 != 0 ? 1 : 0;
     }
     {
-        ModelWriter writer(folder / "model.exr", info);
+        model::ModelWriter writer(folder / "model.exr", info);
         writer.writeRows(0, written);
         writer.finish();
     }
-    ModelReader reader(folder / "model.exr");
-    EXPECT_EQ(reader.info().storage, ModelStorage::kHalf);
-    ModelRows read;
+    model::ModelReader reader(folder / "model.exr");
+    EXPECT_EQ(reader.info().storage, model::ModelStorage::kHalf);
+    model::ModelRows read;
     reader.readRows(0, info.height, read);
     for (const auto& [name, a, b] :
          {std::tuple{"coefficient", &read.coefficient, &written.coefficient},
@@ -259,16 +262,16 @@ TEST(ModelFile, RoundTripInHalfIsWithinItsStatedTolerance) {
 // to all three channels.
 TEST(ModelFile, ReadsAGreyTransportIntoEveryChannel) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(5, 3, 2);
+    model::ModelInfo info = sampleInfo(5, 3, 2);
     info.variant = "extended";
-    info.storage = ModelStorage::kFloat;
-    ModelRows written = randomRows(info.width, info.height, info.harmonics, 5);
+    info.storage = model::ModelStorage::kFloat;
+    model::ModelRows written = randomRows(info.width, info.height, info.harmonics, 5);
     written.resize(info.width, info.height, written.coefficients, true);
     for (std::size_t i = 0; i < written.transport.size(); ++i) {
         written.transport[i] = static_cast<float>(i) * 0.25f;
     }
     {
-        ModelWriter writer(folder / "colour.exr", info);
+        model::ModelWriter writer(folder / "colour.exr", info);
         writer.writeRows(0, written);
         writer.finish();
     }
@@ -291,15 +294,16 @@ TEST(ModelFile, ReadsAGreyTransportIntoEveryChannel) {
             OIIO::ImageBufAlgo::channels(colour, static_cast<int>(order.size()), order, {}, names);
         ASSERT_TRUE(grey.write((folder / "grey.exr").string())) << grey.geterror();
     }
-    ModelReader reader(folder / "grey.exr");
-    ModelRows read;
+    model::ModelReader reader(folder / "grey.exr");
+    model::ModelRows read;
     reader.readRows(0, info.height, read);
     ASSERT_EQ(read.transport.size(), written.transport.size());
     for (std::size_t p = 0; p < read.valid.size(); ++p) {
-        for (int c = 0; c < kTransportChannels; ++c) {
-            for (int t = 0; t < kTransportTerms; ++t) {
-                EXPECT_EQ(read.transport[p * kTransportValues + c * kTransportTerms + t],
-                          written.transport[p * kTransportValues + kTransportTerms + t])
+        for (int c = 0; c < model::kTransportChannels; ++c) {
+            for (int t = 0; t < model::kTransportTerms; ++t) {
+                EXPECT_EQ(
+                    read.transport[p * model::kTransportValues + c * model::kTransportTerms + t],
+                    written.transport[p * model::kTransportValues + model::kTransportTerms + t])
                     << "pixel " << p << ", channel " << c << ", term " << t;
             }
         }
@@ -308,11 +312,13 @@ TEST(ModelFile, ReadsAGreyTransportIntoEveryChannel) {
 
 TEST(ModelFile, StorageIsTheChannelTypeStandardToolsSee) {
     testing::TemporaryFolder folder;
-    for (const ModelStorage storage : {ModelStorage::kHalf, ModelStorage::kFloat}) {
-        ModelInfo info = sampleInfo(4, 3, 1);
+    for (const model::ModelStorage storage :
+         {model::ModelStorage::kHalf, model::ModelStorage::kFloat}) {
+        model::ModelInfo info = sampleInfo(4, 3, 1);
         info.storage = storage;
-        const std::filesystem::path path = folder / (std::string(storageName(storage)) + ".exr");
-        ModelRows rows = randomRows(4, 3, 1, 2);
+        const std::filesystem::path path =
+            folder / (std::string(model::storageName(storage)) + ".exr");
+        model::ModelRows rows = randomRows(4, 3, 1, 2);
         for (std::vector<float>* values : {&rows.coefficient, &rows.normal, &rows.rms}) {
             for (float& v : *values) {
                 v = std::clamp(v, -1.0f, 1.0f);
@@ -322,32 +328,32 @@ TEST(ModelFile, StorageIsTheChannelTypeStandardToolsSee) {
         auto input = OIIO::ImageInput::open(path.string());
         ASSERT_TRUE(input);
         const OIIO::TypeDesc expected =
-            storage == ModelStorage::kHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+            storage == model::ModelStorage::kHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
         for (int c = 0; c < input->spec().nchannels; ++c) {
             EXPECT_EQ(input->spec().channelformat(c), expected)
-                << storageName(storage) << " " << input->spec().channelnames[c];
+                << model::storageName(storage) << " " << input->spec().channelnames[c];
         }
-        EXPECT_EQ(ModelReader(path).info().storage, storage);
+        EXPECT_EQ(model::ModelReader(path).info().storage, storage);
     }
 }
 
 TEST(ModelFile, HalfWriterRefusesAValueBeyondTheHalfRangeByPixel) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(5, 4, 1);
-    info.storage = ModelStorage::kHalf;
-    ModelRows rows = randomRows(5, 4, 1, 3);
+    model::ModelInfo info = sampleInfo(5, 4, 1);
+    info.storage = model::ModelStorage::kHalf;
+    model::ModelRows rows = randomRows(5, 4, 1, 3);
     for (float& v : rows.coefficient) {
         v = std::clamp(v, -1.0f, 1.0f);
     }
     // Pixel (3, 2) of the band written from row 1: image row 3; channel a1.G.
-    ModelRows band;
+    model::ModelRows band;
     band.resize(5, 3, rows.coefficients);
     band.coefficient[(band.pixel(2, 3) * 3 + 1) * static_cast<std::size_t>(rows.coefficients) + 2] =
         1e5f;
     const std::string message = inputErrorOf([&] {
-        ModelWriter writer(folder / "model.exr", info);
+        model::ModelWriter writer(folder / "model.exr", info);
         writer.writeRows(0, [&] {
-            ModelRows first;
+            model::ModelRows first;
             first.resize(5, 1, rows.coefficients);
             return first;
         }());
@@ -361,26 +367,26 @@ TEST(ModelFile, HalfWriterRefusesAValueBeyondTheHalfRangeByPixel) {
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
     // In float the same value is kept exactly.
-    info.storage = ModelStorage::kFloat;
-    ModelWriter writer(folder / "model.exr", info);
+    info.storage = model::ModelStorage::kFloat;
+    model::ModelWriter writer(folder / "model.exr", info);
     writer.writeRows(0, band);
     writer.finish();
 }
 
 TEST(ModelFile, TheReliefIsOptionalAndRoundTrips) {
     testing::TemporaryFolder folder;
-    ModelInfo info = sampleInfo(4, 3, 1);
-    ModelRows rows = randomRows(info.width, info.height, info.harmonics, 5);
+    model::ModelInfo info = sampleInfo(4, 3, 1);
+    model::ModelRows rows = randomRows(info.width, info.height, info.harmonics, 5);
     writeModel(folder / "flat.exr", info, rows);  // written without: older files read the same
-    ModelReader flat(folder / "flat.exr");
+    model::ModelReader flat(folder / "flat.exr");
     EXPECT_FALSE(flat.info().detailNormals);
-    ModelRows read;
+    model::ModelRows read;
     flat.readRows(0, info.height, read);
     EXPECT_TRUE(read.detail.empty());
 
     info.detailNormals = true;
     {
-        ModelWriter writer(folder / "relief.exr", info);
+        model::ModelWriter writer(folder / "relief.exr", info);
         rows.resize(info.width, info.height, rows.coefficients, false, true);
         for (std::size_t i = 0; i < rows.detail.size(); ++i) {
             rows.detail[i] = 0.01f * static_cast<float>(i);
@@ -388,7 +394,7 @@ TEST(ModelFile, TheReliefIsOptionalAndRoundTrips) {
         writer.writeRows(0, rows);
         writer.finish();
     }
-    ModelReader relief(folder / "relief.exr");
+    model::ModelReader relief(folder / "relief.exr");
     EXPECT_TRUE(relief.info().detailNormals);
     relief.readRows(0, info.height, read);
     EXPECT_TRUE(sameBits(read.detail, rows.detail));
@@ -396,11 +402,11 @@ TEST(ModelFile, TheReliefIsOptionalAndRoundTrips) {
 
 TEST(ModelFile, RowsCanBeReadInBands) {
     testing::TemporaryFolder folder;
-    const ModelInfo info = sampleInfo(5, 6, 1);
-    const ModelRows written = randomRows(info.width, info.height, info.harmonics, 11);
+    const model::ModelInfo info = sampleInfo(5, 6, 1);
+    const model::ModelRows written = randomRows(info.width, info.height, info.harmonics, 11);
     writeModel(folder / "model.exr", info, written);
-    ModelReader reader(folder / "model.exr");
-    ModelRows band;
+    model::ModelReader reader(folder / "model.exr");
+    model::ModelRows band;
     for (int begin = 0; begin < info.height; begin += 4) {
         const int rows = std::min(4, info.height - begin);
         reader.readRows(begin, rows, band);
@@ -420,7 +426,7 @@ TEST(ModelFile, RowsCanBeReadInBands) {
 
 TEST(ModelFile, ChannelNamesAreVisibleToStandardExrTools) {
     testing::TemporaryFolder folder;
-    const ModelInfo info = sampleInfo(3, 2, 2);
+    const model::ModelInfo info = sampleInfo(3, 2, 2);
     writeModel(folder / "model.exr", info, randomRows(3, 2, 2, 5));
     auto input = OIIO::ImageInput::open((folder / "model.exr").string());
     ASSERT_TRUE(input);
@@ -440,7 +446,7 @@ TEST(ModelFile, ReaderRefusesAPlainExr) {
     testing::TemporaryFolder folder;
     const std::filesystem::path path = folder / "plain.exr";
     writePlainExr(path, 4, 4);
-    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
     EXPECT_NE(message.find("vpeFormat"), std::string::npos) << message;
 }
@@ -453,7 +459,7 @@ TEST(ModelFile, ReaderRefusesAnotherFormatVersion) {
         spec.attribute("vpeFormatVersion", 2);
         spec.attribute("vpeHarmonics", 0);
     });
-    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
     EXPECT_NE(message.find("version 2"), std::string::npos) << message;
 }
@@ -461,7 +467,7 @@ TEST(ModelFile, ReaderRefusesAnotherFormatVersion) {
 TEST(ModelFile, ReaderRefusesAMissingFile) {
     testing::TemporaryFolder folder;
     const std::filesystem::path path = folder / "absent.exr";
-    const std::string message = inputErrorOf([&] { ModelReader reader(path); });
+    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
 }
 
@@ -469,7 +475,7 @@ TEST(ModelFile, ReaderRefusesATruncatedFile) {
     testing::TemporaryFolder folder;
     const std::filesystem::path path = folder / "model.exr";
     // Random values do not compress: the cut falls inside the pixel data, past the header.
-    const ModelInfo info = sampleInfo(64, 64, 3);
+    const model::ModelInfo info = sampleInfo(64, 64, 3);
     writeModel(path, info, randomRows(info.width, info.height, info.harmonics, 7));
     std::string bytes;
     {
@@ -486,8 +492,8 @@ TEST(ModelFile, ReaderRefusesATruncatedFile) {
                          static_cast<std::streamsize>(static_cast<double>(bytes.size()) * keep));
         }
         const std::string message = inputErrorOf([&] {
-            ModelReader reader(path);
-            ModelRows rows;
+            model::ModelReader reader(path);
+            model::ModelRows rows;
             reader.readRows(0, reader.info().height, rows);
         });
         EXPECT_NE(message.find(path.string()), std::string::npos) << message;
@@ -497,17 +503,17 @@ TEST(ModelFile, ReaderRefusesATruncatedFile) {
 TEST(ModelFile, WriterRefusesAnotherExtension) {
     testing::TemporaryFolder folder;
     const std::string message =
-        inputErrorOf([&] { ModelWriter writer(folder / "model.tif", sampleInfo(2, 2, 0)); });
+        inputErrorOf([&] { model::ModelWriter writer(folder / "model.tif", sampleInfo(2, 2, 0)); });
     EXPECT_NE(message.find("model.tif"), std::string::npos) << message;
     EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
 }
 
 TEST(ModelFile, WriterWithoutFinishLeavesNoFile) {
     testing::TemporaryFolder folder;
-    const ModelInfo info = sampleInfo(4, 4, 1);
-    { ModelWriter writer(folder / "unwritten.exr", info); }
+    const model::ModelInfo info = sampleInfo(4, 4, 1);
+    { model::ModelWriter writer(folder / "unwritten.exr", info); }
     {
-        ModelWriter writer(folder / "partial.exr", info);
+        model::ModelWriter writer(folder / "partial.exr", info);
         writer.writeRows(0, randomRows(info.width, 2, info.harmonics, 1));
     }
     EXPECT_TRUE(std::filesystem::is_empty(folder.path()))

@@ -39,7 +39,7 @@ testing::SyntheticCaptureSpec lambertianSpec() {
     spec.harmonics = 0;
     spec.lights = testing::domeLights({10, 30, 50, 70, 90}, 12, 7);
     spec.normal = [](int x, int y) {
-        return Vec3d{0.7 * std::sin(0.4 * x), 0.6 * std::cos(0.5 * y + 0.3), 1.0};
+        return proto::Vec3d{0.7 * std::sin(0.4 * x), 0.6 * std::cos(0.5 * y + 0.3), 1.0};
     };
     spec.coefficients = [](int x, int y, int c, double* coefficients) {
         coefficients[proto::kLambertIndex] = 0.25 + 0.15 * c + 0.01 * x + 0.005 * y;
@@ -59,7 +59,7 @@ TEST(PhotometricStereo, RecoversLambertianNormals) {
     const testing::SyntheticCaptureSpec spec = lambertianSpec();
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "capture", spec);
     const normals::NormalMap estimate =
-        normals::estimateNormals(openCapture(folder / "capture"), stereoOptions());
+        normals::estimateNormals(capture::openCapture(folder / "capture"), stereoOptions());
     const normals::AngularError error = normals::compareNormalMaps(
         estimate, testing::trueNormalMap(truth, spec.width, spec.height));
     EXPECT_EQ(error.pixels, static_cast<std::size_t>(spec.width * spec.height));
@@ -72,7 +72,7 @@ double luminance(const float* rgb) {
 
 // Pixel (x, y) sees the lights low in its own azimuth sector blocked, as a neighbouring
 // bump would block them: 2 to 3 lights of each of the two lowest rings.
-bool castShadow(int x, int y, const Vec3d& light) {
+bool castShadow(int x, int y, const proto::Vec3d& light) {
     if (light.z > std::sin(35.0 / kDegrees)) {
         return false;
     }
@@ -102,8 +102,8 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
         for (int y = 0; y < spec.height; ++y) {
             for (int x = 0; x < spec.width; ++x) {
                 const std::size_t p = static_cast<std::size_t>(y) * spec.width + x;
-                const auto angles =
-                    proto::reflectionAngles(truth.normals[p], spec.lights[s], Vec3d{0, 0, 1});
+                const auto angles = proto::reflectionAngles(truth.normals[p], spec.lights[s],
+                                                            proto::Vec3d{0, 0, 1});
                 const double highlight = angles.cosThetaD > 0
                                              ? 1.5 * std::pow(std::max(angles.cosThetaS, 0.0), 60)
                                              : 0.0;
@@ -129,7 +129,8 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
 
     const normals::NormalMap truthMap = testing::trueNormalMap(truth, spec.width, spec.height);
     const normals::AngularError robust = normals::compareNormalMaps(
-        normals::estimateNormals(openCapture(folder / "capture"), stereoOptions()), truthMap);
+        normals::estimateNormals(capture::openCapture(folder / "capture"), stereoOptions()),
+        truthMap);
 
     // Baseline: plain least squares on every sample, as textbook photometric stereo does.
     normals::NormalMap plain;
@@ -163,15 +164,15 @@ TEST(PhotometricStereo, IsRobustToHighlightsAndCastShadows) {
 constexpr int kMapWidth = 5;
 constexpr int kMapHeight = 4;
 
-Vec3d mapNormal(int x, int y) {
-    return proto::normalized(Vec3d{0.3 * (x - 2), -0.25 * (y - 1.5), 1.0 - 0.1 * x});
+proto::Vec3d mapNormal(int x, int y) {
+    return proto::normalized(proto::Vec3d{0.3 * (x - 2), -0.25 * (y - 1.5), 1.0 - 0.1 * x});
 }
 
 void writeMap(const std::filesystem::path& path, OIIO::TypeDesc type, bool offset) {
     std::vector<float> pixels;
     for (int y = 0; y < kMapHeight; ++y) {
         for (int x = 0; x < kMapWidth; ++x) {
-            const Vec3d n = mapNormal(x, y);
+            const proto::Vec3d n = mapNormal(x, y);
             for (double v : {n.x, n.y, n.z}) {
                 const double stored = offset ? (v + 1.0) * 0.5 : v;
                 pixels.push_back(x == 0 && y == 0 ? 0.0f : static_cast<float>(stored));
@@ -197,7 +198,7 @@ void expectMap(const normals::NormalMap& map, double maxDegrees) {
             }
             const std::size_t i = map.index(x, y);
             ASSERT_TRUE(map.valid[i]) << x << "," << y;
-            const Vec3d n = mapNormal(x, y);
+            const proto::Vec3d n = mapNormal(x, y);
             const Eigen::Vector3d a(map.xyz[i * 3], map.xyz[i * 3 + 1], map.xyz[i * 3 + 2]);
             EXPECT_NEAR(a.norm(), 1.0, 1e-6);
             // atan2 of cross and dot stays accurate for tiny angles, unlike acos.
@@ -212,32 +213,33 @@ TEST(NormalMapFile, EightBitOffsetEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "n8.png", OIIO::TypeDesc::UINT8, true);
     // Half a code per component: at most ~0.4° off.
-    expectMap(normals::readNormalMap(folder / "n8.png", NormalEncoding::kAuto), 0.5);
-    expectMap(normals::readNormalMap(folder / "n8.png", NormalEncoding::kOffsetRgb), 0.5);
+    expectMap(normals::readNormalMap(folder / "n8.png", capture::NormalEncoding::kAuto), 0.5);
+    expectMap(normals::readNormalMap(folder / "n8.png", capture::NormalEncoding::kOffsetRgb), 0.5);
 }
 
 TEST(NormalMapFile, SixteenBitOffsetEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "n16.png", OIIO::TypeDesc::UINT16, true);
-    expectMap(normals::readNormalMap(folder / "n16.png", NormalEncoding::kAuto), 0.005);
+    expectMap(normals::readNormalMap(folder / "n16.png", capture::NormalEncoding::kAuto), 0.005);
 }
 
 TEST(NormalMapFile, FloatRawEncoding) {
     testing::TemporaryFolder folder;
     writeMap(folder / "raw.exr", OIIO::TypeDesc::FLOAT, false);
-    expectMap(normals::readNormalMap(folder / "raw.exr", NormalEncoding::kAuto), 1e-4);
-    expectMap(normals::readNormalMap(folder / "raw.exr", NormalEncoding::kRaw), 1e-4);
+    expectMap(normals::readNormalMap(folder / "raw.exr", capture::NormalEncoding::kAuto), 1e-4);
+    expectMap(normals::readNormalMap(folder / "raw.exr", capture::NormalEncoding::kRaw), 1e-4);
 }
 
 TEST(NormalMapFile, FloatOffsetEncodingWhenAskedFor) {
     testing::TemporaryFolder folder;
     writeMap(folder / "offset.exr", OIIO::TypeDesc::FLOAT, true);
-    expectMap(normals::readNormalMap(folder / "offset.exr", NormalEncoding::kOffsetRgb), 1e-4);
+    expectMap(normals::readNormalMap(folder / "offset.exr", capture::NormalEncoding::kOffsetRgb),
+              1e-4);
 }
 
 // SynthRTI sets: the dome's images against the rendered normals.png beside them.
 normals::AngularError stereoOnSynthRti(const std::filesystem::path& dome) {
-    const Capture capture = openCapture(dome);
+    const capture::Capture capture = capture::openCapture(dome);
     EXPECT_TRUE(capture.normalMap.has_value()) << dome;
     if (!capture.normalMap) {
         return {};
@@ -288,7 +290,8 @@ TEST(PhotometricStereoRealData, LoewenkopfNormalsFaceTheCamera) {
     if (!std::filesystem::exists(dir)) {
         GTEST_SKIP() << dir << " not found";
     }
-    const normals::NormalMap normals = normals::estimateNormals(openCapture(dir), stereoOptions());
+    const normals::NormalMap normals =
+        normals::estimateNormals(capture::openCapture(dir), stereoOptions());
     std::size_t valid = 0, facing = 0;
     double zSum = 0;
     for (std::size_t i = 0; i < normals.valid.size(); ++i) {

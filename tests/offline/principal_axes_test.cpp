@@ -45,7 +45,8 @@ KnownSet knownSet() {
 
 TEST(PrincipalAxes, FindsTheAxesInOrderWithTheirVariances) {
     const KnownSet set = knownSet();
-    const PrincipalAxes pca = principalAxes(set.count, 4, [&](std::size_t i) { return set.at(i); });
+    const common::PrincipalAxes pca =
+        common::principalAxes(set.count, 4, [&](std::size_t i) { return set.at(i); });
     ASSERT_EQ(pca.count(), 4);
     EXPECT_EQ(pca.samples, set.count);
     EXPECT_NEAR(pca.mean[0], 1.0, 0.05);
@@ -64,7 +65,8 @@ TEST(PrincipalAxes, FindsTheAxesInOrderWithTheirVariances) {
 
 TEST(PrincipalAxes, EachAxisHasItsLargestEntryPositive) {
     const KnownSet set = knownSet();
-    const PrincipalAxes pca = principalAxes(set.count, 4, [&](std::size_t i) { return set.at(i); });
+    const common::PrincipalAxes pca =
+        common::principalAxes(set.count, 4, [&](std::size_t i) { return set.at(i); });
     for (int k = 0; k < pca.count(); ++k) {
         Eigen::Index largest = 0;
         pca.axes.col(k).cwiseAbs().maxCoeff(&largest);
@@ -75,8 +77,8 @@ TEST(PrincipalAxes, EachAxisHasItsLargestEntryPositive) {
 
 TEST(PrincipalAxes, KeepsAsFewAxesAsTheSelectionAsks) {
     const KnownSet set = knownSet();
-    const auto count = [&](AxisSelection selection) {
-        return principalAxes(
+    const auto count = [&](common::AxisSelection selection) {
+        return common::principalAxes(
                    set.count, 4, [&](std::size_t i) { return set.at(i); }, selection)
             .count();
     };
@@ -88,21 +90,21 @@ TEST(PrincipalAxes, KeepsAsFewAxesAsTheSelectionAsks) {
     // The fourth axis has no variance: dropped when asked, kept when a rank is asked for.
     EXPECT_EQ(count({.dropBelow = 1e-9}), 3);
     EXPECT_EQ(count({.maxAxes = 4}), 4);
-    const PrincipalAxes two =
-        principalAxes(set.count, 4, [&](std::size_t i) { return set.at(i); }, {.maxAxes = 2});
+    const common::PrincipalAxes two = common::principalAxes(
+        set.count, 4, [&](std::size_t i) { return set.at(i); }, {.maxAxes = 2});
     EXPECT_NEAR(two.explained(), 13.0 / 13.25, 0.01);
 }
 
 TEST(PrincipalAxes, ASetWithoutVarianceStillGivesTheAxesAskedFor) {
     const std::vector<float> same(3 * 10, 0.5f);
     const auto at = [&](std::size_t i) { return &same[3 * i]; };
-    const PrincipalAxes ranked = principalAxes(10, 3, at, {.maxAxes = 2});
+    const common::PrincipalAxes ranked = common::principalAxes(10, 3, at, {.maxAxes = 2});
     EXPECT_EQ(ranked.count(), 2);
     EXPECT_EQ(ranked.totalVariance, 0.0);
     EXPECT_EQ(ranked.explained(), 0.0);
     EXPECT_NEAR(ranked.mean[1], 0.5, 1e-7);
-    EXPECT_EQ(principalAxes(10, 3, at, {.dropBelow = 1e-12}).count(), 0);
-    EXPECT_EQ(principalAxes(0, 3, at, {.maxAxes = 3}).samples, 0u);
+    EXPECT_EQ(common::principalAxes(10, 3, at, {.dropBelow = 1e-12}).count(), 0);
+    EXPECT_EQ(common::principalAxes(0, 3, at, {.maxAxes = 3}).samples, 0u);
 }
 
 }  // namespace

@@ -162,7 +162,7 @@ TEST(ProjectorCalibration, ReadsTheBaseFixture) {
     writeFile(folder / "p.yml", yamlWith("", ""));
     const ProjectorCalibration c = readProjectorCalibration(folder / "p.yml");
     EXPECT_EQ(c.width, 1920);
-    const Vec3d centre = c.center();
+    const proto::Vec3d centre = c.center();
     EXPECT_NEAR(centre.z, 0.8, 1e-15);
     EXPECT_NEAR(centre.y, 0.075, 1e-15);
 }
@@ -404,7 +404,7 @@ TEST(ProjectorCalibration, DemoProjectorFramesTheVase) {
     EXPECT_EQ(c.height, 1080);
     // 30° vertical field of view.
     EXPECT_NEAR(2 * std::atan(0.5 * c.height / c.K[4]) * 180 / M_PI, 30.0, 1e-9);
-    const Vec3d centre = c.center();
+    const proto::Vec3d centre = c.center();
     EXPECT_NEAR(centre.x, 0, 1e-15);
     EXPECT_NEAR(centre.y, 0.075, 1e-15);
     EXPECT_NEAR(centre.z, 0.8, 1e-15);

@@ -37,8 +37,8 @@ constexpr int kOutput = 32;
 
 // A smooth texture: per dimension two plane waves of 9–14 pixel periods, plus a little
 // noise, so neighbours are much closer than random pairs and the spectrum has a shape.
-CoefficientImage smoothSource() {
-    CoefficientImage image;
+model::CoefficientImage smoothSource() {
+    model::CoefficientImage image;
     image.width = kSourceWidth;
     image.height = kSourceHeight;
     image.dims = kDims;
@@ -82,8 +82,9 @@ std::vector<std::uint8_t> splitLabels() {
 }
 
 // The output a copying quilter makes from these positions.
-CoefficientImage copyOf(const CoefficientImage& source, const PositionMap& positions) {
-    CoefficientImage out;
+model::CoefficientImage copyOf(const model::CoefficientImage& source,
+                               const PositionMap& positions) {
+    model::CoefficientImage out;
     out.width = positions.width;
     out.height = positions.height;
     out.dims = source.dims;
@@ -133,7 +134,7 @@ PositionMap shuffle(int region, std::uint32_t seed) {
 }
 
 RegionQuality measure(const PositionMap& positions, int region = 0) {
-    static const CoefficientImage source = smoothSource();
+    static const model::CoefficientImage source = smoothSource();
     return quilt::measureRegionQuality(source, splitLabels(), region, copyOf(source, positions),
                                        positions, quilt::QualityOptions{});
 }
@@ -209,9 +210,9 @@ TEST(QuiltQuality, CopiesFromTheWrongRegionLowerCorrectness) {
 }
 
 TEST(QuiltQuality, CoefficientsThatAreNotCopiesAreReported) {
-    const CoefficientImage source = smoothSource();
+    const model::CoefficientImage source = smoothSource();
     const PositionMap positions = offsetCopy(2, 8);
-    CoefficientImage output = copyOf(source, positions);
+    model::CoefficientImage output = copyOf(source, positions);
     output.values[7 * kDims + 3] += 0.25f;
     const RegionQuality q = quilt::measureRegionQuality(source, splitLabels(), 0, output, positions,
                                                         quilt::QualityOptions{});
@@ -279,19 +280,19 @@ TEST(QuiltQualitySlicedWasserstein, MeasuresAShift) {
 
 // ---- files ----------------------------------------------------------------------------
 
-void writeModel(const std::filesystem::path& path, const CoefficientImage& image) {
-    ModelInfo info;
+void writeModel(const std::filesystem::path& path, const model::CoefficientImage& image) {
+    model::ModelInfo info;
     info.width = image.width;
     info.height = image.height;
     info.harmonics = image.harmonics;
-    ModelRows rows;
+    model::ModelRows rows;
     rows.resize(image.width, image.height, proto::coefficientCount(image.harmonics));
     rows.coefficient = image.values;  // the same [pixel][channel][k] layout
     for (std::size_t p = 0; p < image.valid.size(); ++p) {
         rows.valid[p] = image.valid[p];
         rows.normal[p * 3 + 2] = 1.0f;
     }
-    ModelWriter writer(path, info);
+    model::ModelWriter writer(path, info);
     writer.writeRows(0, rows);
     writer.finish();
 }
@@ -310,12 +311,12 @@ TEST(QuiltQualityPositions, PositionsRoundTripAndBadValuesAreNamed) {
     auto expectError = [&](const std::vector<float>& pixels,
                            const std::vector<std::string>& mentions) {
         const testing::TemporaryFolder bad;
-        writeImage(quilt::positionsPath(bad.path(), 0), 2, 1, 3, pixels, PixelFormat::kFloat,
-                   {"source.x", "source.y", "region"});
+        image::writeImage(quilt::positionsPath(bad.path(), 0), 2, 1, 3, pixels,
+                          image::PixelFormat::kFloat, {"source.x", "source.y", "region"});
         try {
             quilt::readPositionMaps(bad.path(), 2, 2, 1, 10, 10);
             ADD_FAILURE() << "no InputError";
-        } catch (const InputError& error) {
+        } catch (const common::InputError& error) {
             for (const std::string& mention : mentions) {
                 EXPECT_NE(std::string(error.what()).find(mention), std::string::npos)
                     << mention << " not in " << error.what();
@@ -330,19 +331,19 @@ TEST(QuiltQualityPositions, PositionsRoundTripAndBadValuesAreNamed) {
         const testing::TemporaryFolder twice;
         quilt::writePositionMap(quilt::positionsPath(twice.path(), 0), offsetCopy(0, 0, 4), 0);
         quilt::writePositionMap(twice.path() / "positions.exr", offsetCopy(1, 1, 4), 0);
-        EXPECT_THROW(quilt::readPositionMaps(twice.path(), 1, 4, 4, 10, 10), InputError);
+        EXPECT_THROW(quilt::readPositionMaps(twice.path(), 1, 4, 4, 10, 10), common::InputError);
     }
     const testing::TemporaryFolder empty;
-    EXPECT_THROW(quilt::readPositionMaps(empty.path(), 1, 4, 4, 10, 10), InputError);
+    EXPECT_THROW(quilt::readPositionMaps(empty.path(), 1, 4, 4, 10, 10), common::InputError);
 }
 
 constexpr auto& vpe = testing::vpeCommand;
 
 // A quilt folder as vpe quilt writes it: region 0 a verbatim copy, region 1 a shuffle.
 void writeQuiltFolder(const testing::TemporaryFolder& folder) {
-    const CoefficientImage source = smoothSource();
+    const model::CoefficientImage source = smoothSource();
     writeModel(folder / "model.exr", source);
-    writeImage8(folder / "labels.png", kSourceWidth, kSourceHeight, 1, splitLabels());
+    image::writeImage8(folder / "labels.png", kSourceWidth, kSourceHeight, 1, splitLabels());
     const PositionMap copy = offsetCopy(2, 8);
     const PositionMap shuffled = shuffle(1, 4);
     writeModel(folder / "quilt" / "region0.exr", copyOf(source, copy));
@@ -397,13 +398,13 @@ TEST(QuiltQualityCli, MissingOrMismatchedInputsExitTwo) {
                  (folder / "quilt").string()}));
     };
     // Labels of another size.
-    writeImage8(folder / "small.png", 4, 4, 1, std::vector<std::uint8_t>(16, 0));
+    image::writeImage8(folder / "small.png", 4, 4, 1, std::vector<std::uint8_t>(16, 0));
     testing::CommandResult result = run((folder / "small.png").string());
     EXPECT_EQ(result.exitStatus, 2) << result.err;
     EXPECT_NE(result.err.find("small.png"), std::string::npos) << result.err;
     // Labels without region 1.
-    writeImage8(folder / "one.png", kSourceWidth, kSourceHeight, 1,
-                std::vector<std::uint8_t>(kSourceWidth * kSourceHeight, 0));
+    image::writeImage8(folder / "one.png", kSourceWidth, kSourceHeight, 1,
+                       std::vector<std::uint8_t>(kSourceWidth * kSourceHeight, 0));
     result = run((folder / "one.png").string());
     EXPECT_EQ(result.exitStatus, 2) << result.err;
     EXPECT_NE(result.err.find("region 1"), std::string::npos) << result.err;

@@ -17,12 +17,12 @@
 namespace vpe::quilt {
 namespace {
 
-CoefficientImage texturedSource(int size, int channels, std::uint64_t seed) {
-    CoefficientImage source;
+model::CoefficientImage texturedSource(int size, int channels, std::uint64_t seed) {
+    model::CoefficientImage source;
     source.width = source.height = size;
     source.dims = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
-    GradientNoise noise(seed);
+    common::GradientNoise noise(seed);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             for (int c = 0; c < channels; ++c) {
@@ -45,7 +45,7 @@ std::vector<std::uint8_t> halves(int size) {  // left half region 0, right half 
 }
 
 TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
-    const CoefficientImage source = texturedSource(48, 6, 3);
+    const model::CoefficientImage source = texturedSource(48, 6, 3);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -63,7 +63,7 @@ TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
 }
 
 TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
-    const CoefficientImage source = texturedSource(64, 5, 4);
+    const model::CoefficientImage source = texturedSource(64, 5, 4);
     const std::vector<std::uint8_t> labels = halves(64);
     QuiltSettings settings;
     settings.block = 16;
@@ -81,7 +81,7 @@ TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
 }
 
 TEST(ImageQuilter, IsDeterministicForASeedWhateverTheThreads) {
-    const CoefficientImage source = texturedSource(64, 4, 5);
+    const model::CoefficientImage source = texturedSource(64, 4, 5);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -98,7 +98,7 @@ TEST(ImageQuilter, IsDeterministicForASeedWhateverTheThreads) {
 }
 
 TEST(ImageQuilter, CopiesWholeBlocksAndUsesManyOfThem) {
-    const CoefficientImage source = texturedSource(64, 4, 6);
+    const model::CoefficientImage source = texturedSource(64, 4, 6);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -123,7 +123,7 @@ TEST(ImageQuilter, CopiesWholeBlocksAndUsesManyOfThem) {
 }
 
 TEST(ImageQuilter, ShrinksTheBlockForAThinRegionAndRefusesATooThinOne) {
-    const CoefficientImage source = texturedSource(64, 3, 7);
+    const model::CoefficientImage source = texturedSource(64, 3, 7);
     std::vector<std::uint8_t> labels(64 * 64, 0);
     for (int y = 0; y < 64; ++y) {
         for (int x = 20; x < 32; ++x) {
@@ -137,11 +137,11 @@ TEST(ImageQuilter, ShrinksTheBlockForAThinRegionAndRefusesATooThinOne) {
     const RegionQuilt band = quiltRegion(source, labels, 1, 40, 40, settings);
     EXPECT_LE(band.block, 12);
     EXPECT_GE(band.block, 8);
-    EXPECT_THROW(quiltRegion(source, labels, 2, 40, 40, settings), InputError);
+    EXPECT_THROW(quiltRegion(source, labels, 2, 40, 40, settings), common::InputError);
 }
 
 // The quilted values (all channels) of a quilt of `source`.
-std::vector<float> quiltedValues(const CoefficientImage& source, const RegionQuilt& quilt) {
+std::vector<float> quiltedValues(const model::CoefficientImage& source, const RegionQuilt& quilt) {
     std::vector<float> values;
     values.reserve(quilt.sourceX.size() * static_cast<std::size_t>(source.dims));
     for (std::size_t i = 0; i < quilt.sourceX.size(); ++i) {
@@ -157,7 +157,7 @@ std::vector<float> quiltedValues(const CoefficientImage& source, const RegionQui
 // (each block overlapping the other on both sides) to many, including three a row (whose
 // wavefront needs a wider skew) and widths that do not divide into equal steps.
 TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
-    const CoefficientImage source = texturedSource(64, 4, 8);
+    const model::CoefficientImage source = texturedSource(64, 4, 8);
     const std::vector<std::uint8_t> labels(64 * 64, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -190,7 +190,7 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
 }
 
 TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
-    const CoefficientImage source = texturedSource(48, 6, 9);
+    const model::CoefficientImage source = texturedSource(48, 6, 9);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -216,7 +216,7 @@ TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
 }
 
 TEST(ImageQuilter, RefusesToWrapATextureNoWiderThanABlock) {
-    const CoefficientImage source = texturedSource(48, 3, 10);
+    const model::CoefficientImage source = texturedSource(48, 3, 10);
     const std::vector<std::uint8_t> labels(48 * 48, 0);
     QuiltSettings settings;
     settings.block = 16;
@@ -225,13 +225,13 @@ TEST(ImageQuilter, RefusesToWrapATextureNoWiderThanABlock) {
     try {
         quiltRegion(source, labels, 0, 16, 40, settings);
         FAIL() << "a 16-pixel-wide texture cannot wrap with 16-pixel blocks";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find("wraps in u cannot be 16 pixels wide"),
                   std::string::npos)
             << error.what();
         EXPECT_NE(std::string(error.what()).find("at least 18"), std::string::npos) << error.what();
     }
-    EXPECT_THROW(quiltRegion(source, labels, 0, 17, 40, settings), InputError);
+    EXPECT_THROW(quiltRegion(source, labels, 0, 17, 40, settings), common::InputError);
     EXPECT_NO_THROW(quiltRegion(source, labels, 0, 18, 40, settings));
 }
 

@@ -68,7 +68,7 @@ TEST_F(ExportRelight, ReadsBackCloseToTheModel) {
     EXPECT_EQ(reader.planes(), 9);
     EXPECT_EQ(reader.resolution(), 8);
     // The capture's lights are recorded, as Relight records them.
-    EXPECT_EQ(reader.lights().size(), openCapture(capturePath()).images.size());
+    EXPECT_EQ(reader.lights().size(), capture::openCapture(capturePath()).images.size());
     // Measured 35.95 dB mean, 28.55 dB worst (a 20° light) on this capture (R = 8, K = 9,
     // quality 95, least-squares nodes).
     std::printf("[ measure  ] synthetic round trip: mean %.2f dB, worst %.2f dB\n",

@@ -54,8 +54,8 @@ const char* const kProject = R"({
 
 std::string rejectionOf(const std::string& text) {
     try {
-        parseRelightProject(text, kSource);
-    } catch (const InputError& error) {
+        capture::parseRelightProject(text, kSource);
+    } catch (const common::InputError& error) {
         const std::string message = error.what();
         EXPECT_EQ(message.rfind(kSource.string() + ": ", 0), 0u) << message;
         return message;
@@ -72,8 +72,8 @@ std::string edited(const std::string& from, const std::string& to) {
 }
 
 TEST(RelightProjectReader, ReadsImagesAndDirectionsOfTheVisibleImages) {
-    const Capture capture = parseRelightProject(kProject, kSource);
-    EXPECT_EQ(capture.lightKind, LightKind::kDirectional);
+    const capture::Capture capture = capture::parseRelightProject(kProject, kSource);
+    EXPECT_EQ(capture.lightKind, capture::LightKind::kDirectional);
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].file, std::filesystem::path("/captures/door/photos/IMG_0001.JPG"));
     EXPECT_EQ(capture.images[1].file, std::filesystem::path("/captures/door/photos/IMG 0002.JPG"));
@@ -87,7 +87,7 @@ TEST(RelightProjectReader, ReadsImagesAndDirectionsOfTheVisibleImages) {
 TEST(RelightProjectReader, OpenCaptureTakesAProjectFile) {
     testing::TemporaryFolder folder;
     std::ofstream(folder / "scan.relight") << kProject;
-    const Capture capture = openCapture(folder / "scan.relight");
+    const capture::Capture capture = capture::openCapture(folder / "scan.relight");
     ASSERT_EQ(capture.images.size(), 2u);
     EXPECT_EQ(capture.images[0].file, folder / "photos" / "IMG_0001.JPG");
 }

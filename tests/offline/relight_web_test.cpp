@@ -25,18 +25,18 @@ constexpr int kHeight = 48;
 
 // A smooth relightable surface: a bumpy height field with varying albedo, Lambertian plus a
 // broad Blinn-Phong lobe, seen from +z; sRGB-encoded as photographs are.
-void renderSynthetic(const Vec3d& light, std::vector<float>& rgb) {
+void renderSynthetic(const proto::Vec3d& light, std::vector<float>& rgb) {
     for (int y = 0; y < kHeight; ++y) {
         for (int x = 0; x < kWidth; ++x) {
             const double u = x / double(kWidth);
             const double v = y / double(kHeight);
-            Vec3d n{0.35 * std::cos(6.0 * u) * std::sin(4.0 * v), 0.3 * std::sin(5.0 * u + 1.0),
-                    1.0};
+            proto::Vec3d n{0.35 * std::cos(6.0 * u) * std::sin(4.0 * v),
+                           0.3 * std::sin(5.0 * u + 1.0), 1.0};
             const double len = std::sqrt(proto::dot(n, n));
-            n = Vec3d{n.x / len, n.y / len, n.z / len};
+            n = proto::Vec3d{n.x / len, n.y / len, n.z / len};
             const double albedo[3] = {0.35 + 0.3 * u, 0.45 + 0.2 * v, 0.3 + 0.2 * u * v};
             const double diffuse = std::max(0.0, proto::dot(n, light));
-            Vec3d h{light.x, light.y, light.z + 1.0};
+            proto::Vec3d h{light.x, light.y, light.z + 1.0};
             const double hl = std::sqrt(proto::dot(h, h));
             const double specular =
                 0.15 * std::pow(std::max(0.0, proto::dot(n, h) / hl), 12.0) * (diffuse > 0);
@@ -62,7 +62,7 @@ TEST(BilinearLightGrid, EveryNodeLooksUpItself) {
     for (const int resolution : {2, 8, 13}) {
         const relight_web::BilinearLightGrid grid(resolution);
         for (int node = 0; node < grid.nodeCount(); ++node) {
-            const Vec3d d = grid.nodeDirection(node);
+            const proto::Vec3d d = grid.nodeDirection(node);
             EXPECT_NEAR(proto::dot(d, d), 1.0, 1e-12);
             EXPECT_GE(d.z, 0.0);
             double weightOfNode = 0;
@@ -79,10 +79,10 @@ TEST(BilinearLightGrid, EveryNodeLooksUpItself) {
 
 TEST(BilinearLightGrid, ZenithIsTheSquaresCentreAndCornersTheHorizon) {
     const relight_web::BilinearLightGrid grid(9);
-    const Vec3d centre = grid.nodeDirection(4 + 4 * 9);
+    const proto::Vec3d centre = grid.nodeDirection(4 + 4 * 9);
     EXPECT_NEAR(centre.z, 1.0, 1e-12);
     // Node (R−1, 0): u = 1, v = −1 → towards +x on the horizon (OpenLIME's 45° rotation).
-    const Vec3d corner = grid.nodeDirection(8);
+    const proto::Vec3d corner = grid.nodeDirection(8);
     EXPECT_NEAR(corner.x, 1.0, 1e-12);
     EXPECT_NEAR(corner.z, 0.0, 1e-12);
 }
@@ -93,10 +93,11 @@ struct Psnrs {
 };
 
 // The reader's pictures against the source under `lights`.
-Psnrs compare(const relight_web::RelightWebReader& reader, const std::vector<Vec3d>& lights) {
+Psnrs compare(const relight_web::RelightWebReader& reader,
+              const std::vector<proto::Vec3d>& lights) {
     std::vector<float> truth(static_cast<std::size_t>(kWidth) * kHeight * 3);
     Psnrs result;
-    for (const Vec3d& light : lights) {
+    for (const proto::Vec3d& light : lights) {
         renderSynthetic(light, truth);
         const double value = psnr(reader.relight(light), truth);
         result.mean += value / static_cast<double>(lights.size());
@@ -105,9 +106,9 @@ Psnrs compare(const relight_web::RelightWebReader& reader, const std::vector<Vec
     return result;
 }
 
-std::vector<Vec3d> gridLights(int resolution) {
+std::vector<proto::Vec3d> gridLights(int resolution) {
     const relight_web::BilinearLightGrid grid(resolution);
-    std::vector<Vec3d> lights;
+    std::vector<proto::Vec3d> lights;
     for (int node = 0; node < grid.nodeCount(); ++node) {
         lights.push_back(grid.nodeDirection(node));
     }
@@ -115,11 +116,11 @@ std::vector<Vec3d> gridLights(int resolution) {
 }
 
 // Lights a viewer picks: anywhere between 20° and 85° of elevation, seeded.
-std::vector<Vec3d> viewerLights() {
+std::vector<proto::Vec3d> viewerLights() {
     std::mt19937 random(7);
     std::uniform_real_distribution<double> azimuth(0, 2 * M_PI);
     std::uniform_real_distribution<double> elevation(20 * M_PI / 180, 85 * M_PI / 180);
-    std::vector<Vec3d> lights;
+    std::vector<proto::Vec3d> lights;
     for (int i = 0; i < 24; ++i) {
         const double a = azimuth(random);
         const double e = elevation(random);
@@ -137,7 +138,7 @@ protected:
         options.planes = 9;
         summary_ = relight_web::writeRelightWeb(folder_->path() / "export", kWidth, kHeight,
                                                 renderSynthetic, options,
-                                                {Vec3d{0, 0, 1}, Vec3d{0.6, 0, 0.8}});
+                                                {proto::Vec3d{0, 0, 1}, proto::Vec3d{0.6, 0, 0.8}});
         options.grid = relight_web::GridValues::kNodes;
         relight_web::writeRelightWeb(folder_->path() / "nodes", kWidth, kHeight, renderSynthetic,
                                      options);
@@ -207,7 +208,7 @@ TEST_F(RelightWebRoundTrip, LeastSquaresNodesRelightViewerLightsCloseToTheSource
 std::string rejectionOf(const std::filesystem::path& folder) {
     try {
         relight_web::RelightWebReader reader(folder);
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         return error.what();
     }
     ADD_FAILURE() << "accepted " << folder;
@@ -287,7 +288,7 @@ TEST(RelightWebEncoder, RefusesPlaneCountsOpenLimeCannotRead) {
     testing::TemporaryFolder folder;
     EXPECT_THROW(
         relight_web::writeRelightWeb(folder / "x", kWidth, kHeight, renderSynthetic, options),
-        InputError);
+        common::InputError);
     EXPECT_FALSE(std::filesystem::exists(folder / "x"));
 }
 

@@ -38,13 +38,13 @@ TEST(RtiBasis, ParsesTheModelNames) {
         {"ptm", "ptm6"},  {"ptm6", "ptm6"}, {"ptm10", "ptm10"}, {"hsh", "hsh16"},
         {"hsh4", "hsh4"}, {"hsh9", "hsh9"}, {"hsh16", "hsh16"}, {"hsh25", "hsh25"}};
     for (const auto& [spec, name] : valid) {
-        const std::optional<RtiBasis> basis = RtiBasis::parse(spec);
+        const std::optional<model::RtiBasis> basis = model::RtiBasis::parse(spec);
         ASSERT_TRUE(basis) << spec;
         EXPECT_EQ(basis->name(), name);
     }
     for (const char* spec :
          {"", "pt", "ptm7", "ptm:6", "hsh8", "hsh016", "hsh36", "ptm6x", "PTM6", "lrgb", "paper"}) {
-        EXPECT_FALSE(RtiBasis::parse(spec)) << spec;
+        EXPECT_FALSE(model::RtiBasis::parse(spec)) << spec;
     }
 }
 
@@ -54,8 +54,8 @@ struct KnownCapture {
     std::vector<float> coefficients;  // pixel-major, then channel, then term
 };
 
-KnownCapture writeKnownCapture(const std::filesystem::path& folder, const RtiBasis& basis,
-                               const std::vector<Vec3d>& lights, int width, int height) {
+KnownCapture writeKnownCapture(const std::filesystem::path& folder, const model::RtiBasis& basis,
+                               const std::vector<proto::Vec3d>& lights, int width, int height) {
     std::filesystem::create_directories(folder);
     const int terms = basis.terms;
     std::vector<std::vector<double>> design(lights.size(), std::vector<double>(terms));
@@ -63,7 +63,7 @@ KnownCapture writeKnownCapture(const std::filesystem::path& folder, const RtiBas
         basis.evaluate(lights[s], design[s].data());
     }
     // The constant term: PTM's last, HSH's first.
-    const int constantTerm = basis.kind == RtiBasis::Kind::kPtm ? 5 : 0;
+    const int constantTerm = basis.kind == model::RtiBasis::Kind::kPtm ? 5 : 0;
     const double constantValue = design[0][static_cast<std::size_t>(constantTerm)];
 
     std::mt19937 random(7);
@@ -124,10 +124,10 @@ class RtiBasisRecovery : public ::testing::TestWithParam<const char*> {};
 // The fit is linear least squares on exact data: it gives the coefficients back to float
 // precision, and predicts the held-out lights (every 4th) as well.
 TEST_P(RtiBasisRecovery, FitRecoversAKnownBasisAndEvalScoresTheHeldOutLights) {
-    const RtiBasis basis = *RtiBasis::parse(GetParam());
+    const model::RtiBasis basis = *model::RtiBasis::parse(GetParam());
     testing::TemporaryFolder folder;
     constexpr int kWidth = 7, kHeight = 5;
-    const std::vector<Vec3d> lights = testing::domeLights({15, 35, 55, 75}, 10, 7);
+    const std::vector<proto::Vec3d> lights = testing::domeLights({15, 35, 55, 75}, 10, 7);
     const KnownCapture known =
         writeKnownCapture(folder / "capture", basis, lights, kWidth, kHeight);
     const std::filesystem::path model = folder / "model.exr";
@@ -140,10 +140,10 @@ TEST_P(RtiBasisRecovery, FitRecoversAKnownBasisAndEvalScoresTheHeldOutLights) {
     EXPECT_EQ(fitJson.at("basis"), basis.name());
     EXPECT_FALSE(std::filesystem::exists(folder / "model.preview.png"));
 
-    ModelReader reader(model, ModelKinds::kAny);
+    model::ModelReader reader(model, model::ModelKinds::kAny);
     ASSERT_TRUE(reader.info().rtiBasis());
     EXPECT_EQ(reader.info().rtiBasis()->name(), basis.name());
-    ModelRows rows;
+    model::ModelRows rows;
     reader.readRows(0, kHeight, rows);
     double worst = 0;
     for (int y = 0; y < kHeight; ++y) {
@@ -179,7 +179,7 @@ INSTANTIATE_TEST_SUITE_P(Bases, RtiBasisRecovery,
 
 TEST(RtiBasis, BadModelNamesExitTwoWithOneLine) {
     testing::TemporaryFolder folder;
-    writeKnownCapture(folder / "capture", *RtiBasis::parse("ptm6"),
+    writeKnownCapture(folder / "capture", *model::RtiBasis::parse("ptm6"),
                       testing::domeLights({30, 60}, 8), 3, 2);
     for (const char* model : {"ptm7", "hsh:16", "rbf"}) {
         const CommandResult result =
@@ -193,7 +193,7 @@ TEST(RtiBasis, BadModelNamesExitTwoWithOneLine) {
 // Too few training lights for the basis: refused before anything is written.
 TEST(RtiBasis, TooFewLightsForTheBasisExitTwo) {
     testing::TemporaryFolder folder;
-    writeKnownCapture(folder / "capture", *RtiBasis::parse("ptm6"),
+    writeKnownCapture(folder / "capture", *model::RtiBasis::parse("ptm6"),
                       testing::domeLights({30, 60}, 6), 3, 2);
     const CommandResult result =
         runCommand(vpe({"fit", (folder / "capture" / "dirs.lp").string(), "--model", "hsh16",
@@ -205,7 +205,7 @@ TEST(RtiBasis, TooFewLightsForTheBasisExitTwo) {
 // What needs a BRDF refuses an RTI basis fit with one line naming it.
 TEST(RtiBasis, BrdfConsumersRefuseAnRtiFit) {
     testing::TemporaryFolder folder;
-    writeKnownCapture(folder / "capture", *RtiBasis::parse("ptm6"),
+    writeKnownCapture(folder / "capture", *model::RtiBasis::parse("ptm6"),
                       testing::domeLights({30, 60}, 8), 3, 2);
     const std::filesystem::path model = folder / "m.exr";
     ASSERT_EQ(runCommand(vpe({"fit", (folder / "capture" / "dirs.lp").string(), "--model", "ptm6",
@@ -214,7 +214,7 @@ TEST(RtiBasis, BrdfConsumersRefuseAnRtiFit) {
               0);
     std::string message;
     try {
-        const ModelReader reader(model);
+        const model::ModelReader reader(model);
     } catch (const std::exception& error) {
         message = error.what();
     }

@@ -20,7 +20,7 @@ namespace vpe::scene::test {
 inline std::string errorOf(const std::function<void()>& f) {
     try {
         f();
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         return error.what();
     }
     ADD_FAILURE() << "no InputError thrown";

@@ -76,11 +76,11 @@ TEST_F(SeamTest, QuiltedCoefficientMapsTileInU) {
     for (const std::string wrap : {"on", "off"}) {
         const std::string dir = quilt(wrap);
         for (int region = 0; region < 2; ++region) {
-            ModelReader reader(dir + "/region" + std::to_string(region) + ".exr");
-            const ModelInfo info = reader.info();
+            model::ModelReader reader(dir + "/region" + std::to_string(region) + ".exr");
+            const model::ModelInfo info = reader.info();
             EXPECT_EQ(info.tilesU, wrap == "on");
             EXPECT_GT(info.texelMm, 0.0);
-            ModelRows rows;
+            model::ModelRows rows;
             reader.readRows(0, info.height, rows);
             const quilt::SeamStatistics seam = quilt::measureSeam(
                 rows.coefficient, info.width, info.height, 3 * rows.coefficients);

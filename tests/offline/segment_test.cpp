@@ -111,13 +111,13 @@ TEST(SeededSegmentation, LabelsFollowTheSeedsOrderAndBadSeedsAreNamed) {
     try {
         segment::segmentAppearance(appearance, options);
         FAIL() << "a seed outside the model was accepted";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find("(30, 5)"), std::string::npos) << error.what();
     }
     segment::Appearance holes = appearance;
     holes.valid[holes.pixel(4, 5)] = 0;
     options.seeds = {{4, 5}, {25, 5}};
-    EXPECT_THROW(segment::segmentAppearance(holes, options), InputError);
+    EXPECT_THROW(segment::segmentAppearance(holes, options), common::InputError);
 }
 
 TEST(Islands, SmallRegionsJoinTheLabelAroundThem) {
@@ -210,7 +210,7 @@ TEST(LabelFiles, RoundTripAndRefuseWhatIsNotALabelImage) {
     const segment::LabelMap read = segment::readLabelImage(folder / "labels.png");
     EXPECT_EQ(read.values, map.values);
     EXPECT_EQ(read.labels, 4);
-    EXPECT_THROW(segment::readLabelImage(folder / "missing.png"), InputError);
+    EXPECT_THROW(segment::readLabelImage(folder / "missing.png"), common::InputError);
     EXPECT_EQ(segment::overlayPathFor("dir/labels.png"),
               std::filesystem::path("dir/labels-overlay.png"));
 }

@@ -292,12 +292,12 @@ TEST(StrokePattern, DefaultsComeFromTheLabelMap) {
 void writeUniformRegionMaps(const std::filesystem::path& folder, int regions, int width,
                             int height) {
     for (int region = 0; region < regions; ++region) {
-        ModelInfo info;
+        model::ModelInfo info;
         info.width = width;
         info.height = height;
         info.harmonics = 1;
         info.capture = "stroke pattern test";
-        ModelRows rows;
+        model::ModelRows rows;
         const int k = proto::coefficientCount(1);
         rows.resize(width, height, k);
         for (std::size_t p = 0; p < static_cast<std::size_t>(width) * height; ++p) {
@@ -307,7 +307,7 @@ void writeUniformRegionMaps(const std::filesystem::path& folder, int regions, in
                 rows.coefficient[p * 3 * k + static_cast<std::size_t>(i)] = 0.1f * (region + 1);
             }
         }
-        ModelWriter writer(quilt::regionMapPath(folder, region), info);
+        model::ModelWriter writer(quilt::regionMapPath(folder, region), info);
         writer.writeRows(0, rows);
         writer.finish();
     }
@@ -387,7 +387,7 @@ TEST(WeightsCommand, DrawsASpecWithoutRegionMaps) {
     EXPECT_TRUE(report["raw"].get<bool>());
     EXPECT_NEAR(report["strokes"][0]["composed"]["coverage"].get<double>(), 0.2, 0.05);
     // One grey tile and the colour tile, side by side, 4 pixels apart.
-    const FloatImage picture = readImage(out);
+    const image::FloatImage picture = image::readImage(out);
     EXPECT_EQ(picture.width, 2 * 120 + 4);
     EXPECT_EQ(picture.height, 80);
     testing::expectInputError(

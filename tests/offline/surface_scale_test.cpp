@@ -85,13 +85,13 @@ TEST(SurfaceScale, RefusesSizesBeyondTheLimitByName) {
     try {
         chooseTextureSize(scale, 0.04, 4096);  // 5000 × 2500
         FAIL() << "5000 texels is over the limit";
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         const std::string what = error.what();
         EXPECT_NE(what.find("5000x2500"), std::string::npos) << what;
         EXPECT_NE(what.find("4096"), std::string::npos) << what;
     }
-    EXPECT_THROW(chooseTextureSize(scale, 100.0, 4096), InputError);  // 2 × 1
-    EXPECT_THROW(chooseTextureSize(scale, 0.0, 4096), InputError);
+    EXPECT_THROW(chooseTextureSize(scale, 100.0, 4096), common::InputError);  // 2 × 1
+    EXPECT_THROW(chooseTextureSize(scale, 0.0, 4096), common::InputError);
 }
 
 TEST(SurfaceScale, FindsTheSeamOfAWrappedMesh) {

@@ -28,8 +28,8 @@ TEST(MicrofacetBrdf, FlatPatchLitHeadOnHasTheClosedForm) {
     material.albedo = {0.2, 0.4, 0.6};
     material.roughness = 0.3;
     material.f0 = 0.04;
-    const Vec3d z{0, 0, 1};
-    const Vec3d radiance = microfacetRadiance(material, z, z, z);
+    const proto::Vec3d z{0, 0, 1};
+    const proto::Vec3d radiance = microfacetRadiance(material, z, z, z);
     const double specular = 0.04 / (4 * 0.3 * 0.3);
     EXPECT_NEAR(radiance.x, 0.2 + specular, 1e-12);
     EXPECT_NEAR(radiance.y, 0.4 + specular, 1e-12);
@@ -42,21 +42,21 @@ TEST(MicrofacetBrdf, DiffusePartIsAlbedoTimesCosine) {
     dark.albedo = {0.1, 0.1, 0.1};
     light.albedo = {0.6, 0.6, 0.6};
     const double e = 60.0 * M_PI / 180.0;
-    const Vec3d toLight{std::cos(e), 0, std::sin(e)};
-    const Vec3d n{0, 0, 1}, v = proto::normalized(Vec3d{0.2, 0.1, 1.0});
+    const proto::Vec3d toLight{std::cos(e), 0, std::sin(e)};
+    const proto::Vec3d n{0, 0, 1}, v = proto::normalized(proto::Vec3d{0.2, 0.1, 1.0});
     EXPECT_NEAR(
         microfacetRadiance(light, n, toLight, v).x - microfacetRadiance(dark, n, toLight, v).x,
         0.5 * std::sin(e), 1e-12);
     // Below the horizon nothing is reflected.
-    EXPECT_EQ(microfacetRadiance(light, n, proto::normalized(Vec3d{1, 0, -0.1}), v).x, 0.0);
+    EXPECT_EQ(microfacetRadiance(light, n, proto::normalized(proto::Vec3d{1, 0, -0.1}), v).x, 0.0);
 }
 
 TEST(MicrofacetBrdf, IsReciprocal) {
     MicrofacetMaterial material;
     material.roughness = 0.2;
-    const Vec3d n{0, 0, 1};
-    const Vec3d a = proto::normalized(Vec3d{0.3, 0.1, 0.9});
-    const Vec3d b = proto::normalized(Vec3d{-0.5, 0.2, 0.7});
+    const proto::Vec3d n{0, 0, 1};
+    const proto::Vec3d a = proto::normalized(proto::Vec3d{0.3, 0.1, 0.9});
+    const proto::Vec3d b = proto::normalized(proto::Vec3d{-0.5, 0.2, 0.7});
     // f(a, b) = radiance / cos: swapping light and view must not change f.
     const double fab = microfacetRadiance(material, n, a, b).x / proto::dot(n, a);
     const double fba = microfacetRadiance(material, n, b, a).x / proto::dot(n, b);
@@ -77,34 +77,36 @@ TEST(Synth, ImagesEqualTheClosedFormAtSampledPixels) {
     options.encoding = SynthEncoding::kExr;  // no quantization
     options.shadows = false;
     synthesizeCapture(options);
-    const FloatImage normals = readImage(folder / "capture/truth/normals.exr");
-    const FloatImage positions = readImage(folder / "capture/truth/positions.exr");
-    const FloatImage parameters = readImage(folder / "capture/truth/parameters.exr");
+    const image::FloatImage normals = image::readImage(folder / "capture/truth/normals.exr");
+    const image::FloatImage positions = image::readImage(folder / "capture/truth/positions.exr");
+    const image::FloatImage parameters = image::readImage(folder / "capture/truth/parameters.exr");
     std::ifstream manifestFile(folder / "capture/train/capture.json");
     const nlohmann::json manifest = nlohmann::json::parse(manifestFile);
     const double reference = manifest["lights"]["reference_distance"];
     const std::vector<double> t = manifest["camera"]["translation"];
-    const Vec3d camera{0, 0, t[2]};  // rotation diag(1, −1, −1): centre (0, 0, t_z)
+    const proto::Vec3d camera{0, 0, t[2]};  // rotation diag(1, −1, −1): centre (0, 0, t_z)
     int checked = 0;
     for (int image : {0, 137, 300}) {
         const auto& entry = manifest["images"][static_cast<std::size_t>(image)];
         const std::vector<double> l = entry["light"];
-        const FloatImage rendered =
-            readImage(folder / "capture/train" / entry["file"].get<std::string>());
+        const image::FloatImage rendered =
+            image::readImage(folder / "capture/train" / entry["file"].get<std::string>());
         for (int y : {5, 12, 19}) {
             for (int x : {4, 12, 20}) {
-                const Vec3d n{normals.at(x, y, 0), normals.at(x, y, 1), normals.at(x, y, 2)};
-                const Vec3d p{positions.at(x, y, 0), positions.at(x, y, 1), positions.at(x, y, 2)};
-                const Vec3d d{l[0] - p.x, l[1] - p.y, l[2] - p.z};
+                const proto::Vec3d n{normals.at(x, y, 0), normals.at(x, y, 1), normals.at(x, y, 2)};
+                const proto::Vec3d p{positions.at(x, y, 0), positions.at(x, y, 1),
+                                     positions.at(x, y, 2)};
+                const proto::Vec3d d{l[0] - p.x, l[1] - p.y, l[2] - p.z};
                 const double irradiance = reference * reference / proto::dot(d, d);
                 MicrofacetMaterial material;
                 material.albedo = {parameters.at(x, y, 0), parameters.at(x, y, 1),
                                    parameters.at(x, y, 2)};
                 material.roughness = parameters.at(x, y, 3);
                 material.f0 = parameters.at(x, y, 4);
-                const Vec3d expected = microfacetRadiance(
-                    material, n, proto::normalized(d),
-                    proto::normalized(Vec3d{camera.x - p.x, camera.y - p.y, camera.z - p.z}));
+                const proto::Vec3d expected =
+                    microfacetRadiance(material, n, proto::normalized(d),
+                                       proto::normalized(proto::Vec3d{
+                                           camera.x - p.x, camera.y - p.y, camera.z - p.z}));
                 // The files hold floats; geometry was stored at float precision.
                 EXPECT_NEAR(rendered.at(x, y, 0), irradiance * expected.x, 2e-4)
                     << image << " " << x << "," << y;
@@ -167,20 +169,22 @@ TEST(Synth, FitOfAFourierTruthIsExact) {
     fit.harmonics = 4;
     fit.lambda = 0.0;  // exact accumulation
     fit.writePreview = false;
-    fit::fitCapture(openCapture(folder / "capture/train"), fit, folder / "model.exr");
-    const eval::EvaluationReport report = eval::evaluateModel(
-        folder / "model.exr", openCapture(folder / "capture/test"), eval::EvaluationOptions{});
+    fit::fitCapture(capture::openCapture(folder / "capture/train"), fit, folder / "model.exr");
+    const eval::EvaluationReport report =
+        eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "capture/test"),
+                            eval::EvaluationOptions{});
     EXPECT_GT(report.psnr, 80.0);
     // The truth file is itself a model: evaluating it reproduces the test images exactly.
-    const eval::EvaluationReport truth =
-        eval::evaluateModel(folder / "capture/truth/fourier.exr",
-                            openCapture(folder / "capture/test"), eval::EvaluationOptions{});
+    const eval::EvaluationReport truth = eval::evaluateModel(
+        folder / "capture/truth/fourier.exr", capture::openCapture(folder / "capture/test"),
+        eval::EvaluationOptions{});
     EXPECT_GT(truth.psnr, 90.0);
     // The physical scale travels: manifest → fit → model; and the truth carries it too.
     const double texel = 108.38 / 24;  // 100 mm a unit, 1.0838 units across the front
-    EXPECT_NEAR(*openCapture(folder / "capture/train").texelMm, texel, 0.01);
-    EXPECT_NEAR(ModelReader(folder / "model.exr").info().texelMm, texel, 0.01);
-    EXPECT_NEAR(ModelReader(folder / "capture/truth/fourier.exr").info().texelMm, texel, 0.01);
+    EXPECT_NEAR(*capture::openCapture(folder / "capture/train").texelMm, texel, 0.01);
+    EXPECT_NEAR(model::ModelReader(folder / "model.exr").info().texelMm, texel, 0.01);
+    EXPECT_NEAR(model::ModelReader(folder / "capture/truth/fourier.exr").info().texelMm, texel,
+                0.01);
 }
 
 TEST(Synth, RefusesToReplaceAFolderItDidNotWrite) {
@@ -188,7 +192,7 @@ TEST(Synth, RefusesToReplaceAFolderItDidNotWrite) {
     std::filesystem::create_directories(folder / "precious");
     std::ofstream(folder / "precious/notes.txt") << "keep me";
     SynthOptions options = smallOptions(folder / "precious");
-    EXPECT_THROW(synthesizeCapture(options), InputError);
+    EXPECT_THROW(synthesizeCapture(options), common::InputError);
     EXPECT_TRUE(std::filesystem::exists(folder / "precious/notes.txt"));
     // But it does replace its own output.
     options.out = folder / "capture";

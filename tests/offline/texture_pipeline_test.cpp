@@ -105,16 +105,16 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
     }
     // The relief travels with its texels: every quilted pixel's detail normal is its source's.
     {
-        ModelReader source(model());
+        model::ModelReader source(model());
         ASSERT_TRUE(source.info().detailNormals);
-        ModelRows sourceRows;
+        model::ModelRows sourceRows;
         source.readRows(0, source.info().height, sourceRows);
         const std::vector<quilt::PositionMap> positions =
             quilt::readPositionMaps(quilt, 2, 96, 80, source.info().width, source.info().height);
         for (int region = 0; region < 2; ++region) {
-            ModelReader quilted(quilt::regionMapPath(quilt, region));
+            model::ModelReader quilted(quilt::regionMapPath(quilt, region));
             ASSERT_TRUE(quilted.info().detailNormals);
-            ModelRows rows;
+            model::ModelRows rows;
             quilted.readRows(0, 80, rows);
             std::size_t differing = 0, tilted = 0;
             for (int y = 0; y < 80; ++y) {
@@ -151,9 +151,9 @@ TEST_F(TexturePipeline, QuiltMeasureAndCompose) {
     EXPECT_NEAR(lastJsonLine(result.out)["weights"][0]["mean"].get<double>(), 0.5, 0.1);
     // The composite carries the blended relief, unit length.
     {
-        ModelReader composed(path("composed.exr"));
+        model::ModelReader composed(path("composed.exr"));
         ASSERT_TRUE(composed.info().detailNormals);
-        ModelRows rows;
+        model::ModelRows rows;
         composed.readRows(0, 80, rows);
         for (std::size_t p = 0; p < rows.valid.size(); ++p) {
             const double length =
@@ -226,7 +226,7 @@ TEST_F(TexturePipeline, QuiltSizesItselfForTheScreenObjectAndTilesAroundIt) {
 // The fit wrote half floats (its default); quilt and compose keep their input's storage
 // unless --storage says otherwise.
 TEST_F(TexturePipeline, QuiltAndComposeWriteTheirInputsStorageUnlessTold) {
-    ASSERT_EQ(ModelReader(model()).info().storage, ModelStorage::kHalf);
+    ASSERT_EQ(model::ModelReader(model()).info().storage, model::ModelStorage::kHalf);
     ASSERT_EQ(
         runCommand(vpe({"segment", model(), "--out", path("st.png"), "--auto", "2"})).exitStatus,
         0);
@@ -240,18 +240,20 @@ TEST_F(TexturePipeline, QuiltAndComposeWriteTheirInputsStorageUnlessTold) {
         }
         testing::CommandResult result = runCommand(vpe(arguments));
         ASSERT_EQ(result.exitStatus, 0) << result.err;
-        const ModelStorage expected = *storage ? ModelStorage::kFloat : ModelStorage::kHalf;
-        EXPECT_EQ(ModelReader(quilt::regionMapPath(quilt, 1)).info().storage, expected) << storage;
+        const model::ModelStorage expected =
+            *storage ? model::ModelStorage::kFloat : model::ModelStorage::kHalf;
+        EXPECT_EQ(model::ModelReader(quilt::regionMapPath(quilt, 1)).info().storage, expected)
+            << storage;
         result = runCommand(
             vpe({"compose", quilt, "--out", quilt + ".exr", "--weights", "constant,constant"}));
         ASSERT_EQ(result.exitStatus, 0) << result.err;
-        EXPECT_EQ(ModelReader(quilt + ".exr").info().storage, expected) << storage;
+        EXPECT_EQ(model::ModelReader(quilt + ".exr").info().storage, expected) << storage;
     }
     const testing::CommandResult result =
         runCommand(vpe({"compose", path("st-quilt-"), "--out", path("st.exr"), "--weights",
                         "constant,constant", "--storage", "float"}));
     ASSERT_EQ(result.exitStatus, 0) << result.err;
-    EXPECT_EQ(ModelReader(path("st.exr")).info().storage, ModelStorage::kFloat);
+    EXPECT_EQ(model::ModelReader(path("st.exr")).info().storage, model::ModelStorage::kFloat);
 }
 
 TEST_F(TexturePipeline, QuiltIsDeterministicWhateverTheThreads) {

@@ -34,7 +34,7 @@ int streakRegion(const std::filesystem::path& labels) {
 }
 
 // The valid pixels' coefficient vectors, rows [first, last) of the image.
-std::vector<float> validVectors(const CoefficientImage& image, int firstRow, int lastRow) {
+std::vector<float> validVectors(const model::CoefficientImage& image, int firstRow, int lastRow) {
     std::vector<float> vectors;
     for (int y = firstRow; y < lastRow; ++y) {
         for (int x = 0; x < image.width; ++x) {
@@ -150,8 +150,8 @@ TEST_F(TextureStatistics, QuiltedAndComposedMapsMeasureLikeTheSource) {
 
     // (a) The whole composed texture against the whole source, relative to the source's top
     // half against its bottom half.
-    const CoefficientImage model = readCoefficientImage(path("model.exr"));
-    const CoefficientImage composed = readCoefficientImage(path("strokes.exr"));
+    const model::CoefficientImage model = model::readCoefficientImage(path("model.exr"));
+    const model::CoefficientImage composed = model::readCoefficientImage(path("strokes.exr"));
     const double distance = slicedDistance(validVectors(composed, 0, composed.height),
                                            validVectors(model, 0, model.height), model.dims);
     const double self =

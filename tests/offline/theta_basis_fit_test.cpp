@@ -240,7 +240,7 @@ TEST(ThetaBasisFit, RefusesSizesOutsideTheIndependentFunctions) {
         try {
             bake::fitThetaBasis(moment, size);
             ADD_FAILURE() << size << " accepted";
-        } catch (const InputError& error) {
+        } catch (const common::InputError& error) {
             EXPECT_EQ(std::string(error.what()),
                       "θs basis: " + std::to_string(size) +
                           " functions, outside 1..18 (the θs functions of M = 10 independent "

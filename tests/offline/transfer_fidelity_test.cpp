@@ -84,40 +84,42 @@ TEST(TransferFidelity, RefusesABundleOfAnotherTextureSize) {
         << refused.err;
 }
 
-Rgb8Image uniform(int width, int height, std::uint8_t value) {
+image::Rgb8Image uniform(int width, int height, std::uint8_t value) {
     return {width, height,
             std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height * 3, value)};
 }
 
 TEST(ImageMetrics, PsnrAndSsimOfKnownPictures) {
-    const Rgb8Image a = uniform(20, 16, 100), b = uniform(20, 16, 110);
+    const image::Rgb8Image a = uniform(20, 16, 100), b = uniform(20, 16, 110);
     const std::vector<std::uint8_t> all(20 * 16, 1);
-    EXPECT_NEAR(psnr(a, b, all), 10 * std::log10(255.0 * 255.0 / 100.0), 1e-12);
-    EXPECT_TRUE(std::isinf(psnr(a, a, all)));
-    EXPECT_DOUBLE_EQ(meanSsim(a, a, all), 1.0);
+    EXPECT_NEAR(image::psnr(a, b, all), 10 * std::log10(255.0 * 255.0 / 100.0), 1e-12);
+    EXPECT_TRUE(std::isinf(image::psnr(a, a, all)));
+    EXPECT_DOUBLE_EQ(image::meanSsim(a, a, all), 1.0);
     // Flat pictures: only the luminance term, (2·μa·μb + C1)/(μa² + μb² + C1).
     const double c1 = (0.01 * 255) * (0.01 * 255);
-    EXPECT_NEAR(meanSsim(a, b, all), (2 * 100.0 * 110 + c1) / (100.0 * 100 + 110.0 * 110 + c1),
-                1e-12);
+    EXPECT_NEAR(image::meanSsim(a, b, all),
+                (2 * 100.0 * 110 + c1) / (100.0 * 100 + 110.0 * 110 + c1), 1e-12);
     // The map is defined where the 11 × 11 window fits: 10 × 6 pixels here.
-    const std::vector<double> map = ssimMap(a, b, 0);
+    const std::vector<double> map = image::ssimMap(a, b, 0);
     std::size_t defined = 0;
     for (double v : map) {
         defined += std::isnan(v) ? 0 : 1;
     }
     EXPECT_EQ(defined, 10u * 6u);
     // Only masked pixels count; an empty mask gives NaN.
-    Rgb8Image c = a;
+    image::Rgb8Image c = a;
     c.values[3 * (8 * 20 + 10)] = 0;  // one pixel of one channel, inside the valid map
     std::vector<std::uint8_t> one(20 * 16, 0);
     one[8 * 20 + 10] = 1;
-    EXPECT_NEAR(psnr(a, c, one), 10 * std::log10(255.0 * 255.0 / (100.0 * 100.0 / 3)), 1e-12);
-    EXPECT_LT(meanSsim(a, c, one), 1.0);
-    EXPECT_TRUE(std::isnan(psnr(a, b, std::vector<std::uint8_t>(20 * 16, 0))));
+    EXPECT_NEAR(image::psnr(a, c, one), 10 * std::log10(255.0 * 255.0 / (100.0 * 100.0 / 3)),
+                1e-12);
+    EXPECT_LT(image::meanSsim(a, c, one), 1.0);
+    EXPECT_TRUE(std::isnan(image::psnr(a, b, std::vector<std::uint8_t>(20 * 16, 0))));
 }
 
 TEST(ImageMetrics, SrgbPicturesAreWhatPeopleSee) {
-    const Rgb8Image picture = toSrgb8({0.0f, 0.5f, 1.0f, 2.0f, -1.0f, 0.25f}, 2, 1, 2.0);
+    const image::Rgb8Image picture =
+        image::toSrgb8({0.0f, 0.5f, 1.0f, 2.0f, -1.0f, 0.25f}, 2, 1, 2.0);
     EXPECT_EQ(picture.values[0], 0);
     EXPECT_EQ(picture.values[1], 255);  // 0.5 × 2
     EXPECT_EQ(picture.values[3], 255);  // clipped

@@ -19,10 +19,10 @@ namespace vpe::bake {
 
 // A model's coefficients in the bundle's order: C per texel, proto::bundleCoefficientIndex,
 // zero where the texel is invalid.
-std::vector<float> bundleCoefficients(const CoefficientImage& model);
+std::vector<float> bundleCoefficients(const model::CoefficientImage& model);
 // The model's relief as the bundle holds it: the detail normal's x and y per texel
 // (proto/detail_normal.h), (0, 0) where invalid; empty when the model has none.
-std::vector<float> bundleDetailNormals(const CoefficientImage& model);
+std::vector<float> bundleDetailNormals(const model::CoefficientImage& model);
 
 BundleMesh toBundleMesh(const scene::ScreenMesh& mesh);
 proto::ProjectorCalibration toBundleProjector(const scene::ProjectorCalibration& projector);

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace vpe {
+namespace vpe::common {
 
 // The time one kind of step (decode, fit, write…) has taken so far.
 struct StepSeconds {
@@ -52,4 +52,4 @@ private:
     std::chrono::steady_clock::time_point lastDraw_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -4,10 +4,10 @@
 
 #include <chrono>
 
-namespace vpe {
+namespace vpe::common {
 
 inline double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

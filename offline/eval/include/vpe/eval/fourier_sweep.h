@@ -33,7 +33,8 @@ struct SweepResult {
     double seconds = 0;
 };
 
-SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptions& options);
+SweepResult runSweep(const capture::Capture& train, const capture::Capture& test,
+                     const SweepOptions& options);
 
 void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result);
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result);

@@ -37,8 +37,8 @@ struct EvaluationOptions {
     std::optional<std::filesystem::path> predictionsDir;  // writes <image stem>.png there
 };
 
-EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& capture,
-                               const EvaluationOptions& options);
+EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
+                               const capture::Capture& capture, const EvaluationOptions& options);
 
 double psnrFromMse(double mse);
 

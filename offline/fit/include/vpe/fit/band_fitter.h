@@ -29,15 +29,15 @@ class BandFitter {
 public:
     // `capture` is the geometry the fit runs under (calibrated, for the extended model);
     // all references must outlive the fitter.
-    BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
+    BandFitter(const capture::Capture& capture, const capture::SurfaceGeometry& geometry,
                const normals::NormalMap& normals, const BandFitSettings& settings);
 
     // Fits rows band.rowBegin .. + band.rows into `rows` (resized here).
-    void fit(const SampleBand& band, ModelRows& rows) const;
+    void fit(const capture::SampleBand& band, model::ModelRows& rows) const;
 
 private:
-    const Capture& capture_;
-    const SurfaceGeometry& geometry_;
+    const capture::Capture& capture_;
+    const capture::SurfaceGeometry& geometry_;
     const normals::NormalMap& normals_;
     BandFitSettings settings_;
     std::vector<KernelLight> lights_;

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace vpe {
+namespace vpe::model {
 
 struct CoefficientImage {
     int width = 0;
@@ -39,4 +39,4 @@ class ModelReader;
 // The same from a reader already open (its rows not yet read).
 CoefficientImage readCoefficientImage(ModelReader& reader);
 
-}  // namespace vpe
+}  // namespace vpe::model

@@ -18,7 +18,7 @@ struct NormalsResult {
     bool estimated = false;  // photometric stereo, not a given map
 };
 
-NormalsResult acquireNormals(const Capture& capture,
+NormalsResult acquireNormals(const capture::Capture& capture,
                              const std::optional<std::filesystem::path>& overridePath, int width,
                              int height, unsigned threads);
 

@@ -17,6 +17,6 @@ struct PhotometricStereoOptions {
     unsigned threads = 1;
 };
 
-NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions& options);
+NormalMap estimateNormals(const capture::Capture& capture, const PhotometricStereoOptions& options);
 
 }  // namespace vpe::normals

@@ -19,10 +19,10 @@ public:
 
     RelightPreview(int width, int height, int harmonics);
     // Rows may arrive in any order, from one thread at a time.
-    void addRows(int rowBegin, const ModelRows& rows);
+    void addRows(int rowBegin, const model::ModelRows& rows);
     void write(const std::filesystem::path& path) const;
 
-    static const std::vector<Vec3d>& lights();
+    static const std::vector<proto::Vec3d>& lights();
 
 private:
     int harmonics_, step_, tileWidth_, tileHeight_;

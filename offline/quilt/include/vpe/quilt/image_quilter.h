@@ -52,7 +52,8 @@ struct RegionQuilt {
 // Synthesizes a width × height texture for `region` (pixels of `labels` equal to it). Throws
 // InputError when the region cannot hold a block of at least 8 pixels, or when a texture that
 // wraps is not wider than one block.
-RegionQuilt quiltRegion(const CoefficientImage& source, const std::vector<std::uint8_t>& labels,
-                        int region, int width, int height, const QuiltSettings& settings);
+RegionQuilt quiltRegion(const model::CoefficientImage& source,
+                        const std::vector<std::uint8_t>& labels, int region, int width, int height,
+                        const QuiltSettings& settings);
 
 }  // namespace vpe::quilt

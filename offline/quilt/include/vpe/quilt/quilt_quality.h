@@ -88,9 +88,9 @@ struct RegionQuality {
 
 // `output` is region map `region` (the quilt), `positions` its copy positions; `source` and
 // `labels` the model that was quilted and its region labels.
-RegionQuality measureRegionQuality(const CoefficientImage& source,
+RegionQuality measureRegionQuality(const model::CoefficientImage& source,
                                    const std::vector<std::uint8_t>& labels, int region,
-                                   const CoefficientImage& output, const PositionMap& positions,
-                                   const QualityOptions& options);
+                                   const model::CoefficientImage& output,
+                                   const PositionMap& positions, const QualityOptions& options);
 
 }  // namespace vpe::quilt

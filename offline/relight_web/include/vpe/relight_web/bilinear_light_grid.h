@@ -30,10 +30,10 @@ public:
 
     // The unit direction towards the light at node x + y·R (Relight's fromOcta: the square's
     // corners land on the horizon, z is clamped at 0 against rounding, then normalized).
-    Vec3d nodeDirection(int node) const;
+    proto::Vec3d nodeDirection(int node) const;
 
     // The nodes and weights OpenLIME blends for the unit direction towards a light.
-    LightGridWeights weights(const Vec3d& towardsLight) const;
+    LightGridWeights weights(const proto::Vec3d& towardsLight) const;
 
 private:
     int resolution_;

@@ -29,8 +29,9 @@ struct RelightModelExport {
 // `checkLights` are the lights the round trip compares under (e.g. the capture's held-out
 // ones); empty means all of the capture's lights. Throws InputError for bad inputs.
 RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
-                                        const Capture& capture, const std::filesystem::path& folder,
+                                        const capture::Capture& capture,
+                                        const std::filesystem::path& folder,
                                         const RelightWebOptions& options,
-                                        const Capture& checkLights);
+                                        const capture::Capture& checkLights);
 
 }  // namespace vpe::relight_web
