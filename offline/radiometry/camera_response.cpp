@@ -152,9 +152,9 @@ void checkBracket(std::span<const BracketedImage> images) {
 }
 
 // How many pixels the fit samples and how smooth it makes the curve (OpenCV's λ), measured on
-// six simulated brackets (tests/offline/camera_response_test.cpp's, and other noise seeds and
-// ramps): the mean RMS error over codes 16..240 is 2.6 % with 64 pixels and 2.5 % with 100, the
-// worst case 47 % and 35 % (the darkest codes); with 100 pixels, 4.1 % at λ = 2 (the noise
+// six simulated brackets (tests/offline/radiometry/camera_response_test.cpp's, and other noise
+// seeds and ramps): the mean RMS error over codes 16..240 is 2.6 % with 64 pixels and 2.5 % with
+// 100, the worst case 47 % and 35 % (the darkest codes); with 100 pixels, 4.1 % at λ = 2 (the noise
 // shows), 2.8 % at 5, 2.5 % at 10 (OpenCV's default) and 2.4 % at 20, whose worst case is
 // worse (38 %: the smoothing flattens the dark end's curvature). 100 pixels at 5 exposures are
 // 500 equations besides the 254 of smoothness, for 256 + 100 unknowns; OpenCV solves them by

@@ -11,7 +11,7 @@
 #include "vpe/renderer/projector_pixels.h"
 #include "vpe/scene/procedural_vase.h"
 
-#include "scene_test_support.h"
+#include "offline/scene/scene_test_support.h"
 
 namespace vpe::registration {
 namespace {

@@ -13,7 +13,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/proto/half_float.h"
 
-#include "bundle_sample.h"
+#include "offline/bake/bundle_sample.h"
 #include "support/test_data.h"
 
 namespace vpe {

@@ -11,7 +11,7 @@
 
 #include "vpe/common/input_error.h"
 
-#include "scene_test_support.h"
+#include "offline/scene/scene_test_support.h"
 #include "support/test_data.h"
 
 namespace vpe::scene {

@@ -13,7 +13,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/scene/screen_mesh.h"
 
-#include "scene_test_support.h"
+#include "offline/scene/scene_test_support.h"
 #include "support/test_data.h"
 
 namespace vpe::scene {

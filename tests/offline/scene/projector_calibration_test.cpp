@@ -14,7 +14,7 @@
 #include "vpe/scene/procedural_vase.h"
 #include "vpe/scene/screen_mesh.h"
 
-#include "scene_test_support.h"
+#include "offline/scene/scene_test_support.h"
 #include "support/test_data.h"
 
 namespace vpe::scene {

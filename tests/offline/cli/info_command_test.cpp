@@ -10,7 +10,7 @@
 #include "vpe/bake/bundle_writer.h"
 #include "vpe/proto/bundle_format.h"
 
-#include "bundle_sample.h"
+#include "offline/bake/bundle_sample.h"
 #include "support/command_runner.h"
 #include "support/test_data.h"
 
