@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
-// writeFileAtomically: proto's files (scan images, manifests) go to a temporary file beside the
-// target and are renamed over it, so that a reader never sees half a file.
+// writeFileAtomically: proto's files (scan images, manifests) and the player's frames go to a
+// temporary file beside the target and are renamed over it, so that a reader never sees half a
+// file.
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <span>
 
 namespace vpe::proto {
