@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 namespace vpe::firmware {
 

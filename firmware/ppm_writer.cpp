@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: MIT
-// writePpmAtomically: binary PPM through a temporary file and rename(2).
+// writePpmAtomically: binary PPM through proto's temporary file and rename(2).
 #include "vpe/firmware/ppm_writer.h"
 
-#include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::firmware {
 
@@ -25,21 +23,9 @@ void writePpmAtomically(const std::filesystem::path& path, int width, int height
     }
     const std::string header =
         "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
-    std::filesystem::path temporary = path;
-    temporary += ".tmp" + std::to_string(::getpid());
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (file == nullptr) {
-        throw std::runtime_error(path.string() + ": cannot write (" + std::strerror(errno) + ")");
-    }
-    bool ok = std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
-              std::fwrite(rgb.data(), 1, rgb.size(), file) == rgb.size();
-    const int writeErrno = errno;
-    ok = (std::fclose(file) == 0) && ok;
-    if (!ok || std::rename(temporary.c_str(), path.c_str()) != 0) {
-        const int error = ok ? errno : writeErrno;
-        std::remove(temporary.c_str());
-        throw std::runtime_error(path.string() + ": cannot write (" + std::strerror(error) + ")");
-    }
+    proto::writeFileAtomically(
+        path, {std::span<const char>(header),
+               std::span<const char>(reinterpret_cast<const char*>(rgb.data()), rgb.size())});
 }
 
 }  // namespace vpe::firmware

@@ -11,7 +11,7 @@
 
 #include <toml++/toml.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 namespace vpe::firmware::toml_fields {
 

@@ -4,7 +4,7 @@
 
 #include <toml++/toml.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 #include "board/toml_fields.h"
 

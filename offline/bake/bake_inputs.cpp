@@ -1,62 +1,47 @@
 // SPDX-License-Identifier: MIT
 #include "vpe/bake/bake_inputs.h"
 
-#include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/detail_normal.h"
 #include "vpe/proto/fourier_brdf.h"
 
 namespace vpe::bake {
 
-CoefficientTexture readCoefficientTexture(const std::filesystem::path& model) {
-    ModelReader reader(model);
-    const ModelInfo& info = reader.info();
-    CoefficientTexture texture;
-    texture.width = info.width;
-    texture.height = info.height;
-    texture.harmonics = info.harmonics;
-    texture.lambda = info.lambda;
-    texture.tilesU = info.tilesU;
-    const int k = proto::coefficientCount(info.harmonics);
+std::vector<float> bundleCoefficients(const model::CoefficientImage& model) {
+    const int k = proto::coefficientCount(model.harmonics);
     const std::size_t perTexel = 3 * static_cast<std::size_t>(k);
-    const std::size_t texels = static_cast<std::size_t>(info.width) * info.height;
-    texture.values.assign(texels * perTexel, 0.0f);
-    texture.valid.assign(texels, 0);
-    if (info.detailNormals) {
-        texture.detailNormals.assign(texels * 2, 0.0f);
-    }
-    constexpr int kBand = 64;
-    ModelRows rows;
-    for (int row = 0; row < info.height; row += kBand) {
-        const int count = std::min(kBand, info.height - row);
-        reader.readRows(row, count, rows);
-        for (int r = 0; r < count; ++r) {
-            for (int x = 0; x < info.width; ++x) {
-                const std::size_t t = static_cast<std::size_t>(row + r) * info.width + x;
-                if (!rows.valid[rows.pixel(r, x)]) {
-                    continue;
-                }
-                texture.valid[t] = 1;
-                if (!texture.detailNormals.empty()) {
-                    // Stored as x and y (z ≥ 0 follows): scaled onto the unit disc if rounding
-                    // put them a hair outside.
-                    const proto::Vec3f d = proto::detailNormalFromXy(
-                        rows.detail[rows.pixel(r, x) * 3], rows.detail[rows.pixel(r, x) * 3 + 1]);
-                    texture.detailNormals[2 * t] = d.x;
-                    texture.detailNormals[2 * t + 1] = d.y;
-                }
-                for (int c = 0; c < 3; ++c) {
-                    const float* coefficients = rows.coefficientsAt(r, x, c);
-                    for (int i = 0; i < k; ++i) {
-                        texture.values[t * perTexel + static_cast<std::size_t>(
-                                                          proto::bundleCoefficientIndex(i, c))] =
-                            coefficients[i];
-                    }
-                }
+    std::vector<float> values(model.valid.size() * perTexel, 0.0f);
+    for (std::size_t t = 0; t < model.valid.size(); ++t) {
+        if (!model.valid[t]) {
+            continue;
+        }
+        for (int c = 0; c < 3; ++c) {
+            const float* coefficients = model.at(t) + static_cast<std::size_t>(c) * k;
+            for (int i = 0; i < k; ++i) {
+                values[t * perTexel + static_cast<std::size_t>(
+                                          proto::bundleCoefficientIndex(i, c))] = coefficients[i];
             }
         }
     }
-    return texture;
+    return values;
+}
+
+std::vector<float> bundleDetailNormals(const model::CoefficientImage& model) {
+    if (model.detail.empty()) {
+        return {};
+    }
+    std::vector<float> xy(model.valid.size() * 2, 0.0f);
+    for (std::size_t t = 0; t < model.valid.size(); ++t) {
+        if (model.valid[t]) {
+            // Stored as x and y (z ≥ 0 follows): scaled onto the unit disc if rounding put them
+            // a hair outside.
+            const proto::Vec3f d =
+                proto::detailNormalFromXy(model.detail[t * 3], model.detail[t * 3 + 1]);
+            xy[2 * t] = d.x;
+            xy[2 * t + 1] = d.y;
+        }
+    }
+    return xy;
 }
 
 BundleMesh toBundleMesh(const scene::ScreenMesh& mesh) {

@@ -58,15 +58,13 @@ public:
         ruleFromProto(proto::checkSettings(c_.settings));
         ruleFromProto(proto::checkModel(c_.model));
         mesh();
-        const int limit = static_cast<int>(proto::kMaxBundleTextureSize);
-        if (c_.textureWidth < 1 || c_.textureHeight < 1 || c_.textureWidth > limit ||
-            c_.textureHeight > limit) {
+        if (!proto::textureSizeFits(c_.textureWidth, c_.textureHeight)) {
             fail("textures: " + std::to_string(c_.textureWidth) + " x " +
                  std::to_string(c_.textureHeight) +
                  " is outside 1..4096 (GLES 3.1 on the "
                  "Raspberry Pi)");
         }
-        if (c_.regions.empty() || c_.regions.size() > proto::kMaxBundleRegions) {
+        if (!proto::regionCountFits(c_.regions.size())) {
             fail("textures: " + std::to_string(c_.regions.size()) + " regions, need 1..256");
         }
         for (std::size_t r = 0; r < c_.regions.size(); ++r) {
@@ -84,7 +82,9 @@ public:
     }
 
 private:
-    [[noreturn]] void fail(const std::string& problem) const { throw InputError(path_, problem); }
+    [[noreturn]] void fail(const std::string& problem) const {
+        throw common::InputError(path_, problem);
+    }
 
     void ruleFromProto(const std::string& problem) const {
         if (!problem.empty()) {
@@ -121,29 +121,27 @@ private:
                 }
             }
         }
-        for (std::size_t k = 0; k < 3; ++k) {
-            if (r.mixing[4 * k] != 1) {
-                fail("radiometry: mixing: its diagonal must be 1");
-            }
-        }
-        for (const double v : r.mixing) {
-            if (!std::isfinite(v) || v < 0) {
+        switch (proto::checkMixing(r.mixing)) {
+            case proto::MixingRule::kHolds:
+                break;
+            case proto::MixingRule::kNotFiniteOrNegative:
                 fail("radiometry: mixing: expected finite values ≥ 0");
-            }
+            case proto::MixingRule::kDiagonalNotOne:
+                fail("radiometry: mixing: its diagonal must be 1");
+            case proto::MixingRule::kSingular:
+                fail("radiometry: mixing: it must be invertible (the device inverts it)");
         }
     }
 
     void blend(const BundleBlend& b) const {
-        if (b.projectors < 1 || b.projectors > 65535 || b.index < 0 || b.index >= b.projectors) {
+        if (!proto::blendIndexFits(b.index, b.projectors)) {
             fail("blend: projector " + std::to_string(b.index) + " of " +
                  std::to_string(b.projectors));
         }
         count(b.share.size(), static_cast<std::size_t>(c_.projector.width) * c_.projector.height,
               "blend share");
         for (const float v : b.share) {
-            if (!(v >= 0 && v <= 1)) {
-                fail("blend share: a value outside [0, 1]");
-            }
+            ruleFromProto(proto::checkBlendShare(v));
         }
     }
 
@@ -167,12 +165,7 @@ private:
         finite(m.positions, "mesh positions", inf);
         finite(m.normals, "mesh normals", inf);
         finite(m.uvs, "mesh uvs", inf);
-        for (std::size_t i = 0; i < m.indices.size(); ++i) {
-            if (m.indices[i] >= vertices) {
-                fail("mesh indices: triangle " + std::to_string(i / 3) + " refers to vertex " +
-                     std::to_string(m.indices[i]) + ", there are " + std::to_string(vertices));
-            }
-        }
+        ruleFromProto(proto::checkMeshIndices(m.indices, vertices));
     }
 
     void map(const CoefficientMapData& map, const std::string& what) const {
@@ -183,10 +176,7 @@ private:
             finite(map.coefficients, what, kHalfMax);
             return;
         }
-        if (map.rank < 1 || static_cast<std::size_t>(map.rank) > c) {
-            fail(what + ": rank " + std::to_string(map.rank) + " is outside 1.." +
-                 std::to_string(c));
-        }
+        ruleFromProto(proto::checkRank(what, map.rank, static_cast<std::int64_t>(c)));
         const auto rank = static_cast<std::size_t>(map.rank);
         const float inf = std::numeric_limits<float>::max();
         count(map.mean.size(), c, what + " mean");
@@ -309,7 +299,7 @@ public:
 
 private:
     [[noreturn]] void fail(const std::string& what) const {
-        throw InputError(name_, what + ": " + std::strerror(errno));
+        throw common::InputError(name_, what + ": " + std::strerror(errno));
     }
 
     std::filesystem::path name_;
@@ -653,7 +643,7 @@ BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleCon
             return MetadataBuilder(contents, placed, index).build();
         });
 
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     proto::BundleHeader header = payloads.layout.header();
     {
         BundleOutput out(output.temporaryPath(), path);

@@ -17,13 +17,13 @@ namespace vpe::bake {
 LowRankCode encodeLowRank(const std::vector<float>& coefficients, int channels,
                           const std::vector<unsigned char>& valid, const LowRankOptions& options) {
     if (channels <= 0 || coefficients.size() % static_cast<std::size_t>(channels) != 0) {
-        throw InputError("low-rank code: " + std::to_string(coefficients.size()) +
-                         " values are not a whole number of " + std::to_string(channels) +
-                         "-value texels");
+        throw common::InputError("low-rank code: " + std::to_string(coefficients.size()) +
+                                 " values are not a whole number of " + std::to_string(channels) +
+                                 "-value texels");
     }
     if (options.rank < 1 || options.rank > channels) {
-        throw InputError("low-rank code: rank " + std::to_string(options.rank) + " is outside 1.." +
-                         std::to_string(channels));
+        throw common::InputError("low-rank code: rank " + std::to_string(options.rank) +
+                                 " is outside 1.." + std::to_string(channels));
     }
     const std::size_t c = static_cast<std::size_t>(channels);
     const std::size_t texels = coefficients.size() / c;
@@ -37,10 +37,10 @@ LowRankCode encodeLowRank(const std::vector<float>& coefficients, int channels,
     const std::size_t stride =
         std::max<std::size_t>(1, used.size() / std::max<std::size_t>(1, options.maxSamples));
 
-    const PrincipalAxes pca =
-        principalAxes((used.size() + stride - 1) / stride, channels,
-                      [&](std::size_t i) { return &coefficients[used[i * stride] * c]; },
-                      AxisSelection{.maxAxes = options.rank});
+    const common::PrincipalAxes pca =
+        common::principalAxes((used.size() + stride - 1) / stride, channels,
+                              [&](std::size_t i) { return &coefficients[used[i * stride] * c]; },
+                              common::AxisSelection{.maxAxes = options.rank});
 
     LowRankCode code;
     code.channels = channels;
@@ -64,7 +64,7 @@ LowRankCode encodeLowRank(const std::vector<float>& coefficients, int channels,
     const std::size_t rank = static_cast<std::size_t>(options.rank);
     code.weights.assign(texels * rank, 0.0f);
     const Eigen::VectorXf meanF = pca.mean.cast<float>();
-    parallelFor(texels, 4096, options.threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(texels, 4096, options.threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t t = begin; t < end; ++t) {
             if (!isValid(t)) {
                 continue;  // μ: weights stay 0

@@ -20,9 +20,10 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
     const int width = static_cast<int>(projector.width),
               height = static_cast<int>(projector.height);
     if (measured.width != width || measured.height != height) {
-        throw InputError(source, "maps of " + std::to_string(measured.width) + "x" +
-                                     std::to_string(measured.height) + ", the projector is " +
-                                     std::to_string(width) + "x" + std::to_string(height));
+        throw common::InputError(source, "maps of " + std::to_string(measured.width) + "x" +
+                                             std::to_string(measured.height) +
+                                             ", the projector is " + std::to_string(width) + "x" +
+                                             std::to_string(height));
     }
     renderer::ProjectorModel model;
     model.camera = proto::cameraOf(projector);
@@ -61,9 +62,9 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
         }
     }
     if (out.measured == 0) {
-        throw InputError(source,
-                         "no measured pixel falls on the bundle's mesh: is it the "
-                         "scan's installation?");
+        throw common::InputError(source,
+                                 "no measured pixel falls on the bundle's mesh: is it the "
+                                 "scan's installation?");
     }
     // Grow the known values into the unknown covered pixels, one ring a pass: each takes the
     // mean of its known 8-neighbours.
@@ -115,8 +116,8 @@ MeasuredLightBake bakeMeasuredLight(const radiometry::ProjectorRadiometry& measu
     for (std::size_t p = 0; p < count; ++p) {
         if (state[p] == 2) {
             for (std::size_t c = 0; c < 3; ++c) {
-                albedo[3 * p + c] = static_cast<float>(quantile(albedos[c], 0.5));
-                floor[3 * p + c] = static_cast<float>(quantile(floors[c], 0.5));
+                albedo[3 * p + c] = static_cast<float>(common::quantile(albedos[c], 0.5));
+                floor[3 * p + c] = static_cast<float>(common::quantile(floors[c], 0.5));
             }
             ++out.completed;
         }

@@ -33,7 +33,7 @@ constexpr double kShadowSlack = 0.003;
 // The fade's width when not given: this share of the projector's shorter side.
 constexpr double kDefaultFeatherShare = 0.08;
 
-Vec3d minus(const Vec3d& a, const Vec3d& b) {
+proto::Vec3d minus(const proto::Vec3d& a, const proto::Vec3d& b) {
     return {a.x - b.x, a.y - b.y, a.z - b.z};
 }
 
@@ -42,14 +42,14 @@ double smoothstep(double t) {
     return t * t * (3 - 2 * t);
 }
 
-Vec3d toDouble(const renderer::Vec3f& v) {
+proto::Vec3d toDouble(const renderer::Vec3f& v) {
     return {static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z)};
 }
 
 // One projector: what each pixel sees, and the fade towards the edges of its reach.
 struct ProjectorReach {
     renderer::ProjectorModel model;
-    Vec3d centre;
+    proto::Vec3d centre;
     int width = 0, height = 0;
     std::vector<std::optional<renderer::ProjectorPixel>> pixels;
     renderer::FloatImage fade;
@@ -96,7 +96,7 @@ ProjectorReach traceReach(const renderer::RenderMesh& mesh, const renderer::Proj
         if (!pixel) {
             return -1;
         }
-        const Vec3d d = minus(pixel->point.position, reach.centre);
+        const proto::Vec3d d = minus(pixel->point.position, reach.centre);
         return std::sqrt(proto::dot(d, d));
     };
     cv::Mat interior(h, w, CV_8U, cv::Scalar(0));
@@ -139,9 +139,10 @@ ProjectorReach traceReach(const renderer::RenderMesh& mesh, const renderer::Proj
 }
 
 // Whether projector `reach` lights the point: in its image, facing it, nothing between.
-bool reaches(const ProjectorReach& reach, const renderer::RayCaster& caster, const Vec3d& point,
-             const Vec3d& normal, std::optional<proto::Vec2d>* pixel) {
-    const Vec3d toProjector = minus(reach.centre, point);
+bool reaches(const ProjectorReach& reach, const renderer::RayCaster& caster,
+             const proto::Vec3d& point, const proto::Vec3d& normal,
+             std::optional<proto::Vec2d>* pixel) {
+    const proto::Vec3d toProjector = minus(reach.centre, point);
     if (!(proto::dot(normal, toProjector) > 0)) {
         return false;
     }
@@ -153,7 +154,7 @@ bool reaches(const ProjectorReach& reach, const renderer::RayCaster& caster, con
     // The segment from the projector to kShadowSlack short of the point: a grazing ray meets
     // the mesh's own facets around the point (their chords bulge past the smooth surface the
     // shading normal describes), which is no shadow; an occluder is centimetres away.
-    const Vec3d toPoint = minus(point, reach.centre);
+    const proto::Vec3d toPoint = minus(point, reach.centre);
     const double length = std::sqrt(proto::dot(toPoint, toPoint));
     if (caster.anyHit(reach.centre, toPoint, 0.0, 1.0 - kShadowSlack / length)) {
         return false;
@@ -166,9 +167,9 @@ bool reaches(const ProjectorReach& reach, const renderer::RayCaster& caster, con
 
 }  // namespace
 
-double projectionQuality(const renderer::ProjectorModel& projector, const Vec3d& point,
-                         const Vec3d& normal) {
-    const Vec3d toProjector = minus(projector.camera.center(), point);
+double projectionQuality(const renderer::ProjectorModel& projector, const proto::Vec3d& point,
+                         const proto::Vec3d& normal) {
+    const proto::Vec3d toProjector = minus(projector.camera.center(), point);
     const double distance = std::sqrt(proto::dot(toProjector, toProjector));
     const double cosine = distance > 0 ? proto::dot(normal, toProjector) / distance : 0;
     if (!(cosine > 0)) {
@@ -192,7 +193,8 @@ ProjectorBlend blendProjectors(const renderer::RenderMesh& mesh,
     // The weight of projector j at a point (0 where it does not reach it); `own`: the point is
     // what j's own pixel sees, so it reaches it by construction (no ray: its depth test would
     // only add rounding).
-    const auto weight = [&](std::size_t j, const Vec3d& point, const Vec3d& normal, bool own) {
+    const auto weight = [&](std::size_t j, const proto::Vec3d& point, const proto::Vec3d& normal,
+                            bool own) {
         std::optional<proto::Vec2d> pixel;
         if (own) {
             pixel = proto::projectToPixel(reach[j].model.camera, point);
@@ -216,8 +218,8 @@ ProjectorBlend blendProjectors(const renderer::RenderMesh& mesh,
                 if (!pixel) {
                     continue;
                 }
-                const Vec3d& point = pixel->point.position;
-                const Vec3d& normal = pixel->point.normal;
+                const proto::Vec3d& point = pixel->point.position;
+                const proto::Vec3d& normal = pixel->point.normal;
                 const double own = weight(i, point, normal, true);
                 double total = own;
                 for (std::size_t j = 0; j < reach.size(); ++j) {
@@ -238,14 +240,14 @@ ProjectorBlend blendProjectors(const renderer::RenderMesh& mesh,
     blend.reach = renderer::ScalarImage<std::uint8_t>(cw, ch, 255);
     const std::size_t triangles = mesh.indices.size() / 3;
     std::vector<double> area(triangles), unreached(triangles), overlap(triangles);
-    const auto reachCount = [&](const Vec3d& point, const Vec3d& normal) {
+    const auto reachCount = [&](const proto::Vec3d& point, const proto::Vec3d& normal) {
         int count = 0;
         for (const ProjectorReach& r : reach) {
             // Two-sided: the side that faces the projector is lit.
-            const Vec3d toProjector = minus(r.centre, point);
-            const Vec3d facing = proto::dot(normal, toProjector) >= 0
-                                     ? normal
-                                     : Vec3d{-normal.x, -normal.y, -normal.z};
+            const proto::Vec3d toProjector = minus(r.centre, point);
+            const proto::Vec3d facing = proto::dot(normal, toProjector) >= 0
+                                            ? normal
+                                            : proto::Vec3d{-normal.x, -normal.y, -normal.z};
             count += reaches(r, caster, point, facing, nullptr) ? 1 : 0;
         }
         return count;
@@ -253,13 +255,13 @@ ProjectorBlend blendProjectors(const renderer::RenderMesh& mesh,
     std::vector<std::vector<std::pair<std::size_t, std::uint8_t>>> texels(triangles);
     renderer::forEachRow(static_cast<int>(triangles), options.threads, [&](int t) {
         const std::uint32_t* v = &mesh.indices[3 * static_cast<std::size_t>(t)];
-        const Vec3d p[3] = {toDouble(mesh.positions[v[0]]), toDouble(mesh.positions[v[1]]),
-                            toDouble(mesh.positions[v[2]])};
-        const Vec3d n[3] = {toDouble(mesh.normals[v[0]]), toDouble(mesh.normals[v[1]]),
-                            toDouble(mesh.normals[v[2]])};
-        const Vec3d e1 = minus(p[1], p[0]), e2 = minus(p[2], p[0]);
-        const Vec3d c{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z,
-                      e1.x * e2.y - e1.y * e2.x};
+        const proto::Vec3d p[3] = {toDouble(mesh.positions[v[0]]), toDouble(mesh.positions[v[1]]),
+                                   toDouble(mesh.positions[v[2]])};
+        const proto::Vec3d n[3] = {toDouble(mesh.normals[v[0]]), toDouble(mesh.normals[v[1]]),
+                                   toDouble(mesh.normals[v[2]])};
+        const proto::Vec3d e1 = minus(p[1], p[0]), e2 = minus(p[2], p[0]);
+        const proto::Vec3d c{e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z,
+                             e1.x * e2.y - e1.y * e2.x};
         area[t] = 0.5 * std::sqrt(proto::dot(c, c));
         double tx[3], ty[3];
         for (int k = 0; k < 3; ++k) {
@@ -269,12 +271,12 @@ ProjectorBlend blendProjectors(const renderer::RenderMesh& mesh,
         const double det = (tx[1] - tx[0]) * (ty[2] - ty[0]) - (tx[2] - tx[0]) * (ty[1] - ty[0]);
         const auto at = [&](double b1, double b2) {
             const double b0 = 1 - b1 - b2;
-            const Vec3d point{b0 * p[0].x + b1 * p[1].x + b2 * p[2].x,
-                              b0 * p[0].y + b1 * p[1].y + b2 * p[2].y,
-                              b0 * p[0].z + b1 * p[1].z + b2 * p[2].z};
-            const Vec3d normal = proto::normalized(Vec3d{b0 * n[0].x + b1 * n[1].x + b2 * n[2].x,
-                                                         b0 * n[0].y + b1 * n[1].y + b2 * n[2].y,
-                                                         b0 * n[0].z + b1 * n[1].z + b2 * n[2].z});
+            const proto::Vec3d point{b0 * p[0].x + b1 * p[1].x + b2 * p[2].x,
+                                     b0 * p[0].y + b1 * p[1].y + b2 * p[2].y,
+                                     b0 * p[0].z + b1 * p[1].z + b2 * p[2].z};
+            const proto::Vec3d normal = proto::normalized(proto::Vec3d{
+                b0 * n[0].x + b1 * n[1].x + b2 * n[2].x, b0 * n[0].y + b1 * n[1].y + b2 * n[2].y,
+                b0 * n[0].z + b1 * n[1].z + b2 * n[2].z});
             return reachCount(point, normal);
         };
         int samples = 0, none = 0, several = 0;

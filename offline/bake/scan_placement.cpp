@@ -13,19 +13,21 @@ ScanPlacement placeFromScan(const std::filesystem::path& scan,
     const std::filesystem::path calibrationPath = scan / scan::kCalibrationFile;
     std::error_code error;
     if (!std::filesystem::is_directory(scan, error)) {
-        throw InputError(scan, "not a scan folder (vpe scan's --out)");
+        throw common::InputError(scan, "not a scan folder (vpe scan's --out)");
     }
     const scene::ProjectorCalibration projector = scene::readProjectorCalibration(calibrationPath);
     const std::optional<proto::PinholeCamera> camera =
         scene::readCameraCalibration(calibrationPath);
     if (!camera) {
-        throw InputError(calibrationPath, "cam_K: missing (a calibration from vpe calibrate)");
+        throw common::InputError(calibrationPath,
+                                 "cam_K: missing (a calibration from vpe calibrate)");
     }
     ScanPlacement placement;
     if (mesh) {
         const scan::ProjectorSurface surface = scan::readSurface(scan / scan::kSurfaceFile);
         if (surface.width != projector.width || surface.height != projector.height) {
-            throw InputError(scan / scan::kSurfaceFile, "not the calibration's projector size");
+            throw common::InputError(scan / scan::kSurfaceFile,
+                                     "not the calibration's projector size");
         }
         placement.registration = registration::registerMesh(*mesh, surface, projector, options);
         placement.objectToCamera = placement.registration->objectToCamera;

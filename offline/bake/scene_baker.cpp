@@ -41,34 +41,37 @@ int thetaBasisSize(const std::optional<int>& requested, int harmonics) {
     const std::string option = "--theta-basis " + std::to_string(size);
     const int functions = proto::thetaFunctionCount(harmonics);
     if (size < 0) {
-        throw InputError(option + ": not a number of functions (give 1.." +
-                         std::to_string(independent) + ", or full)");
+        throw common::InputError(option + ": not a number of functions (give 1.." +
+                                 std::to_string(independent) + ", or full)");
     }
     if (size > functions) {
-        throw InputError(option + ": more than the 2M + 1 = " + std::to_string(functions) +
-                         " θs functions of the textures (M = " + std::to_string(harmonics) + ")");
+        throw common::InputError(option + ": more than the 2M + 1 = " + std::to_string(functions) +
+                                 " θs functions of the textures (M = " + std::to_string(harmonics) +
+                                 ")");
     }
     if (size > independent) {
-        throw InputError(option + ": only " + std::to_string(independent) + " of the " +
-                         std::to_string(functions) + " θs functions of M = " +
-                         std::to_string(harmonics) + " are independent over [0, π] (give at most " +
-                         std::to_string(independent) + ", or full)");
+        throw common::InputError(option + ": only " + std::to_string(independent) + " of the " +
+                                 std::to_string(functions) +
+                                 " θs functions of M = " + std::to_string(harmonics) +
+                                 " are independent over [0, π] (give at most " +
+                                 std::to_string(independent) + ", or full)");
     }
     return size;
 }
 
 // Encodes a texture and adds what the device will render of it — the decoded low-rank code,
 // or the full coefficients — to the θs moment (when a basis is wanted).
-CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOptions& options,
+CoefficientMapData encodeMap(const model::CoefficientImage& texture, const BakeOptions& options,
                              ThetaMoment* moment, BakeReport& report) {
     CoefficientMapData map;
+    const std::vector<float> values = bundleCoefficients(texture);
     if (options.relief) {
-        map.detailNormals = texture.detailNormals;
+        map.detailNormals = bundleDetailNormals(texture);
         report.relief = report.relief || !map.detailNormals.empty();
     }
     if (!options.lowRank) {
         map.encoding = proto::CoefficientEncoding::kFull;
-        map.coefficients = texture.values;
+        map.coefficients = values;
         if (moment != nullptr) {
             moment->add(map.coefficients, texture.valid);
         }
@@ -78,7 +81,7 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
     LowRankOptions lowRank;
     lowRank.rank = std::min(options.rank, channels);
     lowRank.threads = options.threads;
-    LowRankCode code = encodeLowRank(texture.values, channels, texture.valid, lowRank);
+    LowRankCode code = encodeLowRank(values, channels, texture.valid, lowRank);
     double kept = 0;
     for (double share : code.explained) {
         kept += share;
@@ -97,8 +100,7 @@ CoefficientMapData encodeMap(const CoefficientTexture& texture, const BakeOption
         for (int k = 0; k < channels; ++k) {
             const std::size_t i =
                 t * static_cast<std::size_t>(channels) + static_cast<std::size_t>(k);
-            const double d =
-                static_cast<double>(decoded[i]) - static_cast<double>(texture.values[i]);
+            const double d = static_cast<double>(decoded[i]) - static_cast<double>(values[i]);
             sum += d * d;
         }
         count += static_cast<std::size_t>(channels);
@@ -136,7 +138,7 @@ ProjectorPlacement placeProjector(const BakeOptions& options,
                                   const std::filesystem::path& projector,
                                   const std::filesystem::path& scan) {
     if (!scan.empty() && !projector.empty()) {
-        throw InputError("bake: --scan brings its own calibration; leave out --projector");
+        throw common::InputError("bake: --scan brings its own calibration; leave out --projector");
     }
     ProjectorPlacement placed;
     placed.camera = options.camera;
@@ -208,26 +210,26 @@ void addTextures(BundleContents& contents, const BakeOptions& options,
                  const scene::ScreenMesh& mesh, BakeReport& report) {
     report.vertices = mesh.vertexCount();
     report.triangles = mesh.triangleCount();
-    std::vector<CoefficientTexture> textures;
+    std::vector<model::CoefficientImage> textures;
     std::vector<std::string> names;
     if (!options.texture.empty()) {
-        textures.push_back(readCoefficientTexture(options.texture));
+        textures.push_back(model::readCoefficientImage(options.texture));
         names.push_back(options.texture.stem().string());
     } else {
         const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(options.quilt);
         texture::checkRegionMaps(maps);
         for (std::size_t r = 0; r < maps.size(); ++r) {
-            textures.push_back(readCoefficientTexture(maps[r]));
+            textures.push_back(model::readCoefficientImage(maps[r]));
             names.push_back("region" + std::to_string(r));
         }
     }
-    const CoefficientTexture& first = textures.front();
+    const model::CoefficientImage& first = textures.front();
     contents.textureWidth = first.width;
     contents.textureHeight = first.height;
     // Sampling wraps in u only when every map tiles: one that does not would blend its two
     // unrelated edges.
     contents.textureWrapsU = std::all_of(textures.begin(), textures.end(),
-                                         [](const CoefficientTexture& t) { return t.tilesU; });
+                                         [](const model::CoefficientImage& t) { return t.tilesU; });
     report.wrapU = contents.textureWrapsU;
     report.meshWrapsU = scene::measureSurfaceScale(mesh).wrapsU;
     contents.model.harmonics = first.harmonics;
@@ -242,8 +244,9 @@ void addTextures(BundleContents& contents, const BakeOptions& options,
         ThetaBasisFit fit;
         try {
             fit = fitThetaBasis(moment, thetaSize);
-        } catch (const InputError& error) {
-            throw InputError("--theta-basis " + std::to_string(thetaSize) + ": " + error.what());
+        } catch (const common::InputError& error) {
+            throw common::InputError("--theta-basis " + std::to_string(thetaSize) + ": " +
+                                     error.what());
         }
         contents.model.thetaBasis = std::move(fit.functions);
         report.thetaBasis = thetaSize;
@@ -259,9 +262,9 @@ void addTextures(BundleContents& contents, const BakeOptions& options,
         const std::vector<texture::WeightSource> sources =
             texture::parseWeightSpec(preset.weights, origin);
         if (sources.size() != textures.size()) {
-            throw InputError(origin + ": " + std::to_string(sources.size()) +
-                             " weight entries for " + std::to_string(textures.size()) +
-                             " regions (one per region)");
+            throw common::InputError(origin + ": " + std::to_string(sources.size()) +
+                                     " weight entries for " + std::to_string(textures.size()) +
+                                     " regions (one per region)");
         }
         const texture::WeightMaps weights =
             texture::buildWeightMaps(sources, first.width, first.height);
@@ -285,13 +288,14 @@ void addTextures(BundleContents& contents, const BakeOptions& options,
 
 void checkTextureOptions(const BakeOptions& options) {
     if (options.texture.empty() == options.quilt.empty()) {
-        throw InputError("bake: give either --texture MODEL.exr or --quilt DIR");
+        throw common::InputError("bake: give either --texture MODEL.exr or --quilt DIR");
     }
     if (!options.quilt.empty() && options.presets.empty()) {
-        throw InputError("bake: --quilt needs at least one --preset NAME=WEIGHTS");
+        throw common::InputError("bake: --quilt needs at least one --preset NAME=WEIGHTS");
     }
     if (!options.texture.empty() && !options.presets.empty()) {
-        throw InputError("bake: --preset goes with --quilt (a composed --texture has one region)");
+        throw common::InputError(
+            "bake: --preset goes with --quilt (a composed --texture has one region)");
     }
 }
 
@@ -320,7 +324,7 @@ ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>
                     const BlendOptions& blendOptions) {
     checkTextureOptions(options);
     if (projectors.empty()) {
-        throw InputError("bake: a show needs at least one projector");
+        throw common::InputError("bake: a show needs at least one projector");
     }
     std::vector<ProjectorPlacement> placed;
     for (const ShowProjector& projector : projectors) {
@@ -331,7 +335,8 @@ ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>
         // One camera saw every projector's patterns: the first scan's registration places the
         // object; this scan's calibration (camera → projector) carries its projector there.
         if (!projector.calibration.empty()) {
-            throw InputError("bake: --scan brings its own calibration; leave out --projector");
+            throw common::InputError(
+                "bake: --scan brings its own calibration; leave out --projector");
         }
         const std::filesystem::path file = projector.scan / scan::kCalibrationFile;
         ProjectorPlacement next = placed.front();
@@ -343,7 +348,7 @@ ShowReport bakeShow(const BakeOptions& options, const std::vector<ShowProjector>
     if (!placed.front().placement) {
         for (const ProjectorPlacement& p : placed) {
             if (p.placement) {
-                throw InputError(
+                throw common::InputError(
                     "bake: the first projector of a show with scans must be a scan "
                     "(its registration places the object for all)");
             }

@@ -108,9 +108,9 @@ ThetaBasisFit fitThetaBasis(const ThetaMoment& moment, int size) {
     const GramRoot root = gramRoot(harmonics);
     const auto independent = static_cast<int>(root.roots.size());
     if (size < 1 || size > independent) {
-        throw InputError("θs basis: " + std::to_string(size) + " functions, outside 1.." +
-                         std::to_string(independent) + " (the θs functions of M = " +
-                         std::to_string(harmonics) + " independent over [0, π])");
+        throw common::InputError("θs basis: " + std::to_string(size) + " functions, outside 1.." +
+                                 std::to_string(independent) + " (the θs functions of M = " +
+                                 std::to_string(harmonics) + " independent over [0, π])");
     }
     const Eigen::Map<const Eigen::MatrixXd> s(moment.moment().data(), n, n);
     // In coordinates y = Λ^½ Vᵀ c (c a function's coefficients), ∫₀^π is the dot product: the
@@ -142,9 +142,10 @@ ThetaBasisFit fitThetaBasis(const ThetaMoment& moment, int size) {
     // a K close to independentThetaFunctions(M) on textures that use those directions does.
     if (const std::string problem = proto::checkThetaBasis(harmonics, fit.functions);
         !problem.empty()) {
-        throw InputError("the " + std::to_string(size) +
-                         " fitted θs functions do not stay orthonormal once rounded to floats (" +
-                         problem + "); fit fewer");
+        throw common::InputError(
+            "the " + std::to_string(size) +
+            " fitted θs functions do not stay orthonormal once rounded to floats (" + problem +
+            "); fit fewer");
     }
     // Σ ∫ g² = trace(G S), over every direction (the dropped ones hold ~1e-10 of it).
     const double total = (thetaGramMatrix(n) * s).trace();

@@ -12,7 +12,7 @@ namespace vpe::calibrate {
 
 BoardSpec parseBoardSpec(std::string_view text) {
     const auto fail = [&](const std::string& problem) {
-        return InputError("--board '" + std::string(text) + "': " + problem);
+        return common::InputError("--board '" + std::string(text) + "': " + problem);
     };
     const std::size_t times = text.find('x');
     const std::size_t colon = text.find(':');

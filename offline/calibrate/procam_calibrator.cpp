@@ -99,10 +99,11 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
         }
     }
     if (!found || static_cast<int>(corners.size()) != board.cornerCount()) {
-        throw InputError(pose.folder, "the board's " + std::to_string(board.cornersX()) + "x" +
-                                          std::to_string(board.cornersY()) +
-                                          " inner corners were not found in the white frame "
-                                          "(whole board in view, in focus, lit?)");
+        throw common::InputError(pose.folder,
+                                 "the board's " + std::to_string(board.cornersX()) + "x" +
+                                     std::to_string(board.cornersY()) +
+                                     " inner corners were not found in the white frame "
+                                     "(whole board in view, in focus, lit?)");
     }
     // The first corner is the one whose up-left square is dark (BoardSpec: square (0, 0) is
     // dark); the detector may have started from the opposite corner (a half turn).
@@ -183,26 +184,27 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
         }
     }
     if (2 * reached < static_cast<std::size_t>(board.cornerCount())) {
-        throw InputError(pose.folder, "only " + std::to_string(reached) + " of the board's " +
-                                          std::to_string(board.cornerCount()) +
-                                          " corners reached the projector's light (hold the "
-                                          "board where the projector lights it all)");
+        throw common::InputError(pose.folder,
+                                 "only " + std::to_string(reached) + " of the board's " +
+                                     std::to_string(board.cornerCount()) +
+                                     " corners reached the projector's light (hold the "
+                                     "board where the projector lights it all)");
     }
     return pose;
 }
 
 ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const BoardSpec& board) {
     if (poses.size() < 3) {
-        throw InputError("vpe calibrate needs at least 3 board poses, got " +
-                         std::to_string(poses.size()));
+        throw common::InputError("vpe calibrate needs at least 3 board poses, got " +
+                                 std::to_string(poses.size()));
     }
     const BoardPose& first = poses.front();
     for (const BoardPose& pose : poses) {
         if (pose.cameraWidth != first.cameraWidth || pose.cameraHeight != first.cameraHeight ||
             pose.projectorWidth != first.projectorWidth ||
             pose.projectorHeight != first.projectorHeight) {
-            throw InputError(pose.folder, "its camera or projector size differs from " +
-                                              first.folder.string() + "'s");
+            throw common::InputError(pose.folder, "its camera or projector size differs from " +
+                                                      first.folder.string() + "'s");
         }
     }
     const std::vector<cv::Point3f> all = boardPoints(board);
@@ -248,8 +250,8 @@ ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const Boa
                             projectorK, projectorD, cameraSize, R, T, E, F, perView,
                             cv::CALIB_USE_INTRINSIC_GUESS | flags, criteria);
     } catch (const cv::Exception& error) {
-        throw InputError("the board poses do not determine a calibration (" + error.err +
-                         "): more poses, tilted more, over more of both images");
+        throw common::InputError("the board poses do not determine a calibration (" + error.err +
+                                 "): more poses, tilted more, over more of both images");
     }
     ProcamCalibration result;
     result.camera = cameraOf(cameraK, cameraD, first.cameraWidth, first.cameraHeight);
@@ -280,7 +282,7 @@ ProcamCalibration calibrateProcam(const std::vector<BoardPose>& poses, const Boa
     result.stereoRms = std::sqrt(stereoSquares / static_cast<double>(2 * points));
     for (const double v : result.projector.K) {
         if (!std::isfinite(v)) {
-            throw InputError("the board poses do not determine a calibration (not finite)");
+            throw common::InputError("the board poses do not determine a calibration (not finite)");
         }
     }
     return result;

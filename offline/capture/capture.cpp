@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace vpe {
+namespace vpe::capture {
 
 std::optional<Vec3d> unitDirection(const Vec3d& v) {
     const double largest = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
@@ -53,4 +53,4 @@ IncidentLight incidentLight(const Capture& capture, const CaptureImage& image,
     return {proto::normalized(d), image.intensity * reference * reference / distanceSquared};
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

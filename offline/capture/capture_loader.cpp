@@ -10,7 +10,7 @@
 #include "vpe/capture/relight_project_reader.h"
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 Capture openCapture(const std::filesystem::path& path) {
     std::error_code error;
@@ -25,18 +25,18 @@ Capture openCapture(const std::filesystem::path& path) {
             }
         }
         if (lightFiles.empty()) {
-            throw InputError(path, "no capture.json or .lp light file in this folder");
+            throw common::InputError(path, "no capture.json or .lp light file in this folder");
         }
         if (lightFiles.size() > 1) {
             std::sort(lightFiles.begin(), lightFiles.end());
-            throw InputError(path, "several .lp files (" + lightFiles[0].filename().string() +
-                                       ", " + lightFiles[1].filename().string() +
-                                       ", ...): name the one to use");
+            throw common::InputError(
+                path, "several .lp files (" + lightFiles[0].filename().string() + ", " +
+                          lightFiles[1].filename().string() + ", ...): name the one to use");
         }
         return readLightFile(lightFiles.front());
     }
     if (!std::filesystem::exists(path, error)) {
-        throw InputError(path, "no such file or folder");
+        throw common::InputError(path, "no such file or folder");
     }
     if (path.extension() == ".json") {
         return readCaptureManifest(path);
@@ -47,4 +47,4 @@ Capture openCapture(const std::filesystem::path& path) {
     return readLightFile(path);
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -12,7 +12,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/text/line_reader.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 namespace {
 
@@ -48,7 +48,7 @@ public:
 
     // An empty key is the manifest itself.
     [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
-        throw InputError(source_, key.empty() ? problem : key + ": " + problem);
+        throw common::InputError(source_, key.empty() ? problem : key + ": " + problem);
     }
 
     void requireObject(const Json& value, const std::string& key,
@@ -187,7 +187,7 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
         std::string what = error.what();
         const std::size_t colon = what.rfind(": ");
         what = colon == std::string::npos ? what : what.substr(colon + 2);
-        throw InputError(source, lineOfByte(text, error.byte), "invalid JSON: " + what);
+        throw common::InputError(source, lineOfByte(text, error.byte), "invalid JSON: " + what);
     } catch (const Json::out_of_range& error) {
         // Only a number beyond double range ("1e400") gets here; the message follows the
         // library's "[json.exception.out_of_range.406] " prefix.
@@ -196,7 +196,7 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
         what = bracket == std::string::npos ? what : what.substr(bracket + 2);
         JsonErrorLocator locator;
         Json::sax_parse(text.begin(), text.end(), &locator);
-        throw InputError(source, lineOfByte(text, locator.byte), "invalid JSON: " + what);
+        throw common::InputError(source, lineOfByte(text, locator.byte), "invalid JSON: " + what);
     }
     const ManifestReader reader(source);
     reader.requireObject(root, "",
@@ -331,4 +331,4 @@ Capture readCaptureManifest(const std::filesystem::path& path) {
     return parseCaptureManifest(text::readTextFile(path, "capture manifest"), path);
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace vpe {
+namespace vpe::capture {
 
 namespace {
 
@@ -122,4 +122,4 @@ Capture applyAcceptedCalibration(const Capture& capture, GeometryCalibration cal
     return applyGeometryCalibration(capture, calibration, width, height);
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -16,7 +16,7 @@
 #include "vpe/common/parallel_for.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 namespace {
 
@@ -251,10 +251,10 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
             if (!source->input) {
                 const std::string reason = OIIO::geterror();
                 if (!std::filesystem::exists(capture.images[i].file)) {
-                    throw InputError(source->description + ": no such image file");
+                    throw common::InputError(source->description + ": no such image file");
                 }
-                throw InputError(source->description + ": cannot read image" +
-                                 (reason.empty() ? "" : ": " + reason));
+                throw common::InputError(source->description + ": cannot read image" +
+                                         (reason.empty() ? "" : ": " + reason));
             }
             const OIIO::ImageSpec& spec = source->input->spec();
             source->channels = spec.nchannels;
@@ -278,9 +278,10 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                     break;
                 case ImageEncoding::kGamma:
                     if (source->readFormat == OIIO::TypeDesc::FLOAT) {
-                        throw InputError(source->description +
-                                         ": a calibrated camera response applies to integer "
-                                         "images only");
+                        throw common::InputError(
+                            source->description +
+                            ": a calibrated camera response applies to integer "
+                            "images only");
                     }
                     source->table = source->readFormat == OIIO::TypeDesc::UINT8
                                         ? gammaTable8_.data()
@@ -288,7 +289,7 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                     break;
             }
             if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-                throw InputError(source->description + ": image has no pixels");
+                throw common::InputError(source->description + ": image has no pixels");
             }
             sources_[i] = std::move(source);
         }
@@ -300,17 +301,17 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
     if (!capture.images.empty()) {
         open(0, 1);
     }
-    parallelFor(capture.images.size() > 0 ? capture.images.size() - 1 : 0, 1, threads_,
-                [&](std::size_t begin, std::size_t end) { open(begin + 1, end + 1); });
+    common::parallelFor(capture.images.size() > 0 ? capture.images.size() - 1 : 0, 1, threads_,
+                        [&](std::size_t begin, std::size_t end) { open(begin + 1, end + 1); });
     width_ = sources_.front()->input->spec().width;
     height_ = sources_.front()->input->spec().height;
     for (std::size_t i = 1; i < sources_.size(); ++i) {
         const OIIO::ImageSpec& spec = sources_[i]->input->spec();
         if (spec.width != width_ || spec.height != height_) {
-            throw InputError(sources_[i]->description + ": size " + std::to_string(spec.width) +
-                             "x" + std::to_string(spec.height) + " differs from " +
-                             std::to_string(width_) + "x" + std::to_string(height_) + " of " +
-                             sources_.front()->description);
+            throw common::InputError(
+                sources_[i]->description + ": size " + std::to_string(spec.width) + "x" +
+                std::to_string(spec.height) + " differs from " + std::to_string(width_) + "x" +
+                std::to_string(height_) + " of " + sources_.front()->description);
         }
     }
 }
@@ -345,7 +346,7 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
     band.rowBegin = rowBegin;
     // Four images per task: their saturation flags share cache lines (16 bytes a chunk each),
     // which two threads writing neighbouring images would pass back and forth.
-    parallelFor(
+    common::parallelFor(
         sources_.size(), kImagesPerFlagLine, threads_, [&](std::size_t begin, std::size_t end) {
             for (std::size_t i = begin; i < end; ++i) {
                 Source& source = *sources_[i];
@@ -359,10 +360,10 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
                 source.scratch.resize(rowBytes * rows);
                 if (!source.input->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0, channels,
                                                   source.readFormat, source.scratch.data())) {
-                    throw InputError(source.description + ": cannot decode rows " +
-                                     std::to_string(rowBegin) + ".." +
-                                     std::to_string(rowBegin + rows - 1) + ": " +
-                                     source.input->geterror());
+                    throw common::InputError(source.description + ": cannot decode rows " +
+                                             std::to_string(rowBegin) + ".." +
+                                             std::to_string(rowBegin + rows - 1) + ": " +
+                                             source.input->geterror());
                 }
                 source.nextRow = rowBegin + rows;
                 const DecodedRows decoded{source.scratch.data(),
@@ -392,4 +393,4 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
     band.markFullyUsableChunks();
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -8,7 +8,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/text/line_reader.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 namespace {
 
@@ -25,29 +25,29 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
         }
     }
     if (lines.empty()) {
-        throw InputError(source, 1, "empty light file: expected the number of images");
+        throw common::InputError(source, 1, "empty light file: expected the number of images");
     }
     const std::vector<std::string_view> header = text::splitFields(lines.front().text);
     const std::optional<long> declared =
         header.size() == 1 ? text::parseInteger(header[0]) : std::nullopt;
     if (!declared) {
-        throw InputError(
+        throw common::InputError(
             source, lines.front().number,
             "expected the number of images, found '" + std::string(lines.front().text) + "'");
     }
     if (*declared <= 0 || *declared > kMaxImages) {
-        throw InputError(source, lines.front().number,
-                         "image count " + std::to_string(*declared) + " is out of range (1.." +
-                             std::to_string(kMaxImages) + ")");
+        throw common::InputError(source, lines.front().number,
+                                 "image count " + std::to_string(*declared) +
+                                     " is out of range (1.." + std::to_string(kMaxImages) + ")");
     }
     const long listed = static_cast<long>(lines.size()) - 1;
     if (listed != *declared) {
         // Too many: point at the first line beyond the count; too few: at the count itself.
         const int line = listed > *declared ? lines[static_cast<std::size_t>(*declared) + 1].number
                                             : lines.front().number;
-        throw InputError(source, line,
-                         "declares " + std::to_string(*declared) + " images but lists " +
-                             std::to_string(listed));
+        throw common::InputError(source, line,
+                                 "declares " + std::to_string(*declared) + " images but lists " +
+                                     std::to_string(listed));
     }
 
     Capture capture;
@@ -58,8 +58,9 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
         const text::Line& line = lines[i];
         const std::vector<std::string_view> fields = text::splitFields(line.text);
         if (fields.size() < 4) {
-            throw InputError(source, line.number,
-                             "expected 'image x y z', found '" + std::string(line.text) + "'");
+            throw common::InputError(
+                source, line.number,
+                "expected 'image x y z', found '" + std::string(line.text) + "'");
         }
         double xyz[3];
         for (int axis = 0; axis < 3; ++axis) {
@@ -67,16 +68,16 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
                 fields[fields.size() - 3 + static_cast<std::size_t>(axis)];
             const std::optional<double> value = text::parseNumber(field);
             if (!value) {
-                throw InputError(source, line.number,
-                                 "light " +
-                                     std::string("xyz").substr(static_cast<std::size_t>(axis), 1) +
-                                     " component '" + std::string(field) + "' is not a number");
+                throw common::InputError(
+                    source, line.number,
+                    "light " + std::string("xyz").substr(static_cast<std::size_t>(axis), 1) +
+                        " component '" + std::string(field) + "' is not a number");
             }
             xyz[axis] = *value;
         }
         const std::optional<Vec3d> direction = unitDirection(Vec3d{xyz[0], xyz[1], xyz[2]});
         if (!direction) {
-            throw InputError(source, line.number, "zero-length light vector");
+            throw common::InputError(source, line.number, "zero-length light vector");
         }
         // The image path is everything before the three numbers, so names may hold spaces.
         const char* nameBegin = fields.front().data();
@@ -101,4 +102,4 @@ Capture readLightFile(const std::filesystem::path& path) {
     return capture;
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -6,20 +6,22 @@
 
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 SurfaceGeometry::SurfaceGeometry(const Capture& capture, int width, int height)
     : camera_(capture.camera), plane_(capture.plane), width_(width), height_(height) {
     if (capture.positionMap) {
-        positions_ = readImage(*capture.positionMap);
+        positions_ = image::readImage(*capture.positionMap);
         if (positions_->channels < 3) {
-            throw InputError(*capture.positionMap, "position map needs 3 channels (X, Y, Z)");
+            throw common::InputError(*capture.positionMap,
+                                     "position map needs 3 channels (X, Y, Z)");
         }
         if (positions_->width != width_ || positions_->height != height_) {
-            throw InputError(*capture.positionMap,
-                             "size " + std::to_string(positions_->width) + "x" +
-                                 std::to_string(positions_->height) + " differs from the images' " +
-                                 std::to_string(width_) + "x" + std::to_string(height_));
+            throw common::InputError(*capture.positionMap,
+                                     "size " + std::to_string(positions_->width) + "x" +
+                                         std::to_string(positions_->height) +
+                                         " differs from the images' " + std::to_string(width_) +
+                                         "x" + std::to_string(height_));
         }
     }
 }
@@ -65,4 +67,4 @@ Vec3d SurfaceGeometry::toViewer(int x, int y) const {
     return proto::normalized(Vec3d{center.x - p.x, center.y - p.y, center.z - p.z});
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -7,7 +7,7 @@
 
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 double TransferFunction::decode(double stored) const {
     if (kind == Kind::kLinear) {
@@ -59,4 +59,4 @@ TransferFunction metricTransfer(const Capture& capture) {
     return {TransferFunction::Kind::kSrgb};
 }
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -42,7 +42,8 @@ int parseThetaBasis(const std::string& text) {
     int size = -1;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), size);
     if (error != std::errc() || end != text.data() + text.size() || size < 0) {
-        throw InputError("--theta-basis '" + text + "': expected a number of functions or full");
+        throw common::InputError("--theta-basis '" + text +
+                                 "': expected a number of functions or full");
     }
     return size;
 }
@@ -92,7 +93,7 @@ void runBake(const Arguments& args) {
     for (const std::string& preset : args.presets) {
         const std::size_t equals = preset.find('=');
         if (equals == std::string::npos || equals == 0 || equals + 1 == preset.size()) {
-            throw InputError("--preset '" + preset + "': expected NAME=WEIGHTS");
+            throw common::InputError("--preset '" + preset + "': expected NAME=WEIGHTS");
         }
         options.presets.push_back({preset.substr(0, equals), preset.substr(equals + 1)});
     }
@@ -106,14 +107,14 @@ void runBake(const Arguments& args) {
     if (!args.thetaBasis.empty()) {
         options.thetaBasis = parseThetaBasis(args.thetaBasis);
     }
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     if (args.projectors.size() + args.scans.size() > 1) {
         runShow(args, options);
         return;
     }
     if (args.radiometry.size() > 1) {
-        throw InputError("--radiometry: " + std::to_string(args.radiometry.size()) +
-                         " given for one projector");
+        throw common::InputError("--radiometry: " + std::to_string(args.radiometry.size()) +
+                                 " given for one projector");
     }
     options.projector = args.projectors.empty() ? "" : args.projectors.front();
     options.scan = args.scans.empty() ? "" : args.scans.front();
@@ -263,18 +264,19 @@ std::vector<std::uint8_t> sharePicture(const renderer::FloatImage& share) {
 void runShow(const Arguments& args, const bake::BakeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (!args.projectors.empty() && !args.scans.empty()) {
-        throw InputError(
+        throw common::InputError(
             "bake: a show's projectors are all --projector files or all --scan "
             "folders");
     }
     const bool scans = !args.scans.empty();
     const std::vector<std::string>& sources = scans ? args.scans : args.projectors;
     if (!args.radiometry.empty() && args.radiometry.size() != sources.size()) {
-        throw InputError("--radiometry: " + std::to_string(args.radiometry.size()) + " given for " +
-                         std::to_string(sources.size()) + " projectors (one each, or none)");
+        throw common::InputError("--radiometry: " + std::to_string(args.radiometry.size()) +
+                                 " given for " + std::to_string(sources.size()) +
+                                 " projectors (one each, or none)");
     }
     const std::vector<std::string> names = showNames({sources.begin(), sources.end()});
-    AtomicFolder folder(args.out, "show.json", "vpe bake");
+    common::AtomicFolder folder(args.out, "show.json", "vpe bake");
     std::vector<bake::ShowProjector> projectors;
     for (std::size_t i = 0; i < sources.size(); ++i) {
         bake::ShowProjector projector;
@@ -289,7 +291,7 @@ void runShow(const Arguments& args, const bake::BakeOptions& options) {
     blend.featherPixels = args.blendFeather;
     blend.threads = static_cast<int>(options.threads);
     if (!(args.blendFeather >= 0) || !std::isfinite(args.blendFeather)) {
-        throw InputError("--blend-feather: expected pixels ≥ 0");
+        throw common::InputError("--blend-feather: expected pixels ≥ 0");
     }
     const bake::ShowReport show = bake::bakeShow(options, projectors, blend);
     nlohmann::json json;
@@ -297,8 +299,8 @@ void runShow(const Arguments& args, const bake::BakeOptions& options) {
     json["projectors"] = nlohmann::json::array();
     for (std::size_t i = 0; i < projectors.size(); ++i) {
         const renderer::FloatImage& share = show.blend.shares[i];
-        writeImage8(folder.temporaryPath() / (names[i] + "-share.png"), share.width, share.height,
-                    1, sharePicture(share));
+        image::writeImage8(folder.temporaryPath() / (names[i] + "-share.png"), share.width,
+                           share.height, 1, sharePicture(share));
         std::size_t lit = 0, shared = 0;
         for (const float s : share.values) {
             lit += s > 0 ? 1 : 0;
@@ -312,13 +314,13 @@ void runShow(const Arguments& args, const bake::BakeOptions& options) {
                                       {"bytes", show.bundles[i].bytes},
                                       {"checksum", show.bundles[i].checksum}});
     }
-    writeImage8(folder.temporaryPath() / "reach.png", show.blend.reach.width,
-                show.blend.reach.height, 3, reachPicture(show.blend.reach));
+    image::writeImage8(folder.temporaryPath() / "reach.png", show.blend.reach.width,
+                       show.blend.reach.height, 3, reachPicture(show.blend.reach));
     json["unreached_share"] = show.blend.unreachedShare;
     json["overlap_share"] = show.blend.overlapShare;
     json["seconds"] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    writeTextFileAtomically(folder.temporaryPath() / "show.json", json.dump(2) + "\n");
+    common::writeTextFileAtomically(folder.temporaryPath() / "show.json", json.dump(2) + "\n");
     folder.commit();
     std::fprintf(stderr,
                  "%s: %zu projectors, one bundle each; %.2f%% of the surface reached by none "

@@ -40,13 +40,14 @@ struct TruthErrors {
 TruthErrors compareWithTruth(const calibrate::ProcamCalibration& c, const std::string& path) {
     std::ifstream stream(path);
     if (!stream) {
-        throw InputError(path, "cannot open the truth (vpe synth-procam's truth/truth.json)");
+        throw common::InputError(path,
+                                 "cannot open the truth (vpe synth-procam's truth/truth.json)");
     }
     nlohmann::json truth;
     try {
         stream >> truth;
     } catch (const nlohmann::json::exception& error) {
-        throw InputError(path, std::string("not JSON: ") + error.what());
+        throw common::InputError(path, std::string("not JSON: ") + error.what());
     }
     TruthErrors errors;
     try {
@@ -76,7 +77,7 @@ TruthErrors compareWithTruth(const calibrate::ProcamCalibration& c, const std::s
         }
         errors.extrinsicDeg = std::acos(std::clamp((trace - 1) / 2, -1.0, 1.0)) * 180 / kPi;
     } catch (const nlohmann::json::exception& error) {
-        throw InputError(path, std::string("not a simulation's truth: ") + error.what());
+        throw common::InputError(path, std::string("not a simulation's truth: ") + error.what());
     }
     return errors;
 }
@@ -85,9 +86,10 @@ TruthErrors compareWithTruth(const calibrate::ProcamCalibration& c, const std::s
 // reach the projector (red).
 void writePoseSheet(const std::vector<calibrate::BoardPose>& poses,
                     const std::filesystem::path& path) {
-    std::vector<SheetTile> tiles;
+    std::vector<image::SheetTile> tiles;
     for (const calibrate::BoardPose& pose : poses) {
-        SheetTile tile{pose.folder.filename().string(), pose.cameraWidth, pose.cameraHeight, 3, {}};
+        image::SheetTile tile{
+            pose.folder.filename().string(), pose.cameraWidth, pose.cameraHeight, 3, {}};
         tile.pixels.resize(pose.white.size() * 3);
         for (std::size_t p = 0; p < pose.white.size(); ++p) {
             const auto encoded = static_cast<float>(
@@ -116,14 +118,14 @@ void writePoseSheet(const std::vector<calibrate::BoardPose>& poses,
         }
         tiles.push_back(std::move(tile));
     }
-    writeContactSheet(path, tiles, 4, 400);
+    image::writeContactSheet(path, tiles, 4, 400);
 }
 
 void runCalibrate(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const calibrate::BoardSpec board = calibrate::parseBoardSpec(args.board);
     std::vector<calibrate::BoardPose> poses;
-    ProgressBar progress("calibrate", args.poses.size());
+    common::ProgressBar progress("calibrate", args.poses.size());
     for (const std::string& folder : args.poses) {
         progress.setPhase(std::filesystem::path(folder).filename().string());
         const structured_light::ScanCapture capture(folder);

@@ -36,12 +36,13 @@ void runCompose(const Arguments& args) {
     const std::vector<texture::WeightSource> sources = texture::parseWeightSpec(args.weights);
     const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args.dir);
     if (sources.size() != maps.size()) {
-        throw InputError("--weights has " + std::to_string(sources.size()) +
-                         (sources.size() == 1 ? " entry" : " entries") + " but " + args.dir +
-                         " holds " + std::to_string(maps.size()) + " region maps (region0.exr .. " +
-                         maps.back().filename().string() + "): one entry per region");
+        throw common::InputError("--weights has " + std::to_string(sources.size()) +
+                                 (sources.size() == 1 ? " entry" : " entries") + " but " +
+                                 args.dir + " holds " + std::to_string(maps.size()) +
+                                 " region maps (region0.exr .. " + maps.back().filename().string() +
+                                 "): one entry per region");
     }
-    const ModelInfo info = texture::checkRegionMaps(maps);
+    const model::ModelInfo info = texture::checkRegionMaps(maps);
     const texture::WeightMaps weights = texture::buildWeightMaps(sources, info.width, info.height);
     const texture::ComposeReport report =
         texture::composeRegionMaps(maps, weights, args.out, parseStorage(args.storage));

@@ -27,19 +27,19 @@ struct Arguments {
 
 // What `vpe eval` does once its options are parsed.
 void runEval(const Arguments& args) {
-    EvaluationOptions options;
-    options.threads = resolveThreadCount(args.threads);
+    eval::EvaluationOptions options;
+    options.threads = common::resolveThreadCount(args.threads);
     if (!args.predictions.empty()) {
         options.predictionsDir = args.predictions;
     }
-    Capture capture = openCapture(args.capture);
+    capture::Capture capture = capture::openCapture(args.capture);
     if (args.heldOut > 0) {
-        capture = selectHeldOutLights(capture, args.heldOut, true);
+        capture = capture::selectHeldOutLights(capture, args.heldOut, true);
     }
-    const EvaluationReport report = evaluateModel(args.model, capture, options);
+    const eval::EvaluationReport report = eval::evaluateModel(args.model, capture, options);
     if (!args.json) {
         std::printf("%-32s %10s %10s\n", "image", "rms(8bit)", "psnr(dB)");
-        for (const ImageScore& image : report.images) {
+        for (const eval::ImageScore& image : report.images) {
             std::printf("%-32s %10.3f %10.2f\n", image.name.c_str(), image.rms, image.psnr);
         }
         std::printf("%-32s %10.3f %10.2f\n", "overall", report.rms, report.psnr);
@@ -57,7 +57,7 @@ void runEval(const Arguments& args) {
         json["pixels"] = report.pixels;
         json["skipped_pixels"] = report.skippedPixels;
         json["images"] = nlohmann::json::array();
-        for (const ImageScore& image : report.images) {
+        for (const eval::ImageScore& image : report.images) {
             json["images"].push_back(
                 {{"name", image.name}, {"rms", image.rms}, {"psnr", image.psnr}});
         }

@@ -20,9 +20,9 @@ struct Arguments {
     std::string model;
     std::string capture;
     std::string out;
-    int resolution = RelightWebOptions{}.resolution;
-    int planes = RelightWebOptions{}.planes;
-    int quality = RelightWebOptions{}.quality;
+    int resolution = relight_web::RelightWebOptions{}.resolution;
+    int planes = relight_web::RelightWebOptions{}.planes;
+    int quality = relight_web::RelightWebOptions{}.quality;
     std::string grid = "least-squares";
     int heldOut = 0;
     int threads = 0;
@@ -31,17 +31,19 @@ struct Arguments {
 
 // What `vpe export-relight` does once its options are parsed.
 void runExportRelight(const Arguments& args) {
-    RelightWebOptions options;
+    relight_web::RelightWebOptions options;
     options.resolution = args.resolution;
     options.planes = args.planes;
     options.quality = args.quality;
-    options.threads = resolveThreadCount(args.threads);
-    options.grid = args.grid == "nodes" ? GridValues::kNodes : GridValues::kLeastSquares;
-    const Capture capture = openCapture(args.capture);
-    const Capture check =
-        args.heldOut > 0 ? selectHeldOutLights(capture, args.heldOut, true) : Capture{};
-    const RelightModelExport result =
-        exportModelToRelight(args.model, capture, args.out, options, check);
+    options.threads = common::resolveThreadCount(args.threads);
+    options.grid = args.grid == "nodes" ? relight_web::GridValues::kNodes
+                                        : relight_web::GridValues::kLeastSquares;
+    const capture::Capture capture = capture::openCapture(args.capture);
+    const capture::Capture check = args.heldOut > 0
+                                       ? capture::selectHeldOutLights(capture, args.heldOut, true)
+                                       : capture::Capture{};
+    const relight_web::RelightModelExport result =
+        relight_web::exportModelToRelight(args.model, capture, args.out, options, check);
     std::fprintf(stderr,
                  "%s: %dx%d, bilinear %dx%d grid, %d planes (%.4f of the variance), %.1f KiB; "
                  "round trip against the model under %d capture lights: PSNR %.2f dB (worst "

@@ -41,10 +41,10 @@ struct Arguments {
 
 // The blocked lights' calibration: how many lights it found blocked (none: not adopted), the
 // lowest intensity, and the held-out figures that decided it (per-image RMS, 8-bit levels).
-nlohmann::json lightIntensitiesJson(const FitReport& report) {
+nlohmann::json lightIntensitiesJson(const fit::FitReport& report) {
     int blocked = 0;
     double lowest = 1;
-    for (const LightIntensity& entry : report.calibration.lightIntensities) {
+    for (const capture::LightIntensity& entry : report.calibration.lightIntensities) {
         blocked += entry.intensity < 1 ? 1 : 0;
         lowest = std::min(lowest, entry.intensity);
     }
@@ -56,43 +56,43 @@ nlohmann::json lightIntensitiesJson(const FitReport& report) {
 
 // What `vpe fit` does once its options are parsed.
 void runFit(const Arguments& args) {
-    FitOptions options;
+    fit::FitOptions options;
     options.harmonics = args.harmonics;
     options.lambda = args.lambda;
-    options.threads = resolveThreadCount(args.threads);
-    options.precision = args.precision == "fast"    ? FitPrecision::kFast
-                        : args.precision == "exact" ? FitPrecision::kExact
-                                                    : FitPrecision::kAuto;
+    options.threads = common::resolveThreadCount(args.threads);
+    options.precision = args.precision == "fast"    ? fit::FitPrecision::kFast
+                        : args.precision == "exact" ? fit::FitPrecision::kExact
+                                                    : fit::FitPrecision::kAuto;
     if (!args.normals.empty()) {
         options.normals = args.normals;
     }
     options.writePreview = !args.noPreview;
-    options.storage = parseStorage(args.storage).value_or(ModelStorage::kHalf);
-    options.relief =
-        args.relief == "coefficients" ? ReliefMode::kInCoefficients : ReliefMode::kDetailMap;
+    options.storage = parseStorage(args.storage).value_or(model::ModelStorage::kHalf);
+    options.relief = args.relief == "coefficients" ? fit::ReliefMode::kInCoefficients
+                                                   : fit::ReliefMode::kDetailMap;
     options.calibrateResponse = args.response == "auto";
     if (!(args.macroSigma >= 0) || !std::isfinite(args.macroSigma)) {
-        throw InputError("--macro-sigma must be a number of pixels ≥ 0");
+        throw common::InputError("--macro-sigma must be a number of pixels ≥ 0");
     }
     if (args.macroSigma > 0) {
         options.macroSigma = args.macroSigma;
     }
-    options.variant = args.model == "extended" ? ModelVariant::kExtended
-                      : args.model == "paper"  ? ModelVariant::kPaper
-                                               : ModelVariant::kRti;
-    if (options.variant == ModelVariant::kRti) {
-        options.rtiBasis = *RtiBasis::parse(args.model);
+    options.variant = args.model == "extended" ? fit::ModelVariant::kExtended
+                      : args.model == "paper"  ? fit::ModelVariant::kPaper
+                                               : fit::ModelVariant::kRti;
+    if (options.variant == fit::ModelVariant::kRti) {
+        options.rtiBasis = *model::RtiBasis::parse(args.model);
         options.writePreview = false;  // the preview relights a BRDF
     }
     // The extended model picks M and λ by held-out validation unless they are given.
     options.selectRegularization =
-        options.variant == ModelVariant::kExtended && !args.regularizationGiven;
-    Capture capture = openCapture(args.capture);
+        options.variant == fit::ModelVariant::kExtended && !args.regularizationGiven;
+    capture::Capture capture = capture::openCapture(args.capture);
     if (args.heldOut > 0) {
-        capture = selectHeldOutLights(capture, args.heldOut, false);
+        capture = capture::selectHeldOutLights(capture, args.heldOut, false);
     }
-    const FitReport report = fitCapture(capture, options, args.out);
-    if (options.variant == ModelVariant::kRti) {
+    const fit::FitReport report = fit::fitCapture(capture, options, args.out);
+    if (options.variant == fit::ModelVariant::kRti) {
         std::fprintf(stderr,
                      "fitted %zu of %zu pixels from %d images (%s on stored values) in "
                      "%.2f s; mean residual RMS %.4f\n",
@@ -106,7 +106,7 @@ void runFit(const Arguments& args) {
                      report.lambda, report.normalsSource.c_str(), report.totalSeconds,
                      report.meanRms);
     }
-    if (options.variant == ModelVariant::kExtended) {
+    if (options.variant == fit::ModelVariant::kExtended) {
         std::fprintf(
             stderr,
             "selected: response %s, field of view %.1f°, light distance %.2f "
@@ -125,7 +125,7 @@ void runFit(const Arguments& args) {
     if (args.json) {
         nlohmann::json json;
         json["model_variant"] = args.model;
-        if (options.variant == ModelVariant::kExtended) {
+        if (options.variant == fit::ModelVariant::kExtended) {
             json["calibration"] = {{"field_of_view_degrees", report.calibration.fieldOfViewDegrees},
                                    {"light_distance", report.calibration.lightDistance},
                                    {"response_gamma", report.calibration.responseGamma},
@@ -142,7 +142,7 @@ void runFit(const Arguments& args) {
         }
         if (!report.transportTrials.empty()) {
             nlohmann::json trials = nlohmann::json::array();
-            for (const TransportRidgeTrial& trial : report.transportTrials) {
+            for (const fit::TransportRidgeTrial& trial : report.transportTrials) {
                 trials.push_back({{"ridge", trial.ridge}, {"rms", trial.rms}});
             }
             json["calibration"]["transport_trials"] = trials;
@@ -152,7 +152,7 @@ void runFit(const Arguments& args) {
         json["images"] = report.images;
         json["width"] = report.width;
         json["height"] = report.height;
-        if (options.variant == ModelVariant::kRti) {
+        if (options.variant == fit::ModelVariant::kRti) {
             json["basis"] = options.rtiBasis.name();
         } else {
             json["harmonics"] = report.harmonics;
@@ -212,7 +212,7 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "ptm6, ptm10, hsh4, hsh9, hsh16, hsh25: a classic RTI basis fitted on the "
                      "stored image values, for comparison (not a BRDF; docs/rti-bases.md)")
         ->check([](const std::string& model) {
-            return model == "paper" || model == "extended" || RtiBasis::parse(model)
+            return model == "paper" || model == "extended" || model::RtiBasis::parse(model)
                        ? std::string()
                        : "expected paper, extended, ptm6, ptm10, hsh4, hsh9, hsh16 or hsh25, "
                          "found '" +

@@ -275,7 +275,7 @@ void runInfo(const Arguments& args) {
             printInfo(args.bundle, bundle.view());
         }
     } catch (const proto::BundleError& error) {
-        throw InputError(error.what());  // a bad bundle is bad input: exit status 2
+        throw common::InputError(error.what());  // a bad bundle is bad input: exit status 2
     }
 }
 

@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
     }
     try {
         action();
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         std::fprintf(stderr, "vpe: %s\n", error.what());
         return 2;
     } catch (const std::bad_alloc&) {

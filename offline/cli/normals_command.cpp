@@ -26,11 +26,11 @@ struct Arguments {
 
 // What `vpe normals` does once its options are parsed.
 void runNormals(const Arguments& args) {
-    const Capture capture = openCapture(args.capture);
-    PhotometricStereoOptions options;
-    options.threads = resolveThreadCount(args.threads);
-    const NormalMap estimate = estimateNormals(capture, options);
-    writeNormalMapPng(args.out, estimate);
+    const capture::Capture capture = capture::openCapture(args.capture);
+    normals::PhotometricStereoOptions options;
+    options.threads = common::resolveThreadCount(args.threads);
+    const normals::NormalMap estimate = normals::estimateNormals(capture, options);
+    normals::writeNormalMapPng(args.out, estimate);
     nlohmann::json json;
     std::size_t valid = 0;
     for (std::uint8_t v : estimate.valid) {
@@ -45,9 +45,10 @@ void runNormals(const Arguments& args) {
         truthPath = capture.normalMap;
     }
     if (truthPath) {
-        const NormalMap truth = readNormalMap(
-            *truthPath, args.truth.empty() ? capture.normalEncoding : NormalEncoding::kAuto);
-        const AngularError error = compareNormalMaps(estimate, truth);
+        const normals::NormalMap truth =
+            normals::readNormalMap(*truthPath, args.truth.empty() ? capture.normalEncoding
+                                                                  : capture::NormalEncoding::kAuto);
+        const normals::AngularError error = normals::compareNormalMaps(estimate, truth);
         std::fprintf(stderr, "normals vs %s: mean %.3f°, median %.3f° over %zu pixels\n",
                      truthPath->c_str(), error.meanDegrees, error.medianDegrees, error.pixels);
         json["truth"] = truthPath->string();

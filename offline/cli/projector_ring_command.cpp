@@ -32,20 +32,20 @@ struct Arguments {
 
 void runProjectorRing(const Arguments& args) {
     if (args.count < 1 || args.count > 32) {
-        throw InputError("--count: expected 1 to 32 projectors");
+        throw common::InputError("--count: expected 1 to 32 projectors");
     }
     if (!(args.distance > 0) || !std::isfinite(args.distance)) {
-        throw InputError("--distance: expected metres > 0");
+        throw common::InputError("--distance: expected metres > 0");
     }
     if (!(args.elevation > -80 && args.elevation < 80)) {
-        throw InputError("--elevation: expected degrees within ±80");
+        throw common::InputError("--elevation: expected degrees within ±80");
     }
     if (!(args.fov > 0 && args.fov < 180)) {
-        throw InputError("--fov: expected degrees in (0, 180)");
+        throw common::InputError("--fov: expected degrees in (0, 180)");
     }
     const SizeArgument size = parseSizeArgument(args.size, "--size", 8192);
     const auto target = scene::parsePosition(args.target, "--target");
-    AtomicFolder folder(args.out, "ring.json", "vpe projector-ring");
+    common::AtomicFolder folder(args.out, "ring.json", "vpe projector-ring");
     nlohmann::json json;
     json["projectors"] = nlohmann::json::array();
     const double e = args.elevation * std::numbers::pi / 180;
@@ -62,7 +62,7 @@ void runProjectorRing(const Arguments& args) {
         json["projectors"].push_back(
             {{"file", name}, {"azimuth", azimuth}, {"position", {eye.x, eye.y, eye.z}}});
     }
-    writeTextFileAtomically(folder.temporaryPath() / "ring.json", json.dump(2) + "\n");
+    common::writeTextFileAtomically(folder.temporaryPath() / "ring.json", json.dump(2) + "\n");
     folder.commit();
     std::fprintf(stderr, "%s: %d projectors %.2f m from the object, %.0f° up, every %.0f°\n",
                  args.out.c_str(), args.count, args.distance, args.elevation, 360.0 / args.count);

@@ -53,7 +53,7 @@ void runQuilt(const Arguments& args) {
     }
     options.mesh = args.mesh;
     if (!(args.meshScale > 0) || !std::isfinite(args.meshScale)) {
-        throw InputError("--mesh-scale must be a positive number of metres per unit");
+        throw common::InputError("--mesh-scale must be a positive number of metres per unit");
     }
     options.meshMetresPerUnit = args.meshScale;
     options.texelMm = args.texelMm;
@@ -64,13 +64,13 @@ void runQuilt(const Arguments& args) {
     options.settings.overlap = args.overlap;
     options.settings.tolerance = args.tolerance;
     options.settings.seed = args.seed;
-    options.settings.threads = resolveThreadCount(args.threads);
+    options.settings.threads = common::resolveThreadCount(args.threads);
     options.storage = parseStorage(args.storage);
     options.settings.search = args.search == "exhaustive"
                                   ? quilt::QuiltSettings::Search::kExhaustive
                                   : quilt::QuiltSettings::Search::kFft;
     if (!(args.tolerance >= 0)) {
-        throw InputError("--tolerance must be >= 0");
+        throw common::InputError("--tolerance must be >= 0");
     }
     const quilt::QuiltTextureReport report = quilt::quiltTexture(options);
     const scene::TexelStretch& stretch = report.stretch;

@@ -123,35 +123,36 @@ struct Arguments {
 // What `vpe quilt-quality` does once its options are parsed.
 void runQuiltQuality(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
-    const quilt::CoefficientImage source = quilt::readCoefficientImage(args.model);
+    const model::CoefficientImage source = model::readCoefficientImage(args.model);
     const std::vector<std::uint8_t> labels =
-        readLabelImage(args.labels, source.width, source.height).values;
+        segment::readLabelImage(args.labels, source.width, source.height).values;
     const std::vector<std::filesystem::path> maps = quilt::listRegionMaps(args.quilt);
     for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
         if (std::find(labels.begin(), labels.end(), k) == labels.end()) {
-            throw InputError(args.labels, "no pixel of region " + std::to_string(k) + " (" +
-                                              maps[static_cast<std::size_t>(k)].string() +
-                                              " exists)");
+            throw common::InputError(args.labels, "no pixel of region " + std::to_string(k) + " (" +
+                                                      maps[static_cast<std::size_t>(k)].string() +
+                                                      " exists)");
         }
     }
     quilt::QualityOptions options;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     std::vector<quilt::PositionMap> positions;
     nlohmann::json regions = nlohmann::json::array();
     for (int k = 0; k < static_cast<int>(maps.size()); ++k) {
-        const quilt::CoefficientImage output =
-            quilt::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
+        const model::CoefficientImage output =
+            model::readCoefficientImage(maps[static_cast<std::size_t>(k)]);
         if (output.harmonics != source.harmonics) {
-            throw InputError(maps[static_cast<std::size_t>(k)],
-                             std::to_string(output.harmonics) + " harmonics, but " + args.model +
-                                 " has " + std::to_string(source.harmonics));
+            throw common::InputError(maps[static_cast<std::size_t>(k)],
+                                     std::to_string(output.harmonics) + " harmonics, but " +
+                                         args.model + " has " + std::to_string(source.harmonics));
         }
         if (k == 0) {
             positions =
                 quilt::readPositionMaps(args.quilt, static_cast<int>(maps.size()), output.width,
                                         output.height, source.width, source.height);
         } else if (output.width != positions[0].width || output.height != positions[0].height) {
-            throw InputError(maps[static_cast<std::size_t>(k)], "size differs from region0.exr's");
+            throw common::InputError(maps[static_cast<std::size_t>(k)],
+                                     "size differs from region0.exr's");
         }
         const quilt::RegionQuality quality = quilt::measureRegionQuality(
             source, labels, k, output, positions[static_cast<std::size_t>(k)], options);

@@ -39,19 +39,20 @@ void runRadiometry(const Arguments& args) {
     const proto::PinholeCamera projector = scene::readProjectorCalibration(calibration);
     const auto camera = scene::readCameraCalibration(calibration);
     if (!camera) {
-        throw InputError(calibration, "cam_K: missing (the scan's calibration names the camera)");
+        throw common::InputError(calibration,
+                                 "cam_K: missing (the scan's calibration names the camera)");
     }
     const scan::ProjectorSurface surface =
         scan::readSurface(std::filesystem::path(args.scan) / scan::kSurfaceFile);
     const proto::RadiometryManifest manifest = proto::readRadiometryManifest(capture);
     radiometry::RadiometryOptions options;
     options.threads = args.threads;
-    ProgressBar progress("radiometry", manifest.images.size());
+    common::ProgressBar progress("radiometry", manifest.images.size());
     const radiometry::ProjectorRadiometry measured =
         radiometry::measureRadiometry(capture, surface, *camera, projector, options, &progress);
     progress.finish();
 
-    AtomicFolder folder(args.out, radiometry::kMeasuredFile, "vpe radiometry");
+    common::AtomicFolder folder(args.out, radiometry::kMeasuredFile, "vpe radiometry");
     radiometry::writeRadiometry(measured, folder.temporaryPath());
     radiometry::writeRadiometrySheet(measured, surface, projector,
                                      folder.temporaryPath() / radiometry::kRadiometrySheetFile);

@@ -25,15 +25,15 @@ struct Arguments {
 
 // What `vpe relight` does once its options are parsed.
 void runRelight(const Arguments& args) {
-    const Vec3d light{args.light[0], args.light[1], args.light[2]};
+    const proto::Vec3d light{args.light[0], args.light[1], args.light[2]};
     const double length = std::sqrt(proto::dot(light, light));
     if (!(length > 1e-9) || !std::isfinite(length)) {
-        throw InputError("--light must be a non-zero direction");
+        throw common::InputError("--light must be a non-zero direction");
     }
-    const Vec3d toLight{light.x / length, light.y / length, light.z / length};
-    ModelReader reader(args.model);
-    const ModelInfo& info = reader.info();
-    ModelRows rows;
+    const proto::Vec3d toLight{light.x / length, light.y / length, light.z / length};
+    model::ModelReader reader(args.model);
+    const model::ModelInfo& info = reader.info();
+    model::ModelRows rows;
     reader.readRows(0, info.height, rows);
     std::vector<float> pixels(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f);
     for (int y = 0; y < info.height; ++y) {
@@ -42,8 +42,9 @@ void runRelight(const Arguments& args) {
             if (!rows.valid[p]) {
                 continue;
             }
-            const Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]};
-            const auto angles = proto::reflectionAngles(n, toLight, Vec3d{0, 0, 1});
+            const proto::Vec3d n{rows.normal[p * 3], rows.normal[p * 3 + 1],
+                                 rows.normal[p * 3 + 2]};
+            const auto angles = proto::reflectionAngles(n, toLight, proto::Vec3d{0, 0, 1});
             for (int c = 0; c < 3; ++c) {
                 const double v = args.exposure * proto::evaluateFourierBrdf(
                                                      rows.coefficientsAt(y, x, c), info.harmonics,
@@ -53,7 +54,7 @@ void runRelight(const Arguments& args) {
             }
         }
     }
-    writeImage(args.out, info.width, info.height, 3, pixels, PixelFormat::kUint8);
+    image::writeImage(args.out, info.width, info.height, 3, pixels, image::PixelFormat::kUint8);
 }
 
 }  // namespace

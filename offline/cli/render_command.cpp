@@ -75,7 +75,7 @@ double autoExposure(const renderer::DirectView& direct) {
 }
 
 // The middle of the mesh's bounding box: what the preview camera looks at.
-Vec3d meshCentre(const proto::MeshView& mesh) {
+proto::Vec3d meshCentre(const proto::MeshView& mesh) {
     float low[3] = {1e30f, 1e30f, 1e30f}, high[3] = {-1e30f, -1e30f, -1e30f};
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         low[i % 3] = std::min(low[i % 3], mesh.positions[i]);
@@ -104,7 +104,7 @@ double parseGain(const std::string& text) {
     char* end = nullptr;
     const double gain = std::strtod(text.c_str(), &end);
     if (end == text.c_str() || *end != '\0' || !(gain > 0) || !std::isfinite(gain)) {
-        throw InputError("--gain: '" + text + "' is not a positive number or 'auto'");
+        throw common::InputError("--gain: '" + text + "' is not a positive number or 'auto'");
     }
     return gain;
 }
@@ -113,7 +113,7 @@ proto::BundleFile openBundle(const std::string& path) {
     try {
         return proto::BundleFile::open(path);
     } catch (const proto::BundleError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
 }
 
@@ -124,10 +124,10 @@ void runRenderShow(const Arguments& args) {
     const auto light = scene::parsePosition(args.light, "--light");
     const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
     if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
-        throw InputError("--intensity must be a positive number");
+        throw common::InputError("--intensity must be a positive number");
     }
     if (!args.exr.empty()) {
-        throw InputError("--exr: one bundle at a time (a show writes its frames as PNG)");
+        throw common::InputError("--exr: one bundle at a time (a show writes its frames as PNG)");
     }
     std::vector<proto::BundleFile> files;
     std::vector<std::unique_ptr<renderer::BundleScene>> bundleScenes;
@@ -139,17 +139,17 @@ void runRenderShow(const Arguments& args) {
             bundleScenes.push_back(
                 std::make_unique<renderer::BundleScene>(files[i].view(), args.weights));
         } catch (const std::invalid_argument& error) {
-            throw InputError(std::string("--weights: ") + error.what());
+            throw common::InputError(std::string("--weights: ") + error.what());
         }
         if (files[i].view().mesh().positions.size() != files[0].view().mesh().positions.size() ||
             !std::equal(files[i].view().mesh().positions.begin(),
                         files[i].view().mesh().positions.end(),
                         files[0].view().mesh().positions.begin())) {
-            throw InputError(args.bundles[i] + ": not the same object as " + args.bundles[0] +
-                             " (a show's bundles share one mesh)");
+            throw common::InputError(args.bundles[i] + ": not the same object as " +
+                                     args.bundles[0] + " (a show's bundles share one mesh)");
         }
     }
-    Vec3d viewer = bundleScenes[0]->bundleViewer();
+    proto::Vec3d viewer = bundleScenes[0]->bundleViewer();
     if (!args.viewer.empty()) {
         const auto v = scene::parsePosition(args.viewer, "--viewer");
         viewer = {v.x, v.y, v.z};
@@ -162,7 +162,7 @@ void runRenderShow(const Arguments& args) {
         scenes.push_back(bundleScene->scene(virtualLight, viewer));
     }
     renderer::RenderOptions options;
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     options.gain = static_cast<double>(files[0].view().settings().gain);
     if (!args.gain.empty() && args.gain != "auto") {
         options.gain = parseGain(args.gain);
@@ -190,8 +190,8 @@ void runRenderShow(const Arguments& args) {
         const std::filesystem::path bundlePath(args.bundles[i]);
         const std::filesystem::path out =
             std::filesystem::path(args.out) / (bundlePath.stem().string() + ".png");
-        writeImage8(out, frames[i].level.width, frames[i].level.height, 3,
-                    levelPicture(frames[i].level));
+        image::writeImage8(out, frames[i].level.width, frames[i].level.height, 3,
+                           levelPicture(frames[i].level));
         json["projectors"].push_back({{"frame", out.string()},
                                       {"covered_pixels", frames[i].stats.coveredPixels},
                                       {"clipped_fraction", frames[i].stats.clippedFraction}});
@@ -210,12 +210,12 @@ void runRenderShow(const Arguments& args) {
             renderer::simulateShowView(scenePointers, patterns, camera, options);
         const double exposure = args.exposure > 0 ? args.exposure : autoExposure(direct);
         if (!args.simulate.empty()) {
-            writeImage8(args.simulate, viewSize.width, viewSize.height, 3,
-                        srgbPicture(simulated.radiance, exposure));
+            image::writeImage8(args.simulate, viewSize.width, viewSize.height, 3,
+                               srgbPicture(simulated.radiance, exposure));
         }
         if (!args.direct.empty()) {
-            writeImage8(args.direct, viewSize.width, viewSize.height, 3,
-                        srgbPicture(direct.radiance, exposure));
+            image::writeImage8(args.direct, viewSize.width, viewSize.height, 3,
+                               srgbPicture(direct.radiance, exposure));
         }
         // Against the material rendered directly, over the seen pixels some projector lights:
         // PSNR with the brightest direct radiance as the peak.
@@ -260,17 +260,17 @@ void runRender(const Arguments& args) {
     const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
     const int viewWidth = viewSize.width, viewHeight = viewSize.height;
     if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
-        throw InputError("--intensity must be a positive number");
+        throw common::InputError("--intensity must be a positive number");
     }
     proto::BundleFile file = openBundle(args.bundle);
     const renderer::BundleScene bundleScene = [&] {
         try {
             return renderer::BundleScene(file.view(), args.weights);
         } catch (const std::invalid_argument& error) {
-            throw InputError(std::string("--weights: ") + error.what());
+            throw common::InputError(std::string("--weights: ") + error.what());
         }
     }();
-    Vec3d viewer = bundleScene.bundleViewer();
+    proto::Vec3d viewer = bundleScene.bundleViewer();
     if (!args.viewer.empty()) {
         const auto v = scene::parsePosition(args.viewer, "--viewer");
         viewer = {v.x, v.y, v.z};
@@ -280,7 +280,7 @@ void runRender(const Arguments& args) {
     virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
     const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
     renderer::RenderOptions options;
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     options.gain = static_cast<double>(file.view().settings().gain);
     if (!args.gain.empty() && args.gain != "auto") {
         options.gain = parseGain(args.gain);
@@ -291,9 +291,9 @@ void runRender(const Arguments& args) {
         frame = renderer::renderProjectorFrame(scene, options);
     }
     const int w = frame.level.width, h = frame.level.height;
-    writeImage8(args.out, w, h, 3, levelPicture(frame.level));
+    image::writeImage8(args.out, w, h, 3, levelPicture(frame.level));
     if (!args.exr.empty()) {
-        writeImage(args.exr, w, h, 3, frame.level.values, PixelFormat::kFloat);
+        image::writeImage(args.exr, w, h, 3, frame.level.values, image::PixelFormat::kFloat);
     }
     nlohmann::json json;
     json["bundle"] = args.bundle;
@@ -313,12 +313,12 @@ void runRender(const Arguments& args) {
             renderer::simulateVisitorView(scene, frame.level, camera, options);
         const double exposure = args.exposure > 0 ? args.exposure : autoExposure(direct);
         if (!args.simulate.empty()) {
-            writeImage8(args.simulate, viewWidth, viewHeight, 3,
-                        srgbPicture(simulated.radiance, exposure));
+            image::writeImage8(args.simulate, viewWidth, viewHeight, 3,
+                               srgbPicture(simulated.radiance, exposure));
         }
         if (!args.direct.empty()) {
-            writeImage8(args.direct, viewWidth, viewHeight, 3,
-                        srgbPicture(direct.radiance, exposure));
+            image::writeImage8(args.direct, viewWidth, viewHeight, 3,
+                               srgbPicture(direct.radiance, exposure));
         }
         const renderer::LoopClosure loop = renderer::compareVisitorViews(frame, simulated, direct);
         json["exposure"] = exposure;

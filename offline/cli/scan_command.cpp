@@ -9,6 +9,7 @@
 #include "vpe/common/atomic_folder.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/registration/surface_mesh.h"
 #include "vpe/scan/scan_accuracy.h"
 #include "vpe/scan/scan_files.h"
@@ -28,19 +29,15 @@ struct Arguments {
     bool json = false;
 };
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 void runScan(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     scan::ProcamRig rig;
     rig.projector = scene::readProjectorCalibration(args.calibration);
     const auto camera = scene::readCameraCalibration(args.calibration);
     if (!camera) {
-        throw InputError(args.calibration,
-                         "cam_K: missing (vpe scan needs the camera's intrinsics too: a "
-                         "calibration from vpe calibrate)");
+        throw common::InputError(args.calibration,
+                                 "cam_K: missing (vpe scan needs the camera's intrinsics too: a "
+                                 "calibration from vpe calibrate)");
     }
     rig.camera = *camera;
     const structured_light::ScanCapture capture(args.capture);
@@ -48,25 +45,25 @@ void runScan(const Arguments& args) {
     decodeOptions.threads = args.threads;
     const structured_light::DecodedScan decoded =
         structured_light::decodePatterns(capture, decodeOptions);
-    const double decodeSeconds = secondsSince(start);
+    const double decodeSeconds = common::secondsSince(start);
     const double decodedShare = decoded.lit ? double(decoded.decoded) / double(decoded.lit) : 0;
     if (decodedShare < args.minCoverage) {
-        throw InputError(capture.folder(),
-                         "the scan covers too little of the object: " +
-                             std::to_string(static_cast<int>(100 * decodedShare)) +
-                             "% of the pixels the projector lights were decoded (at least " +
-                             std::to_string(static_cast<int>(100 * args.minCoverage)) +
-                             "% wanted; see the contact sheet's reasons: room light, "
-                             "interreflection, a moving object)");
+        throw common::InputError(
+            capture.folder(), "the scan covers too little of the object: " +
+                                  std::to_string(static_cast<int>(100 * decodedShare)) +
+                                  "% of the pixels the projector lights were decoded (at least " +
+                                  std::to_string(static_cast<int>(100 * args.minCoverage)) +
+                                  "% wanted; see the contact sheet's reasons: room light, "
+                                  "interreflection, a moving object)");
     }
     const auto triangulateStart = std::chrono::steady_clock::now();
     scan::TriangulationOptions triangulation;
     triangulation.threads = args.threads;
     const scan::ProjectorSurface surface = scan::triangulateScan(decoded, rig, triangulation);
-    const double triangulateSeconds = secondsSince(triangulateStart);
+    const double triangulateSeconds = common::secondsSince(triangulateStart);
 
     const auto writeStart = std::chrono::steady_clock::now();
-    AtomicFolder folder(args.out, scan::kSurfaceFile, "vpe scan");
+    common::AtomicFolder folder(args.out, scan::kSurfaceFile, "vpe scan");
     scan::writeSurface(surface, folder.temporaryPath() / scan::kSurfaceFile);
     scan::writePointCloud(surface, folder.temporaryPath() / scan::kPointCloudFile);
     scan::writeScanSheet(decoded, surface, folder.temporaryPath() / scan::kScanSheetFile);
@@ -78,7 +75,7 @@ void runScan(const Arguments& args) {
         registration::makeSurfaceMesh(surface, rig.projector);
     registration::writeSurfaceMesh(surfaceMesh, folder.temporaryPath());
     folder.commit();
-    const double writeSeconds = secondsSince(writeStart);
+    const double writeSeconds = common::secondsSince(writeStart);
 
     std::optional<scan::ScanAccuracy> accuracy;
     if (!args.truth.empty()) {
@@ -141,7 +138,7 @@ void runScan(const Arguments& args) {
             json["decode_rms_px"] = accuracy->decodeRmsPx;
             json["measured_without_truth"] = accuracy->measuredWithoutTruth;
         }
-        json["seconds"] = secondsSince(start);
+        json["seconds"] = common::secondsSince(start);
         printJson(json.dump());
     }
 }

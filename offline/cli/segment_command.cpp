@@ -21,14 +21,14 @@ namespace vpe::cli {
 namespace {
 
 // "x,y;x,y;..." → seeds; anything else is named back to the user.
-std::vector<PixelSeed> parseSeeds(const std::string& text) {
-    std::vector<PixelSeed> seeds;
+std::vector<segment::PixelSeed> parseSeeds(const std::string& text) {
+    std::vector<segment::PixelSeed> seeds;
     std::size_t start = 0;
     while (start <= text.size()) {
         const std::size_t end = std::min(text.find(';', start), text.size());
         const std::string item = text.substr(start, end - start);
         const std::size_t comma = item.find(',');
-        PixelSeed seed;
+        segment::PixelSeed seed;
         std::size_t usedX = 0, usedY = 0;
         bool ok = comma != std::string::npos && comma > 0 && comma + 1 < item.size();
         try {
@@ -42,7 +42,8 @@ std::vector<PixelSeed> parseSeeds(const std::string& text) {
             ok = false;
         }
         if (!ok) {
-            throw InputError("--seeds: '" + item + "' is not a pixel x,y (expected x,y[;x,y...])");
+            throw common::InputError("--seeds: '" + item +
+                                     "' is not a pixel x,y (expected x,y[;x,y...])");
         }
         seeds.push_back(seed);
         start = end + 1;
@@ -61,9 +62,10 @@ int parseClusters(const std::string& text) {
     } catch (const std::exception&) {
         used = 0;
     }
-    if (used != text.size() || k < 1 || k > LabelMap::kMaxLabels) {
-        throw InputError("--auto: expected 'auto' or a number of labels K from 1 to " +
-                         std::to_string(LabelMap::kMaxLabels) + ", got '" + text + "'");
+    if (used != text.size() || k < 1 || k > segment::LabelMap::kMaxLabels) {
+        throw common::InputError("--auto: expected 'auto' or a number of labels K from 1 to " +
+                                 std::to_string(segment::LabelMap::kMaxLabels) + ", got '" + text +
+                                 "'");
     }
     return k;
 }
@@ -90,39 +92,41 @@ struct Arguments {
 void runSegment(const Arguments& args) {
     const auto start = std::chrono::steady_clock::now();
     if (args.seeds.empty() == args.autoClusters.empty()) {
-        throw InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
+        throw common::InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
     }
-    SegmentOptions options;
+    segment::SegmentOptions options;
     if (!args.seeds.empty()) {
         options.seeds = parseSeeds(args.seeds);
-        options.seedSpace = args.space == "colour" ? SeedSpace::kColour : SeedSpace::kAppearance;
+        options.seedSpace =
+            args.space == "colour" ? segment::SeedSpace::kColour : segment::SeedSpace::kAppearance;
     } else {
         options.clusters = parseClusters(args.autoClusters);
     }
     options.minIsland = args.minIsland;
     options.seed = args.seed;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     // The truth is read first, so a bad one stops the command before any work.
-    std::optional<LabelMap> truth;
+    std::optional<segment::LabelMap> truth;
     if (!args.truth.empty()) {
-        truth = readLabelImage(args.truth);
+        truth = segment::readLabelImage(args.truth);
     }
-    AppearanceOptions appearanceOptions;
+    segment::AppearanceOptions appearanceOptions;
     appearanceOptions.threads = options.threads;
-    const Appearance appearance = computeAppearance(args.model, appearanceOptions);
+    const segment::Appearance appearance =
+        segment::computeAppearance(args.model, appearanceOptions);
     if (truth && (truth->width != appearance.width || truth->height != appearance.height)) {
-        throw InputError(args.truth, "is " + std::to_string(truth->width) + "x" +
-                                         std::to_string(truth->height) + ", the model " +
-                                         std::to_string(appearance.width) + "x" +
-                                         std::to_string(appearance.height));
+        throw common::InputError(args.truth, "is " + std::to_string(truth->width) + "x" +
+                                                 std::to_string(truth->height) + ", the model " +
+                                                 std::to_string(appearance.width) + "x" +
+                                                 std::to_string(appearance.height));
     }
-    const SegmentResult result = segmentAppearance(appearance, options);
-    const std::filesystem::path overlay = overlayPathFor(args.out);
-    writeLabelImage(args.out, result.map);
-    writeLabelOverlay(overlay, result.map, appearance);
+    const segment::SegmentResult result = segment::segmentAppearance(appearance, options);
+    const std::filesystem::path overlay = segment::overlayPathFor(args.out);
+    segment::writeLabelImage(args.out, result.map);
+    segment::writeLabelOverlay(overlay, result.map, appearance);
     if (!args.average.empty()) {
-        writeImage8(args.average, appearance.width, appearance.height, 3,
-                    averagePicture(appearance));
+        image::writeImage8(args.average, appearance.width, appearance.height, 3,
+                           segment::averagePicture(appearance));
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -136,7 +140,7 @@ void runSegment(const Arguments& args) {
         json["space"] = args.space;
     }
     json["labels"] = result.map.labels;
-    json["label_pixels"] = labelAreas(result.map);
+    json["label_pixels"] = segment::labelAreas(result.map);
     json["pixels"] = result.map.values.size();
     json["valid_pixels"] = appearance.validPixels;
     json["min_island"] = result.minIsland;
@@ -161,7 +165,7 @@ void runSegment(const Arguments& args) {
                  args.out.c_str(), result.map.labels, chosen.c_str(), result.islandsMerged,
                  result.minIsland, seconds);
     if (truth) {
-        const LabelComparison comparison = compareLabels(result.map, *truth);
+        const segment::LabelComparison comparison = segment::compareLabels(result.map, *truth);
         json["truth"] = args.truth;
         json["truth_labels"] = comparison.truthLabels;
         json["matched_labels"] = comparison.matchedLabels;

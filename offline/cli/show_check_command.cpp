@@ -36,12 +36,12 @@ void runShowCheck(const Arguments& args) {
     options.viewWidth = size.width;
     options.viewHeight = size.height;
     if (!(options.fovDegrees > 0 && options.fovDegrees < 180)) {
-        throw InputError("--view-fov must be between 0 and 180 degrees");
+        throw common::InputError("--view-fov must be between 0 and 180 degrees");
     }
     if (!(options.elevationDegrees > -90 && options.elevationDegrees < 90)) {
-        throw InputError("--elevation must be between -90 and 90 degrees");
+        throw common::InputError("--elevation must be between -90 and 90 degrees");
     }
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     const transfer::ShowCheckReport report = transfer::checkShow(options);
     std::fprintf(stderr, "%8s %8s %10s %10s %8s\n", "azimuth", "PSNR dB", "seam step", "(truth's)",
                  "lit");

@@ -13,8 +13,9 @@ SizeArgument parseSizeArgument(const std::string& text, const std::string& optio
     if (std::sscanf(text.c_str(), "%d%c%d%c", &size.width, &separator, &size.height, &extra) != 3 ||
         (separator != 'x' && separator != 'X') || size.width < 1 || size.height < 1 ||
         size.width > maxSide || size.height > maxSide) {
-        throw InputError(option + ": '" + text + "' is not a size WxH (e.g. 1024x1024; sides 1.." +
-                         std::to_string(maxSide) + ")");
+        throw common::InputError(option + ": '" + text +
+                                 "' is not a size WxH (e.g. 1024x1024; sides 1.." +
+                                 std::to_string(maxSide) + ")");
     }
     return size;
 }

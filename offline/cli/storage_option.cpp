@@ -13,11 +13,11 @@ void addStorageOption(CLI::App* command, std::string& value, const std::string& 
         ->check(CLI::IsMember({"half", "float"}));
 }
 
-std::optional<ModelStorage> parseStorage(const std::string& value) {
+std::optional<model::ModelStorage> parseStorage(const std::string& value) {
     if (value.empty()) {
         return std::nullopt;
     }
-    return value == "half" ? ModelStorage::kHalf : ModelStorage::kFloat;
+    return value == "half" ? model::ModelStorage::kHalf : model::ModelStorage::kFloat;
 }
 
 }  // namespace vpe::cli

@@ -15,6 +15,6 @@ namespace vpe::cli {
 void addStorageOption(CLI::App* command, std::string& value, const std::string& whenOmitted);
 
 // The storage `value` names, or nullopt when it is empty (the command's default applies).
-std::optional<ModelStorage> parseStorage(const std::string& value);
+std::optional<model::ModelStorage> parseStorage(const std::string& value);
 
 }  // namespace vpe::cli

@@ -29,19 +29,19 @@ struct Arguments {
 
 // What `vpe sweep` does once its options are parsed.
 void runSweep(const Arguments& args) {
-    SweepOptions options;
+    eval::SweepOptions options;
     options.maxHarmonics = args.maxHarmonics;
     options.lambdas = args.lambdas;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     if (!args.normals.empty()) {
         options.normals = args.normals;
     }
-    const Capture train = openCapture(args.train);
-    const Capture test = openCapture(args.test);
-    const SweepResult result = runSweep(train, test, options);
+    const capture::Capture train = capture::openCapture(args.train);
+    const capture::Capture test = capture::openCapture(args.test);
+    const eval::SweepResult result = eval::runSweep(train, test, options);
     const std::filesystem::path out(args.out);
-    writeSweepCsv(out / "sweep.csv", result);
-    writeSweepPlot(out / "sweep.svg", result);
+    eval::writeSweepCsv(out / "sweep.csv", result);
+    eval::writeSweepPlot(out / "sweep.svg", result);
     std::printf("%8s", "M");
     for (double lambda : result.lambdas) {
         std::printf("  λ=%-8g", lambda);

@@ -44,7 +44,7 @@ void runSynth(const Arguments& args) {
     options.reflectance = args.reflectance == "fourier" ? synth::SynthReflectance::kFourier
                                                         : synth::SynthReflectance::kMicrofacet;
     options.fourierHarmonics = args.fourierHarmonics;
-    options.threads = resolveThreadCount(args.threads);
+    options.threads = common::resolveThreadCount(args.threads);
     const synth::SynthReport report = synth::synthesizeCapture(options);
     std::fprintf(stderr,
                  "wrote %s: %d train + %d held-out images of %dx%d in %.1f s (streaks "

@@ -90,7 +90,7 @@ void runGallery(const Arguments& args) {
     options.roomLight = args.roomLight;
     if (!(args.cameraOffset > 0.02 && args.cameraOffset < 2) || !(args.exposure > 0) ||
         !(args.roomLight >= 0) || !std::isfinite(args.exposure + args.roomLight)) {
-        throw InputError(
+        throw common::InputError(
             "--camera-offset must be in (0.02, 2) m, --exposure positive, "
             "--room-light ≥ 0");
     }
@@ -99,9 +99,9 @@ void runGallery(const Arguments& args) {
     options.stains = args.stains;
     options.realisticLight = args.realisticLight;
     const procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
-    const int threads = static_cast<int>(resolveThreadCount(args.threads));
+    const int threads = static_cast<int>(common::resolveThreadCount(args.threads));
 
-    AtomicFolder folder(args.out, "installation.toml", "vpe synth-procam");
+    common::AtomicFolder folder(args.out, "installation.toml", "vpe synth-procam");
     const std::filesystem::path root = folder.temporaryPath();
     std::filesystem::create_directories(root / "truth");
     std::filesystem::create_directories(root / "calibration" / "scenes");
@@ -115,11 +115,12 @@ void runGallery(const Arguments& args) {
     try {
         patterns = proto::StructuredLightSequence(parameters).patterns().size();
     } catch (const proto::StructuredLightError& error) {
-        throw InputError(std::string("--phase-period/--phase-steps: ") + error.what());
+        throw common::InputError(std::string("--phase-period/--phase-steps: ") + error.what());
     }
     const std::size_t flatFields =
         proto::radiometrySequence({projector.width, projector.height}).size();
-    ProgressBar progress("synth-procam", patterns * (gallery.boardScenes.size() + 1) + flatFields);
+    common::ProgressBar progress("synth-procam",
+                                 patterns * (gallery.boardScenes.size() + 1) + flatFields);
     procam::SimulatedScanOptions scan;
     scan.phasePeriod = args.phasePeriod;
     scan.phaseSteps = args.phaseSteps;
@@ -166,7 +167,7 @@ void runGallery(const Arguments& args) {
                                      &progress);
     progress.setPhase("truth");
     procam::writeSimulationTruth(simulator, root / "truth");
-    writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
+    common::writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
 
     progress.finish();
     folder.commit();
@@ -197,13 +198,13 @@ proto::BundleFile openBundle(const std::string& path) {
     try {
         return proto::BundleFile::open(path);
     } catch (const proto::BundleError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
 }
 
 // A camera view for people: the linear signal divided by `white`, sRGB-encoded.
-SheetTile linearTile(std::string label, const renderer::RgbImage& image, double white) {
-    SheetTile tile{std::move(label), image.width, image.height, 3, {}};
+image::SheetTile linearTile(std::string label, const renderer::RgbImage& image, double white) {
+    image::SheetTile tile{std::move(label), image.width, image.height, 3, {}};
     tile.pixels.reserve(image.values.size());
     for (const float v : image.values) {
         const double x = std::clamp(double(v) / white, 0.0, 1.0);
@@ -217,7 +218,7 @@ SheetTile linearTile(std::string label, const renderer::RgbImage& image, double 
 void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
     const auto start = std::chrono::steady_clock::now();
     procam::RadiometryCheckOptions options;
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     const proto::BundleFile bundle = openBundle(args.checkLight);
     const procam::RadiometryCheck check =
         procam::checkRadiometry(file.scene, file.camera, bundle.view(), options);
@@ -226,14 +227,14 @@ void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& fil
         const proto::BundleFile other = openBundle(args.baseline);
         baseline = procam::checkRadiometry(file.scene, file.camera, other.view(), options);
     }
-    std::vector<SheetTile> tiles;
+    std::vector<image::SheetTile> tiles;
     for (std::size_t i = 0; i < check.views.size(); ++i) {
         const procam::RadiometryView& view = check.views[i];
         std::vector<double> luminance;
         for (std::size_t p = 0; p < view.target.pixelCount(); ++p) {
             luminance.push_back(double(view.target.values[3 * p + 1]));
         }
-        const double white = std::max(1e-9, quantile(luminance, 0.998));
+        const double white = std::max(1e-9, common::quantile(luminance, 0.998));
         char label[128];
         std::snprintf(label, sizeof label, "light %.2f,%.2f,%.2f: the target", view.light.x,
                       view.light.y, view.light.z);
@@ -251,7 +252,7 @@ void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& fil
     }
     std::filesystem::create_directories(args.out);
     const std::filesystem::path sheet = std::filesystem::path(args.out) / "light-check.png";
-    writeContactSheet(sheet, tiles, baseline ? 3 : 2, 360);
+    image::writeContactSheet(sheet, tiles, baseline ? 3 : 2, 360);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr,
@@ -299,17 +300,17 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
         try {
             return proto::BundleFile::open(args.check);
         } catch (const proto::BundleError& error) {
-            throw InputError(error.what());
+            throw common::InputError(error.what());
         }
     }();
     procam::InstallationCheckOptions options;
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     const procam::InstallationCheck check =
         procam::checkInstallation(file.scene, file.camera.camera, bundle.view(), options);
-    std::vector<SheetTile> tiles;
+    std::vector<image::SheetTile> tiles;
     for (const procam::VisitorComparison& view : check.views) {
-        const auto tileOf = [](const Rgb8Image& image, std::string label) {
-            SheetTile tile{std::move(label), image.width, image.height, 3, {}};
+        const auto tileOf = [](const image::Rgb8Image& image, std::string label) {
+            image::SheetTile tile{std::move(label), image.width, image.height, 3, {}};
             tile.pixels.reserve(image.values.size());
             for (const std::uint8_t v : image.values) {
                 tile.pixels.push_back(static_cast<float>(v) / 255.0f);
@@ -321,7 +322,7 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
                       view.light.y, view.light.z, view.psnr);
         tiles.push_back(tileOf(view.measured, light));
         tiles.push_back(tileOf(view.truth, "the true geometry"));
-        Rgb8Image difference = view.truth;
+        image::Rgb8Image difference = view.truth;
         for (std::size_t i = 0; i < difference.values.size(); ++i) {
             difference.values[i] = static_cast<std::uint8_t>(std::min(
                 255, 8 * std::abs(int(view.measured.values[i]) - int(view.truth.values[i]))));
@@ -330,7 +331,7 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
     }
     std::filesystem::create_directories(args.out);
     const std::filesystem::path sheet = std::filesystem::path(args.out) / "visitor-check.png";
-    writeContactSheet(sheet, tiles, 3, 320);
+    image::writeContactSheet(sheet, tiles, 3, 320);
     // The true camera in the object's frame, for the tracked lamp's error (vpe_lamp_direction).
     const std::filesystem::path trueCamera = std::filesystem::path(args.out) / "true-camera.yml";
     scene::writeCameraCalibration(check.trueCamera, trueCamera);
@@ -375,7 +376,7 @@ void runScene(const Arguments& args) {
     try {
         file = renderer::procam::readSceneFile(args.scene);
     } catch (const renderer::procam::SceneFileError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
     if (!args.check.empty()) {
         runCheck(args, file);
@@ -385,16 +386,16 @@ void runScene(const Arguments& args) {
         runLightCheck(args, file);
         return;
     }
-    const int threads = static_cast<int>(resolveThreadCount(args.threads));
+    const int threads = static_cast<int>(common::resolveThreadCount(args.threads));
     const sim::ProcamSimulator simulator(file.scene, file.camera, threads);
     if (!args.show.empty()) {
-        const FloatImage shown = readImage(args.show);
+        const image::FloatImage shown = image::readImage(args.show);
         const proto::PinholeCamera& p = file.scene.projector.camera;
         if (shown.width != p.width || shown.height != p.height) {
-            throw InputError(args.show,
-                             std::to_string(shown.width) + "x" + std::to_string(shown.height) +
-                                 ", but the scene's projector is " + std::to_string(p.width) + "x" +
-                                 std::to_string(p.height));
+            throw common::InputError(
+                args.show, std::to_string(shown.width) + "x" + std::to_string(shown.height) +
+                               ", but the scene's projector is " + std::to_string(p.width) + "x" +
+                               std::to_string(p.height));
         }
         renderer::RgbImage levels(p.width, p.height);
         for (std::size_t i = 0; i < levels.pixelCount(); ++i) {
@@ -408,8 +409,8 @@ void runScene(const Arguments& args) {
         const renderer::RgbImage radiance = simulator.radiance(levels);
         const std::filesystem::path out(args.out);
         if (out.extension() == ".exr") {
-            writeImage(out, radiance.width, radiance.height, 3, radiance.values,
-                       PixelFormat::kFloat);
+            image::writeImage(out, radiance.width, radiance.height, 3, radiance.values,
+                              image::PixelFormat::kFloat);
         } else {
             const sim::CameraFrame frame = simulator.expose(radiance, 0);
             std::vector<float> values(frame.samples.size());
@@ -417,8 +418,9 @@ void runScene(const Arguments& args) {
                 values[i] =
                     static_cast<float>(frame.samples[i]) / static_cast<float>(frame.maxValue());
             }
-            writeImage(out, frame.width, frame.height, frame.channels, values,
-                       frame.bits > 8 ? PixelFormat::kUint16 : PixelFormat::kUint8);
+            image::writeImage(
+                out, frame.width, frame.height, frame.channels, values,
+                frame.bits > 8 ? image::PixelFormat::kUint16 : image::PixelFormat::kUint8);
         }
         std::fprintf(stderr, "wrote %s: the camera's view of %s\n", args.out.c_str(),
                      args.show.c_str());
@@ -427,7 +429,7 @@ void runScene(const Arguments& args) {
     proto::StructuredLightParameters parameters{file.scene.projector.camera.width,
                                                 file.scene.projector.camera.height,
                                                 args.phasePeriod, args.phaseSteps};
-    ProgressBar progress(
+    common::ProgressBar progress(
         "synth-procam",
         proto::StructuredLightSequence(parameters).patterns().size() +
             proto::radiometrySequence({parameters.width, parameters.height}).size());
@@ -437,7 +439,7 @@ void runScene(const Arguments& args) {
     scan.source = "simulated:" + args.scene;
     // Each capture of the same installation draws fresh noise.
     scan.firstFrame = 100000 * static_cast<std::uint64_t>(args.capture);
-    AtomicFolder folder(args.out, proto::kScanManifestName, "vpe synth-procam");
+    common::AtomicFolder folder(args.out, proto::kScanManifestName, "vpe synth-procam");
     procam::writeSimulatedScan(simulator, folder.temporaryPath(), scan, &progress);
     procam::SimulatedRadiometryOptions flat;
     flat.source = scan.source;
@@ -532,7 +534,7 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
         action = [args] {
             if ((!args->show.empty() || !args->check.empty() || !args->checkLight.empty()) &&
                 args->scene.empty()) {
-                throw InputError("--show, --check and --check-light need --scene FILE");
+                throw common::InputError("--show, --check and --check-light need --scene FILE");
             }
             if (args->scene.empty()) {
                 runGallery(*args);

@@ -39,7 +39,7 @@ void runTransfer(const Arguments& args) {
     options.viewWidth = size.width;
     options.viewHeight = size.height;
     if (!(args.fov > 0 && args.fov < 180)) {
-        throw InputError("--view-fov must be between 0 and 180 degrees");
+        throw common::InputError("--view-fov must be between 0 and 180 degrees");
     }
     options.fovDegrees = args.fov;
     std::stringstream views(args.views);
@@ -48,7 +48,7 @@ void runTransfer(const Arguments& args) {
             options.views.push_back(name);
         }
     }
-    options.threads = static_cast<int>(resolveThreadCount(args.threads));
+    options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     options.trueRelief = args.trueRelief;
     const transfer::TransferReport report = transfer::measureTransferFidelity(options);
     std::fprintf(stderr, "%-13s %8s %7s %12s %6s\n", "view", "PSNR dB", "SSIM", "object dB", "lit");

@@ -7,7 +7,7 @@
 
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::common {
 
 AtomicFolder::AtomicFolder(std::filesystem::path finalPath, const std::filesystem::path& marker,
                            std::string_view producer)
@@ -45,4 +45,4 @@ void AtomicFolder::commit() {
     committed_ = true;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

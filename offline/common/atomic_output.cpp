@@ -10,7 +10,7 @@
 
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::common {
 
 namespace {
 
@@ -68,4 +68,4 @@ void writeTextFileAtomically(const std::filesystem::path& path, std::string_view
     output.commit();
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

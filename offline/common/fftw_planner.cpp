@@ -3,11 +3,11 @@
 // the same time on different threads do not corrupt FFTW's planner.
 #include "vpe/common/fftw_planner.h"
 
-namespace vpe {
+namespace vpe::common {
 
 std::mutex& fftwPlannerMutex() {
     static std::mutex mutex;
     return mutex;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

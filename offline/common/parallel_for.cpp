@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-namespace vpe {
+namespace vpe::common {
 
 unsigned resolveThreadCount(int requested) {
     if (requested > 0) {
@@ -62,4 +62,4 @@ void parallelFor(std::size_t count, std::size_t grain, unsigned threads,
     }
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -7,7 +7,7 @@
 
 #include <Eigen/Eigenvalues>
 
-namespace vpe {
+namespace vpe::common {
 
 double PrincipalAxes::explained() const {
     return std::min(1.0, variances.sum() / std::max(totalVariance, 1e-300));
@@ -65,4 +65,4 @@ PrincipalAxes principalAxes(std::size_t count, int dims, const SampleAt& sampleA
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

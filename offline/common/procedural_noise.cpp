@@ -6,7 +6,7 @@
 
 #include "vpe/common/random_bits.h"
 
-namespace vpe {
+namespace vpe::common {
 
 double GradientNoise::gradientDot(std::int64_t ix, std::int64_t iy, double dx, double dy) const {
     const std::uint64_t h = mixBits(seed_ ^ mixBits(static_cast<std::uint64_t>(ix) * 0x1f1f1f1full +
@@ -41,4 +41,4 @@ double GradientNoise::fractal(double x, double y, int octaves) const {
     return sum / norm;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -3,10 +3,11 @@
 #include "vpe/common/progress_bar.h"
 
 #include <cstdio>
+#include <utility>
 
 #include <unistd.h>
 
-namespace vpe {
+namespace vpe::common {
 
 ProgressBar::ProgressBar(std::string label, std::size_t total)
     : label_(std::move(label)),
@@ -32,6 +33,26 @@ void ProgressBar::setPhase(std::string phase) {
         phase_ = std::move(phase);
     }
     maybeDraw(done_.load());
+}
+
+void ProgressBar::setPhase(std::string_view phase, std::initializer_list<StepSeconds> steps) {
+    if (!enabled_) {
+        return;
+    }
+    std::string text(phase);
+    const char* separator = "  (";
+    for (const StepSeconds& step : steps) {
+        char seconds[32];
+        std::snprintf(seconds, sizeof seconds, " %.1f s", step.seconds);
+        text += separator;
+        text += step.name;
+        text += seconds;
+        separator = ", ";
+    }
+    if (steps.size() > 0) {
+        text += ')';
+    }
+    setPhase(std::move(text));
 }
 
 void ProgressBar::maybeDraw(std::size_t done) {
@@ -82,4 +103,4 @@ void ProgressBar::draw(std::size_t done, bool final) {
     std::fflush(stderr);
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace vpe {
+namespace vpe::common {
 
 double quantile(std::vector<double> values, double share) {
     if (values.empty()) {
@@ -19,4 +19,4 @@ double quantile(std::vector<double> values, double share) {
     return *at;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -8,16 +8,17 @@
 #include "vpe/model/light_transport.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::eval {
 
-CapturePredictor::CapturePredictor(const ModelInfo& info, const Capture& capture,
-                                   const TransferFunction& stored)
+CapturePredictor::CapturePredictor(const model::ModelInfo& info, const capture::Capture& capture,
+                                   const capture::TransferFunction& stored)
     : info_(info),
       // A model fitted under a calibrated geometry and response predicts other captures of
       // the same dome under them too.
-      capture_(applyAcceptedCalibration(capture, info.calibration, info.width, info.height)),
+      capture_(
+          capture::applyAcceptedCalibration(capture, info.calibration, info.width, info.height)),
       stored_(stored),
-      metric_(metricTransfer(capture_)),
+      metric_(capture::metricTransfer(capture_)),
       geometry_(capture_, info.width, info.height),  // normals come from the model
       rti_(info.rtiBasis()) {
     const std::size_t lights = capture_.images.size();
@@ -29,13 +30,13 @@ CapturePredictor::CapturePredictor(const ModelInfo& info, const Capture& capture
         }
     }
     if (info_.hasTransport()) {
-        for (const CaptureImage& image : capture_.images) {
-            transportDirections_.push_back(transportDirection(capture_, image));
+        for (const capture::CaptureImage& image : capture_.images) {
+            transportDirections_.push_back(model::transportDirection(capture_, image));
         }
     }
 }
 
-std::array<double, 3> CapturePredictor::predict(const ModelRows& rows, int row, int x, int y,
+std::array<double, 3> CapturePredictor::predict(const model::ModelRows& rows, int row, int x, int y,
                                                 int light) const {
     const std::size_t s = static_cast<std::size_t>(light);
     std::array<double, 3> out{};
@@ -54,17 +55,18 @@ std::array<double, 3> CapturePredictor::predict(const ModelRows& rows, int row, 
         return out;
     }
     const std::size_t p = rows.pixel(row, x);
-    const Vec3d normal{rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]};
-    const IncidentLight incident =
-        incidentLight(capture_, capture_.images[s], geometry_.position(x, y));
+    const proto::Vec3d normal{rows.normal[p * 3], rows.normal[p * 3 + 1], rows.normal[p * 3 + 2]};
+    const capture::IncidentLight incident =
+        capture::incidentLight(capture_, capture_.images[s], geometry_.position(x, y));
     const auto angles =
         proto::reflectionAngles(normal, incident.direction, geometry_.toViewer(x, y));
     // The extended model's capture-specific light transport (cast shadows, interreflection)
     // of this texel under this light, per colour channel.
-    const std::array<double, kTransportChannels> transport =
-        rows.transport.empty() ? std::array<double, kTransportChannels>{1.0, 1.0, 1.0}
-                               : evaluateColourTransport(&rows.transport[p * kTransportValues],
-                                                         transportDirections_[s]);
+    const std::array<double, model::kTransportChannels> transport =
+        rows.transport.empty()
+            ? std::array<double, model::kTransportChannels>{1.0, 1.0, 1.0}
+            : model::evaluateColourTransport(&rows.transport[p * model::kTransportValues],
+                                             transportDirections_[s]);
     for (int c = 0; c < 3; ++c) {
         const double predicted =
             transport[static_cast<std::size_t>(c)] * incident.irradiance *
@@ -75,4 +77,4 @@ std::array<double, 3> CapturePredictor::predict(const ModelRows& rows, int row, 
     return out;
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

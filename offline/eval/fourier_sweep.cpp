@@ -22,7 +22,7 @@
 #include "vpe/plot/svg_line_plot.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 namespace {
 
@@ -55,10 +55,10 @@ struct ErrorTable {
 
 // What every chunk of the sweep reads.
 struct SweepInputs {
-    const Capture& test;
-    const SurfaceGeometry& trainGeometry;
-    const SurfaceGeometry& testGeometry;
-    const NormalMap& normals;
+    const capture::Capture& test;
+    const capture::SurfaceGeometry& trainGeometry;
+    const capture::SurfaceGeometry& testGeometry;
+    const normals::NormalMap& normals;
     const fit::KernelLightSet& trainSet;
     const SweepOptions& options;
     int width;
@@ -88,12 +88,12 @@ int testLightGeometry(const SweepInputs& in, int x0, int y, const bool* laneVali
             continue;
         }
         const int x = x0 + lane;
-        const Vec3d n = in.normals.at(x, y);
-        const Vec3d v = in.testGeometry.toViewer(x, y);
-        const Vec3d p = in.testGeometry.position(x, y);
+        const proto::Vec3d n = in.normals.at(x, y);
+        const proto::Vec3d v = in.testGeometry.toViewer(x, y);
+        const proto::Vec3d p = in.testGeometry.position(x, y);
         for (int s = 0; s < in.testCount; ++s) {
-            const IncidentLight light =
-                incidentLight(in.test, in.test.images[static_cast<std::size_t>(s)], p);
+            const capture::IncidentLight light =
+                capture::incidentLight(in.test, in.test.images[static_cast<std::size_t>(s)], p);
             const std::size_t at = static_cast<std::size_t>(lane * in.testCount + s);
             scratch.angles[at] = proto::reflectionAngles(n, light.direction, v);
             scratch.irradiance[at] = light.irradiance;
@@ -104,8 +104,8 @@ int testLightGeometry(const SweepInputs& in, int x0, int y, const bool* laneVali
 
 // Fits the chunk at band row r, column x0 for every (M, λ) and adds its held-out squared
 // errors (8-bit sRGB) to `table`; returns the pixels it scored.
-std::size_t scoreChunk(const SweepInputs& in, const SampleBand& trainBand,
-                       const SampleBand& testBand, int rowBegin, int r, int x0,
+std::size_t scoreChunk(const SweepInputs& in, const capture::SampleBand& trainBand,
+                       const capture::SampleBand& testBand, int rowBegin, int r, int x0,
                        ChunkScratch& scratch, ErrorTable& table) {
     const int y = rowBegin + r;
     bool laneValid[fit::kLanes];
@@ -189,24 +189,27 @@ void summarize(const ErrorTable& total, std::size_t scored, SweepResult& result)
 
 }  // namespace
 
-SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptions& options) {
+SweepResult runSweep(const capture::Capture& train, const capture::Capture& test,
+                     const SweepOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (options.maxHarmonics < 1 || options.maxHarmonics > proto::kMaxHarmonics) {
-        throw InputError("--max-harmonics must be in 1.." + std::to_string(proto::kMaxHarmonics));
+        throw common::InputError("--max-harmonics must be in 1.." +
+                                 std::to_string(proto::kMaxHarmonics));
     }
-    ImageBandReader trainReader(train, options.threads);
-    ImageBandReader testReader(test, options.threads);
+    capture::ImageBandReader trainReader(train, options.threads);
+    capture::ImageBandReader testReader(test, options.threads);
     const int width = trainReader.width();
     const int height = trainReader.height();
     if (testReader.width() != width || testReader.height() != height) {
-        throw InputError(test.source, "images are " + std::to_string(testReader.width()) + "x" +
-                                          std::to_string(testReader.height()) +
-                                          " but the training images are " + std::to_string(width) +
-                                          "x" + std::to_string(height));
+        throw common::InputError(
+            test.source, "images are " + std::to_string(testReader.width()) + "x" +
+                             std::to_string(testReader.height()) + " but the training images are " +
+                             std::to_string(width) + "x" + std::to_string(height));
     }
-    NormalsResult normals = acquireNormals(train, options.normals, width, height, options.threads);
-    const SurfaceGeometry trainGeometry(train, width, height);
-    const SurfaceGeometry testGeometry(test, width, height);
+    normals::NormalsResult normals =
+        normals::acquireNormals(train, options.normals, width, height, options.threads);
+    const capture::SurfaceGeometry trainGeometry(train, width, height);
+    const capture::SurfaceGeometry testGeometry(test, width, height);
     const std::vector<fit::KernelLight> trainLights = fit::kernelLights(train);
     const fit::KernelLightSet trainSet = fit::kernelLightSet(train, trainLights);
     const SweepInputs inputs{test,     trainGeometry, testGeometry, normals.normals,
@@ -219,33 +222,33 @@ SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptio
     const int bandRows = std::min(trainReader.rowsForBudget(std::size_t{96} << 20),
                                   testReader.rowsForBudget(std::size_t{32} << 20));
     const int chunksPerRow = (width + fit::kLanes - 1) / fit::kLanes;
-    SampleBand trainBand, testBand;
-    ProgressBar progress("sweep", static_cast<std::size_t>(height));
+    capture::SampleBand trainBand, testBand;
+    common::ProgressBar progress("sweep", static_cast<std::size_t>(height));
     for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
         const int rows = std::min(bandRows, height - rowBegin);
         trainReader.readBand(rowBegin, rows, nullptr, trainBand);
         testReader.readBand(rowBegin, rows, nullptr, testBand);
-        parallelFor(static_cast<std::size_t>(rows) * chunksPerRow, 2, options.threads,
-                    [&](std::size_t begin, std::size_t end) {
-                        ErrorTable local(lambdaCount, options.maxHarmonics, inputs.testCount);
-                        std::size_t localScored = 0;
-                        ChunkScratch scratch;
-                        for (std::size_t index = begin; index < end; ++index) {
-                            localScored +=
-                                scoreChunk(inputs, trainBand, testBand, rowBegin,
-                                           static_cast<int>(index / chunksPerRow),
-                                           static_cast<int>(index % chunksPerRow) * fit::kLanes,
-                                           scratch, local);
-                        }
-                        std::lock_guard lock(mergeMutex);
-                        total.add(local);
-                        scored += localScored;
-                    });
+        common::parallelFor(
+            static_cast<std::size_t>(rows) * chunksPerRow, 2, options.threads,
+            [&](std::size_t begin, std::size_t end) {
+                ErrorTable local(lambdaCount, options.maxHarmonics, inputs.testCount);
+                std::size_t localScored = 0;
+                ChunkScratch scratch;
+                for (std::size_t index = begin; index < end; ++index) {
+                    localScored += scoreChunk(inputs, trainBand, testBand, rowBegin,
+                                              static_cast<int>(index / chunksPerRow),
+                                              static_cast<int>(index % chunksPerRow) * fit::kLanes,
+                                              scratch, local);
+                }
+                std::lock_guard lock(mergeMutex);
+                total.add(local);
+                scored += localScored;
+            });
         progress.advance(static_cast<std::size_t>(rows));
     }
     progress.finish();
     if (scored == 0) {
-        throw InputError(train.source, "no pixel has a usable normal: nothing to sweep");
+        throw common::InputError(train.source, "no pixel has a usable normal: nothing to sweep");
     }
 
     SweepResult result;
@@ -271,14 +274,14 @@ void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result)
             csv << line;
         }
     }
-    writeTextFileAtomically(path, csv.str());
+    common::writeTextFileAtomically(path, csv.str());
 }
 
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result) {
     // The paper's line styles: solid, dotted, dashed, dash-dot, dash-dot-dot.
     const char* const dashes[] = {"", "2,4", "8,5", "10,4,2,4", "10,4,2,4,2,4"};
-    SvgLinePlot plot("RMS error on held-out lights (paper Fig. 6)", "harmonics M",
-                     "RMS error (8-bit sRGB levels)");
+    plot::SvgLinePlot plot("RMS error on held-out lights (paper Fig. 6)", "harmonics M",
+                           "RMS error (8-bit sRGB levels)");
     double best = 1e300;
     for (std::size_t l = 0; l < result.lambdas.size(); ++l) {
         std::vector<double> x(result.harmonics.begin(), result.harmonics.end());
@@ -295,4 +298,4 @@ void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result
     plot.write(path);
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

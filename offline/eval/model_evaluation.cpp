@@ -16,33 +16,34 @@
 #include "vpe/image/image_file.h"
 #include "vpe/model/fourier_model_file.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 double psnrFromMse(double mse) {
     // A perfect prediction is capped at 100 dB rather than infinity, so JSON stays numeric.
     return mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
 }
 
-EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& statedCapture,
+EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
+                               const capture::Capture& statedCapture,
                                const EvaluationOptions& options) {
-    ModelReader model(modelPath, ModelKinds::kAny);
-    const ModelInfo& info = model.info();
+    model::ModelReader model(modelPath, model::ModelKinds::kAny);
+    const model::ModelInfo& info = model.info();
     // The images are decoded with the response the model was fitted under, if calibrated.
-    const Capture underModel =
-        applyAcceptedCalibration(statedCapture, info.calibration, info.width, info.height);
-    ImageBandReader reader(underModel, options.threads);
+    const capture::Capture underModel =
+        capture::applyAcceptedCalibration(statedCapture, info.calibration, info.width, info.height);
+    capture::ImageBandReader reader(underModel, options.threads);
     if (reader.width() != info.width || reader.height() != info.height) {
-        throw InputError(statedCapture.source, "images are " + std::to_string(reader.width()) +
-                                                   "x" + std::to_string(reader.height()) +
-                                                   " but the model " + modelPath.string() + " is " +
-                                                   std::to_string(info.width) + "x" +
-                                                   std::to_string(info.height));
+        throw common::InputError(statedCapture.source,
+                                 "images are " + std::to_string(reader.width()) + "x" +
+                                     std::to_string(reader.height()) + " but the model " +
+                                     modelPath.string() + " is " + std::to_string(info.width) +
+                                     "x" + std::to_string(info.height));
     }
     const CapturePredictor predictor(info, underModel,
-                                     storedTransfer(underModel, reader.eightBitCodes()));
-    const Capture& capture = predictor.capture();
+                                     capture::storedTransfer(underModel, reader.eightBitCodes()));
+    const capture::Capture& capture = predictor.capture();
     // Prediction and truth are compared as people see them (sRGB or the calibrated response).
-    const TransferFunction metric = metricTransfer(capture);
+    const capture::TransferFunction metric = capture::metricTransfer(capture);
     const int width = info.width;
     const int height = info.height;
     const int imageCount = reader.imageCount();
@@ -58,14 +59,14 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
     std::mutex mergeMutex;
 
     const int bandRows = reader.rowsForBudget(std::size_t{128} << 20);
-    SampleBand band;
-    ModelRows rows;
-    ProgressBar progress("eval", static_cast<std::size_t>(height));
+    capture::SampleBand band;
+    model::ModelRows rows;
+    common::ProgressBar progress("eval", static_cast<std::size_t>(height));
     for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
         const int bandHeight = std::min(bandRows, height - rowBegin);
         reader.readBand(rowBegin, bandHeight, nullptr, band);
         model.readRows(rowBegin, bandHeight, rows);
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(bandHeight), 1, options.threads,
             [&](std::size_t begin, std::size_t end) {
                 std::vector<double> localError(static_cast<std::size_t>(imageCount), 0.0);
@@ -113,7 +114,7 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
     report.pixels = scored;
     report.skippedPixels = static_cast<std::size_t>(width) * height - scored;
     if (scored == 0) {
-        throw InputError(modelPath, "no pixel has a valid fit: nothing to evaluate");
+        throw common::InputError(modelPath, "no pixel has a valid fit: nothing to evaluate");
     }
     double pooled = 0;
     double psnrSum = 0;
@@ -135,11 +136,11 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Cap
         for (int s = 0; s < imageCount; ++s) {
             const std::filesystem::path name =
                 capture.images[static_cast<std::size_t>(s)].file.stem().string() + ".png";
-            writeImage8(*options.predictionsDir / name, width, height, 3,
-                        predictions[static_cast<std::size_t>(s)]);
+            image::writeImage8(*options.predictionsDir / name, width, height, 3,
+                               predictions[static_cast<std::size_t>(s)]);
         }
     }
     return report;
 }
 
-}  // namespace vpe
+}  // namespace vpe::eval

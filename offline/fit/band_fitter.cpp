@@ -9,8 +9,8 @@
 
 namespace vpe::fit {
 
-BandFitter::BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
-                       const NormalMap& normals, const BandFitSettings& settings)
+BandFitter::BandFitter(const capture::Capture& capture, const capture::SurfaceGeometry& geometry,
+                       const normals::NormalMap& normals, const BandFitSettings& settings)
     : capture_(capture),
       geometry_(geometry),
       normals_(normals),
@@ -22,17 +22,11 @@ BandFitter::BandFitter(const Capture& capture, const SurfaceGeometry& geometry,
     }
 }
 
-void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
-    const int coefficients = proto::coefficientCount(settings_.harmonics);
+void BandFitter::fit(const capture::SampleBand& band, model::ModelRows& rows) const {
+    const int coefficients = proto::coefficientCount(settings_.fit.harmonics);
     const int chunksPerRow = (band.width + kLanes - 1) / kLanes;
     rows.resize(band.width, band.rows, coefficients, settings_.extended);
-    ExtendedFitSettings extendedSettings;
-    extendedSettings.harmonics = settings_.harmonics;
-    extendedSettings.lambda = settings_.lambda;
-    extendedSettings.precision = settings_.precision;
-    extendedSettings.transportRidge = settings_.transportRidge;
-    extendedSettings.normalSearchDegrees = settings_.normalSearchDegrees;
-    parallelFor(
+    common::parallelFor(
         static_cast<std::size_t>(band.rows) * chunksPerRow, 4, settings_.threads,
         [&](std::size_t begin, std::size_t end) {
             // Not value-initialized: the kernel clears the sums it uses and the solve writes
@@ -50,12 +44,14 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
                 fillChunkGeometry(geometry_, normals_, x0, band.rowBegin + r, chunk, laneValid);
                 if (settings_.extended) {
                     fitChunkExtendedRefiningNormals(capture_, *lightTable_, chunk, laneValid,
-                                                    lightSet_, band, r, x0, extendedSettings,
+                                                    lightSet_, band, r, x0, settings_.fit,
                                                     *withTransport);
                 } else {
                     accumulateNormalEquations(chunk, lightSet_, chunkObservations(band, r, x0),
-                                              settings_.harmonics, settings_.precision, *sums);
-                    solveNormalEquations(*sums, settings_.harmonics, settings_.lambda, *plain);
+                                              settings_.fit.harmonics, settings_.fit.precision,
+                                              *sums);
+                    solveNormalEquations(*sums, settings_.fit.harmonics, settings_.fit.lambda,
+                                         *plain);
                 }
                 for (int lane = 0; lane < kLanes && x0 + lane < band.width; ++lane) {
                     const std::size_t p = rows.pixel(r, x0 + lane);
@@ -74,9 +70,9 @@ void BandFitter::fit(const SampleBand& band, ModelRows& rows) const {
                         rows.rms[p * kChannels + c] = solution.rms[lane][c];
                     }
                     if (settings_.extended) {
-                        std::copy_n(
-                            withTransport->transport[lane], kTransportValues,
-                            rows.transport.begin() + static_cast<long>(p * kTransportValues));
+                        std::copy_n(withTransport->transport[lane], model::kTransportValues,
+                                    rows.transport.begin() +
+                                        static_cast<long>(p * model::kTransportValues));
                     }
                 }
             }

@@ -25,8 +25,8 @@ double luminance(float r, float g, float b) {
     return luminance(static_cast<double>(r), static_cast<double>(g), static_cast<double>(b));
 }
 
-using TransportMatrix = Eigen::Matrix<double, kTransportTerms, kTransportTerms>;
-using TransportVector = Eigen::Matrix<double, kTransportTerms, 1>;
+using TransportMatrix = Eigen::Matrix<double, model::kTransportTerms, model::kTransportTerms>;
+using TransportVector = Eigen::Matrix<double, model::kTransportTerms, 1>;
 
 // One sample of a texel's T fit: T(l)·P ≈ L with weight w.
 struct TransportSample {
@@ -119,282 +119,94 @@ void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, 
 
 }  // namespace
 
-ExtendedLightTable::ExtendedLightTable(const Capture& capture) {
+ExtendedLightTable::ExtendedLightTable(const capture::Capture& capture) {
     transportBasis.reserve(capture.images.size());
-    for (const CaptureImage& image : capture.images) {
-        std::array<double, kTransportTerms> basis;
-        lightTransportBasis(transportDirection(capture, image), basis.data());
+    for (const capture::CaptureImage& image : capture.images) {
+        std::array<double, model::kTransportTerms> basis;
+        model::lightTransportBasis(model::transportDirection(capture, image), basis.data());
         transportBasis.push_back(basis);
     }
 }
 
-void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
-                      const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                      const KernelLightSet& lights, const SampleBand& band, int row, int x0,
-                      const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
-    const int samples = lights.count;
-    const std::size_t laneBlock = static_cast<std::size_t>(samples) * kLanes;
-    // Per sample and lane: raw observations, usable weight, saturation, model geometry.
-    thread_local std::vector<float> values, weights, scaled, scaledWeights, transport,
-        channelTransport;
-    thread_local std::vector<std::uint8_t> saturated, censored;
-    thread_local std::vector<double> cosD, cosS, irradiance;
-    values.resize(laneBlock * 3);
-    scaled.resize(laneBlock * 3);
-    weights.resize(laneBlock);
-    scaledWeights.resize(laneBlock);
-    transport.assign(laneBlock, 1.0f);
-    channelTransport.assign(laneBlock * 3, 1.0f);  // per sample, channel and lane, as values
-    saturated.resize(laneBlock);
-    censored.assign(laneBlock, 0);
-    cosD.resize(laneBlock);
-    cosS.resize(laneBlock);
-    irradiance.resize(laneBlock);
-    for (int s = 0; s < samples; ++s) {
-        const CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
-        for (int lane = 0; lane < kLanes; ++lane) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            weights[at] = band.weight(s, row, x0 + lane);
-            saturated[at] = band.isSaturated(s, row, x0 + lane) ? 1 : 0;
-            for (int c = 0; c < 3; ++c) {
-                values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] =
-                    band.value(s, c, row, x0 + lane);
-            }
-            const Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
-                          geometry.normal[2][lane]};
-            const Vec3d v{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]};
-            const Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
-                          geometry.position[2][lane]};
-            const IncidentLight light = incidentLight(capture, image, p);
-            const auto angles = proto::reflectionAngles(n, light.direction, v);
-            cosD[at] = angles.cosThetaD;
-            cosS[at] = angles.cosThetaS;
-            irradiance[at] = light.irradiance;
-        }
+namespace {
+
+// The alternating fit of one chunk of kLanes texels (docs/extended-model.md, "How it is
+// fitted", step 2): f by least squares, f again as an upper envelope (shadow weights), then T
+// given f and f given T, twice. Its buffers hold every sample of every lane and are kept from
+// one chunk to the next, so each thread has one (fitChunkExtended).
+class ExtendedChunkFit {
+public:
+    void fit(const capture::Capture& capture, const ExtendedLightTable& table,
+             const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+             const KernelLightSet& lights, const capture::SampleBand& band, int row, int x0,
+             const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+
+private:
+    // Index of sample s, lane `lane` in the per-sample buffers; of its channel c in values_.
+    static std::size_t at(int s, int lane) { return static_cast<std::size_t>(s) * kLanes + lane; }
+    static std::size_t valueAt(int s, int c, int lane) {
+        return (static_cast<std::size_t>(s) * 3 + c) * kLanes + lane;
     }
-    auto setGreyTransport = [&](int lane, const double* coefficients) {
-        for (int c = 0; c < kTransportChannels; ++c) {
-            for (int k = 0; k < kTransportTerms; ++k) {
-                out.transport[lane][c * kTransportTerms + k] = static_cast<float>(coefficients[k]);
-            }
-        }
-    };
-    double identity[kTransportTerms];
-    identityTransport(identity);
-    for (int lane = 0; lane < kLanes; ++lane) {
-        setGreyTransport(lane, identity);
-    }
+    void readObservations(const capture::Capture& capture, const ChunkGeometry& geometry,
+                          const capture::SampleBand& band, int row, int x0);
+    void setGreyTransport(int lane, const double* coefficients);
+    double observedLuminance(int s, int lane) const;
+    void predictLane(int lane);
+    template <typename Predict>
+    void gatherSamples(int lane, int channel, Predict predict);
+    void fitTransport(int lane);
+    void fitColourTransport(int lane);
+    void updateShadowWeights(int lane);
+    void fitBrdf(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                 NormalEquationSums& sums);
+    void keepPlainFit(const ChunkSolution& firstRound);
+    double trainingError(int lane) const;
+
+    // The chunk under way (set by fit).
+    const ExtendedLightTable* table_ = nullptr;
+    const ExtendedFitSettings* settings_ = nullptr;
+    ExtendedChunkSolution* out_ = nullptr;
+    int samples_ = 0;
+    std::size_t laneBlock_ = 0;
+    double identity_[model::kTransportTerms] = {};
     // The luminance T fit's mean weight per lane; 0 while the lane has no fitted T.
-    double luminanceWeight[kLanes] = {};
+    double luminanceWeight_[kLanes] = {};
 
-    thread_local std::vector<float> robust;  // shadow down-weighting of the BRDF fit
-    robust.assign(laneBlock, 1.0f);
-    std::vector<double> predicted(static_cast<std::size_t>(samples));
-    std::vector<double> magnitudes;
-    auto observedLuminance = [&](int s, int lane) {
-        const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
-        return luminance(values[base], values[base + kLanes], values[base + 2 * kLanes]);
-    };
-    // The BRDF's luminance prediction of every sample of a lane, in image units.
-    auto predictLane = [&](int lane) {
-        for (int s = 0; s < samples; ++s) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            double rgb[3];
-            for (int c = 0; c < 3; ++c) {
-                rgb[c] = irradiance[at] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                                     settings.harmonics, cosD[at],
-                                                                     cosS[at]);
-            }
-            predicted[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
-        }
-    };
-    // T given f, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖², ρ the texel's own
-    // (texelTransportRidge). Every channel takes it.
-    thread_local std::vector<TransportSample> fitted;
-    const Eigen::Map<const TransportVector> one(identity);
-    // The lane's usable samples (`channel` < 0: luminance), with the prediction P of `predict`.
-    auto gatherSamples = [&](int lane, int channel, auto predict) {
-        fitted.clear();
-        for (int s = 0; s < samples; ++s) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            if (weights[at] <= 0 || censored[at]) {
-                continue;
-            }
-            const double observed =
-                channel < 0
-                    ? observedLuminance(s, lane)
-                    : static_cast<double>(
-                          values[(static_cast<std::size_t>(s) * 3 + channel) * kLanes + lane]);
-            fitted.push_back({table.transportBasis[static_cast<std::size_t>(s)].data(), weights[at],
-                              predict(s, at), observed});
-        }
-    };
-    auto fitTransport = [&](int lane) {
-        gatherSamples(lane, -1,
-                      [&](int s, std::size_t) { return predicted[static_cast<std::size_t>(s)]; });
-        const TransportEquations equations(fitted);
-        if (!equations.solvable()) {
-            return;
-        }
-        const double ridge = settings.texelRidges ? texelTransportRidge(equations, fitted, one,
-                                                                        settings.transportRidge)
-                                                  : settings.transportRidge;
-        const TransportVector t = equations.solve(ridge, one);
-        if (!t.allFinite()) {
-            return;
-        }
-        setGreyTransport(lane, t.data());
-        luminanceWeight[lane] = equations.meanWeight;
-        sampleTransport(table, t, samples, &transport[lane], kLanes);
-        for (int c = 0; c < 3; ++c) {
-            sampleTransport(table, t, samples, &channelTransport[c * kLanes + lane], 3 * kLanes);
-        }
-    };
-    // Each channel's T given f: min Σ w (y_c − T_c(l) P_c)² + ρ ‖t_c − t‖², pulled towards the
-    // luminance T by the search's ridge, over the samples the luminance fit used;
-    // then shifted so that the channels' luminance is T again. What T explains has a
-    // colour (light off the clay, a lamp's tint across its beam: on realrti-dev item7 the
-    // photographs under high lights are 3–5% bluer than a grey T draws them). Letting the
-    // channels change T's luminance as well cost the canvas (item5) 0.7 dB.
-    auto fitColourTransport = [&](int lane) {
-        TransportVector grey;
-        for (int k = 0; k < kTransportTerms; ++k) {
-            grey[k] = static_cast<double>(out.transport[lane][k]);
-        }
-        TransportVector colour[kTransportChannels] = {grey, grey, grey};
-        for (int c = 0; c < kTransportChannels; ++c) {
-            gatherSamples(lane, c, [&](int, std::size_t at) {
-                return irradiance[at] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                                   settings.harmonics, cosD[at],
-                                                                   cosS[at]);
-            });
-            const TransportEquations equations(fitted);
-            if (!equations.solvable()) {
-                continue;  // the channel keeps the luminance T
-            }
-            // The luminance fit's ridge, in its units: a channel with little light of its own
-            // (a dark background's red) stays grey, where a pull relative to its own faint
-            // samples let quantization noise through, and the shift below carried it into the
-            // other channels (SynthRTI Multi/Object1/material2: 45.8 → 24.0 dB).
-            const TransportVector t = equations.solve(
-                settings.transportRidge * luminanceWeight[lane] / equations.meanWeight, grey);
-            if (t.allFinite()) {
-                colour[c] = t;
-            }
-        }
-        // Only the colour: the channels shift together until their luminance is T's again.
-        const TransportVector shift =
-            grey - (kLuminance709[0] * colour[0] + kLuminance709[1] * colour[1] +
-                    kLuminance709[2] * colour[2]);
-        for (int c = 0; c < kTransportChannels; ++c) {
-            const TransportVector t = colour[c] + shift;
-            for (int k = 0; k < kTransportTerms; ++k) {
-                out.transport[lane][c * kTransportTerms + k] = static_cast<float>(t[k]);
-            }
-            sampleTransport(table, t, samples, &channelTransport[c * kLanes + lane], 3 * kLanes);
-        }
-    };
-    // Shadows only darken: residuals far below the model (relative to the lane's robust
-    // scale) get Tukey weights, residuals above it keep weight 1, so the BRDF follows the
-    // lit appearance and the shadowing is left for T. Clipped samples the model already
-    // reaches are censored.
-    auto updateRobustWeights = [&](int lane) {
-        magnitudes.clear();
-        double mean = 0;
-        for (int s = 0; s < samples; ++s) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            const double model =
-                static_cast<double>(transport[at]) * predicted[static_cast<std::size_t>(s)];
-            const double observed = observedLuminance(s, lane);
-            censored[at] = saturated[at] && model >= observed;
-            if (weights[at] > 0 && !censored[at]) {
-                magnitudes.push_back(std::fabs(observed - model));
-                mean += observed;
-            }
-        }
-        if (magnitudes.empty()) {
-            return;
-        }
-        mean /= static_cast<double>(magnitudes.size());
-        std::nth_element(magnitudes.begin(),
-                         magnitudes.begin() + static_cast<long>(magnitudes.size() / 2),
-                         magnitudes.end());
-        const double scale =
-            std::max(1.4826 * magnitudes[magnitudes.size() / 2], 1e-3 * mean + 1e-6);
-        const double cutoff = settings.shadowCutoff * scale;
-        for (int s = 0; s < samples; ++s) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            const double r =
-                observedLuminance(s, lane) -
-                static_cast<double>(transport[at]) * predicted[static_cast<std::size_t>(s)];
-            const double u = r / cutoff;
-            robust[at] =
-                r >= 0 ? 1.0f : (u > -1 ? static_cast<float>((1 - u * u) * (1 - u * u)) : 0.0f);
-        }
-    };
+    // Per sample and lane: raw observations, usable weight, saturation, model geometry.
+    std::vector<float> values_, weights_, scaled_, scaledWeights_, transport_, channelTransport_;
+    std::vector<std::uint8_t> saturated_, censored_;
+    std::vector<double> cosD_, cosS_, irradiance_;
+    std::vector<float> robust_;      // shadow down-weighting of the BRDF fit
+    std::vector<double> predicted_;  // the BRDF's luminance prediction of one lane's samples
+    std::vector<double> magnitudes_;
+    std::vector<TransportSample> fitted_;  // the samples of the T fit under way
+};
 
-    // The final model's squared error on the lane's training samples, all three channels,
-    // each under its own T.
-    auto trainingError = [&](int lane) {
-        double error = 0;
-        for (int s = 0; s < samples; ++s) {
-            const std::size_t at = static_cast<std::size_t>(s) * kLanes + lane;
-            if (weights[at] <= 0) {
-                continue;
-            }
-            const double* basis = table.transportBasis[static_cast<std::size_t>(s)].data();
-            for (int c = 0; c < 3; ++c) {
-                double t = 0;
-                for (int k = 0; k < kTransportTerms; ++k) {
-                    t += static_cast<double>(out.transport[lane][c * kTransportTerms + k]) *
-                         basis[k];
-                }
-                const double shading = std::clamp(t, 0.0, 4.0) * irradiance[at];
-                const double model =
-                    shading * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                         settings.harmonics, cosD[at], cosS[at]);
-                const double observed = static_cast<double>(
-                    values[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane]);
-                if (!(saturated[at] && model >= observed)) {
-                    error +=
-                        static_cast<double>(weights[at]) * (observed - model) * (observed - model);
-                }
-            }
-        }
-        return error;
-    };
+void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightTable& table,
+                           const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                           const KernelLightSet& lights, const capture::SampleBand& band, int row,
+                           int x0, const ExtendedFitSettings& settings,
+                           ExtendedChunkSolution& out) {
+    table_ = &table;
+    settings_ = &settings;
+    out_ = &out;
+    samples_ = lights.count;
+    laneBlock_ = static_cast<std::size_t>(samples_) * kLanes;
+    readObservations(capture, geometry, band, row, x0);
+    model::identityTransport(identity_);
+    for (int lane = 0; lane < kLanes; ++lane) {
+        setGreyTransport(lane, identity_);
+        luminanceWeight_[lane] = 0;
+    }
+    robust_.assign(laneBlock_, 1.0f);
+    predicted_.assign(static_cast<std::size_t>(samples_), 0.0);
+    magnitudes_.clear();
 
     auto sums = std::make_unique<NormalEquationSums>();
     auto firstRound = std::make_unique<ChunkSolution>();
     const int rounds = std::max(1, settings.rounds);
     for (int round = 0;; ++round) {
-        // f given T: observations y / T, weights T² (the least-squares form of y ≈ T f),
-        // times the shadow weights.
-        for (std::size_t at = 0; at < laneBlock; ++at) {
-            const double t = static_cast<double>(transport[at]);
-            const bool use = t >= settings.minimumTransport && !censored[at];
-            scaledWeights[at] = use ? static_cast<float>(static_cast<double>(weights[at]) *
-                                                         static_cast<double>(robust[at]) * t * t)
-                                    : 0.0f;
-            const std::size_t s = at / kLanes, lane = at % kLanes;
-            for (int c = 0; c < 3; ++c) {
-                const std::size_t i = (s * 3 + c) * kLanes + lane;
-                scaled[i] =
-                    use ? static_cast<float>(static_cast<double>(values[i]) /
-                                             std::max(static_cast<double>(channelTransport[i]),
-                                                      settings.minimumTransport))
-                        : 0.0f;
-            }
-        }
-        ChunkObservations observations;
-        observations.values = scaled.data();
-        observations.sampleStride = 3 * kLanes;
-        observations.channelStride = kLanes;
-        observations.weights = scaledWeights.data();
-        observations.weightStride = kLanes;
-        accumulateNormalEquations(geometry, lights, observations, settings.harmonics,
-                                  settings.precision, *sums);
-        solveNormalEquations(*sums, settings.harmonics, settings.lambda, out.brdf);
+        fitBrdf(geometry, lights, *sums);
         if (round == 0) {
             *firstRound = out.brdf;
         }
@@ -409,54 +221,323 @@ void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
             predictLane(lane);
             if (round >= 1) {
                 fitTransport(lane);
-                if (settings.colourTransport && luminanceWeight[lane] > 0) {
+                if (settings.colourTransport && luminanceWeight_[lane] > 0) {
                     fitColourTransport(lane);
                 }
             }
-            updateRobustWeights(lane);
+            updateShadowWeights(lane);
         }
     }
-    // A texel whose transport leaves too few samples (nearly always in shadow) keeps the
-    // plain fit and T ≡ 1 rather than dropping out.
+    keepPlainFit(*firstRound);
     for (int lane = 0; lane < kLanes; ++lane) {
-        if (!out.brdf.valid[lane] && firstRound->valid[lane]) {
-            std::copy_n(&firstRound->coefficients[lane][0][0], kChannels * kMaxCoefficients,
+        out.trainingError[lane] = out.brdf.valid[lane] ? trainingError(lane) : 0.0;
+    }
+}
+
+void ExtendedChunkFit::readObservations(const capture::Capture& capture,
+                                        const ChunkGeometry& geometry,
+                                        const capture::SampleBand& band, int row, int x0) {
+    values_.resize(laneBlock_ * 3);
+    scaled_.resize(laneBlock_ * 3);
+    weights_.resize(laneBlock_);
+    scaledWeights_.resize(laneBlock_);
+    transport_.assign(laneBlock_, 1.0f);
+    channelTransport_.assign(laneBlock_ * 3, 1.0f);  // per sample, channel and lane, as values
+    saturated_.resize(laneBlock_);
+    censored_.assign(laneBlock_, 0);
+    cosD_.resize(laneBlock_);
+    cosS_.resize(laneBlock_);
+    irradiance_.resize(laneBlock_);
+    for (int s = 0; s < samples_; ++s) {
+        const capture::CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const std::size_t i = at(s, lane);
+            weights_[i] = band.weight(s, row, x0 + lane);
+            saturated_[i] = band.isSaturated(s, row, x0 + lane) ? 1 : 0;
+            for (int c = 0; c < 3; ++c) {
+                values_[valueAt(s, c, lane)] = band.value(s, c, row, x0 + lane);
+            }
+            const proto::Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
+                                 geometry.normal[2][lane]};
+            const proto::Vec3d v{geometry.view[0][lane], geometry.view[1][lane],
+                                 geometry.view[2][lane]};
+            const proto::Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
+                                 geometry.position[2][lane]};
+            const capture::IncidentLight light = capture::incidentLight(capture, image, p);
+            const auto angles = proto::reflectionAngles(n, light.direction, v);
+            cosD_[i] = angles.cosThetaD;
+            cosS_[i] = angles.cosThetaS;
+            irradiance_[i] = light.irradiance;
+        }
+    }
+}
+
+void ExtendedChunkFit::setGreyTransport(int lane, const double* coefficients) {
+    for (int c = 0; c < model::kTransportChannels; ++c) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            out_->transport[lane][c * model::kTransportTerms + k] =
+                static_cast<float>(coefficients[k]);
+        }
+    }
+}
+
+double ExtendedChunkFit::observedLuminance(int s, int lane) const {
+    const std::size_t base = static_cast<std::size_t>(s) * 3 * kLanes + lane;
+    return luminance(values_[base], values_[base + kLanes], values_[base + 2 * kLanes]);
+}
+
+// The BRDF's luminance prediction of every sample of a lane, in image units.
+void ExtendedChunkFit::predictLane(int lane) {
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t i = at(s, lane);
+        double rgb[3];
+        for (int c = 0; c < 3; ++c) {
+            rgb[c] = irradiance_[i] * proto::evaluateFourierBrdf(out_->brdf.coefficients[lane][c],
+                                                                 settings_->harmonics, cosD_[i],
+                                                                 cosS_[i]);
+        }
+        predicted_[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
+    }
+}
+
+// The lane's usable samples (`channel` < 0: luminance), with the prediction P of `predict`.
+template <typename Predict>
+void ExtendedChunkFit::gatherSamples(int lane, int channel, Predict predict) {
+    fitted_.clear();
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t i = at(s, lane);
+        if (weights_[i] <= 0 || censored_[i]) {
+            continue;
+        }
+        const double observed = channel < 0
+                                    ? observedLuminance(s, lane)
+                                    : static_cast<double>(values_[valueAt(s, channel, lane)]);
+        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(), weights_[i],
+                           predict(s, i), observed});
+    }
+}
+
+// T given f, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖², ρ the texel's own
+// (texelTransportRidge). Every channel takes it.
+void ExtendedChunkFit::fitTransport(int lane) {
+    const Eigen::Map<const TransportVector> one(identity_);
+    gatherSamples(lane, -1,
+                  [&](int s, std::size_t) { return predicted_[static_cast<std::size_t>(s)]; });
+    const TransportEquations equations(fitted_);
+    if (!equations.solvable()) {
+        return;
+    }
+    const double ridge = settings_->texelRidges ? texelTransportRidge(equations, fitted_, one,
+                                                                      settings_->transportRidge)
+                                                : settings_->transportRidge;
+    const TransportVector t = equations.solve(ridge, one);
+    if (!t.allFinite()) {
+        return;
+    }
+    setGreyTransport(lane, t.data());
+    luminanceWeight_[lane] = equations.meanWeight;
+    sampleTransport(*table_, t, samples_, &transport_[lane], kLanes);
+    for (int c = 0; c < 3; ++c) {
+        sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
+    }
+}
+
+// Each channel's T given f: min Σ w (y_c − T_c(l) P_c)² + ρ ‖t_c − t‖², pulled towards the
+// luminance T by the search's ridge, over the samples the luminance fit used;
+// then shifted so that the channels' luminance is T again. What T explains has a
+// colour (light off the clay, a lamp's tint across its beam: on realrti-dev item7 the
+// photographs under high lights are 3–5% bluer than a grey T draws them). Letting the
+// channels change T's luminance as well cost the canvas (item5) 0.7 dB.
+void ExtendedChunkFit::fitColourTransport(int lane) {
+    ExtendedChunkSolution& out = *out_;
+    TransportVector grey;
+    for (int k = 0; k < model::kTransportTerms; ++k) {
+        grey[k] = static_cast<double>(out.transport[lane][k]);
+    }
+    TransportVector colour[model::kTransportChannels] = {grey, grey, grey};
+    for (int c = 0; c < model::kTransportChannels; ++c) {
+        gatherSamples(lane, c, [&](int, std::size_t i) {
+            return irradiance_[i] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
+                                                               settings_->harmonics, cosD_[i],
+                                                               cosS_[i]);
+        });
+        const TransportEquations equations(fitted_);
+        if (!equations.solvable()) {
+            continue;  // the channel keeps the luminance T
+        }
+        // The luminance fit's ridge, in its units: a channel with little light of its own
+        // (a dark background's red) stays grey, where a pull relative to its own faint
+        // samples let quantization noise through, and the shift below carried it into the
+        // other channels (SynthRTI Multi/Object1/material2: 45.8 → 24.0 dB).
+        const TransportVector t = equations.solve(
+            settings_->transportRidge * luminanceWeight_[lane] / equations.meanWeight, grey);
+        if (t.allFinite()) {
+            colour[c] = t;
+        }
+    }
+    // Only the colour: the channels shift together until their luminance is T's again.
+    const TransportVector shift =
+        grey - (kLuminance709[0] * colour[0] + kLuminance709[1] * colour[1] +
+                kLuminance709[2] * colour[2]);
+    for (int c = 0; c < model::kTransportChannels; ++c) {
+        const TransportVector t = colour[c] + shift;
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            out.transport[lane][c * model::kTransportTerms + k] = static_cast<float>(t[k]);
+        }
+        sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
+    }
+}
+
+// Shadows only darken: residuals far below the model (relative to the lane's robust
+// scale) get Tukey weights, residuals above it keep weight 1, so the BRDF follows the
+// lit appearance and the shadowing is left for T. Clipped samples the model already
+// reaches are censored.
+void ExtendedChunkFit::updateShadowWeights(int lane) {
+    magnitudes_.clear();
+    double mean = 0;
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t i = at(s, lane);
+        const double model =
+            static_cast<double>(transport_[i]) * predicted_[static_cast<std::size_t>(s)];
+        const double observed = observedLuminance(s, lane);
+        censored_[i] = saturated_[i] && model >= observed;
+        if (weights_[i] > 0 && !censored_[i]) {
+            magnitudes_.push_back(std::fabs(observed - model));
+            mean += observed;
+        }
+    }
+    if (magnitudes_.empty()) {
+        return;
+    }
+    mean /= static_cast<double>(magnitudes_.size());
+    std::nth_element(magnitudes_.begin(),
+                     magnitudes_.begin() + static_cast<long>(magnitudes_.size() / 2),
+                     magnitudes_.end());
+    const double scale = std::max(1.4826 * magnitudes_[magnitudes_.size() / 2], 1e-3 * mean + 1e-6);
+    const double cutoff = settings_->shadowCutoff * scale;
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t i = at(s, lane);
+        const double r = observedLuminance(s, lane) - static_cast<double>(transport_[i]) *
+                                                          predicted_[static_cast<std::size_t>(s)];
+        const double u = r / cutoff;
+        robust_[i] =
+            r >= 0 ? 1.0f : (u > -1 ? static_cast<float>((1 - u * u) * (1 - u * u)) : 0.0f);
+    }
+}
+
+// f given T: observations y / T, weights T² (the least-squares form of y ≈ T f), times the
+// shadow weights; every lane at once, by the paper's kernel.
+void ExtendedChunkFit::fitBrdf(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                               NormalEquationSums& sums) {
+    const ExtendedFitSettings& settings = *settings_;
+    for (std::size_t i = 0; i < laneBlock_; ++i) {
+        const double t = static_cast<double>(transport_[i]);
+        const bool use = t >= settings.minimumTransport && !censored_[i];
+        scaledWeights_[i] = use ? static_cast<float>(static_cast<double>(weights_[i]) *
+                                                     static_cast<double>(robust_[i]) * t * t)
+                                : 0.0f;
+        const std::size_t s = i / kLanes, lane = i % kLanes;
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t v = (s * 3 + c) * kLanes + lane;
+            scaled_[v] =
+                use ? static_cast<float>(static_cast<double>(values_[v]) /
+                                         std::max(static_cast<double>(channelTransport_[v]),
+                                                  settings.minimumTransport))
+                    : 0.0f;
+        }
+    }
+    ChunkObservations observations;
+    observations.values = scaled_.data();
+    observations.sampleStride = 3 * kLanes;
+    observations.channelStride = kLanes;
+    observations.weights = scaledWeights_.data();
+    observations.weightStride = kLanes;
+    accumulateNormalEquations(geometry, lights, observations, settings.harmonics,
+                              settings.precision, sums);
+    solveNormalEquations(sums, settings.harmonics, settings.lambda, out_->brdf);
+}
+
+// A texel whose transport leaves too few samples (nearly always in shadow) keeps the
+// plain fit and T ≡ 1 rather than dropping out.
+void ExtendedChunkFit::keepPlainFit(const ChunkSolution& firstRound) {
+    ExtendedChunkSolution& out = *out_;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!out.brdf.valid[lane] && firstRound.valid[lane]) {
+            std::copy_n(&firstRound.coefficients[lane][0][0], kChannels * kMaxCoefficients,
                         &out.brdf.coefficients[lane][0][0]);
-            std::copy_n(firstRound->rms[lane], kChannels, out.brdf.rms[lane]);
+            std::copy_n(firstRound.rms[lane], kChannels, out.brdf.rms[lane]);
             out.brdf.valid[lane] = true;
-            setGreyTransport(lane, identity);
-            luminanceWeight[lane] = 0;
-            for (int s = 0; s < samples; ++s) {
-                transport[static_cast<std::size_t>(s) * kLanes + lane] = 1.0f;
+            setGreyTransport(lane, identity_);
+            luminanceWeight_[lane] = 0;
+            for (int s = 0; s < samples_; ++s) {
+                transport_[at(s, lane)] = 1.0f;
                 for (int c = 0; c < 3; ++c) {
-                    channelTransport[(static_cast<std::size_t>(s) * 3 + c) * kLanes + lane] = 1.0f;
+                    channelTransport_[valueAt(s, c, lane)] = 1.0f;
                 }
             }
         }
     }
-    for (int lane = 0; lane < kLanes; ++lane) {
-        out.trainingError[lane] = out.brdf.valid[lane] ? trainingError(lane) : 0.0;
+}
+
+// The final model's squared error on the lane's training samples, all three channels,
+// each under its own T.
+double ExtendedChunkFit::trainingError(int lane) const {
+    const ExtendedChunkSolution& out = *out_;
+    double error = 0;
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t i = at(s, lane);
+        if (weights_[i] <= 0) {
+            continue;
+        }
+        const double* basis = table_->transportBasis[static_cast<std::size_t>(s)].data();
+        for (int c = 0; c < 3; ++c) {
+            double t = 0;
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                t += static_cast<double>(out.transport[lane][c * model::kTransportTerms + k]) *
+                     basis[k];
+            }
+            const double shading = std::clamp(t, 0.0, 4.0) * irradiance_[i];
+            const double model =
+                shading * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
+                                                     settings_->harmonics, cosD_[i], cosS_[i]);
+            const double observed = static_cast<double>(values_[valueAt(s, c, lane)]);
+            if (!(saturated_[i] && model >= observed)) {
+                error += static_cast<double>(weights_[i]) * (observed - model) * (observed - model);
+            }
+        }
     }
+    return error;
+}
+
+}  // namespace
+
+void fitChunkExtended(const capture::Capture& capture, const ExtendedLightTable& table,
+                      const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                      const KernelLightSet& lights, const capture::SampleBand& band, int row,
+                      int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out) {
+    thread_local ExtendedChunkFit fit;
+    fit.fit(capture, table, geometry, laneValid, lights, band, row, x0, settings, out);
 }
 
 namespace {
 
 // n tilted by `radians` towards the azimuth `phi` of its own tangent plane (any tangent frame
 // will do: the pattern covers all azimuths).
-Vec3d tilted(const Vec3d& n, double radians, double phi) {
-    const auto frame = proto::tangentFrame(n, Vec3d{1, 0, 0}, Vec3d{0, 1, 0});
+proto::Vec3d tilted(const proto::Vec3d& n, double radians, double phi) {
+    const auto frame = proto::tangentFrame(n, proto::Vec3d{1, 0, 0}, proto::Vec3d{0, 1, 0});
     const double u = std::tan(radians) * std::cos(phi), v = std::tan(radians) * std::sin(phi);
-    return proto::normalized(Vec3d{n.x + u * frame.t.x + v * frame.b.x,
-                                   n.y + u * frame.t.y + v * frame.b.y,
-                                   n.z + u * frame.t.z + v * frame.b.z});
+    return proto::normalized(proto::Vec3d{n.x + u * frame.t.x + v * frame.b.x,
+                                          n.y + u * frame.t.y + v * frame.b.y,
+                                          n.z + u * frame.t.z + v * frame.b.z});
 }
 
 }  // namespace
 
-void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
-                                     ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                                     const KernelLightSet& lights, const SampleBand& band, int row,
-                                     int x0, const ExtendedFitSettings& settings,
+void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
+                                     const ExtendedLightTable& table, ChunkGeometry& geometry,
+                                     const bool (&laneValid)[kLanes], const KernelLightSet& lights,
+                                     const capture::SampleBand& band, int row, int x0,
+                                     const ExtendedFitSettings& settings,
                                      ExtendedChunkSolution& out) {
     fitChunkExtended(capture, table, geometry, laneValid, lights, band, row, x0, settings, out);
     if (!(settings.normalSearchDegrees > 0)) {
@@ -476,7 +557,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
         for (int direction = 0; direction < kDirections; ++direction) {
             const double phi = 2.0 * std::numbers::pi * direction / kDirections;
             for (int lane = 0; lane < kLanes; ++lane) {
-                const Vec3d n =
+                const proto::Vec3d n =
                     tilted({centre.normal[0][lane], centre.normal[1][lane], centre.normal[2][lane]},
                            radians, phi);
                 candidate.normal[0][lane] = static_cast<float>(n.x);
@@ -497,7 +578,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
                 std::copy_n(&trial->brdf.coefficients[lane][0][0], kChannels * kMaxCoefficients,
                             &out.brdf.coefficients[lane][0][0]);
                 std::copy_n(trial->brdf.rms[lane], kChannels, out.brdf.rms[lane]);
-                std::copy_n(trial->transport[lane], kTransportValues, out.transport[lane]);
+                std::copy_n(trial->transport[lane], model::kTransportValues, out.transport[lane]);
                 out.brdf.valid[lane] = true;
                 out.trainingError[lane] = trial->trainingError[lane];
             }

@@ -17,7 +17,7 @@
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/model/light_transport.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 // Every image's observations of a grid of pixels, in the kernel's lane layout: pixel p sits
 // in chunk p / kLanes, lane p % kLanes.
@@ -39,15 +39,16 @@ struct HeldOutValidator::Samples {
 
 namespace {
 
-std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
-                                                         const NormalMap& normals, int wanted,
-                                                         unsigned threads) {
+std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
+                                                         const normals::NormalMap& normals,
+                                                         int wanted, unsigned threads) {
     std::size_t validCount = 0;
     for (std::uint8_t v : normals.valid) {
         validCount += v;
     }
     if (validCount == 0) {
-        throw InputError(capture.source, "no pixel has a normal: cannot calibrate geometry");
+        throw common::InputError(capture.source,
+                                 "no pixel has a normal: cannot calibrate geometry");
     }
     const int step =
         std::max(1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / wanted)));
@@ -61,7 +62,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
             }
         }
     }
-    ImageBandReader reader(capture, threads);
+    capture::ImageBandReader reader(capture, threads);
     samples.images = reader.imageCount();
     samples.values.assign(
         static_cast<std::size_t>(samples.chunks()) * samples.images * 3 * fit::kLanes, 0.0f);
@@ -69,7 +70,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
         static_cast<std::size_t>(samples.chunks()) * samples.images * fit::kLanes, 0.0f);
     samples.saturated.assign(samples.weights.size(), 0);
     const int bandRows = reader.rowsForBudget(std::size_t{96} << 20);
-    SampleBand band;
+    capture::SampleBand band;
     std::size_t next = 0;  // samples are in row order
     for (int rowBegin = 0; rowBegin < reader.height(); rowBegin += bandRows) {
         const int rows = std::min(bandRows, reader.height() - rowBegin);
@@ -95,8 +96,9 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const Capture& capture,
 
 }  // namespace
 
-HeldOutValidator::HeldOutValidator(const Capture& capture, const NormalMap& normals,
-                                   int samplePixels, int holdOutEvery, unsigned threads)
+HeldOutValidator::HeldOutValidator(const capture::Capture& capture,
+                                   const normals::NormalMap& normals, int samplePixels,
+                                   int holdOutEvery, unsigned threads)
     : capture_(capture),
       normals_(normals),
       holdOutEvery_(holdOutEvery),
@@ -112,25 +114,25 @@ namespace {
 // them: the capture's sRGB, or the response under test, whose images are the same codes
 // decoded another way.
 struct Hypothesis {
-    Capture calibrated;
-    SurfaceGeometry geometry;
-    TransferFunction metric;
+    capture::Capture calibrated;
+    capture::SurfaceGeometry geometry;
+    capture::TransferFunction metric;
     std::vector<fit::KernelLight> lights;
     fit::KernelLightSet lightSet;
     std::vector<float> recoded;  // empty: the samples' own values
     const std::vector<float>* values;
 
-    Hypothesis(const Capture& capture, const HeldOutValidator::Samples& samples,
-               const GeometryCalibration& calibration, int width, int height)
-        : calibrated(applyGeometryCalibration(capture, calibration, width, height)),
+    Hypothesis(const capture::Capture& capture, const HeldOutValidator::Samples& samples,
+               const capture::GeometryCalibration& calibration, int width, int height)
+        : calibrated(capture::applyGeometryCalibration(capture, calibration, width, height)),
           geometry(calibrated, width, height),
-          metric(metricTransfer(calibrated)),
+          metric(capture::metricTransfer(calibrated)),
           lights(fit::kernelLights(calibrated)),
           lightSet(fit::kernelLightSet(calibrated, lights)),
           values(&samples.values) {
         if (calibrated.encoding != capture.encoding || calibrated.gamma != capture.gamma) {
-            const TransferFunction stated = storedTransfer(capture, true);
-            const TransferFunction response = storedTransfer(calibrated, true);
+            const capture::TransferFunction stated = capture::storedTransfer(capture, true);
+            const capture::TransferFunction response = capture::storedTransfer(calibrated, true);
             recoded.resize(samples.values.size());
             for (std::size_t i = 0; i < recoded.size(); ++i) {
                 recoded[i] = static_cast<float>(
@@ -149,7 +151,7 @@ struct Hypothesis {
 class FittedPixel {
 public:
     FittedPixel(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis, int chunk,
-                int lane, const Vec3d& normal,
+                int lane, const proto::Vec3d& normal,
                 const float (&coefficients)[3][fit::kMaxCoefficients], int harmonics,
                 const float* transport)
         : hypothesis_(hypothesis),
@@ -164,13 +166,15 @@ public:
 
     // The prediction of image s, channel by channel.
     std::array<double, 3> predict(int s) const {
-        const CaptureImage& image = hypothesis_.calibrated.images[static_cast<std::size_t>(s)];
-        const IncidentLight light = incidentLight(hypothesis_.calibrated, image, position_);
+        const capture::CaptureImage& image =
+            hypothesis_.calibrated.images[static_cast<std::size_t>(s)];
+        const capture::IncidentLight light =
+            capture::incidentLight(hypothesis_.calibrated, image, position_);
         const auto angles = proto::reflectionAngles(normal_, light.direction, toViewer_);
-        const std::array<double, kTransportChannels> t =
-            transport_ ? evaluateColourTransport(transport_,
-                                                 transportDirection(hypothesis_.calibrated, image))
-                       : std::array<double, kTransportChannels>{1.0, 1.0, 1.0};
+        const std::array<double, model::kTransportChannels> t =
+            transport_ ? model::evaluateColourTransport(
+                             transport_, model::transportDirection(hypothesis_.calibrated, image))
+                       : std::array<double, model::kTransportChannels>{1.0, 1.0, 1.0};
         std::array<double, 3> rgb;
         for (int k = 0; k < 3; ++k) {
             rgb[static_cast<std::size_t>(k)] =
@@ -183,11 +187,11 @@ public:
 
 private:
     const Hypothesis& hypothesis_;
-    Vec3d normal_;
+    proto::Vec3d normal_;
     const float (&coefficients_)[3][fit::kMaxCoefficients];
     int harmonics_;
     const float* transport_;
-    Vec3d toViewer_, position_;
+    proto::Vec3d toViewer_, position_;
 };
 
 // Squared errors, in the metric's full-scale units, of fitted pixels' predictions at the
@@ -257,7 +261,7 @@ struct LightGainSums {
           square(static_cast<std::size_t>(images), 0.0) {}
 
     void add(const HeldOutValidator::Samples& samples, const Hypothesis& hypothesis,
-             const SampleBand& training, int chunk, int lane, const FittedPixel& pixel) {
+             const capture::SampleBand& training, int chunk, int lane, const FittedPixel& pixel) {
         for (int s = 0; s < samples.images; ++s) {
             const std::size_t w = samples.weightIndex(chunk, s, lane);
             if (training.weights[w] <= 0 || samples.saturated[w]) {
@@ -282,9 +286,9 @@ struct LightGainSums {
 };
 
 // The grid's geometry for one chunk of lanes.
-void fillSampleChunk(const HeldOutValidator::Samples& samples, const SurfaceGeometry& geometry,
-                     const NormalMap& normals, int chunk, fit::ChunkGeometry& out,
-                     bool (&laneValid)[fit::kLanes]) {
+void fillSampleChunk(const HeldOutValidator::Samples& samples,
+                     const capture::SurfaceGeometry& geometry, const normals::NormalMap& normals,
+                     int chunk, fit::ChunkGeometry& out, bool (&laneValid)[fit::kLanes]) {
     for (int lane = 0; lane < fit::kLanes; ++lane) {
         const std::size_t p = static_cast<std::size_t>(chunk) * fit::kLanes + lane;
         const bool present = p < samples.x.size();
@@ -293,7 +297,7 @@ void fillSampleChunk(const HeldOutValidator::Samples& samples, const SurfaceGeom
     }
 }
 
-Vec3d laneNormal(const fit::ChunkGeometry& chunk, int lane) {
+proto::Vec3d laneNormal(const fit::ChunkGeometry& chunk, int lane) {
     return {chunk.normal[0][lane], chunk.normal[1][lane], chunk.normal[2][lane]};
 }
 
@@ -304,23 +308,23 @@ Accumulator reduceEveryChunk(const HeldOutValidator::Samples& samples, unsigned 
                              const Accumulator& empty, MakeWorker makeWorker) {
     Accumulator total = empty;
     std::mutex mergeMutex;
-    parallelFor(static_cast<std::size_t>(samples.chunks()), 4, threads,
-                [&](std::size_t begin, std::size_t end) {
-                    auto worker = makeWorker();
-                    Accumulator local = empty;
-                    for (std::size_t c = begin; c < end; ++c) {
-                        worker(static_cast<int>(c), local);
-                    }
-                    std::lock_guard lock(mergeMutex);
-                    total.merge(local);
-                });
+    common::parallelFor(static_cast<std::size_t>(samples.chunks()), 4, threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            auto worker = makeWorker();
+                            Accumulator local = empty;
+                            for (std::size_t c = begin; c < end; ++c) {
+                                worker(static_cast<int>(c), local);
+                            }
+                            std::lock_guard lock(mergeMutex);
+                            total.merge(local);
+                        });
     return total;
 }
 
 }  // namespace
 
-double HeldOutValidator::score(const GeometryCalibration& calibration, int harmonics, double lambda,
-                               HeldOutFolds folds) const {
+double HeldOutValidator::score(const capture::GeometryCalibration& calibration, int harmonics,
+                               double lambda, HeldOutFolds folds) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     const int firstFold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1;
@@ -370,10 +374,10 @@ namespace {
 
 // The grid as one row of a band (the same chunk layout), the fold's lights unusable when
 // `holdOut`.
-SampleBand gridBand(const HeldOutValidator::Samples& samples, const std::vector<float>& values,
-                    int holdOutEvery, bool holdOut) {
+capture::SampleBand gridBand(const HeldOutValidator::Samples& samples,
+                             const std::vector<float>& values, int holdOutEvery, bool holdOut) {
     const int fold = holdOutEvery - 1;
-    SampleBand band;
+    capture::SampleBand band;
     band.resize(samples.images, static_cast<int>(samples.x.size()), 1);
     std::copy(values.begin(), values.end(), band.values.begin());
     for (int c = 0; c < samples.chunks(); ++c) {
@@ -392,11 +396,12 @@ SampleBand gridBand(const HeldOutValidator::Samples& samples, const std::vector<
 // pixel) takes each fitted pixel into its thread's accumulator, and the accumulators merge.
 template <typename Accumulator, typename Add>
 Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
-                                  const NormalMap& normals, const Hypothesis& hypothesis,
-                                  const SampleBand& training,
+                                  const normals::NormalMap& normals, const Hypothesis& hypothesis,
+                                  const capture::SampleBand& training,
                                   const fit::ExtendedFitSettings& settings, unsigned threads,
                                   const Accumulator& empty, Add add) {
-    static_assert(fit::kLanes == SampleBand::kChunkWidth, "the grid's chunks are the band's");
+    static_assert(fit::kLanes == capture::SampleBand::kChunkWidth,
+                  "the grid's chunks are the band's");
     const fit::ExtendedLightTable table(hypothesis.calibrated);
     return reduceEveryChunk(samples, threads, empty, [&] {
         return [&, solution = std::make_unique<fit::ExtendedChunkSolution>(),
@@ -420,7 +425,7 @@ Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
 
 }  // namespace
 
-HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& calibration,
+HeldOutScore HeldOutValidator::scoreWithTransport(const capture::GeometryCalibration& calibration,
                                                   const fit::ExtendedFitSettings& settings) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
@@ -435,12 +440,13 @@ HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& cal
     return {heldOut.rms(), heldOut.imageMeanRms()};
 }
 
-std::vector<double> HeldOutValidator::lightGains(const GeometryCalibration& calibration,
+std::vector<double> HeldOutValidator::lightGains(const capture::GeometryCalibration& calibration,
                                                  const fit::ExtendedFitSettings& settings,
                                                  bool holdOut) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
-    const SampleBand training = gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut);
+    const capture::SampleBand training =
+        gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut);
     const LightGainSums sums = fitEveryChunkExtended(
         samples, normals_, hypothesis, training, settings, threads_, LightGainSums(samples.images),
         [&](LightGainSums& gains, int chunk, int lane, const FittedPixel& pixel) {
@@ -468,17 +474,17 @@ namespace {
 // The gains are measured under a grey T. An intensity is the light's luminance; T's colour
 // traded a blocked ring's darkness against tint (item7: the lights beside the ring fell to
 // 0.76–0.85 of the model, and the fold rejected the table).
-GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
-                                              const Capture& capture,
-                                              GeometryCalibration calibration,
-                                              const fit::ExtendedFitSettings& settings,
-                                              int holdOutEvery, bool holdOut) {
+capture::GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
+                                                       const capture::Capture& capture,
+                                                       capture::GeometryCalibration calibration,
+                                                       const fit::ExtendedFitSettings& settings,
+                                                       int holdOutEvery, bool holdOut) {
     constexpr int kRounds = 2;
     constexpr double kLowest = 1e-3;  // a light that shows nothing keeps a little
     constexpr double kBlockedBelow = 0.9;
     std::vector<double> intensity(capture.images.size(), 1.0);
     auto table = [&] {
-        std::vector<LightIntensity> entries;
+        std::vector<capture::LightIntensity> entries;
         for (std::size_t s = 0; s < capture.images.size(); ++s) {
             if (!holdOut || static_cast<int>(s) % holdOutEvery != holdOutEvery - 1) {
                 entries.push_back({proto::normalized(capture.images[s].light), intensity[s]});
@@ -513,15 +519,33 @@ GeometryCalibration calibrateLightIntensities(const HeldOutValidator& validator,
     return calibration;
 }
 
-}  // namespace
+// The held-out search's stages (docs/extended-model.md, "How it is fitted", step 1), in the
+// order run() takes them: the camera response, the rig's geometry, the regularization, the
+// stated geometry's score, T's ridge and the blocked lights. Every stage scores hypotheses
+// into one result, which keeps the best so far.
+class HeldOutSearch {
+public:
+    HeldOutSearch(const capture::Capture& capture, const normals::NormalMap& normals,
+                  const HeldOutSearchOptions& options);
+    HeldOutSearchResult run();
 
-HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
-                                  const HeldOutSearchOptions& options) {
-    const HeldOutValidator validator(capture, normals, options.samplePixels, options.holdOutEvery,
-                                     options.threads);
-    HeldOutSearchResult result;
-    result.harmonics = options.harmonics;
-    result.lambda = options.lambda;
+private:
+    double score(const capture::GeometryCalibration& calibration, int harmonics, double lambda);
+    void judgeBy(HeldOutFolds next);
+    void refineGeometry(int rounds);
+    int trainingLights() const;
+    void searchResponse();
+    void searchGeometry();
+    void searchRegularization();
+    void scoreStatedGeometry();
+    fit::ExtendedFitSettings extendedSettings() const;
+    void searchTransportRidge();
+    void searchLightIntensities();
+
+    const capture::Capture& capture_;
+    const HeldOutSearchOptions& options_;
+    const HeldOutValidator validator_;
+    HeldOutSearchResult result_;
     // The camera and the rig (response, field of view, light distance) are the same under
     // every light, so every training light judges them, each fold fitted on the other three:
     // on realrti-dev item7 one fold's choice moved with the fold (γ 1.7 and 13.75°, or sRGB,
@@ -530,185 +554,247 @@ HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& norma
     // beyond the lights (M, λ, T's ridge, the blocked lights) stays judged on the one fold:
     // chosen on every fold, item5 (whose test lights lie below all its training lights) took
     // M = 6, λ = 0.03 and lost 3 dB.
-    HeldOutFolds folds = options.calibrateResponse || options.calibrateGeometry
-                             ? HeldOutFolds::kEvery
-                             : HeldOutFolds::kOne;
-    auto score = [&](const GeometryCalibration& calibration, int harmonics, double lambda) {
-        for (const HeldOutTrial& known : result.trials) {
-            if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
-                known.calibration.lightDistance == calibration.lightDistance &&
-                known.calibration.responseGamma == calibration.responseGamma &&
-                known.harmonics == harmonics && known.lambda == lambda && known.folds == folds) {
-                return known.rms;
-            }
-        }
-        const double rms = validator.score(calibration, harmonics, lambda, folds);
-        result.trials.push_back({calibration, harmonics, lambda, folds, rms});
-        if (result.trials.size() == 1 || rms < result.rms) {
-            result.calibration = calibration;
-            result.harmonics = harmonics;
-            result.lambda = lambda;
-            result.rms = rms;
-        }
-        return rms;
-    };
-    // From here on scored over `next`: the choice so far, scored so, is the one to beat.
-    auto judgeBy = [&](HeldOutFolds next) {
-        if (next == folds) {
-            return;
-        }
-        folds = next;
-        result.rms = validator.score(result.calibration, result.harmonics, result.lambda, folds);
-        result.trials.push_back(
-            {result.calibration, result.harmonics, result.lambda, folds, result.rms});
-    };
-    score(GeometryCalibration{}, options.harmonics, options.lambda);
+    HeldOutFolds folds_;
+};
 
-    // Geometry: a coarse grid of field of view (degrees) and light distance (image
-    // half-widths, 0 = far), then coordinate descent with shrinking steps.
-    auto refineGeometry = [&](int rounds) {
-        double fovStep = 5.0;
-        double distanceFactor = 1.25;
-        for (int round = 0; round < rounds; ++round) {
-            bool improved = true;
-            while (improved) {
-                const HeldOutSearchResult before = result;
-                for (double delta : {-fovStep, fovStep}) {
-                    const double fov = before.calibration.fieldOfViewDegrees + delta;
-                    if (fov >= 0 && fov <= 90) {
-                        score({fov,
-                               before.calibration.lightDistance,
+HeldOutSearch::HeldOutSearch(const capture::Capture& capture, const normals::NormalMap& normals,
+                             const HeldOutSearchOptions& options)
+    : capture_(capture),
+      options_(options),
+      validator_(capture, normals, options.samplePixels, options.holdOutEvery, options.threads),
+      folds_(options.calibrateResponse || options.calibrateGeometry ? HeldOutFolds::kEvery
+                                                                    : HeldOutFolds::kOne) {
+    result_.harmonics = options.harmonics;
+    result_.lambda = options.lambda;
+}
+
+HeldOutSearchResult HeldOutSearch::run() {
+    score(capture::GeometryCalibration{}, options_.harmonics, options_.lambda);
+    if (options_.calibrateResponse) {
+        searchResponse();
+    }
+    if (options_.calibrateGeometry) {
+        searchGeometry();
+    }
+    if (options_.selectRegularization) {
+        searchRegularization();
+    }
+    scoreStatedGeometry();
+    if (options_.selectTransportRidge) {
+        searchTransportRidge();
+        if (options_.calibrateLightIntensities) {
+            searchLightIntensities();
+        }
+    }
+    return result_;
+}
+
+// The held-out RMS of one hypothesis over the current folds (a hypothesis scored before is
+// not fitted again); the result takes it when it is the best so far.
+double HeldOutSearch::score(const capture::GeometryCalibration& calibration, int harmonics,
+                            double lambda) {
+    for (const HeldOutTrial& known : result_.trials) {
+        if (known.calibration.fieldOfViewDegrees == calibration.fieldOfViewDegrees &&
+            known.calibration.lightDistance == calibration.lightDistance &&
+            known.calibration.responseGamma == calibration.responseGamma &&
+            known.harmonics == harmonics && known.lambda == lambda && known.folds == folds_) {
+            return known.rms;
+        }
+    }
+    const double rms = validator_.score(calibration, harmonics, lambda, folds_);
+    result_.trials.push_back({calibration, harmonics, lambda, folds_, rms});
+    if (result_.trials.size() == 1 || rms < result_.rms) {
+        result_.calibration = calibration;
+        result_.harmonics = harmonics;
+        result_.lambda = lambda;
+        result_.rms = rms;
+    }
+    return rms;
+}
+
+// From here on scored over `next`: the choice so far, scored so, is the one to beat.
+void HeldOutSearch::judgeBy(HeldOutFolds next) {
+    if (next == folds_) {
+        return;
+    }
+    folds_ = next;
+    result_.rms = validator_.score(result_.calibration, result_.harmonics, result_.lambda, folds_);
+    result_.trials.push_back(
+        {result_.calibration, result_.harmonics, result_.lambda, folds_, result_.rms});
+}
+
+// Coordinate descent on the field of view (degrees) and the light distance (image
+// half-widths, 0 = far) from the choice so far, the steps shrinking each round.
+void HeldOutSearch::refineGeometry(int rounds) {
+    double fovStep = 5.0;
+    double distanceFactor = 1.25;
+    for (int round = 0; round < rounds; ++round) {
+        bool improved = true;
+        while (improved) {
+            const HeldOutSearchResult before = result_;
+            for (double delta : {-fovStep, fovStep}) {
+                const double fov = before.calibration.fieldOfViewDegrees + delta;
+                if (fov >= 0 && fov <= 90) {
+                    score({fov,
+                           before.calibration.lightDistance,
+                           before.calibration.responseGamma,
+                           {}},
+                          before.harmonics, before.lambda);
+                }
+            }
+            if (before.calibration.lightDistance > 0) {
+                for (double factor : {1.0 / distanceFactor, distanceFactor}) {
+                    const double distance = before.calibration.lightDistance * factor;
+                    if (distance >= 1.5 && distance <= 100) {
+                        score({before.calibration.fieldOfViewDegrees,
+                               distance,
                                before.calibration.responseGamma,
                                {}},
                               before.harmonics, before.lambda);
                     }
                 }
-                if (before.calibration.lightDistance > 0) {
-                    for (double factor : {1.0 / distanceFactor, distanceFactor}) {
-                        const double distance = before.calibration.lightDistance * factor;
-                        if (distance >= 1.5 && distance <= 100) {
-                            score({before.calibration.fieldOfViewDegrees,
-                                   distance,
-                                   before.calibration.responseGamma,
-                                   {}},
-                                  before.harmonics, before.lambda);
-                        }
-                    }
-                }
-                improved = result.rms < before.rms;
             }
-            fovStep /= 2;
-            distanceFactor = std::sqrt(distanceFactor);
+            improved = result_.rms < before.rms;
         }
-    };
-    // The camera response first: the shape of shading over the lights depends on it more
-    // than on anything else (realrti-dev: sRGB decoding of nearly linear JPEGs made a canvas
-    // fall off as cos^2.3 and lose 9 dB on lower lights), and the geometry search below
-    // works under it.
-    // Each response is judged by its best of a few regularizations: at one fixed M and λ the
-    // choice leans towards whichever curve suits that smoothness (realrti-dev item3: γ 1.7 at
-    // M = 10, λ = 3.14, γ 1.0 once λ may be small; 1.0 predicted its held-out lights 1.7 dB
-    // better).
-    if (options.calibrateResponse) {
-        const int trainingLights = static_cast<int>(capture.images.size()) -
-                                   static_cast<int>(capture.images.size()) / options.holdOutEvery;
-        for (double gamma : {0.0, 1.0, 1.2, 1.4, 1.7, 2.0, 2.4}) {
-            for (int harmonics : {6, 10}) {
-                if (proto::coefficientCount(harmonics) > trainingLights) {
-                    continue;
-                }
-                for (double lambda : {0.03, 0.3, 3.14}) {
-                    score({0.0, 0.0, gamma, {}}, harmonics, lambda);
-                }
-            }
-        }
+        fovStep /= 2;
+        distanceFactor = std::sqrt(distanceFactor);
     }
-    if (options.calibrateGeometry) {
-        const double gamma = result.calibration.responseGamma;
-        for (double fov : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
-            for (double distance : {0.0, 32.0, 16.0, 8.0, 6.0, 4.0, 3.0}) {
-                score({fov, distance, gamma, {}}, options.harmonics, options.lambda);
-            }
-        }
-        refineGeometry(3);
-    }
-    // Regularization under the chosen geometry; the paper's M = 10, λ = 3.14 is one of the
-    // candidates, so selection can only keep or improve the held-out error.
-    if (options.selectRegularization) {
-        judgeBy(HeldOutFolds::kOne);
-        const GeometryCalibration geometry = result.calibration;
-        const int trainingLights = static_cast<int>(capture.images.size()) -
-                                   static_cast<int>(capture.images.size()) / options.holdOutEvery;
-        for (int harmonics : {6, 10, 15}) {
-            if (proto::coefficientCount(harmonics) > trainingLights) {
-                continue;  // the held-out fit could not determine the coefficients
-            }
-            for (double lambda : {0.03, 0.1, 0.3, 1.0, 3.14, 10.0}) {
-                score(geometry, harmonics, lambda);
-            }
-        }
-        if (options.calibrateGeometry) {
-            judgeBy(HeldOutFolds::kEvery);
-            refineGeometry(1);  // the geometry may shift a little with a sharper BRDF
-        }
-    }
-    // The stated geometry at the given M and λ, scored as the choice was.
-    const auto stated =
-        std::find_if(result.trials.begin(), result.trials.end(), [&](const HeldOutTrial& trial) {
-            return trial.calibration.fieldOfViewDegrees == 0 &&
-                   trial.calibration.lightDistance == 0 && trial.calibration.responseGamma == 0 &&
-                   trial.harmonics == options.harmonics && trial.lambda == options.lambda &&
-                   trial.folds == folds;
-        });
-    result.baselineRms =
-        stated != result.trials.end()
-            ? stated->rms
-            : validator.score(GeometryCalibration{}, options.harmonics, options.lambda, folds);
-    // T's ridge, by the extended fit under everything chosen above. A weak pull lets T draw
-    // the sharper shadows of raking lights (realrti-dev item7, lights 1–6° above the horizon);
-    // a strong one keeps T from explaining noise where there are few lights.
-    if (options.selectTransportRidge) {
-        fit::ExtendedFitSettings settings;
-        settings.harmonics = result.harmonics;
-        settings.lambda = result.lambda;
-        settings.normalSearchDegrees = options.normalSearchDegrees;
-        for (double ridge : {1.0, 0.3, 0.1, 0.03, 0.01}) {
-            settings.transportRidge = ridge;
-            const HeldOutScore scored = validator.scoreWithTransport(result.calibration, settings);
-            const double rms = scored.pooled;
-            result.transportTrials.push_back({ridge, rms});
-            if (result.transportTrials.size() == 1 || rms < result.transportRms) {
-                result.transportRidge = ridge;
-                result.transportRms = rms;
-                result.transportImageRms = scored.imageMean;
-            }
-        }
-        if (options.calibrateLightIntensities) {
-            settings.transportRidge = result.transportRidge;
-            const GeometryCalibration heldOut = calibrateLightIntensities(
-                validator, capture, result.calibration, settings, options.holdOutEvery, true);
-            auto anyBlocked = [](const std::vector<LightIntensity>& table) {
-                return std::any_of(table.begin(), table.end(),
-                                   [](const LightIntensity& entry) { return entry.intensity < 1; });
-            };
-            // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
-            // calibrates are the dark ones, which pooling over all samples barely counts.
-            result.lightIntensityRms =
-                anyBlocked(heldOut.lightIntensities)
-                    ? validator.scoreWithTransport(heldOut, settings).imageMean
-                    : result.transportImageRms;
-            if (result.lightIntensityRms < result.transportImageRms) {
-                std::vector<LightIntensity> table =
-                    calibrateLightIntensities(validator, capture, result.calibration, settings,
-                                              options.holdOutEvery, false)
-                        .lightIntensities;
-                if (anyBlocked(table)) {  // else the lights as stated, as the model file says
-                    result.calibration.lightIntensities = std::move(table);
-                }
-            }
-        }
-    }
-    return result;
 }
 
-}  // namespace vpe
+// The lights a held-out fit trains on: all but one in holdOutEvery.
+int HeldOutSearch::trainingLights() const {
+    return static_cast<int>(capture_.images.size()) -
+           static_cast<int>(capture_.images.size()) / options_.holdOutEvery;
+}
+
+// The camera response first: the shape of shading over the lights depends on it more
+// than on anything else (realrti-dev: sRGB decoding of nearly linear JPEGs made a canvas
+// fall off as cos^2.3 and lose 9 dB on lower lights), and the geometry search below
+// works under it.
+// Each response is judged by its best of a few regularizations: at one fixed M and λ the
+// choice leans towards whichever curve suits that smoothness (realrti-dev item3: γ 1.7 at
+// M = 10, λ = 3.14, γ 1.0 once λ may be small; 1.0 predicted its held-out lights 1.7 dB
+// better).
+void HeldOutSearch::searchResponse() {
+    for (double gamma : {0.0, 1.0, 1.2, 1.4, 1.7, 2.0, 2.4}) {
+        for (int harmonics : {6, 10}) {
+            if (proto::coefficientCount(harmonics) > trainingLights()) {
+                continue;
+            }
+            for (double lambda : {0.03, 0.3, 3.14}) {
+                score({0.0, 0.0, gamma, {}}, harmonics, lambda);
+            }
+        }
+    }
+}
+
+// Geometry: a coarse grid of field of view and light distance under the response chosen,
+// then coordinate descent with shrinking steps.
+void HeldOutSearch::searchGeometry() {
+    const double gamma = result_.calibration.responseGamma;
+    for (double fov : {0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0}) {
+        for (double distance : {0.0, 32.0, 16.0, 8.0, 6.0, 4.0, 3.0}) {
+            score({fov, distance, gamma, {}}, options_.harmonics, options_.lambda);
+        }
+    }
+    refineGeometry(3);
+}
+
+// Regularization under the chosen geometry; the paper's M = 10, λ = 3.14 is one of the
+// candidates, so selection can only keep or improve the held-out error.
+void HeldOutSearch::searchRegularization() {
+    judgeBy(HeldOutFolds::kOne);
+    const capture::GeometryCalibration geometry = result_.calibration;
+    for (int harmonics : {6, 10, 15}) {
+        if (proto::coefficientCount(harmonics) > trainingLights()) {
+            continue;  // the held-out fit could not determine the coefficients
+        }
+        for (double lambda : {0.03, 0.1, 0.3, 1.0, 3.14, 10.0}) {
+            score(geometry, harmonics, lambda);
+        }
+    }
+    if (options_.calibrateGeometry) {
+        judgeBy(HeldOutFolds::kEvery);
+        refineGeometry(1);  // the geometry may shift a little with a sharper BRDF
+    }
+}
+
+// The stated geometry at the given M and λ, scored as the choice was.
+void HeldOutSearch::scoreStatedGeometry() {
+    const auto stated =
+        std::find_if(result_.trials.begin(), result_.trials.end(), [&](const HeldOutTrial& trial) {
+            return trial.calibration.fieldOfViewDegrees == 0 &&
+                   trial.calibration.lightDistance == 0 && trial.calibration.responseGamma == 0 &&
+                   trial.harmonics == options_.harmonics && trial.lambda == options_.lambda &&
+                   trial.folds == folds_;
+        });
+    result_.baselineRms = stated != result_.trials.end()
+                              ? stated->rms
+                              : validator_.score(capture::GeometryCalibration{}, options_.harmonics,
+                                                 options_.lambda, folds_);
+}
+
+// The extended fit under everything chosen so far (T's ridge left at its default).
+fit::ExtendedFitSettings HeldOutSearch::extendedSettings() const {
+    fit::ExtendedFitSettings settings;
+    settings.harmonics = result_.harmonics;
+    settings.lambda = result_.lambda;
+    settings.normalSearchDegrees = options_.normalSearchDegrees;
+    return settings;
+}
+
+// T's ridge, by the extended fit under everything chosen above. A weak pull lets T draw
+// the sharper shadows of raking lights (realrti-dev item7, lights 1–6° above the horizon);
+// a strong one keeps T from explaining noise where there are few lights.
+void HeldOutSearch::searchTransportRidge() {
+    fit::ExtendedFitSettings settings = extendedSettings();
+    for (double ridge : {1.0, 0.3, 0.1, 0.03, 0.01}) {
+        settings.transportRidge = ridge;
+        const HeldOutScore scored = validator_.scoreWithTransport(result_.calibration, settings);
+        const double rms = scored.pooled;
+        result_.transportTrials.push_back({ridge, rms});
+        if (result_.transportTrials.size() == 1 || rms < result_.transportRms) {
+            result_.transportRidge = ridge;
+            result_.transportRms = rms;
+            result_.transportImageRms = scored.imageMean;
+        }
+    }
+}
+
+// The blocked lights, under T's ridge: calibrated on the training fold and kept, calibrated
+// again on every light, when they predict the held-out fold better.
+void HeldOutSearch::searchLightIntensities() {
+    fit::ExtendedFitSettings settings = extendedSettings();
+    settings.transportRidge = result_.transportRidge;
+    const capture::GeometryCalibration heldOut = calibrateLightIntensities(
+        validator_, capture_, result_.calibration, settings, options_.holdOutEvery, true);
+    auto anyBlocked = [](const std::vector<capture::LightIntensity>& table) {
+        return std::any_of(table.begin(), table.end(), [](const capture::LightIntensity& entry) {
+            return entry.intensity < 1;
+        });
+    };
+    // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
+    // calibrates are the dark ones, which pooling over all samples barely counts.
+    result_.lightIntensityRms = anyBlocked(heldOut.lightIntensities)
+                                    ? validator_.scoreWithTransport(heldOut, settings).imageMean
+                                    : result_.transportImageRms;
+    if (result_.lightIntensityRms < result_.transportImageRms) {
+        std::vector<capture::LightIntensity> table =
+            calibrateLightIntensities(validator_, capture_, result_.calibration, settings,
+                                      options_.holdOutEvery, false)
+                .lightIntensities;
+        if (anyBlocked(table)) {  // else the lights as stated, as the model file says
+            result_.calibration.lightIntensities = std::move(table);
+        }
+    }
+}
+
+}  // namespace
+
+HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
+                                  const normals::NormalMap& normals,
+                                  const HeldOutSearchOptions& options) {
+    return HeldOutSearch(capture, normals, options).run();
+}
+
+}  // namespace vpe::fit

@@ -9,8 +9,8 @@
 
 namespace vpe::fit {
 
-RtiBandFitter::RtiBandFitter(const Capture& capture, const RtiBasis& basis,
-                             const TransferFunction& stored, unsigned threads)
+RtiBandFitter::RtiBandFitter(const capture::Capture& capture, const model::RtiBasis& basis,
+                             const capture::TransferFunction& stored, unsigned threads)
     : basis_(basis), stored_(stored), threads_(threads) {
     const auto images = static_cast<Eigen::Index>(capture.images.size());
     design_.resize(images, basis_.terms);
@@ -27,11 +27,11 @@ RtiBandFitter::RtiBandFitter(const Capture& capture, const RtiBasis& basis,
     pseudoInverse_ = design_.completeOrthogonalDecomposition().pseudoInverse();
 }
 
-void RtiBandFitter::fit(const SampleBand& band, ModelRows& rows) const {
+void RtiBandFitter::fit(const capture::SampleBand& band, model::ModelRows& rows) const {
     const int terms = basis_.terms;
     const int images = band.images;
     rows.resize(band.width, band.rows, terms, false);
-    parallelFor(
+    common::parallelFor(
         static_cast<std::size_t>(band.rows), 1, threads_, [&](std::size_t begin, std::size_t end) {
             Eigen::MatrixXd values(images, 3);
             Eigen::VectorXd weights(images);

@@ -12,7 +12,7 @@
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::image {
 
 namespace {
 
@@ -25,7 +25,7 @@ constexpr int kPad = 4;
 void writeContactSheet(const std::filesystem::path& path, const std::vector<SheetTile>& tiles,
                        int columns, int tileWidth) {
     if (tiles.empty() || columns < 1) {
-        throw InputError(path, "a contact sheet needs tiles");
+        throw common::InputError(path, "a contact sheet needs tiles");
     }
     std::vector<OIIO::ImageBuf> scaled;
     int rowHeight = 0;
@@ -57,9 +57,9 @@ void writeContactSheet(const std::filesystem::path& path, const std::vector<Shee
         OIIO::ImageBufAlgo::paste(sheet, kPad + column * (tileWidth + kPad),
                                   kPad + row * (rowHeight + kPad), 0, 0, scaled[i]);
     }
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     if (!sheet.write(output.temporaryPath().string(), OIIO::TypeDesc::UINT8)) {
-        throw InputError(path, "cannot write the contact sheet: " + sheet.geterror());
+        throw common::InputError(path, "cannot write the contact sheet: " + sheet.geterror());
     }
     output.commit();
 }
@@ -93,4 +93,4 @@ SheetTile scalarTile(std::string label, int width, int height, const std::vector
     return tile;
 }
 
-}  // namespace vpe
+}  // namespace vpe::image

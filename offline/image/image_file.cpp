@@ -7,13 +7,13 @@
 #include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 
-namespace vpe {
+namespace vpe::image {
 
 FloatImage readImage(const std::filesystem::path& path) {
     auto input = OIIO::ImageInput::open(path.string());
     if (!input) {
         std::string reason = OIIO::geterror();
-        throw InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
+        throw common::InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
     }
     const OIIO::ImageSpec& spec = input->spec();
     FloatImage image;
@@ -22,11 +22,11 @@ FloatImage readImage(const std::filesystem::path& path) {
     image.channels = spec.nchannels;
     image.integerSource = !spec.format.is_floating_point();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
-        throw InputError(path, "image has no pixels");
+        throw common::InputError(path, "image has no pixels");
     }
     image.pixels.resize(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-        throw InputError(path, "cannot decode image: " + input->geterror());
+        throw common::InputError(path, "cannot decode image: " + input->geterror());
     }
     return image;
 }
@@ -36,20 +36,20 @@ FloatImage readImageChannels(const std::filesystem::path& path,
     auto input = OIIO::ImageInput::open(path.string());
     if (!input) {
         std::string reason = OIIO::geterror();
-        throw InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
+        throw common::InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
     }
     const OIIO::ImageSpec& spec = input->spec();
     std::vector<int> indices;
     for (const std::string& name : channels) {
         const int index = spec.channelindex(name);
         if (index < 0) {
-            throw InputError(path, "no channel '" + name + "'");
+            throw common::InputError(path, "no channel '" + name + "'");
         }
         indices.push_back(index);
     }
     std::vector<float> all(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data())) {
-        throw InputError(path, "cannot decode image: " + input->geterror());
+        throw common::InputError(path, "cannot decode image: " + input->geterror());
     }
     FloatImage image;
     image.width = spec.width;
@@ -71,10 +71,10 @@ FloatImage readImageChannels(const std::filesystem::path& path,
 void writeImage(const std::filesystem::path& path, int width, int height, int channels,
                 const std::vector<float>& pixels, PixelFormat format,
                 const std::vector<std::string>& channelNames) {
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) {
-        throw InputError(path, "cannot write this image format: " + OIIO::geterror());
+        throw common::InputError(path, "cannot write this image format: " + OIIO::geterror());
     }
     const OIIO::TypeDesc type = format == PixelFormat::kUint8    ? OIIO::TypeDesc::UINT8
                                 : format == PixelFormat::kUint16 ? OIIO::TypeDesc::UINT16
@@ -93,24 +93,24 @@ void writeImage(const std::filesystem::path& path, int width, int height, int ch
     // OpenImageIO converts float to integer formats by clamping to [0, 1] and scaling.
     if (!out->open(output.temporaryPath().string(), spec) ||
         !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
-        throw InputError(path, "cannot write image: " + out->geterror());
+        throw common::InputError(path, "cannot write image: " + out->geterror());
     }
     output.commit();
 }
 
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
                  const std::vector<std::uint8_t>& pixels) {
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) {
-        throw InputError(path, "cannot write this image format: " + OIIO::geterror());
+        throw common::InputError(path, "cannot write this image format: " + OIIO::geterror());
     }
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
     if (!out->open(output.temporaryPath().string(), spec) ||
         !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
-        throw InputError(path, "cannot write image: " + out->geterror());
+        throw common::InputError(path, "cannot write image: " + out->geterror());
     }
     output.commit();
 }
 
-}  // namespace vpe
+}  // namespace vpe::image

@@ -11,7 +11,7 @@
 
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::image {
 
 namespace {
 
@@ -149,4 +149,4 @@ double meanSsim(const Rgb8Image& a, const Rgb8Image& b, const std::vector<std::u
     return count ? sum / static_cast<double>(count) : std::numeric_limits<double>::quiet_NaN();
 }
 
-}  // namespace vpe
+}  // namespace vpe::image

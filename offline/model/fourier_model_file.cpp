@@ -20,7 +20,7 @@
 #include "vpe/model/light_transport.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::model {
 
 namespace {
 
@@ -132,8 +132,8 @@ bool toHalf(const float* in, std::uint16_t* out, std::size_t n) {
 }
 
 // vpeLightIntensities: x, y, z, intensity per light (absent: the lights as stated).
-std::vector<LightIntensity> readLightIntensities(const OIIO::ImageSpec& spec,
-                                                 const std::filesystem::path& path) {
+std::vector<capture::LightIntensity> readLightIntensities(const OIIO::ImageSpec& spec,
+                                                          const std::filesystem::path& path) {
     const OIIO::ParamValue* attribute = spec.find_attribute("vpeLightIntensities");
     if (!attribute) {
         return {};
@@ -142,17 +142,18 @@ std::vector<LightIntensity> readLightIntensities(const OIIO::ImageSpec& spec,
     const std::size_t count = static_cast<std::size_t>(attribute->nvalues()) * type.aggregate *
                               static_cast<std::size_t>(std::max(type.arraylen, 1));
     if (type.basetype != OIIO::TypeDesc::FLOAT || count == 0 || count % 4 != 0) {
-        throw InputError(path, "vpeLightIntensities must hold 4 floats per light");
+        throw common::InputError(path, "vpeLightIntensities must hold 4 floats per light");
     }
     const auto* values = static_cast<const float*>(attribute->data());
-    std::vector<LightIntensity> table;
+    std::vector<capture::LightIntensity> table;
     for (std::size_t i = 0; i < count; i += 4) {
-        const Vec3d direction{values[i], values[i + 1], values[i + 2]};
+        const proto::Vec3d direction{values[i], values[i + 1], values[i + 2]};
         const double length = std::sqrt(proto::dot(direction, direction));
         const double intensity = values[i + 3];
         if (!(std::fabs(length - 1) < 1e-3) || !(intensity > 0) || !std::isfinite(intensity)) {
-            throw InputError(path, "vpeLightIntensities entry " + std::to_string(i / 4) +
-                                       " is not a unit direction with a positive intensity");
+            throw common::InputError(path,
+                                     "vpeLightIntensities entry " + std::to_string(i / 4) +
+                                         " is not a unit direction with a positive intensity");
         }
         table.push_back({direction, intensity});
     }
@@ -219,7 +220,7 @@ struct PackedRows {
 
 struct ModelWriter::Impl {
     std::filesystem::path path;
-    AtomicOutput output;
+    common::AtomicOutput output;
     std::unique_ptr<OIIO::ImageOutput> image;
     std::vector<std::string> names;
     int channels = 0;
@@ -275,7 +276,7 @@ struct ModelWriter::Impl {
         std::unique_lock lock(mutex);
         changed.wait(lock, [this] { return !pending; });
         if (!failure.empty()) {
-            throw InputError(path, failure);
+            throw common::InputError(path, failure);
         }
     }
 
@@ -325,11 +326,11 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     : impl_(std::make_unique<Impl>(path)) {
     impl_->threads = std::max(threads, 1u);
     if (path.extension() != ".exr") {
-        throw InputError(path, "the model file must have the .exr extension");
+        throw common::InputError(path, "the model file must have the .exr extension");
     }
     if (!info.isBrdf() && !info.rtiBasis()) {
-        throw InputError(path, "unknown model variant '" + info.variant + "' with " +
-                                   std::to_string(info.terms) + " terms");
+        throw common::InputError(path, "unknown model variant '" + info.variant + "' with " +
+                                           std::to_string(info.terms) + " terms");
     }
     impl_->coefficients = info.coefficientCount();
     impl_->transport = info.hasTransport();
@@ -360,7 +361,7 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
     if (!info.calibration.lightIntensities.empty()) {
         // x, y, z, intensity per light.
         std::vector<float> table;
-        for (const LightIntensity& entry : info.calibration.lightIntensities) {
+        for (const capture::LightIntensity& entry : info.calibration.lightIntensities) {
             table.insert(
                 table.end(),
                 {static_cast<float>(entry.direction.x), static_cast<float>(entry.direction.y),
@@ -383,8 +384,9 @@ ModelWriter::ModelWriter(const std::filesystem::path& path, const ModelInfo& inf
                                      "named by vpeVariant and vpeTerms; see docs/model-file.md");
     impl_->image = OIIO::ImageOutput::create("exr");
     if (!impl_->image || !impl_->image->open(impl_->output.temporaryPath().string(), spec)) {
-        throw InputError(path, "cannot write model file: " +
-                                   (impl_->image ? impl_->image->geterror() : OIIO::geterror()));
+        throw common::InputError(path,
+                                 "cannot write model file: " +
+                                     (impl_->image ? impl_->image->geterror() : OIIO::geterror()));
     }
     impl_->startWriter();
 }
@@ -403,7 +405,7 @@ void ModelWriter::writeRows(int rowBegin, const ModelRows& rows) {
     std::atomic<int> overflowRow{rows.rows};
     if (impl_->half) {
         packed.halves.resize(values);
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(rows.rows), 1, impl_->threads,
             [&](std::size_t begin, std::size_t end) {
                 std::vector<float> line(width * channels);
@@ -425,12 +427,12 @@ void ModelWriter::writeRows(int rowBegin, const ModelRows& rows) {
         }
     } else {
         packed.floats.resize(values);
-        parallelFor(static_cast<std::size_t>(rows.rows), 1, impl_->threads,
-                    [&](std::size_t begin, std::size_t end) {
-                        for (std::size_t p = begin * width; p < end * width; ++p) {
-                            impl_->pack(rows, p, packed.floats.data() + p * channels);
-                        }
-                    });
+        common::parallelFor(static_cast<std::size_t>(rows.rows), 1, impl_->threads,
+                            [&](std::size_t begin, std::size_t end) {
+                                for (std::size_t p = begin * width; p < end * width; ++p) {
+                                    impl_->pack(rows, p, packed.floats.data() + p * channels);
+                                }
+                            });
     }
     // Hand the rows to the writer once it has written the previous ones.
     impl_->waitForWriter();
@@ -449,8 +451,8 @@ void ModelWriter::reportHalfOverflow(int rowBegin, int row, const ModelRows& row
         impl_->pack(rows, rows.pixel(row, x), pixel.data());
         for (std::size_t c = 0; c < channels; ++c) {
             if (!(std::fabs(pixel[c]) <= kHalfMax)) {
-                throw InputError(impl_->path,
-                                 "pixel (" + std::to_string(x) + ", " +
+                throw common::InputError(
+                    impl_->path, "pixel (" + std::to_string(x) + ", " +
                                      std::to_string(rowBegin + row) + "): " + impl_->names[c] +
                                      " = " + std::to_string(pixel[c]) +
                                      " is beyond the half-float range (±65504); write it with "
@@ -465,7 +467,8 @@ void ModelWriter::finish() {
     impl_->waitForWriter();
     impl_->stopWriter();
     if (!impl_->image->close()) {
-        throw InputError(impl_->path, "cannot finish model file: " + impl_->image->geterror());
+        throw common::InputError(impl_->path,
+                                 "cannot finish model file: " + impl_->image->geterror());
     }
     impl_->output.commit();
 }
@@ -490,19 +493,19 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     impl_->image = OIIO::ImageInput::open(path.string());
     if (!impl_->image) {
         if (!std::filesystem::exists(path)) {
-            throw InputError(path, "no such model file");
+            throw common::InputError(path, "no such model file");
         }
-        throw InputError(path, "cannot read model file: " + OIIO::geterror());
+        throw common::InputError(path, "cannot read model file: " + OIIO::geterror());
     }
     const OIIO::ImageSpec& spec = impl_->image->spec();
     if (spec.get_string_attribute("vpeFormat") != kFormatName) {
-        throw InputError(path, "not a vpe model file (no vpeFormat attribute)");
+        throw common::InputError(path, "not a vpe model file (no vpeFormat attribute)");
     }
     const int version = spec.get_int_attribute("vpeFormatVersion", -1);
     if (version != kFormatVersion) {
-        throw InputError(path, "model format version " + std::to_string(version) +
-                                   " is not supported (expected " + std::to_string(kFormatVersion) +
-                                   ")");
+        throw common::InputError(path, "model format version " + std::to_string(version) +
+                                           " is not supported (expected " +
+                                           std::to_string(kFormatVersion) + ")");
     }
     ModelInfo& info = impl_->info;
     info.width = spec.width;
@@ -513,12 +516,13 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     info.variant = spec.get_string_attribute("vpeVariant", "paper");
     info.terms = spec.get_int_attribute("vpeTerms", 0);
     if (!info.isBrdf() && !info.rtiBasis()) {
-        throw InputError(path, "unknown model variant '" + info.variant + "'");
+        throw common::InputError(path, "unknown model variant '" + info.variant + "'");
     }
     if (!info.isBrdf() && accepted == ModelKinds::kBrdf) {
-        throw InputError(path, "is an RTI basis fit (" + info.rtiBasis()->name() +
-                                   "), not a Fourier BRDF: use a model from vpe fit --model "
-                                   "paper|extended");
+        throw common::InputError(path,
+                                 "is an RTI basis fit (" + info.rtiBasis()->name() +
+                                     "), not a Fourier BRDF: use a model from vpe fit --model "
+                                     "paper|extended");
     }
     info.capture = spec.get_string_attribute("vpeCapture");
     info.calibration.fieldOfViewDegrees = spec.get_float_attribute("vpeFieldOfView", 0.0f);
@@ -530,20 +534,20 @@ ModelReader::ModelReader(const std::filesystem::path& path, ModelKinds accepted)
     if (!(info.calibration.fieldOfViewDegrees >= 0 && info.calibration.fieldOfViewDegrees < 180 &&
           info.calibration.lightDistance >= 0 && info.calibration.responseGamma >= 0 &&
           info.calibration.responseGamma <= 10)) {
-        throw InputError(path, "geometry calibration out of range");
+        throw common::InputError(path, "geometry calibration out of range");
     }
     if (!(info.texelMm >= 0) || !std::isfinite(info.texelMm)) {
-        throw InputError(path, "vpeTexelMm must be a size in millimetres ≥ 0");
+        throw common::InputError(path, "vpeTexelMm must be a size in millimetres ≥ 0");
     }
     if (info.harmonics < 0 || info.harmonics > proto::kMaxHarmonics) {
-        throw InputError(path,
-                         "harmonic count " + std::to_string(info.harmonics) + " is out of range");
+        throw common::InputError(
+            path, "harmonic count " + std::to_string(info.harmonics) + " is out of range");
     }
     impl_->channels = spec.nchannels;
     auto find = [&](const std::string& name) {
         const auto it = std::find(spec.channelnames.begin(), spec.channelnames.end(), name);
         if (it == spec.channelnames.end()) {
-            throw InputError(path, "missing channel '" + name + "'");
+            throw common::InputError(path, "missing channel '" + name + "'");
         }
         return static_cast<int>(it - spec.channelnames.begin());
     };
@@ -598,7 +602,8 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
     impl_->scanlines.resize(static_cast<std::size_t>(width) * rows * channels);
     if (!impl_->image->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0, channels,
                                       OIIO::TypeDesc::FLOAT, impl_->scanlines.data())) {
-        throw InputError(impl_->path, "cannot decode model rows: " + impl_->image->geterror());
+        throw common::InputError(impl_->path,
+                                 "cannot decode model rows: " + impl_->image->geterror());
     }
     for (int r = 0; r < rows; ++r) {
         for (int x = 0; x < width; ++x) {
@@ -625,4 +630,4 @@ void ModelReader::readRows(int rowBegin, int rows, ModelRows& out) {
     }
 }
 
-}  // namespace vpe
+}  // namespace vpe::model

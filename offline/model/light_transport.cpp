@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace vpe {
+namespace vpe::model {
 
-void lightTransportBasis(const Vec3d& d, double* b) {
+void lightTransportBasis(const proto::Vec3d& d, double* b) {
     const double x = d.x, y = d.y, z = d.z;
     // Normalization constants of the real SH basis (Sloan, "Stupid SH tricks").
     b[0] = 0.282094791773878;
@@ -36,7 +36,7 @@ void identityTransport(double* coefficients) {
 }
 
 std::array<double, kTransportChannels> evaluateColourTransport(const float* values,
-                                                               const Vec3d& direction) {
+                                                               const proto::Vec3d& direction) {
     double basis[kTransportTerms];
     lightTransportBasis(direction, basis);
     std::array<double, kTransportChannels> t{};
@@ -50,8 +50,10 @@ std::array<double, kTransportChannels> evaluateColourTransport(const float* valu
     return t;
 }
 
-Vec3d transportDirection(const Capture& capture, const CaptureImage& image) {
-    return capture.lightKind == LightKind::kPoint ? proto::normalized(image.light) : image.light;
+proto::Vec3d transportDirection(const capture::Capture& capture,
+                                const capture::CaptureImage& image) {
+    return capture.lightKind == capture::LightKind::kPoint ? proto::normalized(image.light)
+                                                           : image.light;
 }
 
-}  // namespace vpe
+}  // namespace vpe::model

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace vpe {
+namespace vpe::model {
 
 namespace {
 
@@ -13,7 +13,7 @@ namespace {
 // x = 2 cos θ − 1 (the upper hemisphere mapped onto [−1, 1]) by the standard recurrences,
 // scaled to the orthonormal hemispherical norm so that the normal equations stay balanced.
 // The sign convention (Condon–Shortley or not) does not matter to a least-squares fit.
-void hemisphericalHarmonics(const Vec3d& light, int orders, double* out) {
+void hemisphericalHarmonics(const proto::Vec3d& light, int orders, double* out) {
     constexpr int kMaxOrders = 5;
     const double cosTheta = std::clamp(light.z, -1.0, 1.0);
     const double phi = std::atan2(light.y, light.x);
@@ -81,7 +81,7 @@ std::string RtiBasis::name() const {
     return (kind == Kind::kPtm ? "ptm" : "hsh") + std::to_string(terms);
 }
 
-void RtiBasis::evaluate(const Vec3d& light, double* out) const {
+void RtiBasis::evaluate(const proto::Vec3d& light, double* out) const {
     if (kind == Kind::kHsh) {
         hemisphericalHarmonics(light, static_cast<int>(std::lround(std::sqrt(terms))), out);
         return;
@@ -101,4 +101,4 @@ void RtiBasis::evaluate(const Vec3d& light, double* out) const {
     }
 }
 
-}  // namespace vpe
+}  // namespace vpe::model

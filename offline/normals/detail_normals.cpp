@@ -10,7 +10,7 @@
 
 #include "vpe/proto/detail_normal.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 namespace {
 
@@ -104,7 +104,7 @@ NormalMap quadraticRegression(const WeightedGrid& grid, double sigma) {
             // extrapolating.
             A.diagonal().tail<5>().array() += 1e-6 * A(0, 0);
             const Eigen::Matrix<double, 6, 3> beta = A.ldlt().solve(b);
-            Vec3d m{beta(0, 0), beta(0, 1), beta(0, 2)};
+            proto::Vec3d m{beta(0, 0), beta(0, 1), beta(0, 2)};
             double length = std::sqrt(proto::dot(m, m));
             if (!(length > 1e-6) || !std::isfinite(length)) {
                 m = {b(0, 0), b(0, 1), b(0, 2)};  // the plain weighted mean
@@ -175,11 +175,11 @@ NormalMap lowPassNormals(const NormalMap& normals, double sigma) {
             const double cx = std::clamp((x + 0.5) / block - 0.5, 0.0, grid.width - 1.0);
             const int x0 = static_cast<int>(cx), x1 = std::min(x0 + 1, grid.width - 1);
             const double fx = cx - x0;
-            Vec3d m{0, 0, 0};
+            proto::Vec3d m{0, 0, 0};
             const int xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
             const double ws[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
             for (int i = 0; i < 4; ++i) {
-                const Vec3d c = coarse.at(xs[i], ys[i]);
+                const proto::Vec3d c = coarse.at(xs[i], ys[i]);
                 const double w = coarse.validAt(xs[i], ys[i]) ? ws[i] : 0.0;
                 m = {m.x + w * c.x, m.y + w * c.y, m.z + w * c.z};
             }
@@ -196,18 +196,19 @@ NormalMap lowPassNormals(const NormalMap& normals, double sigma) {
     return out;
 }
 
-Vec3d imageRightDirection(const Capture& capture) {
-    if (const auto* pinhole = std::get_if<PinholeCamera>(&capture.camera)) {
+proto::Vec3d imageRightDirection(const capture::Capture& capture) {
+    if (const auto* pinhole = std::get_if<capture::PinholeCamera>(&capture.camera)) {
         // World → camera is R (x right, y down): the camera's x axis is R's first row.
         const auto& r = pinhole->rotation;
-        return proto::normalized(Vec3d{r[0], r[1], r[2]});
+        return proto::normalized(proto::Vec3d{r[0], r[1], r[2]});
     }
     return {1, 0, 0};  // orthographic: world = camera frame
 }
 
-Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d& imageRight) {
-    const Vec3d up = cross(macroNormal, imageRight);
+proto::Vec3d detailNormalOf(const proto::Vec3d& normal, const proto::Vec3d& macroNormal,
+                            const proto::Vec3d& imageRight) {
+    const proto::Vec3d up = cross(macroNormal, imageRight);
     return proto::detailNormalIn(proto::tangentFrame(macroNormal, imageRight, up), normal);
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

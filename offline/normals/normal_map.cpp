@@ -8,16 +8,16 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::normals {
 
-NormalMap readNormalMap(const std::filesystem::path& path, NormalEncoding encoding) {
-    const FloatImage image = readImage(path);
+NormalMap readNormalMap(const std::filesystem::path& path, capture::NormalEncoding encoding) {
+    const image::FloatImage image = image::readImage(path);
     if (image.channels < 3) {
-        throw InputError(path,
-                         "normal map needs 3 channels, found " + std::to_string(image.channels));
+        throw common::InputError(
+            path, "normal map needs 3 channels, found " + std::to_string(image.channels));
     }
-    const bool offset = encoding == NormalEncoding::kOffsetRgb ||
-                        (encoding == NormalEncoding::kAuto && image.integerSource);
+    const bool offset = encoding == capture::NormalEncoding::kOffsetRgb ||
+                        (encoding == capture::NormalEncoding::kAuto && image.integerSource);
     NormalMap normals;
     normals.resize(image.width, image.height);
     for (int y = 0; y < image.height; ++y) {
@@ -51,15 +51,15 @@ void writeNormalMapPng(const std::filesystem::path& path, const NormalMap& norma
                 static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
         }
     }
-    writeImage8(path, normals.width, normals.height, 3, pixels);
+    image::writeImage8(path, normals.width, normals.height, 3, pixels);
 }
 
 AngularError compareNormalMaps(const NormalMap& estimate, const NormalMap& truth) {
     AngularError result;
     if (estimate.width != truth.width || estimate.height != truth.height) {
-        throw InputError("normal maps differ in size: " + std::to_string(estimate.width) + "x" +
-                         std::to_string(estimate.height) + " vs " + std::to_string(truth.width) +
-                         "x" + std::to_string(truth.height));
+        throw common::InputError("normal maps differ in size: " + std::to_string(estimate.width) +
+                                 "x" + std::to_string(estimate.height) + " vs " +
+                                 std::to_string(truth.width) + "x" + std::to_string(truth.height));
     }
     std::vector<double> angles;
     for (std::size_t i = 0; i < truth.valid.size(); ++i) {
@@ -88,4 +88,4 @@ AngularError compareNormalMaps(const NormalMap& estimate, const NormalMap& truth
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

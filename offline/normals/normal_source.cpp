@@ -5,22 +5,22 @@
 #include "vpe/common/input_error.h"
 #include "vpe/normals/photometric_stereo.h"
 
-namespace vpe {
+namespace vpe::normals {
 
-NormalsResult acquireNormals(const Capture& capture,
+NormalsResult acquireNormals(const capture::Capture& capture,
                              const std::optional<std::filesystem::path>& overridePath, int width,
                              int height, unsigned threads) {
     NormalsResult result;
     std::optional<std::filesystem::path> file = overridePath ? overridePath : capture.normalMap;
     if (file) {
-        result.normals =
-            readNormalMap(*file, overridePath ? NormalEncoding::kAuto : capture.normalEncoding);
+        result.normals = readNormalMap(
+            *file, overridePath ? capture::NormalEncoding::kAuto : capture.normalEncoding);
         result.source = file->string();
         if (result.normals.width != width || result.normals.height != height) {
-            throw InputError(*file, "normal map size " + std::to_string(result.normals.width) +
-                                        "x" + std::to_string(result.normals.height) +
-                                        " differs from the images' " + std::to_string(width) + "x" +
-                                        std::to_string(height));
+            throw common::InputError(
+                *file, "normal map size " + std::to_string(result.normals.width) + "x" +
+                           std::to_string(result.normals.height) + " differs from the images' " +
+                           std::to_string(width) + "x" + std::to_string(height));
         }
         return result;
     }
@@ -32,4 +32,4 @@ NormalsResult acquireNormals(const Capture& capture,
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

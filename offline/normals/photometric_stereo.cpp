@@ -15,7 +15,7 @@
 #include "vpe/image/image_file.h"
 #include "vpe/proto/luminance.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 namespace {
 
@@ -109,29 +109,30 @@ bool estimatePixelNormal(std::vector<Sample>& samples, const PhotometricStereoOp
 
 }  // namespace
 
-NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions& options) {
-    ImageBandReader reader(capture, options.threads);
+NormalMap estimateNormals(const capture::Capture& capture,
+                          const PhotometricStereoOptions& options) {
+    capture::ImageBandReader reader(capture, options.threads);
     const int width = reader.width();
     const int height = reader.height();
     std::vector<std::uint8_t> mask;
     if (capture.mask) {
-        const FloatImage image = readImage(*capture.mask);
+        const image::FloatImage image = image::readImage(*capture.mask);
         mask.resize(static_cast<std::size_t>(width) * height);
         for (std::size_t i = 0; i < mask.size(); ++i) {
             mask[i] = image.pixels[i * static_cast<std::size_t>(image.channels)] > 0 ? 1 : 0;
         }
     }
-    const SurfaceGeometry geometry(capture, width, height);
+    const capture::SurfaceGeometry geometry(capture, width, height);
 
     NormalMap normals;
     normals.resize(width, height);
     const int bandRows = reader.rowsForBudget(std::size_t{128} << 20);
-    SampleBand band;
-    ProgressBar progress("normals", static_cast<std::size_t>(height));
+    capture::SampleBand band;
+    common::ProgressBar progress("normals", static_cast<std::size_t>(height));
     for (int rowBegin = 0; rowBegin < height; rowBegin += bandRows) {
         const int rows = std::min(bandRows, height - rowBegin);
         reader.readBand(rowBegin, rows, mask.empty() ? nullptr : mask.data(), band);
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(rows) * width, 64, options.threads,
             [&](std::size_t begin, std::size_t end) {
                 std::vector<Sample> samples;
@@ -140,12 +141,12 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
                     const int x = static_cast<int>(p % static_cast<std::size_t>(width));
                     const int y = rowBegin + r;
                     samples.clear();
-                    const Vec3d position = geometry.position(x, y);
+                    const proto::Vec3d position = geometry.position(x, y);
                     for (int s = 0; s < band.images; ++s) {
                         if (band.weight(s, r, x) <= 0 || band.isSaturated(s, r, x)) {
                             continue;
                         }
-                        const IncidentLight light = incidentLight(
+                        const capture::IncidentLight light = capture::incidentLight(
                             capture, capture.images[static_cast<std::size_t>(s)], position);
                         const double luminance = proto::luminance709(
                             band.value(s, 0, r, x), band.value(s, 1, r, x), band.value(s, 2, r, x));
@@ -169,4 +170,4 @@ NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions
     return normals;
 }
 
-}  // namespace vpe
+}  // namespace vpe::normals

@@ -10,7 +10,7 @@
 
 #include "vpe/common/atomic_output.h"
 
-namespace vpe {
+namespace vpe::plot {
 
 namespace {
 
@@ -166,7 +166,7 @@ std::string SvgLinePlot::render() const {
 }
 
 void SvgLinePlot::write(const std::filesystem::path& path) const {
-    writeTextFileAtomically(path, render());
+    common::writeTextFileAtomically(path, render());
 }
 
-}  // namespace vpe
+}  // namespace vpe::plot

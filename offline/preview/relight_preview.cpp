@@ -9,12 +9,12 @@
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::preview {
 
-const std::vector<Vec3d>& RelightPreview::lights() {
+const std::vector<proto::Vec3d>& RelightPreview::lights() {
     // Head-on, then three lights 45° up at azimuths 0°, 120° and 240°.
-    static const std::vector<Vec3d> kLights = [] {
-        std::vector<Vec3d> lights{{0, 0, 1}};
+    static const std::vector<proto::Vec3d> kLights = [] {
+        std::vector<proto::Vec3d> lights{{0, 0, 1}};
         const double c = std::cos(M_PI / 4);
         for (int i = 0; i < 3; ++i) {
             const double azimuth = i * 2 * M_PI / 3;
@@ -32,8 +32,8 @@ RelightPreview::RelightPreview(int width, int height, int harmonics) : harmonics
     pixels_.assign(static_cast<std::size_t>(tileWidth_) * lights().size() * tileHeight_ * 3, 0);
 }
 
-void RelightPreview::addRows(int rowBegin, const ModelRows& rows) {
-    const Vec3d view{0, 0, 1};
+void RelightPreview::addRows(int rowBegin, const model::ModelRows& rows) {
+    const proto::Vec3d view{0, 0, 1};
     const std::size_t stride = static_cast<std::size_t>(tileWidth_) * lights().size() * 3;
     for (int r = 0; r < rows.rows; ++r) {
         const int y = rowBegin + r;
@@ -45,7 +45,7 @@ void RelightPreview::addRows(int rowBegin, const ModelRows& rows) {
                 continue;
             }
             const float* n = &rows.normal[rows.pixel(r, x) * 3];
-            const Vec3d normal{n[0], n[1], n[2]};
+            const proto::Vec3d normal{n[0], n[1], n[2]};
             for (std::size_t l = 0; l < lights().size(); ++l) {
                 const auto angles = proto::reflectionAngles(normal, lights()[l], view);
                 std::uint8_t* out = pixels_.data() + static_cast<std::size_t>(y / step_) * stride +
@@ -63,7 +63,8 @@ void RelightPreview::addRows(int rowBegin, const ModelRows& rows) {
 }
 
 void RelightPreview::write(const std::filesystem::path& path) const {
-    writeImage8(path, tileWidth_ * static_cast<int>(lights().size()), tileHeight_, 3, pixels_);
+    image::writeImage8(path, tileWidth_ * static_cast<int>(lights().size()), tileHeight_, 3,
+                       pixels_);
 }
 
-}  // namespace vpe
+}  // namespace vpe::preview

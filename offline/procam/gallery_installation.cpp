@@ -80,15 +80,15 @@ renderer::procam::ScreenObject screenObjectOf(const scene::ScreenMesh& mesh,
 GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     const auto checkSize = [](int width, int height, const char* what) {
         if (width < 8 || height < 8 || width > 8192 || height > 8192) {
-            throw InputError(std::string(what) + " size " + std::to_string(width) + "x" +
-                             std::to_string(height) + " is outside 8..8192");
+            throw common::InputError(std::string(what) + " size " + std::to_string(width) + "x" +
+                                     std::to_string(height) + " is outside 8..8192");
         }
     };
     checkSize(options.projectorWidth, options.projectorHeight, "projector");
     checkSize(options.cameraWidth, options.cameraHeight, "camera");
     if ((options.boardPoses != 0 && options.boardPoses < 3) || options.boardPoses > 64) {
-        throw InputError("board poses: " + std::to_string(options.boardPoses) +
-                         " (a calibration needs 3..64)");
+        throw common::InputError("board poses: " + std::to_string(options.boardPoses) +
+                                 " (a calibration needs 3..64)");
     }
     GalleryInstallation gallery;
     gallery.object = scene::makeProceduralVase();
@@ -145,7 +145,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         room.projector.response = proto::ResponseFunction::sampled(levels, curves);
         room.projector.mixing = {0.92, 0.07, 0.01, 0.06, 0.88, 0.05, 0.01, 0.09, 0.93};
         // 2 % of full white at the object's centre, at normal incidence.
-        const proto::Vec3d p = room.projector.camera.center();
+        const Vec3d p = room.projector.camera.center();
         const double d2 = (p.x - centre.x) * (p.x - centre.x) +
                           (p.y - centre.y) * (p.y - centre.y) + (p.z - centre.z) * (p.z - centre.z);
         const double ambient = 0.02 * room.projector.peakIrradiance / d2;

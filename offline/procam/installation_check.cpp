@@ -32,7 +32,7 @@ Pose poseOf(const sim::RigidPose& pose) {
     return {pose.R, pose.t};
 }
 
-Vec3d apply(const Pose& pose, const Vec3d& p) {
+proto::Vec3d apply(const Pose& pose, const proto::Vec3d& p) {
     return {pose.R[0] * p.x + pose.R[1] * p.y + pose.R[2] * p.z + pose.t[0],
             pose.R[3] * p.x + pose.R[4] * p.y + pose.R[5] * p.z + pose.t[1],
             pose.R[6] * p.x + pose.R[7] * p.y + pose.R[8] * p.z + pose.t[2]};
@@ -45,16 +45,16 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
                                     const proto::BundleView& bundle,
                                     const InstallationCheckOptions& options) {
     if (!bundle.camera()) {
-        throw InputError("the bundle carries no camera: bake it with --scan to check it");
+        throw common::InputError("the bundle carries no camera: bake it with --scan to check it");
     }
     if (!scene.object) {
-        throw InputError("the installation has no object to check the bundle on");
+        throw common::InputError("the installation has no object to check the bundle on");
     }
     const proto::PinholeCamera bundleProjector = proto::cameraOf(bundle.projector());
     const proto::PinholeCamera& trueProjectorRoom = scene.projector.camera;
     if (bundleProjector.width != trueProjectorRoom.width ||
         bundleProjector.height != trueProjectorRoom.height) {
-        throw InputError("the bundle's projector is not the installation's size");
+        throw common::InputError("the bundle's projector is not the installation's size");
     }
     // The bundle's mesh must be the installation's object (a bundle baked with --scan and the
     // object's mesh): the truth's pose and texture are the object's.
@@ -68,7 +68,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
                    std::abs(bundleMesh.positions[3 * v + 2] - object.positions[v].z) < 1e-6f;
     }
     if (!sameMesh) {
-        throw InputError(
+        throw common::InputError(
             "the bundle's mesh is not the installation's object: --check compares "
             "bundles baked with the object's own mesh (vpe bake --scan DIR --mesh)");
     }
@@ -115,12 +115,13 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     const renderer::RenderMesh objectMesh{positions, vertexNormals, uvs, mesh.indices};
     const renderer::RayCaster caster(objectMesh);
     std::vector<double> distances;
-    const Vec3d bundleCentre = bundleProjector.center();
-    const Vec3d trueCentre = trueProjector.center();
+    const proto::Vec3d bundleCentre = bundleProjector.center();
+    const proto::Vec3d trueCentre = trueProjector.center();
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-        const Vec3d x{points[v][0], points[v][1], points[v][2]};
-        const Vec3d n{normals[v][0], normals[v][1], normals[v][2]};
-        const Vec3d toProjector{bundleCentre.x - x.x, bundleCentre.y - x.y, bundleCentre.z - x.z};
+        const proto::Vec3d x{points[v][0], points[v][1], points[v][2]};
+        const proto::Vec3d n{normals[v][0], normals[v][1], normals[v][2]};
+        const proto::Vec3d toProjector{bundleCentre.x - x.x, bundleCentre.y - x.y,
+                                       bundleCentre.z - x.z};
         if (proto::dot(n, toProjector) <= 0) {
             continue;
         }
@@ -129,23 +130,24 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
             pixel->y > bundleProjector.height - 1) {
             continue;
         }
-        const Vec3d ray = proto::pixelRayDirection(bundleProjector, *pixel);
+        const proto::Vec3d ray = proto::pixelRayDirection(bundleProjector, *pixel);
         const auto first = caster.closestHit(bundleCentre, ray);
         if (!first) {
             continue;
         }
-        const Vec3d lit{bundleCentre.x + first->t * ray.x, bundleCentre.y + first->t * ray.y,
-                        bundleCentre.z + first->t * ray.z};
+        const proto::Vec3d lit{bundleCentre.x + first->t * ray.x, bundleCentre.y + first->t * ray.y,
+                               bundleCentre.z + first->t * ray.z};
         if (std::hypot(lit.x - x.x, lit.y - x.y, lit.z - x.z) > 5e-4) {
             continue;  // the vertex is behind another part of the object
         }
-        const Vec3d trueRay = proto::pixelRayDirection(trueProjector, *pixel);
+        const proto::Vec3d trueRay = proto::pixelRayDirection(trueProjector, *pixel);
         const auto hit = caster.closestHit(trueCentre, trueRay);
         if (!hit) {
             continue;
         }
-        const Vec3d landed{trueCentre.x + hit->t * trueRay.x, trueCentre.y + hit->t * trueRay.y,
-                           trueCentre.z + hit->t * trueRay.z};
+        const proto::Vec3d landed{trueCentre.x + hit->t * trueRay.x,
+                                  trueCentre.y + hit->t * trueRay.y,
+                                  trueCentre.z + hit->t * trueRay.z};
         distances.push_back(std::hypot(landed.x - x.x, landed.y - x.y, landed.z - x.z));
     }
     double squares = 0;
@@ -155,7 +157,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     check.misregistrationPoints = distances.size();
     if (!distances.empty()) {
         check.misregistrationRmsMm = 1000 * std::sqrt(squares / double(distances.size()));
-        check.misregistrationP95Mm = 1000 * quantile(distances, 0.95);
+        check.misregistrationP95Mm = 1000 * common::quantile(distances, 0.95);
         check.misregistrationMaxMm = 1000 * *std::max_element(distances.begin(), distances.end());
     }
 
@@ -163,7 +165,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     // true one, each shown by the true projector on the true object (the simulator, without
     // noise), seen from the bundle's viewer.
     const renderer::BundleScene bundleScene(bundle, options.preset);
-    const Vec3d viewer = bundleScene.bundleViewer();
+    const proto::Vec3d viewer = bundleScene.bundleViewer();
     const Pose objectToRoom = registration::compose(registration::inverse(roomToCamera), truth);
     float low[3] = {INFINITY, INFINITY, INFINITY}, high[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (const renderer::Vec3f& p : positions) {
@@ -171,8 +173,8 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
         low[1] = std::min(low[1], p.y), high[1] = std::max(high[1], p.y);
         low[2] = std::min(low[2], p.z), high[2] = std::max(high[2], p.z);
     }
-    const Vec3d middle{0.5 * double(low[0] + high[0]), 0.5 * double(low[1] + high[1]),
-                       0.5 * double(low[2] + high[2])};
+    const proto::Vec3d middle{0.5 * double(low[0] + high[0]), 0.5 * double(low[1] + high[1]),
+                              0.5 * double(low[2] + high[2])};
     sim::SimulatedCamera visitor;
     visitor.camera =
         proto::cameraLookingAt(options.viewWidth, options.viewHeight, options.viewFovDeg,
@@ -184,7 +186,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     const sim::ProcamSimulator simulator(scene, visitor, options.threads);
     const sim::CameraTruth seen = simulator.cameraTruth();
 
-    std::vector<Vec3d> lights = options.lights;
+    std::vector<proto::Vec3d> lights = options.lights;
     if (lights.empty()) {
         for (const double degrees : {0.0, 90.0, 180.0, 270.0}) {
             const double a = degrees * kPi / 180;
@@ -193,7 +195,7 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
     }
     renderer::RenderOptions render;
     render.threads = options.threads;
-    for (const Vec3d& light : lights) {
+    for (const proto::Vec3d& light : lights) {
         renderer::VirtualLight virtualLight;
         virtualLight.position = light;
         renderer::RenderScene measuredScene = bundleScene.scene(virtualLight, viewer);
@@ -217,13 +219,15 @@ InstallationCheck checkInstallation(const sim::ProcamScene& scene,
                 mask[p] = 1;
             }
         }
-        const double exposure = 0.9 / std::max(1e-12, quantile(luminance, kExposureQuantile));
+        const double exposure =
+            0.9 / std::max(1e-12, common::quantile(luminance, kExposureQuantile));
         VisitorComparison comparison;
         comparison.light = light;
         comparison.measured =
-            toSrgb8(measuredView.values, measuredView.width, measuredView.height, exposure);
-        comparison.truth = toSrgb8(trueView.values, trueView.width, trueView.height, exposure);
-        comparison.psnr = psnr(comparison.measured, comparison.truth, mask);
+            image::toSrgb8(measuredView.values, measuredView.width, measuredView.height, exposure);
+        comparison.truth =
+            image::toSrgb8(trueView.values, trueView.width, trueView.height, exposure);
+        comparison.psnr = image::psnr(comparison.measured, comparison.truth, mask);
         check.views.push_back(std::move(comparison));
     }
     check.psnrMin = std::numeric_limits<double>::infinity();

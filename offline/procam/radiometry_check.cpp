@@ -25,7 +25,7 @@ RadiometryCheck checkRadiometry(const sim::ProcamScene& scene, const sim::Simula
     const proto::PinholeCamera& projector = scene.projector.camera;
     if (static_cast<int>(bundle.projector().width) != projector.width ||
         static_cast<int>(bundle.projector().height) != projector.height) {
-        throw InputError("the bundle's projector is not the installation's size");
+        throw common::InputError("the bundle's projector is not the installation's size");
     }
     sim::SimulatedCamera quiet = camera;
     quiet.fullWellElectrons = 0;
@@ -143,7 +143,7 @@ RadiometryCheck checkRadiometry(const sim::ProcamScene& scene, const sim::Simula
 
 double viewDifferenceLevels(const RadiometryCheck& a, const RadiometryCheck& b) {
     if (a.views.size() != b.views.size() || a.views.empty()) {
-        throw InputError("two light checks of different lights cannot be compared");
+        throw common::InputError("two light checks of different lights cannot be compared");
     }
     double total = 0;
     for (std::size_t i = 0; i < a.views.size(); ++i) {

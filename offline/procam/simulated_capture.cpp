@@ -14,7 +14,7 @@ namespace vpe::procam {
 
 void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
                         const std::filesystem::path& folder, const SimulatedScanOptions& options,
-                        ProgressBar* progress) {
+                        common::ProgressBar* progress) {
     const proto::PinholeCamera& projector = simulator.scene().projector.camera;
     proto::StructuredLightParameters parameters;
     parameters.width = projector.width;
@@ -25,12 +25,12 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     try {
         sequence.emplace(parameters);
     } catch (const proto::StructuredLightError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) {
-        throw InputError(folder, "cannot create the scan folder (" + error.message() + ")");
+        throw common::InputError(folder, "cannot create the scan folder (" + error.message() + ")");
     }
     const renderer::procam::SimulatedCamera& camera = simulator.camera();
     proto::ScanManifest manifest;
@@ -51,7 +51,7 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
             proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
                                       frame.maxValue(), frame.samples);
         } catch (const std::exception& failure) {
-            throw InputError(failure.what());
+            throw common::InputError(failure.what());
         }
         manifest.images.push_back({name, patterns[i].name(), 1});
         if (progress != nullptr) {
@@ -61,13 +61,14 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     try {
         proto::writeScanManifest(folder, manifest);
     } catch (const std::exception& failure) {
-        throw InputError(failure.what());
+        throw common::InputError(failure.what());
     }
 }
 
 void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator,
                               const std::filesystem::path& folder,
-                              const SimulatedRadiometryOptions& options, ProgressBar* progress) {
+                              const SimulatedRadiometryOptions& options,
+                              common::ProgressBar* progress) {
     const proto::PinholeCamera& projector = simulator.scene().projector.camera;
     renderer::procam::SimulatedCamera sensor = simulator.camera();
     sensor.monochrome = false;
@@ -92,12 +93,13 @@ void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator
     try {
         fields = proto::radiometrySequence(manifest.fields);
     } catch (const proto::StructuredLightError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) {
-        throw InputError(folder, "cannot create the radiometry folder (" + error.message() + ")");
+        throw common::InputError(folder,
+                                 "cannot create the radiometry folder (" + error.message() + ")");
     }
     renderer::RgbImage levels(projector.width, projector.height);
     for (std::size_t i = 0; i < fields.size(); ++i) {
@@ -118,7 +120,7 @@ void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator
             proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
                                       frame.maxValue(), frame.samples);
         } catch (const std::exception& failure) {
-            throw InputError(failure.what());
+            throw common::InputError(failure.what());
         }
         manifest.images.push_back({name, fields[i].name(), 1});
         if (progress != nullptr) {
@@ -128,7 +130,7 @@ void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator
     try {
         proto::writeRadiometryManifest(folder, manifest);
     } catch (const std::exception& failure) {
-        throw InputError(failure.what());
+        throw common::InputError(failure.what());
     }
 }
 
@@ -149,8 +151,8 @@ void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
             cameraValues[7 * p + 4 + k] = camera.pointCamera[3 * p + k];
         }
     }
-    writeImage(
-        folder / "camera-truth.exr", c.width, c.height, 7, cameraValues, PixelFormat::kFloat,
+    image::writeImage(
+        folder / "camera-truth.exr", c.width, c.height, 7, cameraValues, image::PixelFormat::kFloat,
         {"projector.x", "projector.y", "centre.x", "centre.y", "point.X", "point.Y", "point.Z"});
     const renderer::procam::ProjectorTruth projector = simulator.projectorTruth();
     const std::size_t projectorPixels =
@@ -163,9 +165,9 @@ void writeSimulationTruth(const renderer::procam::ProcamSimulator& simulator,
         }
         projectorValues[7 * p + 6] = projector.seen[p];
     }
-    writeImage(
+    image::writeImage(
         folder / "projector-truth.exr", projector.width, projector.height, 7, projectorValues,
-        PixelFormat::kFloat,
+        image::PixelFormat::kFloat,
         {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "seen"});
     // The true calibration in vpe calibrate's own file, in the camera's frame: scans can be
     // decoded with it alone.

@@ -171,10 +171,10 @@ ColumnLayout columnLayout(int width, int block, int overlap, bool wrap) {
         }
         // Two blocks a row, each overlapping the other on both sides by at most (block − 1) / 2.
         const int least = 2 * (block - (block - 1) / 2);
-        throw InputError("a texture that wraps in u cannot be " + std::to_string(width) +
-                         " pixels wide with " + std::to_string(block) +
-                         "-pixel blocks overlapping by " + std::to_string(overlap) + " (at least " +
-                         std::to_string(least) + ")");
+        throw common::InputError("a texture that wraps in u cannot be " + std::to_string(width) +
+                                 " pixels wide with " + std::to_string(block) +
+                                 "-pixel blocks overlapping by " + std::to_string(overlap) +
+                                 " (at least " + std::to_string(least) + ")");
     }
     ColumnLayout layout;
     const int blocks = std::max(1, (width - overlap + step - 1) / step);
@@ -187,8 +187,8 @@ ColumnLayout columnLayout(int width, int block, int overlap, bool wrap) {
 
 class Quilter {
 public:
-    Quilter(const SourceTexture& source, const RegionSearch& search, int region, int width,
-            int height, int block, int overlap, const QuiltSettings& settings)
+    Quilter(const model::CoefficientImage& source, const RegionSearch& search, int region,
+            int width, int height, int block, int overlap, const QuiltSettings& settings)
         : source_(source),
           search_(search),
           region_(region),
@@ -226,14 +226,14 @@ public:
                     front.emplace_back(i, j);
                 }
             }
-            parallelFor(front.size(), 1, settings_.threads,
-                        [&](std::size_t begin, std::size_t end) {
-                            std::unique_ptr<SearchScratch> scratch = acquireScratch();
-                            for (std::size_t f = begin; f < end; ++f) {
-                                placeBlock(front[f].first, front[f].second, scratch.get());
-                            }
-                            releaseScratch(std::move(scratch));
-                        });
+            common::parallelFor(front.size(), 1, settings_.threads,
+                                [&](std::size_t begin, std::size_t end) {
+                                    std::unique_ptr<SearchScratch> scratch = acquireScratch();
+                                    for (std::size_t f = begin; f < end; ++f) {
+                                        placeBlock(front[f].first, front[f].second, scratch.get());
+                                    }
+                                    releaseScratch(std::move(scratch));
+                                });
         }
     }
 
@@ -336,13 +336,14 @@ private:
     void placeBlock(int i, int j, SearchScratch* scratch) {
         const int ox = columns_.origins[static_cast<std::size_t>(i)], oy = j * step_;
         const OverlapShape shape = shapeOf(i, j);
-        std::uint64_t rng =
-            mixBits(settings_.seed ^ mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
+        std::uint64_t rng = common::mixBits(
+            settings_.seed ^ common::mixBits(static_cast<std::uint64_t>(region_) * 0x9e37 +
                                              static_cast<std::uint64_t>(j) * 0x10000 +
                                              static_cast<std::uint64_t>(i)));
         auto random = [&rng](std::size_t n) {
-            rng = mixBits(rng);
-            return static_cast<std::size_t>(uniformFromBits(rng) * static_cast<double>(n)) % n;
+            rng = common::mixBits(rng);
+            return static_cast<std::size_t>(common::uniformFromBits(rng) * static_cast<double>(n)) %
+                   n;
         };
         int px, py;
         if (!shape.any()) {
@@ -355,8 +356,7 @@ private:
             for (Candidate& c : shortlist) {
                 c.error = overlapError(
                     overlap.placed.data(), overlap.offsets.data(), overlap.placed.size(),
-                    source_.at(search_.boundsX() + c.px, search_.boundsY() + c.py),
-                    source_.channels);
+                    source_.at(search_.boundsX() + c.px, search_.boundsY() + c.py), source_.dims);
             }
             std::sort(shortlist.begin(), shortlist.end());
             if (shortlist.empty()) {
@@ -394,7 +394,7 @@ private:
                 if (shape.contains(qx, qy, block_)) {
                     pixels.placed.push_back(placed(ox + qx, oy + qy));
                     pixels.offsets.push_back(
-                        (static_cast<std::ptrdiff_t>(qy) * source_.width + qx) * source_.channels);
+                        (static_cast<std::ptrdiff_t>(qy) * source_.width + qx) * source_.dims);
                 }
             }
         }
@@ -470,7 +470,7 @@ private:
     // block's positions on the new side.
     void paste(int ox, int oy, int px, int py, const OverlapShape& shape) {
         const int sx = search_.boundsX() + px, sy = search_.boundsY() + py;
-        const int c = source_.channels;
+        const int c = source_.dims;
         auto error = [&](int qx, int qy) {
             return squaredDistance(placed(ox + qx, oy + qy), source_.at(sx + qx, sy + qy), c);
         };
@@ -550,7 +550,7 @@ private:
         return cut;
     }
 
-    const SourceTexture& source_;
+    const model::CoefficientImage& source_;
     const RegionSearch& search_;
     int region_, block_, overlap_, step_;
     QuiltSettings settings_;
@@ -566,13 +566,14 @@ private:
 
 }  // namespace
 
-RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
-                        int region, int width, int height, const QuiltSettings& settings) {
+RegionQuilt quiltRegion(const model::CoefficientImage& source,
+                        const std::vector<std::uint8_t>& labels, int region, int width, int height,
+                        const QuiltSettings& settings) {
     if (width <= 0 || height <= 0) {
-        throw InputError("output size must be positive");
+        throw common::InputError("output size must be positive");
     }
     if (settings.block < 8 || settings.overlap < 1 || 2 * settings.overlap >= settings.block) {
-        throw InputError("--block must be at least 8 and --overlap between 1 and block/2");
+        throw common::InputError("--block must be at least 8 and --overlap between 1 and block/2");
     }
     // A thin region may not hold the requested block, or hold so few that the texture would
     // repeat them: shrink the block (overlap in proportion) until there is a real choice.
@@ -593,8 +594,8 @@ RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint
         quilter.run();
         return quilter.result(width, height);
     }
-    throw InputError("region " + std::to_string(region) +
-                     " is too small or too thin to hold an 8-pixel block");
+    throw common::InputError("region " + std::to_string(region) +
+                             " is too small or too thin to hold an 8-pixel block");
 }
 
 }  // namespace vpe::quilt

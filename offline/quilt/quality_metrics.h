@@ -21,13 +21,13 @@ std::vector<std::size_t> evenSubset(std::size_t count, std::size_t limit);
 
 // Radially averaged power spectra of the output against the source's (spectrum, its self
 // reference and their ratio), on the region's largest square.
-void measureSpectrum(const CoefficientImage& source, const std::vector<std::uint8_t>& mask,
-                     const std::vector<float>& sourceSamples, const CoefficientImage& output,
+void measureSpectrum(const model::CoefficientImage& source, const std::vector<std::uint8_t>& mask,
+                     const std::vector<float>& sourceSamples, const model::CoefficientImage& output,
                      const QualityOptions& options, RegionQuality& quality);
 
 // Mean squared differences across the quilt's seams against its block interiors.
-void measureSeams(const CoefficientImage& source, const std::vector<std::uint8_t>& mask,
-                  const CoefficientImage& output, const PositionMap& positions,
+void measureSeams(const model::CoefficientImage& source, const std::vector<std::uint8_t>& mask,
+                  const model::CoefficientImage& output, const PositionMap& positions,
                   RegionQuality& quality);
 
 // The largest area copied verbatim (one connected run of constant source offset).

@@ -22,8 +22,8 @@ double squaredDifference(const float* a, const float* b, int dims) {
 
 }  // namespace
 
-void measureSeams(const CoefficientImage& source, const std::vector<std::uint8_t>& mask,
-                  const CoefficientImage& output, const PositionMap& positions,
+void measureSeams(const model::CoefficientImage& source, const std::vector<std::uint8_t>& mask,
+                  const model::CoefficientImage& output, const PositionMap& positions,
                   RegionQuality& quality) {
     double seamSum = 0, interiorSum = 0;
     for (int y = 0; y < output.height; ++y) {

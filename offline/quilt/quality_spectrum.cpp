@@ -26,7 +26,7 @@ public:
         in_ = fftwf_alloc_real(static_cast<std::size_t>(width) * height);
         out_ = fftwf_alloc_complex(static_cast<std::size_t>(width / 2 + 1) * height);
         {
-            const std::lock_guard lock(fftwPlannerMutex());
+            const std::lock_guard lock(common::fftwPlannerMutex());
             plan_ = fftwf_plan_dft_r2c_2d(height, width, in_, out_, FFTW_ESTIMATE);
         }
         hannX_ = hann(width);
@@ -43,7 +43,7 @@ public:
     }
     ~WindowSpectrum() {
         {
-            const std::lock_guard lock(fftwPlannerMutex());
+            const std::lock_guard lock(common::fftwPlannerMutex());
             fftwf_destroy_plan(plan_);
         }
         fftwf_free(in_);
@@ -171,10 +171,10 @@ std::vector<std::vector<double>> principalDirections(const std::vector<float>& s
     if (count < 2) {
         return {};
     }
-    const PrincipalAxes axes = principalAxes(
+    const common::PrincipalAxes axes = common::principalAxes(
         count, dims,
         [&](std::size_t i) { return samples.data() + i * static_cast<std::size_t>(dims); },
-        AxisSelection{.maxAxes = wanted, .dropBelow = 1e-12});
+        common::AxisSelection{.maxAxes = wanted, .dropBelow = 1e-12});
     std::vector<std::vector<double>> directions;
     for (int j = 0; j < axes.count(); ++j) {
         directions.emplace_back(axes.axes.col(j).data(), axes.axes.col(j).data() + dims);
@@ -183,7 +183,7 @@ std::vector<std::vector<double>> principalDirections(const std::vector<float>& s
 }
 
 // One window of an image projected on each direction: [direction][y·width + x].
-std::vector<std::vector<double>> projectWindow(const CoefficientImage& image, int x0, int y0,
+std::vector<std::vector<double>> projectWindow(const model::CoefficientImage& image, int x0, int y0,
                                                int width, int height,
                                                const std::vector<std::vector<double>>& directions) {
     std::vector<std::vector<double>> planes(
@@ -205,8 +205,8 @@ std::vector<std::vector<double>> projectWindow(const CoefficientImage& image, in
 
 }  // namespace
 
-void measureSpectrum(const CoefficientImage& source, const std::vector<std::uint8_t>& mask,
-                     const std::vector<float>& sourceSamples, const CoefficientImage& output,
+void measureSpectrum(const model::CoefficientImage& source, const std::vector<std::uint8_t>& mask,
+                     const std::vector<float>& sourceSamples, const model::CoefficientImage& output,
                      const QualityOptions& options, RegionQuality& quality) {
     quality.spectrum = quality.spectrumSelf = quality.spectrumRatio = kNaN;
     const Square square = largestSquare(mask, source.width, source.height);
@@ -227,7 +227,7 @@ void measureSpectrum(const CoefficientImage& source, const std::vector<std::uint
         return;  // a constant region has no spectrum
     }
     WindowSpectrum spectrum(width, height);
-    auto radial = [&](const CoefficientImage& image, int x0, int y0) {
+    auto radial = [&](const model::CoefficientImage& image, int x0, int y0) {
         std::vector<std::vector<double>> power;
         for (const auto& plane : projectWindow(image, x0, y0, width, height, directions)) {
             power.push_back(spectrum.radialPower(plane));

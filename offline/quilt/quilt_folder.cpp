@@ -34,7 +34,7 @@ std::filesystem::path positionsPath(const std::filesystem::path& dir, int region
 std::vector<std::filesystem::path> listRegionMaps(const std::filesystem::path& dir) {
     std::error_code error;
     if (!std::filesystem::is_directory(dir, error)) {
-        throw InputError(dir, "no such folder (expected the output of vpe quilt)");
+        throw common::InputError(dir, "no such folder (expected the output of vpe quilt)");
     }
     // The highest index present, so a gap is reported rather than silently ending the list.
     int highest = -1;
@@ -52,17 +52,17 @@ std::vector<std::filesystem::path> listRegionMaps(const std::filesystem::path& d
         highest = std::max(highest, std::stoi(digits));
     }
     if (highest < 0) {
-        throw InputError(dir,
-                         "no region0.exr (expected region0.exr, region1.exr, ... from vpe "
-                         "quilt)");
+        throw common::InputError(dir,
+                                 "no region0.exr (expected region0.exr, region1.exr, ... from vpe "
+                                 "quilt)");
     }
     std::vector<std::filesystem::path> maps;
     for (int k = 0; k <= highest; ++k) {
         std::filesystem::path path = regionMapPath(dir, k);
         if (!std::filesystem::exists(path)) {
-            throw InputError(path,
-                             "missing, but region" + std::to_string(highest) +
-                                 ".exr exists (region maps are numbered from 0 without gaps)");
+            throw common::InputError(
+                path, "missing, but region" + std::to_string(highest) +
+                          ".exr exists (region maps are numbered from 0 without gaps)");
         }
         maps.push_back(std::move(path));
     }
@@ -84,8 +84,8 @@ void writePositionMap(const std::filesystem::path& path, const PositionMap& map,
         pixels[p * 3 + 1] = static_cast<float>(map.sourceY[p]);
         pixels[p * 3 + 2] = static_cast<float>(region);
     }
-    writeImage(path, map.width, map.height, 3, pixels, PixelFormat::kFloat,
-               {std::begin(kPositionChannels), std::end(kPositionChannels)});
+    image::writeImage(path, map.width, map.height, 3, pixels, image::PixelFormat::kFloat,
+                      {std::begin(kPositionChannels), std::end(kPositionChannels)});
 }
 
 namespace {
@@ -95,7 +95,7 @@ void readPositionFile(const std::filesystem::path& path, std::vector<PositionMap
                       int sourceWidth, int sourceHeight) {
     auto input = OIIO::ImageInput::open(path.string());
     if (!input) {
-        throw InputError(path, "cannot read positions: " + OIIO::geterror());
+        throw common::InputError(path, "cannot read positions: " + OIIO::geterror());
     }
     const int regions = static_cast<int>(maps.size());
     const int width = maps[0].width, height = maps[0].height;
@@ -104,17 +104,17 @@ void readPositionFile(const std::filesystem::path& path, std::vector<PositionMap
         const OIIO::ImageSpec& spec = input->spec();
         const std::string part = subimage > 0 ? " (subimage " + std::to_string(subimage) + ")" : "";
         if (spec.width != width || spec.height != height) {
-            throw InputError(path, "size " + std::to_string(spec.width) + " × " +
-                                       std::to_string(spec.height) + part +
-                                       " differs from the region maps' " + std::to_string(width) +
-                                       " × " + std::to_string(height));
+            throw common::InputError(
+                path, "size " + std::to_string(spec.width) + " × " + std::to_string(spec.height) +
+                          part + " differs from the region maps' " + std::to_string(width) + " × " +
+                          std::to_string(height));
         }
         int channel[3];
         for (int c = 0; c < 3; ++c) {
             const auto it =
                 std::find(spec.channelnames.begin(), spec.channelnames.end(), kPositionChannels[c]);
             if (it == spec.channelnames.end()) {
-                throw InputError(
+                throw common::InputError(
                     path, std::string("missing channel '") + kPositionChannels[c] + "'" + part);
             }
             channel[c] = static_cast<int>(it - spec.channelnames.begin());
@@ -122,7 +122,8 @@ void readPositionFile(const std::filesystem::path& path, std::vector<PositionMap
         const int channels = spec.nchannels;
         pixels.resize(static_cast<std::size_t>(width) * height * channels);
         if (!input->read_image(subimage, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-            throw InputError(path, "cannot decode positions" + part + ": " + input->geterror());
+            throw common::InputError(path,
+                                     "cannot decode positions" + part + ": " + input->geterror());
         }
         for (int y = 0; y < height; ++y) {
             for (int x = 0; x < width; ++x) {
@@ -131,9 +132,9 @@ void readPositionFile(const std::filesystem::path& path, std::vector<PositionMap
                 for (int c = 0; c < 3; ++c) {
                     const float v = pixels[p * channels + channel[c]];
                     if (!std::isfinite(v) || v != std::round(v) || std::fabs(v) > 1e7f) {
-                        throw InputError(path, pixelName(x, y) + part + ": " +
-                                                   kPositionChannels[c] + " = " +
-                                                   std::to_string(v) + " is not an integer");
+                        throw common::InputError(
+                            path, pixelName(x, y) + part + ": " + kPositionChannels[c] + " = " +
+                                      std::to_string(v) + " is not an integer");
                     }
                     value[c] = std::lround(v);
                 }
@@ -141,23 +142,23 @@ void readPositionFile(const std::filesystem::path& path, std::vector<PositionMap
                     continue;  // no position: the quilter did not copy this pixel
                 }
                 if (value[2] < 0 || value[2] >= regions) {
-                    throw InputError(path, pixelName(x, y) + part + ": region " +
-                                               std::to_string(value[2]) + " but there are " +
-                                               std::to_string(regions) + " region maps");
+                    throw common::InputError(
+                        path, pixelName(x, y) + part + ": region " + std::to_string(value[2]) +
+                                  " but there are " + std::to_string(regions) + " region maps");
                 }
                 if (value[0] < 0 || value[0] >= sourceWidth || value[1] < 0 ||
                     value[1] >= sourceHeight) {
-                    throw InputError(path, pixelName(x, y) + part + ": source (" +
-                                               std::to_string(value[0]) + ", " +
-                                               std::to_string(value[1]) + ") is outside the " +
-                                               std::to_string(sourceWidth) + " × " +
-                                               std::to_string(sourceHeight) + " source model");
+                    throw common::InputError(
+                        path, pixelName(x, y) + part + ": source (" + std::to_string(value[0]) +
+                                  ", " + std::to_string(value[1]) + ") is outside the " +
+                                  std::to_string(sourceWidth) + " × " +
+                                  std::to_string(sourceHeight) + " source model");
                 }
                 PositionMap& map = maps[static_cast<std::size_t>(value[2])];
                 if (map.known(p)) {
-                    throw InputError(path, pixelName(x, y) + part + ": region " +
-                                               std::to_string(value[2]) +
-                                               " has this pixel's position twice");
+                    throw common::InputError(path, pixelName(x, y) + part + ": region " +
+                                                       std::to_string(value[2]) +
+                                                       " has this pixel's position twice");
                 }
                 map.sourceX[p] = static_cast<std::int32_t>(value[0]);
                 map.sourceY[p] = static_cast<std::int32_t>(value[1]);
@@ -180,9 +181,9 @@ std::vector<PositionMap> readPositionMaps(const std::filesystem::path& dir, int 
         files.push_back(dir / "positions.exr");
     }
     if (files.empty()) {
-        throw InputError(positionsPath(dir, 0),
-                         "no such positions file (vpe quilt writes "
-                         "positions<k>.exr next to region<k>.exr)");
+        throw common::InputError(positionsPath(dir, 0),
+                                 "no such positions file (vpe quilt writes "
+                                 "positions<k>.exr next to region<k>.exr)");
     }
     std::vector<PositionMap> maps(static_cast<std::size_t>(regions));
     for (PositionMap& map : maps) {

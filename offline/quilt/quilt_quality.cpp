@@ -36,7 +36,8 @@ using metrics::evenSubset;
 using metrics::kNaN;
 
 // The vectors of the given pixels, gathered contiguously.
-std::vector<float> gather(const CoefficientImage& image, const std::vector<std::size_t>& pixels) {
+std::vector<float> gather(const model::CoefficientImage& image,
+                          const std::vector<std::size_t>& pixels) {
     std::vector<float> out(pixels.size() * static_cast<std::size_t>(image.dims));
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         std::copy_n(image.at(pixels[i]), image.dims, out.data() + i * image.dims);
@@ -54,45 +55,19 @@ std::vector<std::size_t> subsetOf(const std::vector<std::size_t>& pixels, std::s
 
 }  // namespace
 
-CoefficientImage readCoefficientImage(const std::filesystem::path& model) {
-    ModelReader reader(model);
-    const ModelInfo& info = reader.info();
-    CoefficientImage image;
-    image.width = info.width;
-    image.height = info.height;
-    image.harmonics = info.harmonics;
-    image.dims = 3 * proto::coefficientCount(info.harmonics);
-    const std::size_t pixels = static_cast<std::size_t>(info.width) * info.height;
-    image.values.resize(pixels * image.dims);
-    image.valid.resize(pixels);
-    ModelRows rows;
-    constexpr int kBand = 64;
-    for (int y = 0; y < info.height; y += kBand) {
-        const int count = std::min(kBand, info.height - y);
-        reader.readRows(y, count, rows);
-        const std::size_t first = static_cast<std::size_t>(y) * info.width;
-        // ModelRows is [pixel][channel][k], the layout of CoefficientImage.
-        std::copy(rows.coefficient.begin(), rows.coefficient.end(),
-                  image.values.begin() + static_cast<std::ptrdiff_t>(first * image.dims));
-        std::copy(rows.valid.begin(), rows.valid.end(),
-                  image.valid.begin() + static_cast<std::ptrdiff_t>(first));
-    }
-    return image;
-}
-
-RegionQuality measureRegionQuality(const CoefficientImage& source,
+RegionQuality measureRegionQuality(const model::CoefficientImage& source,
                                    const std::vector<std::uint8_t>& labels, int region,
-                                   const CoefficientImage& output, const PositionMap& positions,
-                                   const QualityOptions& options) {
+                                   const model::CoefficientImage& output,
+                                   const PositionMap& positions, const QualityOptions& options) {
     if (output.dims != source.dims) {
-        throw InputError("region " + std::to_string(region) + ": the output has " +
-                         std::to_string(output.harmonics) + " harmonics, the source " +
-                         std::to_string(source.harmonics));
+        throw common::InputError("region " + std::to_string(region) + ": the output has " +
+                                 std::to_string(output.harmonics) + " harmonics, the source " +
+                                 std::to_string(source.harmonics));
     }
     if (labels.size() != static_cast<std::size_t>(source.width) * source.height ||
         positions.width != output.width || positions.height != output.height) {
-        throw InputError("region " + std::to_string(region) +
-                         ": labels or positions do not match the model sizes");
+        throw common::InputError("region " + std::to_string(region) +
+                                 ": labels or positions do not match the model sizes");
     }
     RegionQuality quality;
     quality.region = region;

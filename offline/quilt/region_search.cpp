@@ -31,8 +31,9 @@ int fftFriendly(int n) {
 
 }  // namespace
 
-RegionSearch::RegionSearch(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
-                           int region, int block, const QuiltSettings& settings, std::size_t enough)
+RegionSearch::RegionSearch(const model::CoefficientImage& source,
+                           const std::vector<std::uint8_t>& labels, int region, int block,
+                           const QuiltSettings& settings, std::size_t enough)
     : source_(source), block_(block) {
     findBounds(labels, region);
     findCandidates(labels, region);
@@ -47,7 +48,7 @@ RegionSearch::RegionSearch(const SourceTexture& source, const std::vector<std::u
 }
 
 RegionSearch::~RegionSearch() {
-    std::lock_guard lock(fftwPlannerMutex());
+    std::lock_guard lock(common::fftwPlannerMutex());
     if (forward_) {
         fftwf_destroy_plan(forward_);
     }
@@ -110,7 +111,7 @@ void RegionSearch::findCandidates(const std::vector<std::uint8_t>& labels, int r
 // that hold most of the variance (SSD of differences is unchanged by centring).
 void RegionSearch::buildProjection(const std::vector<std::uint8_t>& labels, int region,
                                    const QuiltSettings& settings) {
-    const int c = source_.channels;
+    const int c = source_.dims;
     std::vector<const float*> texels;
     for (int y = by_; y < by_ + bh_; ++y) {
         for (int x = bx_; x < bx_ + bw_; ++x) {
@@ -119,10 +120,10 @@ void RegionSearch::buildProjection(const std::vector<std::uint8_t>& labels, int 
             }
         }
     }
-    const PrincipalAxes axes = principalAxes(
+    const common::PrincipalAxes axes = common::principalAxes(
         texels.size(), c, [&](std::size_t i) { return texels[i]; },
-        AxisSelection{.maxAxes = std::min(settings.maxComponents, c),
-                      .varianceToKeep = settings.pcaVariance});
+        common::AxisSelection{.maxAxes = std::min(settings.maxComponents, c),
+                              .varianceToKeep = settings.pcaVariance});
     components_ = axes.count();
     const Eigen::MatrixXd& basis = axes.axes;
     const Eigen::VectorXd& mean = axes.mean;
@@ -162,7 +163,7 @@ void RegionSearch::buildSpectra() {
     {
         // FFTW_ESTIMATE: measured plans could differ from run to run, and with them the
         // rounding of the approximate errors: a quilt must not.
-        std::lock_guard lock(fftwPlannerMutex());
+        std::lock_guard lock(common::fftwPlannerMutex());
         forward_ = fftwf_plan_dft_r2c_2d(fh_, fw_, image.get(), scratch.get(), FFTW_ESTIMATE);
         inverse_ = fftwf_plan_dft_c2r_2d(fh_, fw_, scratch.get(), image.get(), FFTW_ESTIMATE);
         templateRows_ =

@@ -76,8 +76,8 @@ class RegionSearch {
 public:
     // The search structures are built only when the region holds at least `enough`
     // candidates: a block size that will be refused costs no PCA and no spectra.
-    RegionSearch(const SourceTexture& source, const std::vector<std::uint8_t>& labels, int region,
-                 int block, const QuiltSettings& settings, std::size_t enough);
+    RegionSearch(const model::CoefficientImage& source, const std::vector<std::uint8_t>& labels,
+                 int region, int block, const QuiltSettings& settings, std::size_t enough);
     ~RegionSearch();
     RegionSearch(const RegionSearch&) = delete;
     RegionSearch& operator=(const RegionSearch&) = delete;
@@ -152,7 +152,7 @@ private:
     // is exact for every valid block: a candidate corner plus a block offset stays inside.
     void buildSpectra();
 
-    const SourceTexture& source_;
+    const model::CoefficientImage& source_;
     int block_;
     int bx_ = 0, by_ = 0, bw_ = 0, bh_ = 0, fw_ = 0, fh_ = 0;
     std::vector<std::uint8_t> valid_;

@@ -57,8 +57,9 @@ SeamStatistics measureSeam(std::span<const float> values, int width, int height,
         }
     };
     std::vector<double> all(static_cast<std::size_t>(width));
-    parallelFor(all.size(), 64, resolveThreadCount(0),
-                [&](std::size_t begin, std::size_t end) { steps(begin, end, all.data() + begin); });
+    common::parallelFor(
+        all.size(), 64, common::resolveThreadCount(0),
+        [&](std::size_t begin, std::size_t end) { steps(begin, end, all.data() + begin); });
     SeamStatistics s;
     s.columnSteps.assign(all.begin(), all.end() - 1);
     double total = 0;
@@ -67,8 +68,8 @@ SeamStatistics measureSeam(std::span<const float> values, int width, int height,
     }
     s.seam = all.back();
     s.interiorMean = total / (width - 1);
-    s.interiorMedian = quantile(s.columnSteps, 0.5);
-    s.interiorP95 = quantile(s.columnSteps, 0.95);
+    s.interiorMedian = common::quantile(s.columnSteps, 0.5);
+    s.interiorP95 = common::quantile(s.columnSteps, 0.95);
     s.interiorMax = *std::max_element(s.columnSteps.begin(), s.columnSteps.end());
     const auto below = std::count_if(s.columnSteps.begin(), s.columnSteps.end(),
                                      [&](double v) { return v < s.seam; });

@@ -47,10 +47,10 @@ std::vector<double> randomDirection(std::uint64_t seed, int direction, int dims)
     double norm = 0;
     for (int d = 0; d < dims; ++d) {
         const std::uint64_t key =
-            mixBits(seed ^ mixBits(static_cast<std::uint64_t>(direction) * 4099 +
-                                   static_cast<std::uint64_t>(d)));
-        const double u1 = 1.0 - uniformFromBits(key);  // (0, 1]: log is finite
-        const double u2 = uniformFromBits(mixBits(key));
+            common::mixBits(seed ^ common::mixBits(static_cast<std::uint64_t>(direction) * 4099 +
+                                                   static_cast<std::uint64_t>(d)));
+        const double u1 = 1.0 - common::uniformFromBits(key);  // (0, 1]: log is finite
+        const double u2 = common::uniformFromBits(common::mixBits(key));
         v[static_cast<std::size_t>(d)] =
             std::sqrt(-2 * std::log(u1)) * std::cos(2 * std::numbers::pi * u2);
         norm += v[static_cast<std::size_t>(d)] * v[static_cast<std::size_t>(d)];
@@ -72,28 +72,30 @@ double slicedWasserstein(const float* a, std::size_t countA, const float* b, std
     const std::vector<std::size_t> subsetA = evenSubset(countA, options.maxSamples);
     const std::vector<std::size_t> subsetB = evenSubset(countB, options.maxSamples);
     std::vector<double> squared(static_cast<std::size_t>(options.directions));
-    parallelFor(squared.size(), 1, options.threads, [&](std::size_t begin, std::size_t end) {
-        std::vector<double> projectedA(subsetA.size()), projectedB(subsetB.size());
-        for (std::size_t t = begin; t < end; ++t) {
-            const std::vector<double> direction =
-                randomDirection(options.seed, static_cast<int>(t), dims);
-            auto project = [&](const float* set, const std::vector<std::size_t>& subset,
-                               std::vector<double>& projected) {
-                for (std::size_t i = 0; i < subset.size(); ++i) {
-                    const float* v = set + subset[i] * dims;
-                    double sum = 0;
-                    for (int d = 0; d < dims; ++d) {
-                        sum += direction[static_cast<std::size_t>(d)] * static_cast<double>(v[d]);
+    common::parallelFor(
+        squared.size(), 1, options.threads, [&](std::size_t begin, std::size_t end) {
+            std::vector<double> projectedA(subsetA.size()), projectedB(subsetB.size());
+            for (std::size_t t = begin; t < end; ++t) {
+                const std::vector<double> direction =
+                    randomDirection(options.seed, static_cast<int>(t), dims);
+                auto project = [&](const float* set, const std::vector<std::size_t>& subset,
+                                   std::vector<double>& projected) {
+                    for (std::size_t i = 0; i < subset.size(); ++i) {
+                        const float* v = set + subset[i] * dims;
+                        double sum = 0;
+                        for (int d = 0; d < dims; ++d) {
+                            sum +=
+                                direction[static_cast<std::size_t>(d)] * static_cast<double>(v[d]);
+                        }
+                        projected[i] = sum;
                     }
-                    projected[i] = sum;
-                }
-                std::sort(projected.begin(), projected.end());
-            };
-            project(a, subsetA, projectedA);
-            project(b, subsetB, projectedB);
-            squared[t] = wassersteinSquared1d(projectedA, projectedB);
-        }
-    });
+                    std::sort(projected.begin(), projected.end());
+                };
+                project(a, subsetA, projectedA);
+                project(b, subsetB, projectedB);
+                squared[t] = wassersteinSquared1d(projectedA, projectedB);
+            }
+        });
     return std::sqrt(std::accumulate(squared.begin(), squared.end(), 0.0) /
                      static_cast<double>(squared.size()));
 }

@@ -75,18 +75,19 @@ void checkAllAgree(std::span<const BracketedImage> images, Key key, Describe des
         ++reference;
     }
     const bool alone = counts[common] + 1 == static_cast<int>(images.size());
-    throw InputError("bracket: image " + std::to_string(odd + 1) + " " + verb + " " +
-                     describe(images[odd]) + ", " +
-                     (alone ? std::string("the others ")
-                            : "image " + std::to_string(reference + 1) + " " + verb + " ") +
-                     describe(images[reference]));
+    throw common::InputError("bracket: image " + std::to_string(odd + 1) + " " + verb + " " +
+                             describe(images[odd]) + ", " +
+                             (alone ? std::string("the others ")
+                                    : "image " + std::to_string(reference + 1) + " " + verb + " ") +
+                             describe(images[reference]));
 }
 
 void checkBracket(std::span<const BracketedImage> images) {
     const std::size_t count = images.size();
     if (count < 3) {
-        throw InputError("bracket: " + std::to_string(count) + (count == 1 ? " image" : " images") +
-                         "; at least 3 exposures are needed");
+        throw common::InputError("bracket: " + std::to_string(count) +
+                                 (count == 1 ? " image" : " images") +
+                                 "; at least 3 exposures are needed");
     }
     for (std::size_t i = 0; i < count; ++i) {
         const BracketedImage& image = images[i];
@@ -94,7 +95,7 @@ void checkBracket(std::span<const BracketedImage> images) {
         if (image.maxValue != kEightBitMax) {
             const int bits = static_cast<int>(std::lround(std::log2(image.maxValue + 1.0)));
             const bool powerOfTwo = image.maxValue > 0 && (1L << bits) == image.maxValue + 1L;
-            throw InputError(
+            throw common::InputError(
                 name + " is " +
                 (powerOfTwo ? std::to_string(bits) + "-bit (maxValue " +
                                   std::to_string(image.maxValue) + ")"
@@ -102,23 +103,24 @@ void checkBracket(std::span<const BracketedImage> images) {
                 "; only 8-bit images (maxValue 255) can be bracketed (OpenCV's Debevec)");
         }
         if (image.channels != 1 && image.channels != 3) {
-            throw InputError(name + " has " + channelsOf(image.channels) +
-                             "; 1 (monochrome) or 3 (RGB) are needed");
+            throw common::InputError(name + " has " + channelsOf(image.channels) +
+                                     "; 1 (monochrome) or 3 (RGB) are needed");
         }
         if (image.width <= 0 || image.height <= 0) {
-            throw InputError(name + " is " + sizeOf(image) + ": empty");
+            throw common::InputError(name + " is " + sizeOf(image) + ": empty");
         }
         const std::size_t expected = static_cast<std::size_t>(image.width) *
                                      static_cast<std::size_t>(image.height) *
                                      static_cast<std::size_t>(image.channels);
         if (image.samples.size() != expected) {
-            throw InputError(name + " holds " + std::to_string(image.samples.size()) +
-                             " samples; " + sizeOf(image) + " with " + channelsOf(image.channels) +
-                             " needs " + std::to_string(expected));
+            throw common::InputError(name + " holds " + std::to_string(image.samples.size()) +
+                                     " samples; " + sizeOf(image) + " with " +
+                                     channelsOf(image.channels) + " needs " +
+                                     std::to_string(expected));
         }
         if (!std::isfinite(image.exposure) || !(image.exposure > 0)) {
-            throw InputError(name + ": exposure " + formatNumber(image.exposure) +
-                             " is not a positive number");
+            throw common::InputError(name + ": exposure " + formatNumber(image.exposure) +
+                                     " is not a positive number");
         }
         const auto above = std::find_if(image.samples.begin(), image.samples.end(),
                                         [](std::uint16_t v) { return v > kEightBitMax; });
@@ -126,9 +128,9 @@ void checkBracket(std::span<const BracketedImage> images) {
             const std::size_t pixel = static_cast<std::size_t>(above - image.samples.begin()) /
                                       static_cast<std::size_t>(image.channels);
             const std::size_t width = static_cast<std::size_t>(image.width);
-            throw InputError(name + ", pixel (" + std::to_string(pixel % width) + ", " +
-                             std::to_string(pixel / width) + "): " + std::to_string(*above) +
-                             " is above maxValue 255");
+            throw common::InputError(name + ", pixel (" + std::to_string(pixel % width) + ", " +
+                                     std::to_string(pixel / width) +
+                                     "): " + std::to_string(*above) + " is above maxValue 255");
         }
     }
     checkAllAgree(
@@ -140,18 +142,19 @@ void checkBracket(std::span<const BracketedImage> images) {
     for (std::size_t i = 0; i < count; ++i) {
         for (std::size_t j = 0; j < i; ++j) {
             if (images[i].exposure == images[j].exposure) {
-                throw InputError("bracket: images " + std::to_string(j + 1) + " and " +
-                                 std::to_string(i + 1) + " have the same exposure " +
-                                 formatNumber(images[i].exposure) + "; exposures must differ");
+                throw common::InputError("bracket: images " + std::to_string(j + 1) + " and " +
+                                         std::to_string(i + 1) + " have the same exposure " +
+                                         formatNumber(images[i].exposure) +
+                                         "; exposures must differ");
             }
         }
     }
 }
 
 // How many pixels the fit samples and how smooth it makes the curve (OpenCV's λ), measured on
-// six simulated brackets (tests/offline/camera_response_test.cpp's, and other noise seeds and
-// ramps): the mean RMS error over codes 16..240 is 2.6 % with 64 pixels and 2.5 % with 100, the
-// worst case 47 % and 35 % (the darkest codes); with 100 pixels, 4.1 % at λ = 2 (the noise
+// six simulated brackets (tests/offline/radiometry/camera_response_test.cpp's, and other noise
+// seeds and ramps): the mean RMS error over codes 16..240 is 2.6 % with 64 pixels and 2.5 % with
+// 100, the worst case 47 % and 35 % (the darkest codes); with 100 pixels, 4.1 % at λ = 2 (the noise
 // shows), 2.8 % at 5, 2.5 % at 10 (OpenCV's default) and 2.4 % at 20, whose worst case is
 // worse (38 %: the smoothing flattens the dark end's curvature). 100 pixels at 5 exposures are
 // 500 equations besides the 254 of smoothness, for 256 + 100 unknowns; OpenCV solves them by
@@ -246,11 +249,12 @@ std::vector<std::size_t> chooseSamplePixels(std::span<const BracketedImage> imag
     }
     std::erase(chosen, kNone);
     if (static_cast<int>(chosen.size()) < kMinSamples) {
-        throw InputError("bracket: only " + std::to_string(chosen.size()) +
-                         (chosen.size() == 1 ? " pixel" : " pixels") +
-                         " of distinct brightness (at least " + std::to_string(kMinSamples) +
-                         " are needed); photograph a scene from dark to bright, such as the "
-                         "radiometric capture's ramp");
+        throw common::InputError(
+            "bracket: only " + std::to_string(chosen.size()) +
+            (chosen.size() == 1 ? " pixel" : " pixels") + " of distinct brightness (at least " +
+            std::to_string(kMinSamples) +
+            " are needed); photograph a scene from dark to bright, such as the "
+            "radiometric capture's ramp");
     }
     return chosen;
 }
@@ -330,12 +334,13 @@ std::vector<double> shapeTable(std::vector<double> table, const std::vector<bool
         ++bottom;
     }
     if (top - bottom < kMinCodeSpan) {
-        throw InputError("bracket: " +
-                         (channels == 1 ? std::string("the images show")
-                                        : "channel " + channelName(channel, channels) + " shows") +
-                         " codes " + std::to_string(bottom) + ".." + std::to_string(top) +
-                         " only below the clip; a response needs at least " +
-                         std::to_string(kMinCodeSpan) + " codes from dark to bright");
+        throw common::InputError("bracket: " +
+                                 (channels == 1
+                                      ? std::string("the images show")
+                                      : "channel " + channelName(channel, channels) + " shows") +
+                                 " codes " + std::to_string(bottom) + ".." + std::to_string(top) +
+                                 " only below the clip; a response needs at least " +
+                                 std::to_string(kMinCodeSpan) + " codes from dark to bright");
     }
     const PowerLaw upper = fitPowerLaw(table, std::max(1, top * 2 / 3), top);
     for (int code = top + 1; code <= kEightBitMax; ++code) {
@@ -389,35 +394,36 @@ CameraLinearization CameraLinearization::identity(int maxValue, int channels) {
 CameraLinearization CameraLinearization::fromTables(std::vector<std::vector<double>> tables) {
     const int channels = static_cast<int>(tables.size());
     if (channels != 1 && channels != 3) {
-        throw InputError("camera response: " + channelsOf(channels) +
-                         "; 1 (monochrome) or 3 (RGB) are needed");
+        throw common::InputError("camera response: " + channelsOf(channels) +
+                                 "; 1 (monochrome) or 3 (RGB) are needed");
     }
     const std::size_t size = tables.front().size();
     for (int c = 0; c < channels; ++c) {
         const std::vector<double>& table = tables[static_cast<std::size_t>(c)];
         const std::string name = "camera response: " + channelName(c, channels);
         if (table.size() != size || size < 2) {
-            throw InputError(name + " has " + std::to_string(table.size()) +
-                             " codes; every channel needs the same number, at least 2");
+            throw common::InputError(name + " has " + std::to_string(table.size()) +
+                                     " codes; every channel needs the same number, at least 2");
         }
         for (std::size_t code = 0; code < size; ++code) {
             const double value = table[code];
             const std::string where = name + ", code " + std::to_string(code) + ": ";
             if (!std::isfinite(value) || value < 0) {
-                throw InputError(where + formatNumber(value) + " is not a finite number ≥ 0");
+                throw common::InputError(where + formatNumber(value) +
+                                         " is not a finite number ≥ 0");
             }
             if (code > 0 && value < table[code - 1]) {
-                throw InputError(where + formatNumber(value) + " is below the previous " +
-                                 formatNumber(table[code - 1]) +
-                                 "; the response must be monotone non-decreasing");
+                throw common::InputError(where + formatNumber(value) + " is below the previous " +
+                                         formatNumber(table[code - 1]) +
+                                         "; the response must be monotone non-decreasing");
             }
         }
         if (table.back() != 1) {
-            throw InputError(name + ": the top code is " + formatNumber(table.back()) +
-                             "; it must be 1 (the signal that reaches the top code)");
+            throw common::InputError(name + ": the top code is " + formatNumber(table.back()) +
+                                     "; it must be 1 (the signal that reaches the top code)");
         }
         if (!(table.front() < 1)) {
-            throw InputError(name + " is flat: every code is 1");
+            throw common::InputError(name + " is flat: every code is 1");
         }
     }
     return CameraLinearization(std::move(tables));
@@ -510,7 +516,7 @@ void writeCameraResponseCsv(const std::filesystem::path& path,
         }
         csv << '\n';
     }
-    writeTextFileAtomically(path, csv.str());
+    common::writeTextFileAtomically(path, csv.str());
 }
 
 CameraLinearization readCameraResponseCsv(const std::filesystem::path& path) {
@@ -538,47 +544,49 @@ CameraLinearization readCameraResponseCsv(const std::filesystem::path& path) {
         }
         if (columns == 0) {
             if (fields.size() != 2 && fields.size() != 4) {
-                throw InputError(path, line.number,
-                                 "expected code,value or code,r,g,b, found " +
-                                     std::to_string(fields.size()) +
-                                     (fields.size() == 1 ? " field" : " fields"));
+                throw common::InputError(path, line.number,
+                                         "expected code,value or code,r,g,b, found " +
+                                             std::to_string(fields.size()) +
+                                             (fields.size() == 1 ? " field" : " fields"));
             }
             columns = fields.size();
             tables.resize(columns - 1);
         } else if (fields.size() != columns) {
-            throw InputError(path, line.number,
-                             "expected " + std::to_string(columns) + " fields like the rows " +
-                                 "before, found " + std::to_string(fields.size()));
+            throw common::InputError(path, line.number,
+                                     "expected " + std::to_string(columns) +
+                                         " fields like the rows " + "before, found " +
+                                         std::to_string(fields.size()));
         }
         const std::size_t expectedCode = tables.front().size();
         const auto code = text::parseInteger(fields.front());
         if (!code || *code != static_cast<long>(expectedCode)) {
-            throw InputError(path, line.number,
-                             "code '" + std::string(fields.front()) + "' where " +
-                                 std::to_string(expectedCode) +
-                                 " comes next (codes run 0, 1, … without gaps)");
+            throw common::InputError(path, line.number,
+                                     "code '" + std::string(fields.front()) + "' where " +
+                                         std::to_string(expectedCode) +
+                                         " comes next (codes run 0, 1, … without gaps)");
         }
         for (std::size_t c = 0; c + 1 < columns; ++c) {
             const auto value = text::parseNumber(fields[c + 1]);
             if (!value) {
-                throw InputError(path, line.number,
-                                 channelName(static_cast<int>(c), static_cast<int>(columns - 1)) +
-                                     " '" + std::string(fields[c + 1]) + "' is not a number");
+                throw common::InputError(
+                    path, line.number,
+                    channelName(static_cast<int>(c), static_cast<int>(columns - 1)) + " '" +
+                        std::string(fields[c + 1]) + "' is not a number");
             }
             tables[c].push_back(*value);
         }
     }
     if (tables.empty()) {
-        throw InputError(path, "no codes: expected code,value or code,r,g,b rows");
+        throw common::InputError(path, "no codes: expected code,value or code,r,g,b rows");
     }
     try {
         return CameraLinearization::fromTables(std::move(tables));
-    } catch (const InputError& error) {
+    } catch (const common::InputError& error) {
         // "camera response: g, code 17: …" becomes "PATH: g, code 17: …".
         const std::string message = error.what();
         const std::string prefix = "camera response: ";
-        throw InputError(path,
-                         message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message);
+        throw common::InputError(
+            path, message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message);
     }
 }
 

@@ -28,7 +28,7 @@ struct Sample {
 };
 
 // Bilinear, the camera's pixel centres at integer coordinates.
-void sampleAt(const FloatImage& image, float u, float v, float* out) {
+void sampleAt(const image::FloatImage& image, float u, float v, float* out) {
     const int x0 = std::clamp(static_cast<int>(std::floor(u)), 0, image.width - 2);
     const int y0 = std::clamp(static_cast<int>(std::floor(v)), 0, image.height - 2);
     const float fx = std::clamp(u - static_cast<float>(x0), 0.0f, 1.0f);
@@ -47,19 +47,19 @@ double robustSigma(const std::vector<double>& values, double centre) {
     for (const double v : values) {
         deviations.push_back(std::abs(v - centre));
     }
-    return 1.4826 * quantile(std::move(deviations), 0.5);
+    return 1.4826 * common::quantile(std::move(deviations), 0.5);
 }
 
 // One flat field read, its size checked and its codes made linear.
-FloatImage readField(const std::filesystem::path& path, const proto::RadiometryManifest& m,
-                     const CameraLinearization& linearization) {
-    FloatImage image = readImage(path);
+image::FloatImage readField(const std::filesystem::path& path, const proto::RadiometryManifest& m,
+                            const CameraLinearization& linearization) {
+    image::FloatImage image = image::readImage(path);
     if (image.width != m.camera.width || image.height != m.camera.height || image.channels != 3) {
-        throw InputError(path, "the image is " + std::to_string(image.width) + "x" +
-                                   std::to_string(image.height) + "x" +
-                                   std::to_string(image.channels) + ", the capture's camera " +
-                                   std::to_string(m.camera.width) + "x" +
-                                   std::to_string(m.camera.height) + "x3");
+        throw common::InputError(
+            path, "the image is " + std::to_string(image.width) + "x" +
+                      std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                      ", the capture's camera " + std::to_string(m.camera.width) + "x" +
+                      std::to_string(m.camera.height) + "x3");
     }
     if (!linearization.isLinear()) {
         const int top = linearization.maxValue();
@@ -93,29 +93,32 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
                                       const scan::ProjectorSurface& surface,
                                       const proto::PinholeCamera& camera,
                                       const proto::PinholeCamera& projector,
-                                      const RadiometryOptions& options, ProgressBar* progress) {
+                                      const RadiometryOptions& options,
+                                      common::ProgressBar* progress) {
     const auto start = std::chrono::steady_clock::now();
     const proto::RadiometryManifest m = proto::readRadiometryManifest(capture);
     const std::filesystem::path folder = proto::scanFolderOf(capture);
     const std::vector<proto::FlatField> fields = proto::radiometrySequence(m.fields);
     const auto fieldPath = [&](std::size_t i) { return folder / m.images[i].file; };
     if (m.fields.width != surface.width || m.fields.height != surface.height) {
-        throw InputError(folder / proto::kRadiometryManifestName,
-                         "flat fields for a " + std::to_string(m.fields.width) + "x" +
-                             std::to_string(m.fields.height) + " projector, the scan's is " +
-                             std::to_string(surface.width) + "x" + std::to_string(surface.height));
+        throw common::InputError(folder / proto::kRadiometryManifestName,
+                                 "flat fields for a " + std::to_string(m.fields.width) + "x" +
+                                     std::to_string(m.fields.height) +
+                                     " projector, the scan's is " + std::to_string(surface.width) +
+                                     "x" + std::to_string(surface.height));
     }
     if (m.camera.width != camera.width || m.camera.height != camera.height) {
-        throw InputError(folder / proto::kRadiometryManifestName,
-                         "a " + std::to_string(m.camera.width) + "x" +
-                             std::to_string(m.camera.height) + " capture, the scan's camera is " +
-                             std::to_string(camera.width) + "x" + std::to_string(camera.height) +
-                             ": capture both with the same camera mode");
+        throw common::InputError(
+            folder / proto::kRadiometryManifestName,
+            "a " + std::to_string(m.camera.width) + "x" + std::to_string(m.camera.height) +
+                " capture, the scan's camera is " + std::to_string(camera.width) + "x" +
+                std::to_string(camera.height) + ": capture both with the same camera mode");
     }
     for (std::size_t i = 0; i < m.images.size(); ++i) {
         if (!std::filesystem::exists(fieldPath(i))) {
-            throw InputError(fieldPath(i), "missing: the flat field '" + m.images[i].pattern +
-                                               "' the manifest lists");
+            throw common::InputError(
+                fieldPath(i),
+                "missing: the flat field '" + m.images[i].pattern + "' the manifest lists");
         }
     }
 
@@ -127,7 +130,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
             if (fields[i].kind != proto::FlatFieldKind::kRamp) {
                 continue;
             }
-            const FloatImage ramp = readImage(fieldPath(i));
+            const image::FloatImage ramp = image::readImage(fieldPath(i));
             BracketedImage image;
             image.width = ramp.width;
             image.height = ramp.height;
@@ -164,10 +167,10 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
                            static_cast<float>(pixel->y), static_cast<float>(geometry)});
     }
     if (samples.empty()) {
-        throw InputError(folder, "no projector pixel of the scan falls inside the camera");
+        throw common::InputError(folder, "no projector pixel of the scan falls inside the camera");
     }
     const std::size_t n = samples.size();
-    const unsigned threads = resolveThreadCount(options.threads);
+    const unsigned threads = common::resolveThreadCount(options.threads);
 
     // Every field sampled at every pixel: values[field][sample][channel].
     std::vector<std::vector<float>> values(fields.size());
@@ -179,9 +182,9 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
             }
             continue;
         }
-        const FloatImage image = readField(fieldPath(i), m, linearization);
+        const image::FloatImage image = readField(fieldPath(i), m, linearization);
         values[i].resize(3 * n);
-        parallelFor(n, 4096, threads, [&](std::size_t begin, std::size_t end) {
+        common::parallelFor(n, 4096, threads, [&](std::size_t begin, std::size_t end) {
             for (std::size_t s = begin; s < end; ++s) {
                 sampleAt(image, samples[s].u, samples[s].v, &values[i][3 * s]);
             }
@@ -215,7 +218,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
     }
     r.whiteSaturatedShare = static_cast<double>(saturated) / static_cast<double>(n);
     if (r.whiteSaturatedShare > options.maxSaturatedShare) {
-        throw InputError(
+        throw common::InputError(
             fieldPath(white),
             std::to_string(static_cast<int>(std::lround(1000 * r.whiteSaturatedShare)) / 10.0)
                     .substr(0, 4) +
@@ -231,10 +234,10 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
             }
             signal[s] = above / 3;
         }
-        r.whiteSignal = quantile(std::move(signal), 0.5) / double(top);
+        r.whiteSignal = common::quantile(std::move(signal), 0.5) / double(top);
     }
     if (r.whiteSignal < options.minWhiteSignal) {
-        throw InputError(
+        throw common::InputError(
             fieldPath(black),
             "the floor is lost in the camera's noise: white rises only " +
                 std::to_string(static_cast<int>(std::lround(100 * r.whiteSignal))) +
@@ -288,7 +291,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
                 previous = ratio;
                 previousIndex = samples[s].index;
             }
-            const double median = quantile(ratios, 0.5);
+            const double median = common::quantile(ratios, 0.5);
             r.mixing[3 * k + c] = median;
             r.mixingSpread[3 * k + c] = robustSigma(ratios, median);
             r.mixingNoise[3 * k + c] = robustSigma(differences, 0.0) / std::sqrt(2.0);
@@ -307,7 +310,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
                                  column(s, channel, channel));
             }
         }
-        curve[channel].emplace_back(fields[field].code / 255.0, quantile(ratios, 0.5));
+        curve[channel].emplace_back(fields[field].code / 255.0, common::quantile(ratios, 0.5));
     }
     r.levels.push_back(0);
     for (const auto& [level, g] : curve[0]) {
@@ -350,7 +353,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
     const std::size_t pixels = static_cast<std::size_t>(r.width) * r.height;
     r.irradiance.assign(3 * pixels, kNaN);
     r.floor.assign(3 * pixels, kNaN);
-    parallelFor(n, 4096, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(n, 4096, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t s = begin; s < end; ++s) {
             for (std::size_t k = 0; k < 3; ++k) {
                 double sa = 0, saa = 0, sy = 0, say = 0, count = 0;

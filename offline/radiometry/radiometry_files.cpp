@@ -33,12 +33,13 @@ template <std::size_t N>
 std::array<double, N> arrayOf(const nlohmann::json& json, const std::filesystem::path& path,
                               const char* key) {
     if (!json.contains(key) || !json[key].is_array() || json[key].size() != N) {
-        throw InputError(path, std::string(key) + ": expected " + std::to_string(N) + " numbers");
+        throw common::InputError(path,
+                                 std::string(key) + ": expected " + std::to_string(N) + " numbers");
     }
     std::array<double, N> values{};
     for (std::size_t i = 0; i < N; ++i) {
         if (!json[key][i].is_number()) {
-            throw InputError(path, std::string(key) + ": expected numbers");
+            throw common::InputError(path, std::string(key) + ": expected numbers");
         }
         values[i] = json[key][i].get<double>();
     }
@@ -46,10 +47,10 @@ std::array<double, N> arrayOf(const nlohmann::json& json, const std::filesystem:
 }
 
 // A plot of the three response curves (and the identity, grey) on a square tile.
-SheetTile responseTile(const ProjectorRadiometry& r) {
+image::SheetTile responseTile(const ProjectorRadiometry& r) {
     constexpr int kSize = 256;
-    SheetTile tile{"response above black (r, g, b)", kSize, kSize, 3,
-                   std::vector<float>(kSize * kSize * 3, 0.08f)};
+    image::SheetTile tile{"response above black (r, g, b)", kSize, kSize, 3,
+                          std::vector<float>(kSize * kSize * 3, 0.08f)};
     const auto plot = [&](double x, double y, std::array<float, 3> colour) {
         const int px = std::clamp(static_cast<int>(std::lround(x * (kSize - 1))), 0, kSize - 1);
         const int py =
@@ -78,15 +79,18 @@ SheetTile responseTile(const ProjectorRadiometry& r) {
 }
 
 // An RGB map shown for the eye: divided by a high quantile of its luminance, then sRGB.
-SheetTile rgbTile(std::string label, int width, int height, const std::vector<float>& values) {
+image::SheetTile rgbTile(std::string label, int width, int height,
+                         const std::vector<float>& values) {
     std::vector<double> luminance;
     for (std::size_t p = 0; 3 * p < values.size(); ++p) {
         if (!std::isnan(values[3 * p])) {
             luminance.push_back(double(values[3 * p] + values[3 * p + 1] + values[3 * p + 2]) / 3);
         }
     }
-    const double scale = luminance.empty() ? 1.0 : 1.0 / std::max(1e-12, quantile(luminance, 0.99));
-    SheetTile tile{std::move(label), width, height, 3, std::vector<float>(values.size(), 0.0f)};
+    const double scale =
+        luminance.empty() ? 1.0 : 1.0 / std::max(1e-12, common::quantile(luminance, 0.99));
+    image::SheetTile tile{std::move(label), width, height, 3,
+                          std::vector<float>(values.size(), 0.0f)};
     for (std::size_t i = 0; i < values.size(); ++i) {
         const double v =
             std::isnan(values[i]) ? 0.0 : std::clamp(double(values[i]) * scale, 0.0, 1.0);
@@ -98,8 +102,10 @@ SheetTile rgbTile(std::string label, int width, int height, const std::vector<fl
 }  // namespace
 
 void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& folder) {
-    writeImage(folder / kIrradianceFile, r.width, r.height, 3, r.irradiance, PixelFormat::kFloat);
-    writeImage(folder / kFloorFile, r.width, r.height, 3, r.floor, PixelFormat::kFloat);
+    image::writeImage(folder / kIrradianceFile, r.width, r.height, 3, r.irradiance,
+                      image::PixelFormat::kFloat);
+    image::writeImage(folder / kFloorFile, r.width, r.height, 3, r.floor,
+                      image::PixelFormat::kFloat);
     std::ostringstream csv;
     csv << "# the projector's response above its black level, per channel, measured by vpe "
            "radiometry\nlevel,r,g,b\n";
@@ -109,7 +115,7 @@ void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& 
                       r.response[1][l], r.response[2][l]);
         csv << line;
     }
-    writeTextFileAtomically(folder / kResponseFile, csv.str());
+    common::writeTextFileAtomically(folder / kResponseFile, csv.str());
     nlohmann::json json;
     json["format"] = "vpe-measured-radiometry";
     json["version"] = 1;
@@ -124,7 +130,7 @@ void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& 
     json["white_signal"] = r.whiteSignal;
     json["camera_linear"] = r.cameraLinear;
     json["exposure_us"] = r.exposureUs;
-    writeTextFileAtomically(folder / kMeasuredFile, json.dump(2) + "\n");
+    common::writeTextFileAtomically(folder / kMeasuredFile, json.dump(2) + "\n");
 }
 
 ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
@@ -132,16 +138,16 @@ ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
     const std::filesystem::path measured = folder / kMeasuredFile;
     std::ifstream stream(measured);
     if (!stream) {
-        throw InputError(measured, "cannot open (a folder vpe radiometry wrote?)");
+        throw common::InputError(measured, "cannot open (a folder vpe radiometry wrote?)");
     }
     nlohmann::json json;
     try {
         json = nlohmann::json::parse(stream);
     } catch (const nlohmann::json::exception&) {
-        throw InputError(measured, "not JSON");
+        throw common::InputError(measured, "not JSON");
     }
     if (json.value("format", "") != "vpe-measured-radiometry" || json.value("version", 0) != 1) {
-        throw InputError(measured, "format: expected vpe-measured-radiometry version 1");
+        throw common::InputError(measured, "format: expected vpe-measured-radiometry version 1");
     }
     r.mixing = arrayOf<9>(json, measured, "mixing");
     r.mixingSpread = arrayOf<9>(json, measured, "mixing_spread");
@@ -150,18 +156,20 @@ ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
     r.ambient = arrayOf<3>(json, measured, "ambient");
     for (std::size_t k = 0; k < 3; ++k) {
         if (!(std::abs(r.mixing[4 * k] - 1) < 1e-9)) {
-            throw InputError(measured, "mixing: its diagonal must be 1");
+            throw common::InputError(measured, "mixing: its diagonal must be 1");
         }
     }
     for (const double v : r.mixing) {
         if (!std::isfinite(v) || v < 0) {
-            throw InputError(measured, "mixing: expected finite numbers ≥ 0");
+            throw common::InputError(measured, "mixing: expected finite numbers ≥ 0");
         }
     }
-    const FloatImage irradiance = readImageChannels(folder / kIrradianceFile, {"R", "G", "B"});
-    const FloatImage floor = readImageChannels(folder / kFloorFile, {"R", "G", "B"});
+    const image::FloatImage irradiance =
+        image::readImageChannels(folder / kIrradianceFile, {"R", "G", "B"});
+    const image::FloatImage floor = image::readImageChannels(folder / kFloorFile, {"R", "G", "B"});
     if (floor.width != irradiance.width || floor.height != irradiance.height) {
-        throw InputError(folder / kFloorFile, "not the size of " + std::string(kIrradianceFile));
+        throw common::InputError(folder / kFloorFile,
+                                 "not the size of " + std::string(kIrradianceFile));
     }
     r.width = irradiance.width;
     r.height = irradiance.height;
@@ -199,13 +207,13 @@ void writeRadiometrySheet(const ProjectorRadiometry& r, const scan::ProjectorSur
             }
         }
     }
-    std::vector<SheetTile> tiles;
+    std::vector<image::SheetTile> tiles;
     tiles.push_back(
         rgbTile("irradiance factor F (albedo x geometry)", r.width, r.height, r.irradiance));
     tiles.push_back(rgbTile("albedo: F / (cos / d^2)", r.width, r.height, albedo));
     tiles.push_back(rgbTile("floor D (room light + projector black)", r.width, r.height, r.floor));
     tiles.push_back(responseTile(r));
-    writeContactSheet(path, tiles, 2);
+    image::writeContactSheet(path, tiles, 2);
 }
 
 }  // namespace vpe::radiometry

@@ -258,8 +258,9 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh,
                                     surface.normal[3 * p + 2]);
     }
     if (scan->points_.size() < 1000) {
-        throw InputError("registration: the scan has " + std::to_string(scan->points_.size()) +
-                         " points; too few to place a mesh");
+        throw common::InputError("registration: the scan has " +
+                                 std::to_string(scan->points_.size()) +
+                                 " points; too few to place a mesh");
     }
     // The mesh, in its own frame, sampled densely with its interpolated normals.
     o3d::geometry::TriangleMesh triangles;
@@ -378,22 +379,23 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh,
     result.inlierShare = quality.inlierShare;
     result.rmsMm = 1000 * quality.rms;
     if (quality.inlierShare < options.minInlierShare || !(result.rmsMm <= options.maxRmsMm)) {
-        throw InputError("registration did not converge: " +
-                         std::to_string(static_cast<int>(100 * quality.inlierShare)) +
-                         "% of the scan lies within 1 mm of the mesh (at least " +
-                         std::to_string(static_cast<int>(100 * options.minInlierShare)) +
-                         "% wanted), residual " + std::to_string(result.rmsMm) +
-                         " mm — is it this object's mesh, in metres (--mesh-scale)?");
+        throw common::InputError("registration did not converge: " +
+                                 std::to_string(static_cast<int>(100 * quality.inlierShare)) +
+                                 "% of the scan lies within 1 mm of the mesh (at least " +
+                                 std::to_string(static_cast<int>(100 * options.minInlierShare)) +
+                                 "% wanted), residual " + std::to_string(result.rmsMm) +
+                                 " mm — is it this object's mesh, in metres (--mesh-scale)?");
     }
     result.objectToCamera = poseOf(best.inverse());
     const FreeMotions free = freeMotions(quality.points, quality.normals, options.freeShare);
     if (free.count > 1) {
-        throw InputError("registration: the scan leaves " + std::to_string(free.count) +
-                         " motions of the mesh unmeasured (a sphere, a plane?): scan more of the "
-                         "object, or a part with features");
+        throw common::InputError(
+            "registration: the scan leaves " + std::to_string(free.count) +
+            " motions of the mesh unmeasured (a sphere, a plane?): scan more of the "
+            "object, or a part with features");
     }
     if (free.count == 1 && !free.turn) {
-        throw InputError(
+        throw common::InputError(
             "registration: the scan does not fix where the mesh slides (a "
             "cylinder or a flat side?): scan more of the object, its ends");
     }

@@ -125,8 +125,8 @@ SurfaceMesh makeSurfaceMesh(const scan::ProjectorSurface& surface,
         }
     }
     if (right - left < 16 || bottom - top < 16) {
-        throw InputError("the scan measured too little to make a surface of (" +
-                         std::to_string(surface.measured) + " projector pixels)");
+        throw common::InputError("the scan measured too little to make a surface of (" +
+                                 std::to_string(surface.measured) + " projector pixels)");
     }
     SurfaceMesh result;
     result.step = options.step > 0 ? options.step : std::max(1, (right - left) / kTargetVertices);
@@ -271,8 +271,8 @@ SurfaceMesh makeSurfaceMesh(const scan::ProjectorSurface& surface,
         }
     }
     if (mesh.indices.size() < 3 * 32) {
-        throw InputError("the scan's surface is too broken to make a mesh of (" +
-                         std::to_string(mesh.indices.size() / 3) + " triangles)");
+        throw common::InputError("the scan's surface is too broken to make a mesh of (" +
+                                 std::to_string(mesh.indices.size() / 3) + " triangles)");
     }
     scene::validateScreenMesh(mesh, "scan surface");
     return result;
@@ -290,15 +290,15 @@ void writeSurfaceMesh(const SurfaceMesh& surface, const std::filesystem::path& f
           {"point", surface.axis.point},
           {"rms_m", surface.axis.rmsM},
           {"pitch", surface.axis.pitch}}}};
-    writeTextFileAtomically(folder / kSurfaceFrameFile, json.dump(2) + "\n");
+    common::writeTextFileAtomically(folder / kSurfaceFrameFile, json.dump(2) + "\n");
 }
 
 SurfaceMesh readSurfaceMesh(const std::filesystem::path& folder) {
     const std::filesystem::path framePath = folder / kSurfaceFrameFile;
     std::ifstream stream(framePath);
     if (!stream) {
-        throw InputError(framePath,
-                         "missing (vpe scan writes it with " + std::string(kSurfaceMeshFile) + ")");
+        throw common::InputError(
+            framePath, "missing (vpe scan writes it with " + std::string(kSurfaceMeshFile) + ")");
     }
     SurfaceMesh surface;
     try {
@@ -317,7 +317,7 @@ SurfaceMesh readSurfaceMesh(const std::filesystem::path& folder) {
         surface.axis.rmsM = axis.at("rms_m").get<double>();
         surface.axis.pitch = axis.at("pitch").get<double>();
     } catch (const nlohmann::json::exception& error) {
-        throw InputError(framePath, std::string("not a surface frame: ") + error.what());
+        throw common::InputError(framePath, std::string("not a surface frame: ") + error.what());
     }
     surface.mesh = scene::loadScreenMesh(folder / kSurfaceMeshFile);
     return surface;

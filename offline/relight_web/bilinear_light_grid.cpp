@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace vpe {
+namespace vpe::relight_web {
 
 BilinearLightGrid::BilinearLightGrid(int resolution) : resolution_(resolution) {
     if (resolution < kMinResolution || resolution > kMaxResolution) {
@@ -17,7 +17,7 @@ BilinearLightGrid::BilinearLightGrid(int resolution) : resolution_(resolution) {
     }
 }
 
-Vec3d BilinearLightGrid::nodeDirection(int node) const {
+proto::Vec3d BilinearLightGrid::nodeDirection(int node) const {
     const int x = node % resolution_;
     const int y = node / resolution_;
     // Node coordinates in the rotated square [−1, 1]², then back to the octahedral diamond.
@@ -27,10 +27,10 @@ Vec3d BilinearLightGrid::nodeDirection(int node) const {
     const double dy = (u + v) / 2.0;
     const double dz = std::max(0.0, 1.0 - std::abs(dx) - std::abs(dy));
     const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-    return Vec3d{dx / length, dy / length, dz / length};
+    return proto::Vec3d{dx / length, dy / length, dz / length};
 }
 
-LightGridWeights BilinearLightGrid::weights(const Vec3d& towardsLight) const {
+LightGridWeights BilinearLightGrid::weights(const proto::Vec3d& towardsLight) const {
     const double s = std::abs(towardsLight.x) + std::abs(towardsLight.y) + std::abs(towardsLight.z);
     // A zero vector has no direction; OpenLIME would divide by zero, vpe looks straight down.
     const double u = s > 0 ? (towardsLight.x + towardsLight.y) / s : 0.0;
@@ -48,4 +48,4 @@ LightGridWeights BilinearLightGrid::weights(const Vec3d& towardsLight) const {
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

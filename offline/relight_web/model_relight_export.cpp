@@ -13,20 +13,20 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/relight_web/relight_web_reader.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 namespace {
 
 // The capture with its images replaced by one light towards `towardsLight`. A point-light
 // rig gets a light at its reference distance in that direction: the web format only knows
 // directions, and that is the light the model's irradiance is normalized to.
-Capture underOneLight(const Capture& capture, const Vec3d& towardsLight) {
-    Capture single = capture;
-    CaptureImage image;
-    image.light = capture.lightKind == LightKind::kPoint
-                      ? Vec3d{towardsLight.x * capture.lightReferenceDistance,
-                              towardsLight.y * capture.lightReferenceDistance,
-                              towardsLight.z * capture.lightReferenceDistance}
+capture::Capture underOneLight(const capture::Capture& capture, const proto::Vec3d& towardsLight) {
+    capture::Capture single = capture;
+    capture::CaptureImage image;
+    image.light = capture.lightKind == capture::LightKind::kPoint
+                      ? proto::Vec3d{towardsLight.x * capture.lightReferenceDistance,
+                                     towardsLight.y * capture.lightReferenceDistance,
+                                     towardsLight.z * capture.lightReferenceDistance}
                       : towardsLight;
     image.file = capture.images.empty() ? std::filesystem::path{} : capture.images.front().file;
     single.images = {image};
@@ -35,14 +35,14 @@ Capture underOneLight(const Capture& capture, const Vec3d& towardsLight) {
 
 // The model's prediction of every valid pixel under each of `capture`'s lights, into
 // out[light] (width·height·3, sRGB; invalid pixels black).
-void predictAll(const ModelInfo& info, const ModelRows& rows, const Capture& capture,
-                const TransferFunction& stored, unsigned threads,
-                std::vector<std::vector<float>>& out) {
-    const CapturePredictor predictor(info, capture, stored);
+void predictAll(const model::ModelInfo& info, const model::ModelRows& rows,
+                const capture::Capture& capture, const capture::TransferFunction& stored,
+                unsigned threads, std::vector<std::vector<float>>& out) {
+    const eval::CapturePredictor predictor(info, capture, stored);
     const int lights = predictor.lightCount();
     out.assign(static_cast<std::size_t>(lights),
                std::vector<float>(static_cast<std::size_t>(info.width) * info.height * 3, 0.0f));
-    parallelFor(
+    common::parallelFor(
         static_cast<std::size_t>(info.height), 1, threads, [&](std::size_t begin, std::size_t end) {
             for (std::size_t r = begin; r < end; ++r) {
                 const int y = static_cast<int>(r);
@@ -65,48 +65,49 @@ void predictAll(const ModelInfo& info, const ModelRows& rows, const Capture& cap
 
 // The direction the export is relit from for a capture light (a point light: from the
 // middle of the picture's surface, where most of it sits).
-Vec3d directionOf(const Capture& capture, const CaptureImage& image) {
-    if (capture.lightKind == LightKind::kDirectional) {
+proto::Vec3d directionOf(const capture::Capture& capture, const capture::CaptureImage& image) {
+    if (capture.lightKind == capture::LightKind::kDirectional) {
         return image.light;
     }
-    return unitDirection(image.light).value_or(Vec3d{0, 0, 1});
+    return capture::unitDirection(image.light).value_or(proto::Vec3d{0, 0, 1});
 }
 
 }  // namespace
 
 RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
-                                        const Capture& capture, const std::filesystem::path& folder,
+                                        const capture::Capture& capture,
+                                        const std::filesystem::path& folder,
                                         const RelightWebOptions& options,
-                                        const Capture& checkLights) {
-    ModelReader model(modelPath, ModelKinds::kAny);
+                                        const capture::Capture& checkLights) {
+    model::ModelReader model(modelPath, model::ModelKinds::kAny);
     // The object under an unobstructed light: lights that the capture rig blocked
     // (GeometryCalibration::lightIntensities) are the rig's, not the object's appearance.
-    ModelInfo info = model.info();
+    model::ModelInfo info = model.info();
     info.calibration.lightIntensities.clear();
-    ModelRows rows;
+    model::ModelRows rows;
     model.readRows(0, info.height, rows);
     // What the capture's images were stored with (an RTI basis predicts stored values).
     bool eightBit = true;
     {
-        ImageBandReader reader(capture, options.threads);
+        capture::ImageBandReader reader(capture, options.threads);
         eightBit = reader.eightBitCodes();
         if (reader.width() != info.width || reader.height() != info.height) {
-            throw InputError(capture.source, "images are " + std::to_string(reader.width()) + "x" +
-                                                 std::to_string(reader.height()) +
-                                                 " but the model " + modelPath.string() + " is " +
-                                                 std::to_string(info.width) + "x" +
-                                                 std::to_string(info.height));
+            throw common::InputError(
+                capture.source, "images are " + std::to_string(reader.width()) + "x" +
+                                    std::to_string(reader.height()) + " but the model " +
+                                    modelPath.string() + " is " + std::to_string(info.width) + "x" +
+                                    std::to_string(info.height));
         }
     }
-    const TransferFunction stored = storedTransfer(capture, eightBit);
+    const capture::TransferFunction stored = capture::storedTransfer(capture, eightBit);
 
-    const LightRenderer render = [&](const Vec3d& towardsLight, std::vector<float>& rgb) {
+    const LightRenderer render = [&](const proto::Vec3d& towardsLight, std::vector<float>& rgb) {
         std::vector<std::vector<float>> one;
         predictAll(info, rows, underOneLight(capture, towardsLight), stored, options.threads, one);
         rgb = std::move(one.front());
     };
-    std::vector<Vec3d> lights;
-    for (const CaptureImage& image : capture.images) {
+    std::vector<proto::Vec3d> lights;
+    for (const capture::CaptureImage& image : capture.images) {
         lights.push_back(directionOf(capture, image));
     }
     RelightModelExport result;
@@ -114,7 +115,7 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
 
     // The round trip: the export as OpenLIME relights it against the model's own prediction
     // under each check light, over the pixels with a valid fit.
-    const Capture& check = checkLights.images.empty() ? capture : checkLights;
+    const capture::Capture& check = checkLights.images.empty() ? capture : checkLights;
     std::vector<std::vector<float>> predicted;
     predictAll(info, rows, check, stored, options.threads, predicted);
     const RelightWebReader reader(folder);
@@ -123,7 +124,7 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
         valid += v != 0;
     }
     if (valid == 0) {
-        throw InputError(modelPath, "no pixel has a valid fit: nothing to export");
+        throw common::InputError(modelPath, "no pixel has a valid fit: nothing to export");
     }
     double sum = 0;
     double worst = 1e9;
@@ -152,4 +153,4 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -12,25 +12,25 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 namespace {
 
 nlohmann::json parseInfo(const std::filesystem::path& infoJson) {
     std::ifstream file(infoJson);
     if (!file) {
-        throw InputError(infoJson, "cannot open (no Relight export here?)");
+        throw common::InputError(infoJson, "cannot open (no Relight export here?)");
     }
     std::stringstream text;
     text << file.rdbuf();
     try {
         nlohmann::json info = nlohmann::json::parse(text.str());
         if (!info.is_object()) {
-            throw InputError(infoJson, "is not a JSON object");
+            throw common::InputError(infoJson, "is not a JSON object");
         }
         return info;
     } catch (const nlohmann::json::parse_error& error) {
-        throw InputError(infoJson, std::string("malformed JSON: ") + error.what());
+        throw common::InputError(infoJson, std::string("malformed JSON: ") + error.what());
     }
 }
 
@@ -38,12 +38,13 @@ int integerField(const nlohmann::json& info, const char* key, const std::filesys
                  int lo, int hi) {
     const auto it = info.find(key);
     if (it == info.end() || !it->is_number_integer()) {
-        throw InputError(path, std::string("\"") + key + "\" is missing or not an integer");
+        throw common::InputError(path, std::string("\"") + key + "\" is missing or not an integer");
     }
     const auto value = it->get<long long>();
     if (value < lo || value > hi) {
-        throw InputError(path, std::string("\"") + key + "\" = " + std::to_string(value) +
-                                   " is outside " + std::to_string(lo) + ".." + std::to_string(hi));
+        throw common::InputError(path, std::string("\"") + key + "\" = " + std::to_string(value) +
+                                           " is outside " + std::to_string(lo) + ".." +
+                                           std::to_string(hi));
     }
     return static_cast<int>(value);
 }
@@ -52,7 +53,7 @@ std::string stringField(const nlohmann::json& info, const char* key,
                         const std::filesystem::path& path) {
     const auto it = info.find(key);
     if (it == info.end() || !it->is_string()) {
-        throw InputError(path, std::string("\"") + key + "\" is missing or not a string");
+        throw common::InputError(path, std::string("\"") + key + "\" is missing or not a string");
     }
     return it->get<std::string>();
 }
@@ -61,36 +62,36 @@ std::vector<double> numberArray(const nlohmann::json& object, const char* key,
                                 const std::filesystem::path& path, std::size_t size) {
     const auto it = object.find(key);
     if (it == object.end() || !it->is_array() || it->size() != size) {
-        throw InputError(path, std::string("\"") + key + "\" must be an array of " +
-                                   std::to_string(size) + " numbers");
+        throw common::InputError(path, std::string("\"") + key + "\" must be an array of " +
+                                           std::to_string(size) + " numbers");
     }
     std::vector<double> values;
     for (const auto& v : *it) {
         if (!v.is_number() || !std::isfinite(v.get<double>())) {
-            throw InputError(path,
-                             std::string("\"") + key + "\" holds a value that is not a number");
+            throw common::InputError(
+                path, std::string("\"") + key + "\" holds a value that is not a number");
         }
         values.push_back(v.get<double>());
     }
     return values;
 }
 
-std::vector<Vec3d> lightsOf(const nlohmann::json& info, const std::filesystem::path& path) {
-    std::vector<Vec3d> lights;
+std::vector<proto::Vec3d> lightsOf(const nlohmann::json& info, const std::filesystem::path& path) {
+    std::vector<proto::Vec3d> lights;
     const auto it = info.find("lights");
     if (it == info.end()) {
         return lights;
     }
     if (!it->is_array() || it->size() % 3 != 0) {
-        throw InputError(path, "\"lights\" must be an array of x, y, z triples");
+        throw common::InputError(path, "\"lights\" must be an array of x, y, z triples");
     }
     const std::vector<double> values = numberArray(info, "lights", path, it->size());
     for (std::size_t i = 0; i < values.size(); i += 3) {
-        const std::optional<Vec3d> direction =
-            unitDirection(Vec3d{values[i], values[i + 1], values[i + 2]});
+        const std::optional<proto::Vec3d> direction =
+            capture::unitDirection(proto::Vec3d{values[i], values[i + 1], values[i + 2]});
         if (!direction) {
-            throw InputError(path,
-                             "\"lights\" direction " + std::to_string(i / 3) + " has zero length");
+            throw common::InputError(
+                path, "\"lights\" direction " + std::to_string(i / 3) + " has zero length");
         }
         lights.push_back(*direction);
     }
@@ -99,7 +100,7 @@ std::vector<Vec3d> lightsOf(const nlohmann::json& info, const std::filesystem::p
 
 }  // namespace
 
-std::vector<Vec3d> readRelightExportLights(const std::filesystem::path& infoJson) {
+std::vector<proto::Vec3d> readRelightExportLights(const std::filesystem::path& infoJson) {
     return lightsOf(parseInfo(infoJson), infoJson);
 }
 
@@ -115,17 +116,17 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     height_ = integerField(info, "height", infoPath, 1, 1 << 16);
     const std::string type = stringField(info, "type", infoPath);
     if (type != "bilinear") {
-        throw InputError(infoPath,
-                         "type \"" + type + "\" is not supported: vpe reads bilinear exports only");
+        throw common::InputError(
+            infoPath, "type \"" + type + "\" is not supported: vpe reads bilinear exports only");
     }
     const std::string colorspace = stringField(info, "colorspace", infoPath);
     if (colorspace != "mrgb") {
-        throw InputError(infoPath, "colorspace \"" + colorspace +
-                                       "\" is not supported: vpe reads mrgb exports only");
+        throw common::InputError(infoPath, "colorspace \"" + colorspace +
+                                               "\" is not supported: vpe reads mrgb exports only");
     }
     if (info.contains("format") && info["format"] != "jpg") {
-        throw InputError(infoPath, "format " + info["format"].dump() +
-                                       " is not supported: vpe reads jpg planes only");
+        throw common::InputError(infoPath, "format " + info["format"].dump() +
+                                               " is not supported: vpe reads jpg planes only");
     }
     grid_ = BilinearLightGrid(integerField(info, "resolution", infoPath,
                                            BilinearLightGrid::kMinResolution,
@@ -137,7 +138,7 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     const auto materials = info.find("materials");
     if (materials == info.end() || !materials->is_array() || materials->size() != 1 ||
         !(*materials)[0].is_object()) {
-        throw InputError(infoPath, "\"materials\" must hold exactly one material");
+        throw common::InputError(infoPath, "\"materials\" must hold exactly one material");
     }
     const auto& material = (*materials)[0];
     const auto count = static_cast<std::size_t>(planes_);
@@ -146,7 +147,8 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     const std::vector<double> bias = numberArray(material, "bias", infoPath, count);
     for (const double r : range) {
         if (r == 0) {
-            throw InputError(infoPath, "\"range\" holds a zero (the basis would divide by it)");
+            throw common::InputError(infoPath,
+                                     "\"range\" holds a zero (the basis would divide by it)");
         }
     }
 
@@ -156,8 +158,8 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     basis_.resize(basisSize);
     for (std::size_t o = 0; o < basisSize; ++o) {
         if (bytes[o] < 0 || bytes[o] > 255) {
-            throw InputError(infoPath, "\"basis\" value " + std::to_string(bytes[o]) + " at " +
-                                           std::to_string(o) + " is not a byte");
+            throw common::InputError(infoPath, "\"basis\" value " + std::to_string(bytes[o]) +
+                                                   " at " + std::to_string(o) + " is not a byte");
         }
         const std::size_t plane = o / static_cast<std::size_t>(dimensions);
         basis_[o] = plane == 0 ? static_cast<float>(bytes[o] / 255.0)
@@ -171,17 +173,17 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     for (int j = 0; j < jpegs; ++j) {
         const std::filesystem::path planePath = folder / ("plane_" + std::to_string(j) + ".jpg");
         if (!std::filesystem::exists(planePath)) {
-            throw InputError(planePath, "missing: " + infoPath.filename().string() + " declares " +
-                                            std::to_string(planes_) + " planes, " +
-                                            std::to_string(jpegs) + " JPEGs");
+            throw common::InputError(planePath, "missing: " + infoPath.filename().string() +
+                                                    " declares " + std::to_string(planes_) +
+                                                    " planes, " + std::to_string(jpegs) + " JPEGs");
         }
-        const FloatImage image = readImage(planePath);
+        const image::FloatImage image = image::readImage(planePath);
         if (image.width != width_ || image.height != height_ || image.channels < 3) {
-            throw InputError(planePath, "is " + std::to_string(image.width) + "x" +
-                                            std::to_string(image.height) + "x" +
-                                            std::to_string(image.channels) + ", expected " +
-                                            std::to_string(width_) + "x" + std::to_string(height_) +
-                                            " RGB");
+            throw common::InputError(planePath, "is " + std::to_string(image.width) + "x" +
+                                                    std::to_string(image.height) + "x" +
+                                                    std::to_string(image.channels) + ", expected " +
+                                                    std::to_string(width_) + "x" +
+                                                    std::to_string(height_) + " RGB");
         }
         for (int c = 0; c < 3 && j * 3 + c < planes_; ++c) {
             const auto k = static_cast<std::size_t>(j * 3 + c);
@@ -194,7 +196,7 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     }
 }
 
-std::vector<float> RelightWebReader::relight(const Vec3d& towardsLight) const {
+std::vector<float> RelightWebReader::relight(const proto::Vec3d& towardsLight) const {
     // The per-light weights OpenLIME's BLN.lightWeights computes on the CPU: the basis
     // blended between the four grid nodes around the light, for the mean and every plane.
     const LightGridWeights w = grid_.weights(towardsLight);
@@ -226,4 +228,4 @@ std::vector<float> RelightWebReader::relight(const Vec3d& towardsLight) const {
     return rgb;
 }
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

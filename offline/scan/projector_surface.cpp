@@ -55,17 +55,17 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
                                  const TriangulationOptions& options) {
     if (rig.projector.width != scan.projectorWidth ||
         rig.projector.height != scan.projectorHeight) {
-        throw InputError("the calibration's projector is " + std::to_string(rig.projector.width) +
-                         "x" + std::to_string(rig.projector.height) + ", the scan's " +
-                         std::to_string(scan.projectorWidth) + "x" +
-                         std::to_string(scan.projectorHeight));
+        throw common::InputError(
+            "the calibration's projector is " + std::to_string(rig.projector.width) + "x" +
+            std::to_string(rig.projector.height) + ", the scan's " +
+            std::to_string(scan.projectorWidth) + "x" + std::to_string(scan.projectorHeight));
     }
     if (rig.camera.width != scan.width || rig.camera.height != scan.height) {
-        throw InputError("the calibration's camera is " + std::to_string(rig.camera.width) + "x" +
-                         std::to_string(rig.camera.height) + ", the scan's images " +
-                         std::to_string(scan.width) + "x" + std::to_string(scan.height));
+        throw common::InputError("the calibration's camera is " + std::to_string(rig.camera.width) +
+                                 "x" + std::to_string(rig.camera.height) + ", the scan's images " +
+                                 std::to_string(scan.width) + "x" + std::to_string(scan.height));
     }
-    const unsigned threads = resolveThreadCount(options.threads);
+    const unsigned threads = common::resolveThreadCount(options.threads);
     const int cw = scan.width, ch = scan.height;
     const int pw = scan.projectorWidth, ph = scan.projectorHeight;
     const proto::Vec3d projectorCentre = rig.projector.center();
@@ -74,7 +74,7 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
 
     // Every decoded camera pixel on its own: its ray and the point it meets the projector's at.
     std::vector<CameraVertex> vertices(static_cast<std::size_t>(cw) * ch);
-    parallelFor(vertices.size(), 4096, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(vertices.size(), 4096, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t q = begin; q < end; ++q) {
             if (std::isnan(scan.projectorX[q])) {
                 continue;
@@ -227,76 +227,78 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
         std::vector<float> filled = surface.position;
         std::vector<float> filledConfidence = surface.confidence;
         std::vector<std::uint8_t> isFilled(projectorPixels, 0);
-        parallelFor(projectorPixels, 2048, threads, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t p = begin; p < end; ++p) {
-                if (!std::isnan(surface.position[3 * p])) {
-                    continue;
-                }
-                const int i = static_cast<int>(p % static_cast<std::size_t>(pw));
-                const int j = static_cast<int>(p / static_cast<std::size_t>(pw));
-                // Least squares of the distance along the ray, t = a + b·di + c·dj.
-                Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-                Eigen::Vector3d right = Eigen::Vector3d::Zero();
-                double squares = 0;
-                int count = 0, nearest = r + 1;
-                float confidence = 1;
-                for (int dj = -r; dj <= r; ++dj) {
-                    for (int di = -r; di <= r; ++di) {
-                        const int x = i + di, y = j + dj;
-                        if (x < 0 || y < 0 || x >= pw || y >= ph) {
-                            continue;
-                        }
-                        const std::size_t q = static_cast<std::size_t>(y) * pw + x;
-                        if (std::isnan(surface.position[3 * q])) {
-                            continue;
-                        }
-                        const double t =
-                            std::hypot(double(surface.position[3 * q]) - projectorCentre.x,
-                                       double(surface.position[3 * q + 1]) - projectorCentre.y,
-                                       double(surface.position[3 * q + 2]) - projectorCentre.z);
-                        const Eigen::Vector3d row(1.0, di, dj);
-                        normal += row * row.transpose();
-                        right += row * t;
-                        squares += t * t;
-                        ++count;
-                        nearest = std::min(nearest, std::max(std::abs(di), std::abs(dj)));
-                        confidence = std::min(confidence, surface.confidence[q]);
+        common::parallelFor(
+            projectorPixels, 2048, threads, [&](std::size_t begin, std::size_t end) {
+                for (std::size_t p = begin; p < end; ++p) {
+                    if (!std::isnan(surface.position[3 * p])) {
+                        continue;
                     }
+                    const int i = static_cast<int>(p % static_cast<std::size_t>(pw));
+                    const int j = static_cast<int>(p / static_cast<std::size_t>(pw));
+                    // Least squares of the distance along the ray, t = a + b·di + c·dj.
+                    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+                    Eigen::Vector3d right = Eigen::Vector3d::Zero();
+                    double squares = 0;
+                    int count = 0, nearest = r + 1;
+                    float confidence = 1;
+                    for (int dj = -r; dj <= r; ++dj) {
+                        for (int di = -r; di <= r; ++di) {
+                            const int x = i + di, y = j + dj;
+                            if (x < 0 || y < 0 || x >= pw || y >= ph) {
+                                continue;
+                            }
+                            const std::size_t q = static_cast<std::size_t>(y) * pw + x;
+                            if (std::isnan(surface.position[3 * q])) {
+                                continue;
+                            }
+                            const double t =
+                                std::hypot(double(surface.position[3 * q]) - projectorCentre.x,
+                                           double(surface.position[3 * q + 1]) - projectorCentre.y,
+                                           double(surface.position[3 * q + 2]) - projectorCentre.z);
+                            const Eigen::Vector3d row(1.0, di, dj);
+                            normal += row * row.transpose();
+                            right += row * t;
+                            squares += t * t;
+                            ++count;
+                            nearest = std::min(nearest, std::max(std::abs(di), std::abs(dj)));
+                            confidence = std::min(confidence, surface.confidence[q]);
+                        }
+                    }
+                    if (count < 12 || nearest > options.fillRadius) {
+                        continue;
+                    }
+                    const Eigen::Vector3d plane = normal.ldlt().solve(right);
+                    // The neighbours must lie on their plane (a smooth patch, not a step or noise).
+                    const double residual =
+                        std::sqrt(std::max(0.0, (squares - plane.dot(right)) / count));
+                    if (residual > options.maxFillResidual) {
+                        continue;
+                    }
+                    const proto::Vec3d ray = proto::normalized(
+                        proto::pixelRayDirection(rig.projector, {double(i), double(j)}));
+                    const proto::Vec3d point{projectorCentre.x + plane[0] * ray.x,
+                                             projectorCentre.y + plane[0] * ray.y,
+                                             projectorCentre.z + plane[0] * ray.z};
+                    // The camera must see projector light where the point falls: otherwise the
+                    // surface has ended (the camera's silhouette against the room).
+                    const auto seen = proto::projectToPixel(rig.camera, point);
+                    if (!seen) {
+                        continue;
+                    }
+                    const int u = static_cast<int>(std::lround(seen->x));
+                    const int v = static_cast<int>(std::lround(seen->y));
+                    if (u < 0 || v < 0 || u >= cw || v >= ch ||
+                        double(scan.direct[static_cast<std::size_t>(v) * cw + u]) <
+                            options.minDirect) {
+                        continue;
+                    }
+                    filled[3 * p] = float(point.x);
+                    filled[3 * p + 1] = float(point.y);
+                    filled[3 * p + 2] = float(point.z);
+                    filledConfidence[p] = 0.5f * confidence;
+                    isFilled[p] = 1;
                 }
-                if (count < 12 || nearest > options.fillRadius) {
-                    continue;
-                }
-                const Eigen::Vector3d plane = normal.ldlt().solve(right);
-                // The neighbours must lie on their plane (a smooth patch, not a step or noise).
-                const double residual =
-                    std::sqrt(std::max(0.0, (squares - plane.dot(right)) / count));
-                if (residual > options.maxFillResidual) {
-                    continue;
-                }
-                const proto::Vec3d ray = proto::normalized(
-                    proto::pixelRayDirection(rig.projector, {double(i), double(j)}));
-                const proto::Vec3d point{projectorCentre.x + plane[0] * ray.x,
-                                         projectorCentre.y + plane[0] * ray.y,
-                                         projectorCentre.z + plane[0] * ray.z};
-                // The camera must see projector light where the point falls: otherwise the
-                // surface has ended (the camera's silhouette against the room).
-                const auto seen = proto::projectToPixel(rig.camera, point);
-                if (!seen) {
-                    continue;
-                }
-                const int u = static_cast<int>(std::lround(seen->x));
-                const int v = static_cast<int>(std::lround(seen->y));
-                if (u < 0 || v < 0 || u >= cw || v >= ch ||
-                    double(scan.direct[static_cast<std::size_t>(v) * cw + u]) < options.minDirect) {
-                    continue;
-                }
-                filled[3 * p] = float(point.x);
-                filled[3 * p + 1] = float(point.y);
-                filled[3 * p + 2] = float(point.z);
-                filledConfidence[p] = 0.5f * confidence;
-                isFilled[p] = 1;
-            }
-        });
+            });
         surface.position = std::move(filled);
         surface.confidence = std::move(filledConfidence);
         for (const std::uint8_t f : isFilled) {
@@ -307,7 +309,7 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
     // Normals: the plane through the measured points of a (2r + 1)² window (principal axes),
     // turned towards the projector.
     const int r = options.normalRadius;
-    parallelFor(projectorPixels, 2048, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(projectorPixels, 2048, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t p = begin; p < end; ++p) {
             if (std::isnan(surface.position[3 * p])) {
                 continue;
@@ -366,7 +368,7 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
         }
     }
     if (surface.measured == 0) {
-        throw InputError(
+        throw common::InputError(
             "nothing could be triangulated: the calibration does not match the scan "
             "(rays do not meet), or nothing was decoded");
     }

@@ -22,16 +22,16 @@ ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
                               const std::filesystem::path& truthFolder) {
     const std::filesystem::path cameraPath = truthFolder / "camera-truth.exr";
     const std::filesystem::path projectorPath = truthFolder / "projector-truth.exr";
-    const FloatImage camera =
-        readImageChannels(cameraPath, {"projector.x", "projector.y", "centre.x", "centre.y"});
-    const FloatImage projector = readImageChannels(
+    const image::FloatImage camera = image::readImageChannels(
+        cameraPath, {"projector.x", "projector.y", "centre.x", "centre.y"});
+    const image::FloatImage projector = image::readImageChannels(
         projectorPath,
         {"position.X", "position.Y", "position.Z", "normal.X", "normal.Y", "normal.Z", "seen"});
     if (camera.width != decoded.width || camera.height != decoded.height) {
-        throw InputError(cameraPath, "not the scan's camera size");
+        throw common::InputError(cameraPath, "not the scan's camera size");
     }
     if (projector.width != surface.width || projector.height != surface.height) {
-        throw InputError(projectorPath, "not the scan's projector size");
+        throw common::InputError(projectorPath, "not the scan's projector size");
     }
     ScanAccuracy a;
     std::vector<double> distances, angles;
@@ -66,9 +66,9 @@ ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
         sum += d * d;
     }
     a.depthRmsMm = distances.empty() ? 0 : 1000 * std::sqrt(sum / double(distances.size()));
-    a.depthP99Mm = 1000 * quantile(distances, 0.99);
-    a.normalMedianDeg = quantile(angles, 0.5);
-    a.normalP95Deg = quantile(angles, 0.95);
+    a.depthP99Mm = 1000 * common::quantile(distances, 0.99);
+    a.normalMedianDeg = common::quantile(angles, 0.5);
+    a.normalP95Deg = common::quantile(angles, 0.95);
 
     double squared = 0;
     std::size_t compared = 0;

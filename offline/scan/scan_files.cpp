@@ -43,12 +43,12 @@ void writeSurface(const ProjectorSurface& s, const std::filesystem::path& path) 
         std::copy_n(&s.normal[3 * p], 3, v + 3);
         v[6] = s.confidence[p];
     }
-    writeImage(path, s.width, s.height, static_cast<int>(kChannels.size()), values,
-               PixelFormat::kFloat, kChannels);
+    image::writeImage(path, s.width, s.height, static_cast<int>(kChannels.size()), values,
+                      image::PixelFormat::kFloat, kChannels);
 }
 
 ProjectorSurface readSurface(const std::filesystem::path& path) {
-    const FloatImage image = readImageChannels(path, kChannels);
+    const image::FloatImage image = image::readImageChannels(path, kChannels);
     ProjectorSurface s;
     s.width = image.width;
     s.height = image.height;
@@ -67,7 +67,7 @@ ProjectorSurface readSurface(const std::filesystem::path& path) {
         s.measured += std::isnan(v[0]) ? 0 : 1;
     }
     if (s.measured == 0) {
-        throw InputError(path, "the scan measured nothing");
+        throw common::InputError(path, "the scan measured nothing");
     }
     return s;
 }
@@ -88,8 +88,8 @@ void writeDecoded(const structured_light::DecodedScan& d, const std::filesystem:
         v[6] = d.black[p];
         v[7] = d.precision[p];
     }
-    writeImage(path, d.width, d.height, static_cast<int>(names.size()), values, PixelFormat::kFloat,
-               names);
+    image::writeImage(path, d.width, d.height, static_cast<int>(names.size()), values,
+                      image::PixelFormat::kFloat, names);
 }
 
 void writePointCloud(const ProjectorSurface& s, const std::filesystem::path& path) {
@@ -108,28 +108,28 @@ void writePointCloud(const ProjectorSurface& s, const std::filesystem::path& pat
         const double c = s.confidence[p];
         cloud.colors_.emplace_back(c, c, c);
     }
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     open3d::io::WritePointCloudOption options;
     options.write_ascii = open3d::io::WritePointCloudOption::IsAscii::Binary;
     if (!open3d::io::WritePointCloudToPLY(output.temporaryPath().string(), cloud, options)) {
-        throw InputError(path, "cannot write the point cloud");
+        throw common::InputError(path, "cannot write the point cloud");
     }
     output.commit();
 }
 
 void writeScanSheet(const structured_light::DecodedScan& d, const ProjectorSurface& s,
                     const std::filesystem::path& path) {
-    std::vector<SheetTile> tiles;
+    std::vector<image::SheetTile> tiles;
     const std::size_t cameraPixels = static_cast<std::size_t>(d.width) * d.height;
     // The white frame, sRGB-encoded so a linear camera's picture looks as the eye expects.
-    SheetTile white{"camera, white frame", d.width, d.height, 1, {}};
+    image::SheetTile white{"camera, white frame", d.width, d.height, 1, {}};
     white.pixels.resize(cameraPixels);
     for (std::size_t p = 0; p < cameraPixels; ++p) {
         white.pixels[p] =
             static_cast<float>(proto::linearToSrgb(std::clamp(double(d.white[p]), 0.0, 1.0)));
     }
     tiles.push_back(std::move(white));
-    SheetTile status{
+    image::SheetTile status{
         "decoded (green); dark; saturated; ambiguous (red); weak (orange); "
         "inconsistent (violet); edge (blue)",
         d.width,
@@ -141,10 +141,10 @@ void writeScanSheet(const structured_light::DecodedScan& d, const ProjectorSurfa
         std::copy_n(kStatusColours[static_cast<int>(d.status[p])], 3, &status.pixels[3 * p]);
     }
     tiles.push_back(std::move(status));
-    tiles.push_back(scalarTile("projector x decoded", d.width, d.height, d.projectorX, 0,
-                               float(d.projectorWidth)));
-    tiles.push_back(scalarTile("projector y decoded", d.width, d.height, d.projectorY, 0,
-                               float(d.projectorHeight)));
+    tiles.push_back(image::scalarTile("projector x decoded", d.width, d.height, d.projectorX, 0,
+                                      float(d.projectorWidth)));
+    tiles.push_back(image::scalarTile("projector y decoded", d.width, d.height, d.projectorY, 0,
+                                      float(d.projectorHeight)));
     const std::size_t projectorPixels = static_cast<std::size_t>(s.width) * s.height;
     std::vector<float> depth(projectorPixels, std::nanf(""));
     float nearest = INFINITY, furthest = -INFINITY;
@@ -155,16 +155,16 @@ void writeScanSheet(const structured_light::DecodedScan& d, const ProjectorSurfa
             furthest = std::max(furthest, depth[p]);
         }
     }
-    tiles.push_back(scalarTile("depth (camera z), projector's view", s.width, s.height, depth,
-                               nearest, furthest));
-    SheetTile normals{"normals, projector's view", s.width, s.height, 3, {}};
+    tiles.push_back(image::scalarTile("depth (camera z), projector's view", s.width, s.height,
+                                      depth, nearest, furthest));
+    image::SheetTile normals{"normals, projector's view", s.width, s.height, 3, {}};
     normals.pixels.resize(projectorPixels * 3);
     for (std::size_t p = 0; p < projectorPixels * 3; ++p) {
         normals.pixels[p] = std::isnan(s.normal[p]) ? 0.0f : 0.5f + 0.5f * s.normal[p];
     }
     tiles.push_back(std::move(normals));
-    tiles.push_back(scalarTile("confidence", s.width, s.height, s.confidence, 0, 1));
-    writeContactSheet(path, tiles, 4);
+    tiles.push_back(image::scalarTile("confidence", s.width, s.height, s.confidence, 0, 1));
+    image::writeContactSheet(path, tiles, 4);
 }
 
 }  // namespace vpe::scan

@@ -114,13 +114,14 @@ double vaseRadiusSlope(double y, double height) {
 ScreenMesh makeProceduralVase(const VaseParameters& parameters) {
     const auto& p = parameters;
     if (!(p.height > 0) || !std::isfinite(p.height)) {
-        throw InputError("vase: height must be a positive number of metres");
+        throw common::InputError("vase: height must be a positive number of metres");
     }
     if (p.segments < 3 || p.segments > 65536 || p.rings < 1 || p.rings > 65536 || p.baseRings < 1 ||
         p.baseRings > 65536) {
-        throw InputError("vase: segments must be 3..65536 and rings, base rings 1..65536 (got " +
-                         std::to_string(p.segments) + ", " + std::to_string(p.rings) + ", " +
-                         std::to_string(p.baseRings) + ")");
+        throw common::InputError(
+            "vase: segments must be 3..65536 and rings, base rings 1..65536 (got " +
+            std::to_string(p.segments) + ", " + std::to_string(p.rings) + ", " +
+            std::to_string(p.baseRings) + ")");
     }
     const auto columns = static_cast<std::uint32_t>(p.segments + 1);  // seam duplicated
     const std::uint64_t vertexTotal =

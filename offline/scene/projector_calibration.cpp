@@ -74,7 +74,8 @@ public:
             if (node.isSeq()) {
                 for (const cv::FileNode& item : node) {
                     if (!item.isInt() && !item.isReal()) {
-                        throw InputError(path_, std::string(key) + ": not a list of numbers");
+                        throw common::InputError(path_,
+                                                 std::string(key) + ": not a list of numbers");
                     }
                     out.values.push_back(static_cast<double>(item));
                 }
@@ -84,7 +85,7 @@ public:
                 cv::Mat matrix;
                 node >> matrix;
                 if (matrix.empty() || matrix.channels() != 1) {
-                    throw InputError(path_, std::string(key) + ": not a matrix of numbers");
+                    throw common::InputError(path_, std::string(key) + ": not a matrix of numbers");
                 }
                 matrix.convertTo(matrix, CV_64F);
                 out.rows = matrix.rows;
@@ -96,13 +97,13 @@ public:
                 }
             }
         } catch (const cv::Exception& error) {
-            throw InputError(
+            throw common::InputError(
                 path_, std::string(key) + ": not a matrix of numbers (" + oneLine(error.err) + ")");
         }
         for (std::size_t i = 0; i < out.values.size(); ++i) {
             if (!std::isfinite(out.values[i])) {
-                throw InputError(path_, std::string(key) + ": element " + std::to_string(i) +
-                                            " is not a finite number");
+                throw common::InputError(path_, std::string(key) + ": element " +
+                                                    std::to_string(i) + " is not a finite number");
             }
         }
         return out;
@@ -112,7 +113,7 @@ public:
     Numbers required(const char* key, const char* needs) const {
         auto value = numbers(key);
         if (!value) {
-            throw InputError(path_, std::string(key) + ": missing (" + needs + ")");
+            throw common::InputError(path_, std::string(key) + ": missing (" + needs + ")");
         }
         return *value;
     }
@@ -131,7 +132,7 @@ public:
                 return static_cast<int>(value);
             }
         }
-        throw InputError(path_, std::string(key) + ": expected a whole number of pixels");
+        throw common::InputError(path_, std::string(key) + ": expected a whole number of pixels");
     }
 
     std::optional<std::string> string(const char* key) const {
@@ -140,7 +141,7 @@ public:
             return std::nullopt;
         }
         if (!node.isString()) {
-            throw InputError(path_, std::string(key) + ": expected a string");
+            throw common::InputError(path_, std::string(key) + ": expected a string");
         }
         return static_cast<std::string>(node);
     }
@@ -189,8 +190,8 @@ std::string lowercaseExtension(const std::filesystem::path& path) {
 
 // OpenCV 4's parsers report "(-212) <parser function> in function 'NAME(LINE): problem'":
 // the useful part is in Exception::func for parse errors, in Exception::err otherwise.
-InputError parseError(const std::filesystem::path& path, const cv::Exception& failure,
-                      int addedLines, const std::string& what) {
+common::InputError parseError(const std::filesystem::path& path, const cv::Exception& failure,
+                              int addedLines, const std::string& what) {
     if (failure.code == cv::Error::StsParseError) {
         const std::string& where = failure.func;
         const std::size_t open = where.rfind('(', where.find("): "));
@@ -200,13 +201,14 @@ InputError parseError(const std::filesystem::path& path, const cv::Exception& fa
             const auto [end, error] =
                 std::from_chars(where.data() + open + 1, where.data() + close, line);
             if (error == std::errc() && end == where.data() + close) {
-                return InputError(path, std::max(1, line - addedLines),
-                                  "cannot parse " + what + ": " + oneLine(where.substr(close + 3)));
+                return common::InputError(
+                    path, std::max(1, line - addedLines),
+                    "cannot parse " + what + ": " + oneLine(where.substr(close + 3)));
             }
         }
-        return InputError(path, "cannot parse " + what + ": " + oneLine(where));
+        return common::InputError(path, "cannot parse " + what + ": " + oneLine(where));
     }
-    return InputError(path, "cannot parse " + what + ": " + oneLine(failure.err));
+    return common::InputError(path, "cannot parse " + what + ": " + oneLine(failure.err));
 }
 
 // The keys a pinhole's parts are stored under: the projector's (proj_*) or the camera's
@@ -226,30 +228,33 @@ void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path&
                      const PinholeKeys& keys) {
     const std::string K = keys.K, kc = keys.kc;
     if (c.width < 1 || c.width > kMaxResolution || c.height < 1 || c.height > kMaxResolution) {
-        throw InputError(source, std::string(keys.what) + " resolution " + std::to_string(c.width) +
-                                     "x" + std::to_string(c.height) + " is outside 1..8192");
+        throw common::InputError(source, std::string(keys.what) + " resolution " +
+                                             std::to_string(c.width) + "x" +
+                                             std::to_string(c.height) + " is outside 1..8192");
     }
     const auto allFinite = [](const auto& values) {
         return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
     };
     if (!allFinite(c.K)) {
-        throw InputError(source, K + ": not all finite numbers");
+        throw common::InputError(source, K + ": not all finite numbers");
     }
     if (!allFinite(c.distortion)) {
-        throw InputError(source, kc + ": not all finite numbers");
+        throw common::InputError(source, kc + ": not all finite numbers");
     }
     if (!allFinite(c.R)) {
-        throw InputError(source, "R: not all finite numbers");
+        throw common::InputError(source, "R: not all finite numbers");
     }
     if (!allFinite(c.T)) {
-        throw InputError(source, "T: not all finite numbers");
+        throw common::InputError(source, "T: not all finite numbers");
     }
     if (!(c.K[0] > 0) || !(c.K[4] > 0)) {
-        throw InputError(source, K + ": focal lengths must be positive (fx = " +
-                                     formatNumber(c.K[0]) + ", fy = " + formatNumber(c.K[4]) + ")");
+        throw common::InputError(
+            source, K + ": focal lengths must be positive (fx = " + formatNumber(c.K[0]) +
+                        ", fy = " + formatNumber(c.K[4]) + ")");
     }
     if (c.K[3] != 0 || c.K[6] != 0 || c.K[7] != 0 || std::fabs(c.K[8] - 1) > 1e-9) {
-        throw InputError(source, K + ": not an intrinsic matrix (expected [fx s cx; 0 fy cy; "
+        throw common::InputError(source,
+                                 K + ": not an intrinsic matrix (expected [fx s cx; 0 fy cy; "
                                      "0 0 1])");
     }
     const auto& r = c.R;
@@ -264,14 +269,14 @@ void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path&
         }
     }
     if (worst > kRotationTolerance) {
-        throw InputError(source, "R: not orthonormal (RᵀR differs from I by " +
-                                     formatNumber(worst) + ", tolerance 1e-3)");
+        throw common::InputError(source, "R: not orthonormal (RᵀR differs from I by " +
+                                             formatNumber(worst) + ", tolerance 1e-3)");
     }
     const double det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) +
                        r[2] * (r[3] * r[7] - r[4] * r[6]);
     if (std::fabs(det - 1) > kRotationTolerance) {
-        throw InputError(source, "R: determinant " + formatNumber(det) +
-                                     ", not +1 (a reflection, not a rotation)");
+        throw common::InputError(source, "R: determinant " + formatNumber(det) +
+                                             ", not +1 (a reflection, not a rotation)");
     }
 }
 
@@ -283,9 +288,10 @@ void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage
                      const std::string& what) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {
-        throw InputError(path, "cannot open " + what +
-                                   (std::filesystem::exists(path, error) ? ": not a regular file"
-                                                                         : ": no such file"));
+        throw common::InputError(
+            path,
+            "cannot open " + what +
+                (std::filesystem::exists(path, error) ? ": not a regular file" : ": no such file"));
     }
     std::string text = text::readTextFile(path, what);
     const std::string_view start =
@@ -298,7 +304,7 @@ void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage
     }
     try {
         if (!storage.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY)) {
-            throw InputError(
+            throw common::InputError(
                 path, "cannot read " + what + " (OpenCV FileStorage YAML, XML or JSON expected)");
         }
     } catch (const cv::Exception& failure) {
@@ -309,7 +315,8 @@ void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage
 std::array<double, 9> intrinsicsFrom(const Numbers& k, const std::filesystem::path& path,
                                      const char* key) {
     if (k.values.size() != 9 || (k.rows != 3 && k.rows != 1)) {
-        throw InputError(path, std::string(key) + ": expected a 3x3 matrix, found " + shape(k));
+        throw common::InputError(path,
+                                 std::string(key) + ": expected a 3x3 matrix, found " + shape(k));
     }
     std::array<double, 9> K{};
     std::copy(k.values.begin(), k.values.end(), K.begin());
@@ -324,16 +331,18 @@ std::array<double, 5> distortionFrom(const CalibrationReader& reader,
         const std::size_t n = kc->values.size();
         if ((kc->rows != 1 && kc->cols != 1) ||
             (n != 4 && n != 5 && n != 8 && n != 12 && n != 14)) {
-            throw InputError(path, std::string(key) +
-                                       ": expected 4 or 5 distortion coefficients (k1 k2 p1 "
-                                       "p2 [k3]), found " +
-                                       shape(*kc));
+            throw common::InputError(path,
+                                     std::string(key) +
+                                         ": expected 4 or 5 distortion coefficients (k1 k2 p1 "
+                                         "p2 [k3]), found " +
+                                         shape(*kc));
         }
         for (std::size_t i = 5; i < n; ++i) {
             if (kc->values[i] != 0) {
-                throw InputError(path, std::string(key) + ": coefficient " + std::to_string(i + 1) +
-                                           " is not zero; vpe models k1 k2 p1 p2 k3 only "
-                                           "(no rational or thin-prism terms)");
+                throw common::InputError(path, std::string(key) + ": coefficient " +
+                                                   std::to_string(i + 1) +
+                                                   " is not zero; vpe models k1 k2 p1 p2 k3 only "
+                                                   "(no rational or thin-prism terms)");
             }
         }
         std::copy_n(kc->values.begin(), std::min<std::size_t>(n, 5), distortion.begin());
@@ -352,24 +361,24 @@ std::optional<double> readPose(const CalibrationReader& reader, const std::files
     } else if (r.values.size() == 3 && (r.rows == 1 || r.cols == 1)) {
         c.R = rotationFromVector(r.values);
     } else {
-        throw InputError(path,
-                         "R: expected a 3x3 rotation matrix or a 3-vector, found " + shape(r));
+        throw common::InputError(
+            path, "R: expected a 3x3 rotation matrix or a 3-vector, found " + shape(r));
     }
     const Numbers t = reader.required("T", needs);
     if (t.values.size() != 3 || (t.rows != 1 && t.cols != 1)) {
-        throw InputError(path, "T: expected a 3-vector, found " + shape(t));
+        throw common::InputError(path, "T: expected a 3-vector, found " + shape(t));
     }
     std::optional<double> scale = metresPerUnit;
     if (!scale) {
         if (const auto unit = reader.string("length_unit")) {
             scale = metresPerUnitOf(*unit);
             if (!scale) {
-                throw InputError(path, "length_unit: '" + *unit + "' is not m, cm or mm");
+                throw common::InputError(path, "length_unit: '" + *unit + "' is not m, cm or mm");
             }
         }
     }
     if (scale && (!(*scale > 0) || !std::isfinite(*scale))) {
-        throw InputError(path, "T: the unit scale must be a positive number of metres");
+        throw common::InputError(path, "T: the unit scale must be a positive number of metres");
     }
     for (std::size_t i = 0; i < 3; ++i) {
         c.T[i] = t.values[i] * scale.value_or(1.0);
@@ -383,10 +392,10 @@ void checkUnitlessDistance(const proto::PinholeCamera& c, const std::filesystem:
     const Vec3d centre = c.center();
     const double distance = std::sqrt(proto::dot(centre, centre));
     if (distance > kMaxUnitlessDistance) {
-        throw InputError(path, std::string("T: the ") + what + " would be " +
-                                   formatNumber(distance) +
-                                   " m from the origin; if T is in millimetres (as "
-                                   "procam-calibration writes it), give the unit");
+        throw common::InputError(path, std::string("T: the ") + what + " would be " +
+                                           formatNumber(distance) +
+                                           " m from the origin; if T is in millimetres (as "
+                                           "procam-calibration writes it), give the unit");
     }
 }
 
@@ -400,8 +409,9 @@ std::optional<std::pair<int, int>> resolutionFrom(const CalibrationReader& reade
     const std::optional<int> width = reader.integer(widthKey);
     const std::optional<int> height = reader.integer(heightKey);
     if (!width || !height) {
-        throw InputError(path, std::string(width ? heightKey : widthKey) + ": missing (given " +
-                                   (width ? widthKey : heightKey) + " without it)");
+        throw common::InputError(path, std::string(width ? heightKey : widthKey) +
+                                           ": missing (given " + (width ? widthKey : heightKey) +
+                                           " without it)");
     }
     return std::pair{*width, *height};
 }
@@ -423,14 +433,15 @@ void writeCalibrationFile(const std::filesystem::path& path, const char* comment
     const std::string extension = lowercaseExtension(path);
     if (extension != ".yml" && extension != ".yaml" && extension != ".xml" &&
         extension != ".json") {
-        throw InputError(path, "unsupported calibration format '" + path.extension().string() +
-                                   "' (.yml, .yaml, .xml or .json)");
+        throw common::InputError(path, "unsupported calibration format '" +
+                                           path.extension().string() +
+                                           "' (.yml, .yaml, .xml or .json)");
     }
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     try {
         cv::FileStorage storage(output.temporaryPath().string(), cv::FileStorage::WRITE);
         if (!storage.isOpened()) {
-            throw InputError(path, "cannot write projector calibration");
+            throw common::InputError(path, "cannot write projector calibration");
         }
         if (extension != ".json") {
             storage.writeComment(comment);
@@ -438,7 +449,8 @@ void writeCalibrationFile(const std::filesystem::path& path, const char* comment
         fill(storage);
         storage.release();
     } catch (const cv::Exception& failure) {
-        throw InputError(path, "cannot write projector calibration: " + oneLine(failure.err));
+        throw common::InputError(path,
+                                 "cannot write projector calibration: " + oneLine(failure.err));
     }
     output.commit();
 }
@@ -483,20 +495,20 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
         }
     }
     if (overrides.width.has_value() != overrides.height.has_value()) {
-        throw InputError(path, "the projector resolution needs both a width and a height");
+        throw common::InputError(path, "the projector resolution needs both a width and a height");
     }
     if (size && overrides.width &&
         (size->first != *overrides.width || size->second != *overrides.height)) {
-        throw InputError(
+        throw common::InputError(
             path, std::string(widthKey) + ": the file says " + std::to_string(size->first) + "x" +
                       std::to_string(size->second) + " but " + std::to_string(*overrides.width) +
                       "x" + std::to_string(*overrides.height) + " was given");
     }
     if (!size) {
         if (!overrides.width) {
-            throw InputError(path,
-                             "no projector resolution (keys proj_width/proj_height or "
-                             "image_width/image_height): give it on the command line");
+            throw common::InputError(path,
+                                     "no projector resolution (keys proj_width/proj_height or "
+                                     "image_width/image_height): give it on the command line");
         }
         size = std::pair{*overrides.width, *overrides.height};
     }
@@ -524,9 +536,10 @@ std::optional<proto::PinholeCamera> readCameraCalibration(const std::filesystem:
     c.distortion = distortionFrom(reader, path, "cam_kc");
     const auto size = resolutionFrom(reader, path, "cam_width", "cam_height");
     if (!size) {
-        throw InputError(path,
-                         "cam_width: missing (cam_K needs the camera's resolution: cam_width "
-                         "and cam_height, pixels)");
+        throw common::InputError(
+            path,
+            "cam_width: missing (cam_K needs the camera's resolution: cam_width "
+            "and cam_height, pixels)");
     }
     c.width = size->first;
     c.height = size->second;
@@ -555,13 +568,14 @@ void writeProcamCalibration(const ProjectorCalibration& projector,
         // would have to move the object frame (and the mesh with it), which is not this
         // function's to decide.
         if (!isOrigin(*camera)) {
-            throw InputError(path,
-                             "cam_K: the camera's pose must be R = I, T = 0 (a procam file's "
-                             "object frame is the camera's)");
+            throw common::InputError(
+                path,
+                "cam_K: the camera's pose must be R = I, T = 0 (a procam file's "
+                "object frame is the camera's)");
         }
     }
     if (stereoRms && !(std::isfinite(*stereoRms) && *stereoRms >= 0)) {
-        throw InputError(
+        throw common::InputError(
             path, "stereo_error: " + formatNumber(*stereoRms) + " is not a finite value ≥ 0");
     }
     const char* comment =
@@ -601,11 +615,11 @@ void writeCameraCalibration(const proto::PinholeCamera& camera, const std::files
 ProjectorCalibration projectorLookingAt(int width, int height, double verticalFovDegrees,
                                         const Vec3d& eye, const Vec3d& target) {
     if (!(verticalFovDegrees > 0 && verticalFovDegrees < 180)) {
-        throw InputError("projector: vertical field of view must be in (0, 180) degrees");
+        throw common::InputError("projector: vertical field of view must be in (0, 180) degrees");
     }
     const Vec3d toTarget{target.x - eye.x, target.y - eye.y, target.z - eye.z};
     if (!(proto::dot(toTarget, toTarget) > 0)) {
-        throw InputError("projector: the eye and the target coincide");
+        throw common::InputError("projector: the eye and the target coincide");
     }
     // The pose is proto's (one definition of "looking at": x right, y down, the world's y up
     // in the image).
@@ -613,7 +627,7 @@ ProjectorCalibration projectorLookingAt(int width, int height, double verticalFo
     try {
         c = proto::cameraLookingAt(width, height, verticalFovDegrees, eye, target);
     } catch (const std::invalid_argument& error) {
-        throw InputError(std::string("projector: ") + error.what());
+        throw common::InputError(std::string("projector: ") + error.what());
     }
     validateProjectorCalibration(c, "projector");
     return c;
@@ -621,7 +635,7 @@ ProjectorCalibration projectorLookingAt(int width, int height, double verticalFo
 
 ProjectorCalibration makeDemoProjector(double distance, const Vec3d& target) {
     if (!(distance > 0) || !std::isfinite(distance)) {
-        throw InputError("projector: distance must be a positive number of metres");
+        throw common::InputError("projector: distance must be a positive number of metres");
     }
     return projectorLookingAt(1920, 1080, 30.0, {target.x, target.y, target.z + distance}, target);
 }

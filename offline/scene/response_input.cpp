@@ -39,10 +39,10 @@ std::vector<std::string_view> splitCommas(std::string_view text) {
 [[noreturn]] void fail(std::string_view source, const std::vector<int>* lines, std::size_t sample,
                        const std::string& problem) {
     if (lines != nullptr) {
-        throw InputError(std::filesystem::path(source), (*lines)[sample], problem);
+        throw common::InputError(std::filesystem::path(source), (*lines)[sample], problem);
     }
-    throw InputError(std::string(source) + ": sample " + std::to_string(sample + 1) + ": " +
-                     problem);
+    throw common::InputError(std::string(source) + ": sample " + std::to_string(sample + 1) + ": " +
+                             problem);
 }
 
 void checkSamples(const std::vector<double>& levels,
@@ -50,13 +50,14 @@ void checkSamples(const std::vector<double>& levels,
                   const std::vector<int>* lines) {
     const std::size_t n = levels.size();
     if (n < 2) {
-        throw InputError(std::string(source) + ": " + std::to_string(n) +
-                         (n == 1 ? " sample" : " samples") +
-                         "; a response curve needs at least 2 (levels 0 and 1)");
+        throw common::InputError(std::string(source) + ": " + std::to_string(n) +
+                                 (n == 1 ? " sample" : " samples") +
+                                 "; a response curve needs at least 2 (levels 0 and 1)");
     }
     for (const auto& channel : outputs) {
         if (channel.size() != n) {
-            throw InputError(std::string(source) + ": each channel needs one output per level");
+            throw common::InputError(std::string(source) +
+                                     ": each channel needs one output per level");
         }
     }
     for (std::size_t k = 0; k < n; ++k) {
@@ -97,9 +98,9 @@ void checkSamples(const std::vector<double>& levels,
     for (int c = 0; c < 3; ++c) {
         const auto& channel = outputs[static_cast<std::size_t>(c)];
         if (!(channel.back() > channel.front())) {
-            throw InputError(std::string(source) + ": channel " + kChannelNames[c] +
-                             " is flat (output " + formatNumber(channel.front()) +
-                             " at every level): nothing to invert");
+            throw common::InputError(std::string(source) + ": channel " + kChannelNames[c] +
+                                     " is flat (output " + formatNumber(channel.front()) +
+                                     " at every level): nothing to invert");
         }
     }
 }
@@ -129,8 +130,8 @@ ResponseInput ResponseInput::gamma(const std::array<double, 3>& exponents) {
     for (int c = 0; c < 3; ++c) {
         const double g = exponents[static_cast<std::size_t>(c)];
         if (!std::isfinite(g) || !(g > 0)) {
-            throw InputError(std::string("response: gamma of ") + kChannelNames[c] + " is " +
-                             formatNumber(g) + "; it must be a positive number");
+            throw common::InputError(std::string("response: gamma of ") + kChannelNames[c] +
+                                     " is " + formatNumber(g) + "; it must be a positive number");
         }
     }
     ResponseInput response;
@@ -189,15 +190,15 @@ ResponseInput readProjectorResponseCsv(const std::filesystem::path& path) {
             continue;
         }
         if (fields.size() != 4) {
-            throw InputError(path, line.number,
-                             "expected level,r,g,b (4 numbers), found " +
-                                 std::to_string(fields.size()) +
-                                 (fields.size() == 1 ? " field" : " fields"));
+            throw common::InputError(path, line.number,
+                                     "expected level,r,g,b (4 numbers), found " +
+                                         std::to_string(fields.size()) +
+                                         (fields.size() == 1 ? " field" : " fields"));
         }
         constexpr const char* kNames[4] = {"level", "r", "g", "b"};
         for (std::size_t i = 0; i < 4; ++i) {
             if (!values[i]) {
-                throw InputError(
+                throw common::InputError(
                     path, line.number,
                     std::string(kNames[i]) + " '" + std::string(fields[i]) + "' is not a number");
             }
@@ -231,8 +232,9 @@ ResponseInput parseProjectorResponse(std::string_view argument) {
     }
     const auto values = parseNumberList(argument);
     if (!values || (values->size() != 1 && values->size() != 3)) {
-        throw InputError("--response: '" + std::string(argument) +
-                         "' is neither a gamma (2.2 or r,g,b like 2.2,2.2,2.4) nor a CSV file");
+        throw common::InputError(
+            "--response: '" + std::string(argument) +
+            "' is neither a gamma (2.2 or r,g,b like 2.2,2.2,2.4) nor a CSV file");
     }
     if (values->size() == 1) {
         return ResponseInput::gamma(values->front());

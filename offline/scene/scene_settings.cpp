@@ -40,14 +40,15 @@ std::array<double, 3> parseColour(std::string_view text, std::string_view what, 
                                   const char* range) {
     const auto values = parseList(text);
     if (!values || (values->size() != 1 && values->size() != 3)) {
-        throw InputError(quoted(what, text) + " is not a value or r,g,b (numbers " + range + ")");
+        throw common::InputError(quoted(what, text) + " is not a value or r,g,b (numbers " + range +
+                                 ")");
     }
     const std::array<double, 3> rgb =
         values->size() == 1 ? std::array<double, 3>{(*values)[0], (*values)[0], (*values)[0]}
                             : std::array<double, 3>{(*values)[0], (*values)[1], (*values)[2]};
     for (const double v : rgb) {
         if (!valid(v)) {
-            throw InputError(quoted(what, text) + ": each value must be " + range);
+            throw common::InputError(quoted(what, text) + ": each value must be " + range);
         }
     }
     return rgb;
@@ -58,8 +59,8 @@ std::array<double, 3> parseColour(std::string_view text, std::string_view what, 
 std::array<double, 3> parseTriple(std::string_view text, std::string_view what) {
     const auto values = parseList(text);
     if (!values || values->size() != 3) {
-        throw InputError(quoted(what, text) +
-                         " is not x,y,z (three finite numbers separated by commas)");
+        throw common::InputError(quoted(what, text) +
+                                 " is not x,y,z (three finite numbers separated by commas)");
     }
     return {(*values)[0], (*values)[1], (*values)[2]};
 }

@@ -90,9 +90,9 @@ void dropDegenerateTriangles(ScreenMesh& mesh, const std::filesystem::path& sour
         }
     }
     if (kept.empty()) {
-        throw InputError(source, "all " + std::to_string(triangles) +
-                                     " triangles are degenerate (zero area): nothing to "
-                                     "project on");
+        throw common::InputError(source, "all " + std::to_string(triangles) +
+                                             " triangles are degenerate (zero area): nothing to "
+                                             "project on");
     }
     mesh.indices = std::move(kept);
 }
@@ -149,8 +149,9 @@ void repairNormals(ScreenMesh& mesh, const std::filesystem::path& source) {
         }
         const double fallbackNorm = length(fallback[i]);
         if (!(fallbackNorm > 0)) {
-            throw InputError(source, "vertex " + std::to_string(i) +
-                                         " has no usable normal (its triangles cancel out)");
+            throw common::InputError(
+                source,
+                "vertex " + std::to_string(i) + " has no usable normal (its triangles cancel out)");
         }
         mesh.normals[i] = {static_cast<float>(fallback[i][0] / fallbackNorm),
                            static_cast<float>(fallback[i][1] / fallbackNorm),
@@ -163,7 +164,8 @@ void repairNormals(ScreenMesh& mesh, const std::filesystem::path& source) {
 void requireIndexableVertexCount(std::uint64_t count, const std::filesystem::path& source) {
     // 2³² − 1 at most: index 0xFFFFFFFF is GL's primitive-restart index (and our marker).
     if (count > std::numeric_limits<std::uint32_t>::max()) {
-        throw InputError(source, std::to_string(count) +
+        throw common::InputError(source,
+                                 std::to_string(count) +
                                      " vertices: more than 32-bit indices can address (at most "
                                      "4294967295); split or decimate the mesh");
     }
@@ -171,42 +173,43 @@ void requireIndexableVertexCount(std::uint64_t count, const std::filesystem::pat
 
 void validateScreenMesh(ScreenMesh& mesh, const std::filesystem::path& source) {
     if (mesh.indices.empty()) {
-        throw InputError(source,
-                         "no triangles: a screen mesh needs faces, not only points or "
-                         "lines");
+        throw common::InputError(source,
+                                 "no triangles: a screen mesh needs faces, not only points or "
+                                 "lines");
     }
     if (mesh.indices.size() % 3 != 0) {
-        throw InputError(source, "index count " + std::to_string(mesh.indices.size()) +
-                                     " is not a multiple of 3");
+        throw common::InputError(source, "index count " + std::to_string(mesh.indices.size()) +
+                                             " is not a multiple of 3");
     }
     requireIndexableVertexCount(mesh.positions.size(), source);
     if (mesh.normals.size() != mesh.positions.size() || mesh.uvs.size() != mesh.positions.size()) {
-        throw InputError(source, "normals or texture coordinates do not match the " +
-                                     std::to_string(mesh.positions.size()) + " positions");
+        throw common::InputError(source, "normals or texture coordinates do not match the " +
+                                             std::to_string(mesh.positions.size()) + " positions");
     }
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         if (mesh.indices[i] >= mesh.positions.size()) {
-            throw InputError(source, "triangle " + std::to_string(i / 3) + " uses vertex " +
-                                         std::to_string(mesh.indices[i]) + " of " +
-                                         std::to_string(mesh.positions.size()));
+            throw common::InputError(source, "triangle " + std::to_string(i / 3) + " uses vertex " +
+                                                 std::to_string(mesh.indices[i]) + " of " +
+                                                 std::to_string(mesh.positions.size()));
         }
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         const Vec3f& p = mesh.positions[i];
         if (!finite(p)) {
-            throw InputError(source, "vertex " + std::to_string(i) +
-                                         " has a position that is "
-                                         "not a finite number (" +
-                                         formatNumber(static_cast<double>(p.x)) + ", " +
-                                         formatNumber(static_cast<double>(p.y)) + ", " +
-                                         formatNumber(static_cast<double>(p.z)) + ")");
+            throw common::InputError(source, "vertex " + std::to_string(i) +
+                                                 " has a position that is "
+                                                 "not a finite number (" +
+                                                 formatNumber(static_cast<double>(p.x)) + ", " +
+                                                 formatNumber(static_cast<double>(p.y)) + ", " +
+                                                 formatNumber(static_cast<double>(p.z)) + ")");
         }
     }
     for (std::size_t i = 0; i < mesh.uvs.size(); ++i) {
         Vec2f& uv = mesh.uvs[i];
         const auto inside = [](float x) { return x >= -kUvTolerance && x <= 1 + kUvTolerance; };
         if (!inside(uv.x) || !inside(uv.y)) {  // also catches NaN
-            throw InputError(source, "vertex " + std::to_string(i) + " has texture coordinates (" +
+            throw common::InputError(source,
+                                     "vertex " + std::to_string(i) + " has texture coordinates (" +
                                          formatNumber(static_cast<double>(uv.x)) + ", " +
                                          formatNumber(static_cast<double>(uv.y)) +
                                          ") outside [0, 1]; vpe does not wrap or tile them");
@@ -221,18 +224,18 @@ void validateScreenMesh(ScreenMesh& mesh, const std::filesystem::path& source) {
 ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoadOptions& options) {
     const std::string extension = lowercase(path.extension().string());
     if (extension != ".obj" && extension != ".ply") {
-        throw InputError(path, "unsupported mesh format '" + path.extension().string() +
-                                   "' (vpe reads .obj and .ply)");
+        throw common::InputError(path, "unsupported mesh format '" + path.extension().string() +
+                                           "' (vpe reads .obj and .ply)");
     }
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {
-        throw InputError(path, std::filesystem::exists(path, error)
-                                   ? "cannot open mesh: not a regular file"
-                                   : "cannot open mesh: no such file");
+        throw common::InputError(path, std::filesystem::exists(path, error)
+                                           ? "cannot open mesh: not a regular file"
+                                           : "cannot open mesh: no such file");
     }
     if (!(options.metresPerUnit > 0) || !std::isfinite(options.metresPerUnit)) {
-        throw InputError(path, "mesh unit scale must be a positive number, not " +
-                                   formatNumber(options.metresPerUnit));
+        throw common::InputError(path, "mesh unit scale must be a positive number, not " +
+                                           formatNumber(options.metresPerUnit));
     }
 
     // The importer logs only through assimp's DefaultLogger, which stays the silent
@@ -243,7 +246,8 @@ ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoa
     const aiScene* scene = importer.ReadFile(path.string(), 0);
     const auto parseFailure = [&] {
         const std::string reason = oneLine(importer.GetErrorString());
-        return InputError(path, "cannot parse mesh" + (reason.empty() ? "" : ": " + reason));
+        return common::InputError(path,
+                                  "cannot parse mesh" + (reason.empty() ? "" : ": " + reason));
     };
     if (scene == nullptr || scene->mRootNode == nullptr) {
         throw parseFailure();
@@ -255,19 +259,20 @@ ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoa
         for (unsigned i = 0; i < part.mNumVertices; ++i) {
             const aiVector3D& p = part.mVertices[i];
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                throw InputError(path, "a vertex has a position that is not a finite number (" +
-                                           formatNumber(static_cast<double>(p.x)) + ", " +
-                                           formatNumber(static_cast<double>(p.y)) + ", " +
-                                           formatNumber(static_cast<double>(p.z)) + ")");
+                throw common::InputError(path,
+                                         "a vertex has a position that is not a finite number (" +
+                                             formatNumber(static_cast<double>(p.x)) + ", " +
+                                             formatNumber(static_cast<double>(p.y)) + ", " +
+                                             formatNumber(static_cast<double>(p.z)) + ")");
             }
             if (part.HasTextureCoords(0)) {
                 const aiVector3D& uv = part.mTextureCoords[0][i];
                 if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
-                    throw InputError(path,
-                                     "a vertex has texture coordinates that are not "
-                                     "finite numbers (" +
-                                         formatNumber(static_cast<double>(uv.x)) + ", " +
-                                         formatNumber(static_cast<double>(uv.y)) + ")");
+                    throw common::InputError(path,
+                                             "a vertex has texture coordinates that are not "
+                                             "finite numbers (" +
+                                                 formatNumber(static_cast<double>(uv.x)) + ", " +
+                                                 formatNumber(static_cast<double>(uv.y)) + ")");
                 }
             }
         }
@@ -287,9 +292,9 @@ ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoa
             return;  // points or lines: nothing to project on
         }
         if (!part.HasTextureCoords(0) || part.mNumUVComponents[0] < 2) {
-            throw InputError(path,
-                             "no texture coordinates: a screen mesh needs UVs (vt in OBJ, "
-                             "s/t or u/v in PLY) to carry the projected texture");
+            throw common::InputError(path,
+                                     "no texture coordinates: a screen mesh needs UVs (vt in OBJ, "
+                                     "s/t or u/v in PLY) to carry the projected texture");
         }
         vertices += part.mNumVertices;
         requireIndexableVertexCount(vertices, path);
@@ -340,7 +345,7 @@ ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoa
 }
 
 void writeScreenMeshObj(const ScreenMesh& mesh, const std::filesystem::path& path) {
-    AtomicOutput output(path);
+    common::AtomicOutput output(path);
     {
         std::ofstream stream(output.temporaryPath(), std::ios::binary);
         std::array<char, 128> line{};
@@ -374,7 +379,7 @@ void writeScreenMeshObj(const ScreenMesh& mesh, const std::filesystem::path& pat
         }
         stream.close();
         if (!stream) {
-            throw InputError(path, "cannot write mesh");
+            throw common::InputError(path, "cannot write mesh");
         }
     }
     output.commit();

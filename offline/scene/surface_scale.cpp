@@ -109,7 +109,8 @@ SurfaceScale measureSurfaceScale(const ScreenMesh& mesh, const char* source) {
         scale.area += area;
     }
     if (scale.triangles.empty()) {
-        throw InputError(std::string(source) + ": no triangle's texture coordinates span an area");
+        throw common::InputError(std::string(source) +
+                                 ": no triangle's texture coordinates span an area");
     }
     scale.seamVertexPairs = countSeamPairs(mesh);
     // One shared vertex could be a coincidence of a UV atlas; a seam is an edge at least.
@@ -146,7 +147,7 @@ TexelStretch measureTexelStretch(const SurfaceScale& scale, int width, int heigh
 
 AutoTextureSize chooseTextureSize(const SurfaceScale& scale, double texelMm, int maxSide) {
     if (!(texelMm > 0) || !std::isfinite(texelMm)) {
-        throw InputError("texel size must be a positive number of millimetres");
+        throw common::InputError("texel size must be a positive number of millimetres");
     }
     // Area-weighted mean of log |∂p/∂u|: the size whose geometric-mean texel is texelMm long
     // along u; likewise v. This also minimizes the area-weighted mean of log² stretch.
@@ -161,14 +162,16 @@ AutoTextureSize chooseTextureSize(const SurfaceScale& scale, double texelMm, int
     char text[160];
     std::snprintf(text, sizeof text, "%.0fx%.0f texels at %.4g mm", width, height, texelMm);
     if (width > maxSide || height > maxSide) {
-        throw InputError("--size auto: the screen object needs " + std::string(text) +
-                         ", more than the " + std::to_string(maxSide) +
-                         " a side may have (the "
-                         "device's texture limit); give a coarser --texel-mm or a smaller object");
+        throw common::InputError(
+            "--size auto: the screen object needs " + std::string(text) + ", more than the " +
+            std::to_string(maxSide) +
+            " a side may have (the "
+            "device's texture limit); give a coarser --texel-mm or a smaller object");
     }
     if (width < 8 || height < 8) {
-        throw InputError("--size auto: the screen object needs only " + std::string(text) +
-                         ", fewer than 8 a side; is --texel-mm (or the mesh's scale) right?");
+        throw common::InputError(
+            "--size auto: the screen object needs only " + std::string(text) +
+            ", fewer than 8 a side; is --texel-mm (or the mesh's scale) right?");
     }
     return {std::max(8, static_cast<int>(std::lround(width))),
             std::max(8, static_cast<int>(std::lround(height)))};

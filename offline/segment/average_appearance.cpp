@@ -14,7 +14,7 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -75,11 +75,11 @@ void scaleGroup(Appearance& a, int first, int count) {
 
 }  // namespace
 
-const std::vector<Vec3d>& averagingLights() {
+const std::vector<proto::Vec3d>& averagingLights() {
     // A Fibonacci lattice on the hemisphere: z uniform in (0, 1) is uniform in solid angle,
     // and the golden-angle azimuths spread the rings without gaps or clusters.
-    static const std::vector<Vec3d> kLights = [] {
-        std::vector<Vec3d> lights;
+    static const std::vector<proto::Vec3d> kLights = [] {
+        std::vector<proto::Vec3d> lights;
         const double goldenAngle = M_PI * (3.0 - std::sqrt(5.0));
         for (int i = 0; i < kAveragingLights; ++i) {
             const double z = 1.0 - (i + 0.5) / kAveragingLights;
@@ -107,8 +107,8 @@ void linearRgbToLab(const float* rgb, float* lab) {
 
 Appearance computeAppearance(const std::filesystem::path& modelPath,
                              const AppearanceOptions& options) {
-    ModelReader reader(modelPath);
-    const ModelInfo& info = reader.info();
+    model::ModelReader reader(modelPath);
+    const model::ModelInfo& info = reader.info();
     const int k = proto::coefficientCount(info.harmonics);
     const int dims = 3 * k;
     const int components = std::clamp(options.components, 1, dims);
@@ -126,13 +126,13 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     const std::size_t stride =
         std::max<std::size_t>(1, (pixels + options.pcaSamples - 1) / options.pcaSamples);
     std::vector<float> samples;
-    ModelRows rows;
-    const Vec3d view{0, 0, 1};
-    const std::vector<Vec3d>& lights = averagingLights();
+    model::ModelRows rows;
+    const proto::Vec3d view{0, 0, 1};
+    const std::vector<proto::Vec3d>& lights = averagingLights();
     for (int rowBegin = 0; rowBegin < a.height; rowBegin += kBandRows) {
         const int count = std::min(kBandRows, a.height - rowBegin);
         reader.readRows(rowBegin, count, rows);
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(count), 1, options.threads,
             [&](std::size_t begin, std::size_t end) {
                 for (std::size_t r = begin; r < end; ++r) {
@@ -145,10 +145,11 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
                         const std::size_t p = a.pixel(x, rowBegin + row);
                         a.valid[p] = 1;
                         const float* n = &rows.normal[local * 3];
-                        const Vec3d normal{static_cast<double>(n[0]), static_cast<double>(n[1]),
-                                           static_cast<double>(n[2])};
+                        const proto::Vec3d normal{static_cast<double>(n[0]),
+                                                  static_cast<double>(n[1]),
+                                                  static_cast<double>(n[2])};
                         double sum[3] = {0, 0, 0};
-                        for (const Vec3d& light : lights) {
+                        for (const proto::Vec3d& light : lights) {
                             const auto angles = proto::reflectionAngles(normal, light, view);
                             // A light below the surface's horizon does not reach it,
                             // whatever the series extrapolates to there.
@@ -184,16 +185,16 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
         a.validPixels += v;
     }
     if (a.validPixels == 0) {
-        throw InputError(modelPath, "no valid pixels");
+        throw common::InputError(modelPath, "no valid pixels");
     }
 
     // Principal axes of the coefficients: the 3(2M + 2) values are strongly correlated (the
     // three channels, the harmonics of one lobe), so a few axes hold most of the variation
     // between materials, and the noisy rest stays out of the distances.
-    const PrincipalAxes pca = principalAxes(
+    const common::PrincipalAxes pca = common::principalAxes(
         samples.size() / static_cast<std::size_t>(dims), dims,
         [&](std::size_t i) { return &samples[i * static_cast<std::size_t>(dims)]; },
-        AxisSelection{.maxAxes = components});
+        common::AxisSelection{.maxAxes = components});
     const Eigen::MatrixXd& axes = pca.axes;
     const Eigen::RowVectorXd mean = pca.mean.transpose();
     a.explainedVariance = pca.explained();
@@ -202,32 +203,32 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     for (int rowBegin = 0; rowBegin < a.height; rowBegin += kBandRows) {
         const int count = std::min(kBandRows, a.height - rowBegin);
         reader.readRows(rowBegin, count, rows);
-        parallelFor(static_cast<std::size_t>(count), 1, options.threads,
-                    [&](std::size_t begin, std::size_t end) {
-                        Eigen::VectorXd c(dims);
-                        for (std::size_t r = begin; r < end; ++r) {
-                            const int row = static_cast<int>(r);
-                            for (int x = 0; x < a.width; ++x) {
-                                const std::size_t p = a.pixel(x, rowBegin + row);
-                                if (!a.valid[p]) {
-                                    continue;
-                                }
-                                const float* values = rows.coefficientsAt(row, x, 0);
-                                for (int d = 0; d < dims; ++d) {
-                                    c(d) = static_cast<double>(values[d]) - mean(d);
-                                }
-                                float* f =
-                                    &a.features[p * static_cast<std::size_t>(a.featureCount)];
-                                for (int d = 0; d < 3; ++d) {
-                                    f[d] = a.lab[p * 3 + static_cast<std::size_t>(d)];
-                                }
-                                const Eigen::VectorXd projected = axes.transpose() * c;
-                                for (int i = 0; i < components; ++i) {
-                                    f[3 + i] = static_cast<float>(projected(i));
-                                }
-                            }
+        common::parallelFor(
+            static_cast<std::size_t>(count), 1, options.threads,
+            [&](std::size_t begin, std::size_t end) {
+                Eigen::VectorXd c(dims);
+                for (std::size_t r = begin; r < end; ++r) {
+                    const int row = static_cast<int>(r);
+                    for (int x = 0; x < a.width; ++x) {
+                        const std::size_t p = a.pixel(x, rowBegin + row);
+                        if (!a.valid[p]) {
+                            continue;
                         }
-                    });
+                        const float* values = rows.coefficientsAt(row, x, 0);
+                        for (int d = 0; d < dims; ++d) {
+                            c(d) = static_cast<double>(values[d]) - mean(d);
+                        }
+                        float* f = &a.features[p * static_cast<std::size_t>(a.featureCount)];
+                        for (int d = 0; d < 3; ++d) {
+                            f[d] = a.lab[p * 3 + static_cast<std::size_t>(d)];
+                        }
+                        const Eigen::VectorXd projected = axes.transpose() * c;
+                        for (int i = 0; i < components; ++i) {
+                            f[3 + i] = static_cast<float>(projected(i));
+                        }
+                    }
+                }
+            });
     }
     // Each group to unit total variance, so colour and reflectance weigh alike whatever their
     // units. Within a group the space's own metric is kept: CIELAB is perceptually even, and
@@ -237,4 +238,4 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     return a;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

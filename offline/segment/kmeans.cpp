@@ -10,7 +10,7 @@
 
 #include "vpe/common/parallel_for.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -72,7 +72,7 @@ void assign(const std::vector<float>& points, int dims, const std::vector<double
     const int clusters = static_cast<int>(centroids.size()) / dims;
     out.labels.resize(count);
     out.distances.resize(count);
-    parallelFor(count, kGrain, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(count, kGrain, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             const float* point = &points[i * static_cast<std::size_t>(dims)];
             double best = std::numeric_limits<double>::infinity();
@@ -296,4 +296,4 @@ ClusterCountChoice chooseClusterCount(const std::vector<float>& points, int dims
     return choice;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -10,7 +10,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 std::vector<int> minimumCostAssignment(const std::vector<std::vector<double>>& cost) {
     // Kuhn–Munkres with row and column potentials, rows added one at a time (1-based inside).
@@ -134,4 +134,4 @@ LabelComparison compareLabels(const LabelMap& predicted, const LabelMap& truth) 
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -14,7 +14,7 @@
 #include "vpe/proto/luminance.h"
 #include "vpe/proto/srgb.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -242,9 +242,9 @@ void orderLabelsByLuminance(LabelMap& map, const Appearance& appearance) {
 }
 
 LabelMap readLabelImage(const std::filesystem::path& path) {
-    const FloatImage image = readImage(path);
+    const image::FloatImage image = image::readImage(path);
     if (!image.integerSource) {
-        throw InputError(path, "not a label image (8-bit integer values expected)");
+        throw common::InputError(path, "not a label image (8-bit integer values expected)");
     }
     LabelMap map;
     map.width = image.width;
@@ -259,13 +259,14 @@ LabelMap readLabelImage(const std::filesystem::path& path) {
                 " (pixel " + std::to_string(x) + ", " + std::to_string(y) + ")";
             // A 16-bit image's values fall between the 8-bit steps.
             if (std::fabs(scaled - static_cast<double>(value)) > 1e-3 || value < 0 || value > 255) {
-                throw InputError(path, "not an 8-bit label image" + where);
+                throw common::InputError(path, "not an 8-bit label image" + where);
             }
             // A grey label image saved as RGB by an editor still carries the labels; an image
             // whose channels differ is a picture, not labels.
             for (int c = 1; c < std::min(image.channels, 3); ++c) {
                 if (image.at(x, y, c) != image.at(x, y, 0)) {
-                    throw InputError(path, "not a label image: its channels differ" + where);
+                    throw common::InputError(path,
+                                             "not a label image: its channels differ" + where);
                 }
             }
             map.values[static_cast<std::size_t>(y) * image.width + x] =
@@ -282,15 +283,15 @@ LabelMap readLabelImage(const std::filesystem::path& path) {
 LabelMap readLabelImage(const std::filesystem::path& path, int width, int height) {
     LabelMap map = readLabelImage(path);
     if (map.width != width || map.height != height) {
-        throw InputError(path, "labels are " + std::to_string(map.width) + "x" +
-                                   std::to_string(map.height) + " but the model is " +
-                                   std::to_string(width) + "x" + std::to_string(height));
+        throw common::InputError(path, "labels are " + std::to_string(map.width) + "x" +
+                                           std::to_string(map.height) + " but the model is " +
+                                           std::to_string(width) + "x" + std::to_string(height));
     }
     return map;
 }
 
 void writeLabelImage(const std::filesystem::path& path, const LabelMap& map) {
-    writeImage8(path, map.width, map.height, 1, map.values);
+    image::writeImage8(path, map.width, map.height, 1, map.values);
 }
 
 std::vector<std::uint8_t> averagePicture(const Appearance& appearance) {
@@ -341,7 +342,7 @@ void writeLabelOverlay(const std::filesystem::path& path, const LabelMap& map,
             out = static_cast<std::uint8_t>(std::lround(std::clamp(blended, 0.0, 255.0)));
         }
     }
-    writeImage8(path, map.width, map.height, 3, picture);
+    image::writeImage8(path, map.width, map.height, 3, picture);
 }
 
 std::filesystem::path overlayPathFor(const std::filesystem::path& labels) {
@@ -350,4 +351,4 @@ std::filesystem::path overlayPathFor(const std::filesystem::path& labels) {
     return overlay;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

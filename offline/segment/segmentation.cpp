@@ -8,7 +8,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/segment/kmeans.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 namespace {
 
@@ -64,33 +64,35 @@ SegmentResult segmentAppearance(const Appearance& appearance, const SegmentOptio
     SegmentResult result;
     if (!options.seeds.empty()) {
         if (options.seeds.size() > static_cast<std::size_t>(LabelMap::kMaxLabels)) {
-            throw InputError("--seeds: at most " + std::to_string(LabelMap::kMaxLabels) +
-                             " seeds (one label each)");
+            throw common::InputError("--seeds: at most " + std::to_string(LabelMap::kMaxLabels) +
+                                     " seeds (one label each)");
         }
         for (const PixelSeed& seed : options.seeds) {
             if (seed.x < 0 || seed.y < 0 || seed.x >= appearance.width ||
                 seed.y >= appearance.height) {
-                throw InputError("--seeds: " + seedName(seed) + " is outside the " +
-                                 std::to_string(appearance.width) + "x" +
-                                 std::to_string(appearance.height) + " model");
+                throw common::InputError("--seeds: " + seedName(seed) + " is outside the " +
+                                         std::to_string(appearance.width) + "x" +
+                                         std::to_string(appearance.height) + " model");
             }
             if (!appearance.valid[appearance.pixel(seed.x, seed.y)]) {
-                throw InputError("--seeds: " + seedName(seed) + " has no valid fit in the model");
+                throw common::InputError("--seeds: " + seedName(seed) +
+                                         " has no valid fit in the model");
             }
         }
         result.map = labelBySeeds(appearance, options.seeds, options.seedSpace);
     } else {
         const int k = options.clusters;
         if (k < 0 || k > LabelMap::kMaxLabels) {
-            throw InputError("--auto: K must be between 1 and " +
-                             std::to_string(LabelMap::kMaxLabels) + ", not " + std::to_string(k));
+            throw common::InputError("--auto: K must be between 1 and " +
+                                     std::to_string(LabelMap::kMaxLabels) + ", not " +
+                                     std::to_string(k));
         }
         const std::size_t needed = static_cast<std::size_t>(k > 0 ? k : options.minClusters);
         if (appearance.validPixels < needed) {
-            throw InputError("--auto: " + std::to_string(needed) +
-                             " labels need as many valid "
-                             "pixels; the model has " +
-                             std::to_string(appearance.validPixels));
+            throw common::InputError("--auto: " + std::to_string(needed) +
+                                     " labels need as many valid "
+                                     "pixels; the model has " +
+                                     std::to_string(appearance.validPixels));
         }
         result.map = clusterLabels(appearance, options, result);
     }
@@ -108,4 +110,4 @@ SegmentResult segmentAppearance(const Appearance& appearance, const SegmentOptio
     return result;
 }
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -74,7 +74,7 @@ double NoiseModel::sigma(double signal) const {
 DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& options) {
     const proto::StructuredLightSequence& sequence = capture.sequence();
     const proto::StructuredLightParameters& parameters = sequence.parameters();
-    const unsigned threads = resolveThreadCount(options.threads);
+    const unsigned threads = common::resolveThreadCount(options.threads);
     const std::size_t pixels = static_cast<std::size_t>(capture.width()) * capture.height();
     const double quantum = 1.0 / ((1 << capture.manifest().camera.bits) - 1);
 
@@ -106,15 +106,15 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
     const std::filesystem::path whitePath =
         capture.imagePath(static_cast<std::size_t>(sequence.find("white")));
     if (brightEnough < std::max<std::size_t>(16, pixels / 10000)) {
-        throw InputError(whitePath,
-                         "the white frame shows no projector light (white − black < " +
-                             std::to_string(options.minDirect) +
-                             " everywhere): projector off, lens capped, or exposure too short");
+        throw common::InputError(
+            whitePath, "the white frame shows no projector light (white − black < " +
+                           std::to_string(options.minDirect) +
+                           " everywhere): projector off, lens capped, or exposure too short");
     }
     if (saturated * 2 > brightEnough) {
-        throw InputError(whitePath, "saturated in " +
-                                        std::to_string(100 * saturated / brightEnough) +
-                                        "% of the lit pixels: lower the camera's exposure or gain");
+        throw common::InputError(whitePath,
+                                 "saturated in " + std::to_string(100 * saturated / brightEnough) +
+                                     "% of the lit pixels: lower the camera's exposure or gain");
     }
 
     const auto load = [&](const proto::PatternSpec& pattern) {
@@ -167,12 +167,12 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             if (values.size() < 64) {
                 continue;
             }
-            const double centre = quantile(values, 0.5);
+            const double centre = common::quantile(values, 0.5);
             for (double& v : values) {
                 v = std::abs(v - centre);
             }
-            const double sigma = 1.4826 * quantile(values, 0.5);
-            const double x = quantile(levels[static_cast<std::size_t>(b)], 0.5);
+            const double sigma = 1.4826 * common::quantile(values, 0.5);
+            const double x = common::quantile(levels[static_cast<std::size_t>(b)], 0.5);
             const double y = sigma * sigma;
             sx += x;
             sy += y;
@@ -216,7 +216,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                 (double(p[q]) + double(i[q]) - double(scan.white[q]) - double(scan.black[q])) /
                 contrast);
         }
-        const double m = quantile(ratio, 0.5);
+        const double m = common::quantile(ratio, 0.5);
         if (std::abs(m) > kFrameTolerance) {
             // The frame that departs from its own expectation most is the wrong one.
             double darkP = 0, darkI = 0;
@@ -225,12 +225,12 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                 darkI += double(i[lit[k]]);
             }
             const bool blame = m < 0 ? darkP < darkI : darkP > darkI;
-            throw InputError(blame ? pathOf(on) : pathOf(off),
-                             std::string(m < 0 ? "black or stale" : "saturated or stale") +
-                                 ": with its inverse it adds up to " +
-                                 std::to_string(static_cast<int>(std::lround(100 * (1 + m)))) +
-                                 "% of white + black, not 100% (pattern '" +
-                                 (blame ? on : off).name() + "')");
+            throw common::InputError(
+                blame ? pathOf(on) : pathOf(off),
+                std::string(m < 0 ? "black or stale" : "saturated or stale") +
+                    ": with its inverse it adds up to " +
+                    std::to_string(static_cast<int>(std::lround(100 * (1 + m)))) +
+                    "% of white + black, not 100% (pattern '" + (blame ? on : off).name() + "')");
         }
     };
 
@@ -248,28 +248,29 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             const std::vector<float> p = load(on), i = load(off);
             checkPair(p, i, on, off);
             const std::uint32_t weight = 1u << (bit - lowest);
-            parallelFor(lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
-                for (std::size_t k = begin; k < end; ++k) {
-                    const std::size_t q = lit[k];
-                    const double pl = double(p[q]) - double(scan.black[q]);
-                    const double il = double(i[q]) - double(scan.black[q]);
-                    const double d = scan.direct[q], g = scan.global[q], tau = margin(q);
-                    // p = d·x + g_p, i = d·(1 − x) + g_i with 0 ≤ g_p, g_i ≤ g: a value above
-                    // g can only be direct light, one below d cannot hold it.
-                    const bool one = pl > g + tau || il < d - tau;
-                    const bool zero = il > g + tau || pl < d - tau;
-                    if (one != zero) {
-                        s.code[q] |= one ? weight : 0u;
-                        continue;
+            common::parallelFor(
+                lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
+                    for (std::size_t k = begin; k < end; ++k) {
+                        const std::size_t q = lit[k];
+                        const double pl = double(p[q]) - double(scan.black[q]);
+                        const double il = double(i[q]) - double(scan.black[q]);
+                        const double d = scan.direct[q], g = scan.global[q], tau = margin(q);
+                        // p = d·x + g_p, i = d·(1 − x) + g_i with 0 ≤ g_p, g_i ≤ g: a value above
+                        // g can only be direct light, one below d cannot hold it.
+                        const bool one = pl > g + tau || il < d - tau;
+                        const bool zero = il > g + tau || pl < d - tau;
+                        if (one != zero) {
+                            s.code[q] |= one ? weight : 0u;
+                            continue;
+                        }
+                        // Undecided: at a stripe's edge (both half lit) or drowned in global light.
+                        // One per axis is allowed, and settled by the phase below.
+                        s.code[q] |= pl > il ? weight : 0u;
+                        s.uncertain[q] = s.uncertain[q] == kNoUncertainBit
+                                             ? static_cast<std::int8_t>(bit - lowest)
+                                             : static_cast<std::int8_t>(kTooManyUncertainBits);
                     }
-                    // Undecided: at a stripe's edge (both half lit) or drowned in global light.
-                    // One per axis is allowed, and settled by the phase below.
-                    s.code[q] |= pl > il ? weight : 0u;
-                    s.uncertain[q] = s.uncertain[q] == kNoUncertainBit
-                                         ? static_cast<std::int8_t>(bit - lowest)
-                                         : static_cast<std::int8_t>(kTooManyUncertainBits);
-                }
-            });
+                });
         }
         for (int step = 0; step < parameters.phaseSteps; ++step) {
             const proto::PatternSpec pattern{proto::PatternKind::kPhase, axis, 0, false, step};
@@ -280,13 +281,13 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                 share.push_back((double(image[q]) - double(scan.black[q])) /
                                 (double(scan.white[q]) - double(scan.black[q])));
             }
-            const double m = quantile(share, 0.5);
+            const double m = common::quantile(share, 0.5);
             if (!(m > 0.02 && m < 0.98)) {
-                throw InputError(pathOf(pattern),
-                                 std::string(m <= 0.02 ? "black" : "saturated") +
-                                     ": its lit pixels hold " +
-                                     std::to_string(static_cast<int>(std::lround(100 * m))) +
-                                     "% of white − black (pattern '" + pattern.name() + "')");
+                throw common::InputError(
+                    pathOf(pattern), std::string(m <= 0.02 ? "black" : "saturated") +
+                                         ": its lit pixels hold " +
+                                         std::to_string(static_cast<int>(std::lround(100 * m))) +
+                                         "% of white − black (pattern '" + pattern.name() + "')");
             }
             const double delta = 2 * kPi * step / parameters.phaseSteps;
             const auto c = static_cast<float>(std::cos(delta)),
@@ -304,7 +305,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
     const double period = parameters.phasePeriod;
     const double binWidth = std::ldexp(1.0, lowest);
     const double steps = parameters.phaseSteps;
-    parallelFor(lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
             const std::size_t q = lit[k];
             double position[2] = {0, 0}, worst = 0;
@@ -395,27 +396,30 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
         return at(x - dx, y - dy) + at(x + dx, y + dy) - 2 * at(x, y);
     };
     std::vector<std::uint8_t> edge(pixels, 0);
-    parallelFor(static_cast<std::size_t>(h), 16, threads, [&](std::size_t begin, std::size_t end) {
-        for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
-            for (int x = 0; x < w; ++x) {
-                if (!decodedAt(x, y)) {
-                    continue;
-                }
-                bool step = false;
-                for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
-                    for (const std::vector<float>* map : {&scan.projectorX, &scan.projectorY}) {
-                        const double here = bend(*map, x, y, dx, dy);
-                        for (const int side : {-1, 1}) {
-                            const double there = bend(*map, x + side * dx, y + side * dy, dx, dy);
-                            step = step || (std::abs(here) > options.maxBend &&
-                                            std::abs(there) > options.maxBend && here * there < 0);
+    common::parallelFor(
+        static_cast<std::size_t>(h), 16, threads, [&](std::size_t begin, std::size_t end) {
+            for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
+                for (int x = 0; x < w; ++x) {
+                    if (!decodedAt(x, y)) {
+                        continue;
+                    }
+                    bool step = false;
+                    for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+                        for (const std::vector<float>* map : {&scan.projectorX, &scan.projectorY}) {
+                            const double here = bend(*map, x, y, dx, dy);
+                            for (const int side : {-1, 1}) {
+                                const double there =
+                                    bend(*map, x + side * dx, y + side * dy, dx, dy);
+                                step =
+                                    step || (std::abs(here) > options.maxBend &&
+                                             std::abs(there) > options.maxBend && here * there < 0);
+                            }
                         }
                     }
+                    edge[static_cast<std::size_t>(y) * w + x] = step ? 1 : 0;
                 }
-                edge[static_cast<std::size_t>(y) * w + x] = step ? 1 : 0;
             }
-        }
-    });
+        });
     for (std::size_t q = 0; q < pixels; ++q) {
         if (edge[q]) {
             scan.status[q] = DecodeStatus::kEdge;

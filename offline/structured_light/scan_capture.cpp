@@ -15,14 +15,14 @@ namespace {
 proto::ScanManifest readManifest(const std::filesystem::path& path) {
     std::error_code code;
     if (!std::filesystem::is_directory(path, code) && path.filename() != proto::kScanManifestName) {
-        throw InputError(path, std::filesystem::exists(path, code)
-                                   ? "not a scan folder (a folder holding scan.json)"
-                                   : "no such scan folder");
+        throw common::InputError(path, std::filesystem::exists(path, code)
+                                           ? "not a scan folder (a folder holding scan.json)"
+                                           : "no such scan folder");
     }
     try {
         return proto::readScanManifest(path);
     } catch (const proto::ScanManifestError& error) {
-        throw InputError(error.what());
+        throw common::InputError(error.what());
     }
 }
 
@@ -37,8 +37,8 @@ ScanCapture::ScanCapture(const std::filesystem::path& folderOrManifest)
         listed.insert(manifest_.images[i].file);
         std::error_code error;
         if (!std::filesystem::is_regular_file(imagePath(i), error)) {
-            throw InputError(imagePath(i), "missing: the scan's image of pattern '" +
-                                               manifest_.images[i].pattern + "'");
+            throw common::InputError(imagePath(i), "missing: the scan's image of pattern '" +
+                                                       manifest_.images[i].pattern + "'");
         }
     }
     // A pattern image the manifest does not list is a capture that went wrong (a retry left
@@ -52,19 +52,20 @@ ScanCapture::ScanCapture(const std::filesystem::path& folderOrManifest)
         }
         for (const proto::PatternSpec& pattern : sequence_.patterns()) {
             if (stem == pattern.name() || stem.ends_with("-" + pattern.name())) {
-                throw InputError(entry.path(), std::string("an extra pattern image that ") +
-                                                   proto::kScanManifestName + " does not list");
+                throw common::InputError(entry.path(), std::string("an extra pattern image that ") +
+                                                           proto::kScanManifestName +
+                                                           " does not list");
             }
         }
     }
 }
 
-std::vector<float> greyPixels(FloatImage picture, const std::filesystem::path& source) {
+std::vector<float> greyPixels(image::FloatImage picture, const std::filesystem::path& source) {
     if (picture.channels == 1) {
         return std::move(picture.pixels);
     }
     if (picture.channels < 3) {
-        throw InputError(
+        throw common::InputError(
             source, std::to_string(picture.channels) + " channels (a scan image is grey or RGB)");
     }
     std::vector<float> grey(static_cast<std::size_t>(picture.width) * picture.height);
@@ -81,11 +82,12 @@ std::filesystem::path ScanCapture::imagePath(std::size_t index) const {
 
 std::vector<float> ScanCapture::image(std::size_t index) const {
     const std::filesystem::path path = imagePath(index);
-    FloatImage image = readImage(path);
+    image::FloatImage image = image::readImage(path);
     if (image.width != width() || image.height != height()) {
-        throw InputError(path, std::to_string(image.width) + "x" + std::to_string(image.height) +
-                                   ", but the manifest's camera is " + std::to_string(width()) +
-                                   "x" + std::to_string(height()));
+        throw common::InputError(
+            path, std::to_string(image.width) + "x" + std::to_string(image.height) +
+                      ", but the manifest's camera is " + std::to_string(width()) + "x" +
+                      std::to_string(height()));
     }
     return greyPixels(std::move(image), path);
 }
@@ -93,7 +95,8 @@ std::vector<float> ScanCapture::image(std::size_t index) const {
 std::vector<float> ScanCapture::image(const char* name) const {
     const int index = sequence_.find(name);
     if (index < 0) {
-        throw InputError(folder_, std::string("the sequence has no pattern '") + name + "'");
+        throw common::InputError(folder_,
+                                 std::string("the sequence has no pattern '") + name + "'");
     }
     return image(static_cast<std::size_t>(index));
 }

@@ -45,8 +45,8 @@ void fourierCoefficients(const MicrofacetMaterial& material, int harmonics, int 
 }
 
 double gaussian(std::uint64_t key) {
-    const double u1 = std::max(uniformFromBits(mixBits(key)), 1e-300);
-    const double u2 = uniformFromBits(mixBits(key ^ 0xabcdef1234567ull));
+    const double u1 = std::max(common::uniformFromBits(common::mixBits(key)), 1e-300);
+    const double u2 = common::uniformFromBits(common::mixBits(key ^ 0xabcdef1234567ull));
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
@@ -54,27 +54,27 @@ const char* extensionOf(SynthEncoding encoding) {
     return encoding == SynthEncoding::kExr ? ".exr" : ".png";
 }
 
-PixelFormat formatOf(SynthEncoding encoding) {
+image::PixelFormat formatOf(SynthEncoding encoding) {
     switch (encoding) {
         case SynthEncoding::kLinear16:
-            return PixelFormat::kUint16;
+            return image::PixelFormat::kUint16;
         case SynthEncoding::kExr:
-            return PixelFormat::kFloat;
+            return image::PixelFormat::kFloat;
         case SynthEncoding::kSrgb8:
-            return PixelFormat::kUint8;
+            return image::PixelFormat::kUint8;
     }
-    return PixelFormat::kFloat;
+    return image::PixelFormat::kFloat;
 }
 
-nlohmann::json vectorJson(const Vec3d& v) {
+nlohmann::json vectorJson(const proto::Vec3d& v) {
     return nlohmann::json::array({v.x, v.y, v.z});
 }
 
 // Writes one capture.json: the pinhole camera, the rig's lights, the truth's geometry.
 void writeManifest(const std::filesystem::path& folder, const PotteryScene& scene,
-                   const LightRig& rig, const std::vector<Vec3d>& lights,
+                   const LightRig& rig, const std::vector<proto::Vec3d>& lights,
                    const std::vector<std::string>& files, SynthEncoding encoding) {
-    const PinholeCamera& camera = scene.camera();
+    const capture::PinholeCamera& camera = scene.camera();
     nlohmann::json manifest;
     manifest["format"] = "vpe-capture";
     manifest["version"] = 1;
@@ -87,7 +87,7 @@ void writeManifest(const std::filesystem::path& folder, const PotteryScene& scen
                           {"cy", camera.cy},
                           {"rotation", camera.rotation},
                           {"translation", vectorJson(camera.translation)}};
-    if (rig.kind == LightKind::kPoint) {
+    if (rig.kind == capture::LightKind::kPoint) {
         manifest["lights"] = {{"type", "point"}, {"reference_distance", rig.referenceDistance}};
     } else {
         manifest["lights"] = {{"type", "directional"}};
@@ -99,33 +99,35 @@ void writeManifest(const std::filesystem::path& folder, const PotteryScene& scen
     for (std::size_t i = 0; i < lights.size(); ++i) {
         manifest["images"].push_back({{"file", files[i]}, {"light", vectorJson(lights[i])}});
     }
-    writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
+    common::writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
 }
 
 void checkOptions(const SynthOptions& options) {
     if (options.size < 8 || options.size > 4096) {
-        throw InputError("--size " + std::to_string(options.size) + " is out of range (8..4096)");
+        throw common::InputError("--size " + std::to_string(options.size) +
+                                 " is out of range (8..4096)");
     }
     if (options.rig != "paper" && options.rig != "dome") {
-        throw InputError("--rig must be paper or dome, not '" + options.rig + "'");
+        throw common::InputError("--rig must be paper or dome, not '" + options.rig + "'");
     }
     if (options.fourierHarmonics < 0 || options.fourierHarmonics > proto::kMaxHarmonics) {
-        throw InputError("--fourier-harmonics is out of range (0.." +
-                         std::to_string(proto::kMaxHarmonics) + ")");
+        throw common::InputError("--fourier-harmonics is out of range (0.." +
+                                 std::to_string(proto::kMaxHarmonics) + ")");
     }
 }
 
 // The scene's surface under every pixel, traced once for all lights.
 std::vector<SurfacePoint> traceSurface(const PotteryScene& scene, int n, unsigned threads) {
     std::vector<SurfacePoint> surface(static_cast<std::size_t>(n) * n, SurfacePoint{});
-    parallelFor(static_cast<std::size_t>(n), 4, threads, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t y = begin; y < end; ++y) {
-            for (int x = 0; x < n; ++x) {
-                surface[y * n + static_cast<std::size_t>(x)] =
-                    scene.surfaceAt(x, static_cast<int>(y));
-            }
-        }
-    });
+    common::parallelFor(static_cast<std::size_t>(n), 4, threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            for (std::size_t y = begin; y < end; ++y) {
+                                for (int x = 0; x < n; ++x) {
+                                    surface[y * n + static_cast<std::size_t>(x)] =
+                                        scene.surfaceAt(x, static_cast<int>(y));
+                                }
+                            }
+                        });
     return surface;
 }
 
@@ -152,7 +154,7 @@ class CaptureRenderer {
 public:
     CaptureRenderer(const SynthOptions& options, const PotteryScene& scene, const LightRig& rig,
                     const std::vector<SurfacePoint>& surface, const std::vector<double>& fourier,
-                    ProgressBar& progress)
+                    common::ProgressBar& progress)
         : options_(options),
           scene_(scene),
           rig_(rig),
@@ -164,30 +166,33 @@ public:
           k_(proto::coefficientCount(options.fourierHarmonics)) {}
 
     // Writes one image per light into `folder` and its capture.json; setKey seeds its noise.
-    void renderSet(const std::vector<Vec3d>& lights, const std::filesystem::path& folder,
+    void renderSet(const std::vector<proto::Vec3d>& lights, const std::filesystem::path& folder,
                    std::uint64_t setKey) {
         const std::size_t pixels = surface_.size();
         const std::string extension = extensionOf(options_.encoding);
         std::vector<std::string> files(lights.size());
-        parallelFor(lights.size(), 1, options_.threads, [&](std::size_t begin, std::size_t end) {
-            std::vector<float> image(pixels * 3);
-            for (std::size_t i = begin; i < end; ++i) {
-                Counts counts;
-                const std::uint64_t imageKey = mixBits(options_.seed ^ mixBits(setKey + i));
-                for (std::size_t p = 0; p < pixels; ++p) {
-                    shade(p, lights[i], imageKey, counts, &image[p * 3]);
+        common::parallelFor(
+            lights.size(), 1, options_.threads, [&](std::size_t begin, std::size_t end) {
+                std::vector<float> image(pixels * 3);
+                for (std::size_t i = begin; i < end; ++i) {
+                    Counts counts;
+                    const std::uint64_t imageKey =
+                        common::mixBits(options_.seed ^ common::mixBits(setKey + i));
+                    for (std::size_t p = 0; p < pixels; ++p) {
+                        shade(p, lights[i], imageKey, counts, &image[p * 3]);
+                    }
+                    char name[32];
+                    std::snprintf(name, sizeof name, "light%03zu", i);
+                    files[i] = std::string(name) + extension;
+                    image::writeImage(folder / files[i], n_, n_, 3, image,
+                                      formatOf(options_.encoding));
+                    shadowed_ += counts.shadowed;
+                    lit_ += counts.lit;
+                    clipped_ += counts.clipped;
+                    samples_ += pixels * 3;
+                    progress_.advance();
                 }
-                char name[32];
-                std::snprintf(name, sizeof name, "light%03zu", i);
-                files[i] = std::string(name) + extension;
-                writeImage(folder / files[i], n_, n_, 3, image, formatOf(options_.encoding));
-                shadowed_ += counts.shadowed;
-                lit_ += counts.lit;
-                clipped_ += counts.clipped;
-                samples_ += pixels * 3;
-                progress_.advance();
-            }
-        });
+            });
         writeManifest(folder, scene_, rig_, lights, files, options_.encoding);
     }
 
@@ -205,7 +210,7 @@ private:
 
     // Pixel p's encoded RGB under one light (black off the object and in the relief's
     // shadows, as in a dark capture room; camera noise still applies).
-    void shade(std::size_t p, Vec3d toLight, std::uint64_t imageKey, Counts& counts,
+    void shade(std::size_t p, proto::Vec3d toLight, std::uint64_t imageKey, Counts& counts,
                float* rgb) const {
         const SurfacePoint& s = surface_[p];
         rgb[0] = rgb[1] = rgb[2] = 0.0f;
@@ -213,14 +218,14 @@ private:
             return;
         }
         double irradiance = 1.0;
-        if (rig_.kind == LightKind::kPoint) {
-            const Vec3d d{toLight.x - s.position.x, toLight.y - s.position.y,
-                          toLight.z - s.position.z};
+        if (rig_.kind == capture::LightKind::kPoint) {
+            const proto::Vec3d d{toLight.x - s.position.x, toLight.y - s.position.y,
+                                 toLight.z - s.position.z};
             irradiance = rig_.referenceDistance * rig_.referenceDistance / proto::dot(d, d);
             toLight = proto::normalized(d);
         }
-        const Vec3d toViewer = proto::normalized(
-            Vec3d{camera_.x - s.position.x, camera_.y - s.position.y, camera_.z - s.position.z});
+        const proto::Vec3d toViewer = proto::normalized(proto::Vec3d{
+            camera_.x - s.position.x, camera_.y - s.position.y, camera_.z - s.position.z});
         const bool facing = proto::dot(s.normal, toLight) > 0;
         counts.lit += facing ? 1 : 0;
         const bool inShadow = options_.shadows && facing && scene_.reliefShadows(s, toLight);
@@ -229,7 +234,8 @@ private:
         if (inShadow) {
             // no direct light
         } else if (fourier_.empty()) {
-            const Vec3d radiance = microfacetRadiance(s.material, s.normal, toLight, toViewer);
+            const proto::Vec3d radiance =
+                microfacetRadiance(s.material, s.normal, toLight, toViewer);
             value[0] = radiance.x;
             value[1] = radiance.y;
             value[2] = radiance.z;
@@ -244,7 +250,8 @@ private:
         for (int c = 0; c < 3; ++c) {
             double y = irradiance * value[c];
             if (options_.noise == SynthNoise::kCamera) {
-                const std::uint64_t key = imageKey ^ mixBits(p * 3 + static_cast<std::size_t>(c));
+                const std::uint64_t key =
+                    imageKey ^ common::mixBits(p * 3 + static_cast<std::size_t>(c));
                 y += std::sqrt(std::max(y, 0.0) / kFullWell + kReadNoise * kReadNoise) *
                      gaussian(key);
             }
@@ -261,8 +268,8 @@ private:
     const LightRig& rig_;
     const std::vector<SurfacePoint>& surface_;
     const std::vector<double>& fourier_;
-    ProgressBar& progress_;
-    Vec3d camera_;
+    common::ProgressBar& progress_;
+    proto::Vec3d camera_;
     int n_, k_;
     std::atomic<std::uint64_t> shadowed_{0}, lit_{0}, clipped_{0}, samples_{0};
 };
@@ -299,7 +306,8 @@ double writeTruthImages(const std::filesystem::path& truth,
             parameters[p * 8 + c] = s.hit ? static_cast<float>(values[c]) : 0.0f;
         }
         labels[p] = static_cast<float>(s.label) / 255.0f;  // label index as the 8-bit value
-        const Vec3d colour = s.label ? Vec3d{0.75, 0.22, 0.12} : Vec3d{0.80, 0.70, 0.52};
+        const proto::Vec3d colour =
+            s.label ? proto::Vec3d{0.75, 0.22, 0.12} : proto::Vec3d{0.80, 0.70, 0.52};
         labelsPreview[p * 3] = static_cast<float>(colour.x);
         labelsPreview[p * 3 + 1] = static_cast<float>(colour.y);
         labelsPreview[p * 3 + 2] = static_cast<float>(colour.z);
@@ -307,15 +315,17 @@ double writeTruthImages(const std::filesystem::path& truth,
         streakPixels += s.hit && s.label ? 1 : 0;
         hitPixels += s.hit ? 1 : 0;
     }
-    writeImage(truth / "normals.exr", n, n, 3, normals, PixelFormat::kFloat);
-    writeImage(truth / "normals.png", n, n, 3, normalsPreview, PixelFormat::kUint8);
+    image::writeImage(truth / "normals.exr", n, n, 3, normals, image::PixelFormat::kFloat);
+    image::writeImage(truth / "normals.png", n, n, 3, normalsPreview, image::PixelFormat::kUint8);
     // The smooth surface of revolution's normals: the macro shape the relief tilts.
-    writeImage(truth / "macro-normals.exr", n, n, 3, macroNormals, PixelFormat::kFloat);
-    writeImage(truth / "positions.exr", n, n, 3, positions, PixelFormat::kFloat);
-    writeImage(truth / "parameters.exr", n, n, 8, parameters, PixelFormat::kFloat);
-    writeImage(truth / "labels.png", n, n, 1, labels, PixelFormat::kUint8);
-    writeImage(truth / "labels-preview.png", n, n, 3, labelsPreview, PixelFormat::kUint8);
-    writeImage(truth / "mask.png", n, n, 1, mask, PixelFormat::kUint8);
+    image::writeImage(truth / "macro-normals.exr", n, n, 3, macroNormals,
+                      image::PixelFormat::kFloat);
+    image::writeImage(truth / "positions.exr", n, n, 3, positions, image::PixelFormat::kFloat);
+    image::writeImage(truth / "parameters.exr", n, n, 8, parameters, image::PixelFormat::kFloat);
+    image::writeImage(truth / "labels.png", n, n, 1, labels, image::PixelFormat::kUint8);
+    image::writeImage(truth / "labels-preview.png", n, n, 3, labelsPreview,
+                      image::PixelFormat::kUint8);
+    image::writeImage(truth / "mask.png", n, n, 1, mask, image::PixelFormat::kUint8);
     return hitPixels ? static_cast<double>(streakPixels) / hitPixels : 0.0;
 }
 
@@ -323,14 +333,14 @@ double writeTruthImages(const std::filesystem::path& truth,
 void writeFourierTruth(const std::filesystem::path& truth, const std::vector<SurfacePoint>& surface,
                        const std::vector<double>& fourier, int harmonics, int n, double texelMm) {
     const int k = proto::coefficientCount(harmonics);
-    ModelInfo info;
+    model::ModelInfo info;
     info.width = info.height = n;
     info.harmonics = harmonics;
     info.samples = 0;
     info.capture = "vpe synth --reflectance fourier (the truth)";
     info.texelMm = texelMm;
-    ModelWriter writer(truth / "fourier.exr", info);
-    ModelRows rows;
+    model::ModelWriter writer(truth / "fourier.exr", info);
+    model::ModelRows rows;
     rows.resize(n, n, k);
     for (std::size_t p = 0; p < surface.size(); ++p) {
         rows.valid[p] = surface[p].hit ? 1 : 0;
@@ -365,14 +375,15 @@ nlohmann::json describeCapture(const SynthOptions& options, const PotteryScene& 
     description["parameters_channels"] = {"albedo.R", "albedo.G", "albedo.B", "roughness",
                                           "f0",       "label",    "relief",   "streak"};
     description["labels"] = {"ground", "streak"};
-    description["lights"] = {{"kind", rig.kind == LightKind::kPoint ? "point" : "directional"},
-                             {"reference_distance", rig.referenceDistance},
-                             {"train", nlohmann::json::array()},
-                             {"test", nlohmann::json::array()}};
-    for (const Vec3d& l : rig.train) {
+    description["lights"] = {
+        {"kind", rig.kind == capture::LightKind::kPoint ? "point" : "directional"},
+        {"reference_distance", rig.referenceDistance},
+        {"train", nlohmann::json::array()},
+        {"test", nlohmann::json::array()}};
+    for (const proto::Vec3d& l : rig.train) {
         description["lights"]["train"].push_back(vectorJson(l));
     }
-    for (const Vec3d& l : rig.test) {
+    for (const proto::Vec3d& l : rig.test) {
         description["lights"]["test"].push_back(vectorJson(l));
     }
     return description;
@@ -384,7 +395,8 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     checkOptions(options);
     // Everything is written beside DIR and swapped in at the end.
-    AtomicFolder output(options.out, std::filesystem::path("truth") / "synth.json", "vpe synth");
+    common::AtomicFolder output(options.out, std::filesystem::path("truth") / "synth.json",
+                                "vpe synth");
     const std::filesystem::path& partial = output.temporaryPath();
     for (const char* folder : {"train", "test", "truth"}) {
         std::filesystem::create_directories(partial / folder);
@@ -395,7 +407,7 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
     const std::vector<SurfacePoint> surface = traceSurface(scene, options.size, options.threads);
     const std::vector<double> fourier = fourierTruth(options, surface);
 
-    ProgressBar progress("synth", rig.train.size() + rig.test.size());
+    common::ProgressBar progress("synth", rig.train.size() + rig.test.size());
     CaptureRenderer renderer(options, scene, rig, surface, fourier, progress);
     renderer.renderSet(rig.train, partial / "train", 1);
     renderer.renderSet(rig.test, partial / "test", 1000000);
@@ -411,8 +423,9 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
         writeFourierTruth(truth, surface, fourier, options.fourierHarmonics, options.size,
                           scene.texelMillimetres());
     }
-    writeTextFileAtomically(truth / "synth.json",
-                            describeCapture(options, scene, rig, !fourier.empty()).dump(1) + "\n");
+    common::writeTextFileAtomically(
+        truth / "synth.json",
+        describeCapture(options, scene, rig, !fourier.empty()).dump(1) + "\n");
     // Swap the finished capture into place.
     output.commit();
 

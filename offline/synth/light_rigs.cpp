@@ -10,13 +10,13 @@ namespace {
 
 constexpr double kRigDistance = 4.0;
 
-Vec3d aroundVase(double azimuthDegrees, double elevationDegrees) {
+proto::Vec3d aroundVase(double azimuthDegrees, double elevationDegrees) {
     const double a = azimuthDegrees * M_PI / 180, e = elevationDegrees * M_PI / 180;
     return {kRigDistance * std::sin(a) * std::cos(e), kRigDistance * std::sin(e),
             kRigDistance * std::cos(a) * std::cos(e)};
 }
 
-Vec3d domeDirection(double azimuthDegrees, double elevationDegrees) {
+proto::Vec3d domeDirection(double azimuthDegrees, double elevationDegrees) {
     const double a = azimuthDegrees * M_PI / 180, e = elevationDegrees * M_PI / 180;
     return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
 }
@@ -26,7 +26,7 @@ Vec3d domeDirection(double azimuthDegrees, double elevationDegrees) {
 LightRig paperRig() {
     LightRig rig;
     rig.name = "paper";
-    rig.kind = LightKind::kPoint;
+    rig.kind = capture::LightKind::kPoint;
     rig.referenceDistance = kRigDistance;
     for (double elevation : {-10.0, 2.0, 14.0, 26.0, 38.0, 50.0}) {
         for (int a = 0; a < 55; ++a) {
@@ -45,7 +45,7 @@ LightRig paperRig() {
 LightRig domeRig() {
     LightRig rig;
     rig.name = "dome";
-    rig.kind = LightKind::kDirectional;
+    rig.kind = capture::LightKind::kDirectional;
     for (double elevation : {10.0, 30.0, 50.0, 70.0}) {
         for (int a = 0; a < 12; ++a) {
             rig.train.push_back(domeDirection(

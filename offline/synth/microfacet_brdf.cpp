@@ -27,15 +27,15 @@ double schlickFresnel(double f0, double cosThetaD) {
     return f0 + (1.0 - f0) * m2 * m2 * m;
 }
 
-Vec3d microfacetRadiance(const MicrofacetMaterial& material, const Vec3d& normal,
-                         const Vec3d& toLight, const Vec3d& toViewer) {
+proto::Vec3d microfacetRadiance(const MicrofacetMaterial& material, const proto::Vec3d& normal,
+                                const proto::Vec3d& toLight, const proto::Vec3d& toViewer) {
     const double nl = proto::dot(normal, toLight);
     const double nv = proto::dot(normal, toViewer);
     if (nl <= 0.0 || nv <= 0.0) {
         return {0, 0, 0};
     }
-    const Vec3d half = proto::normalized(
-        Vec3d{toLight.x + toViewer.x, toLight.y + toViewer.y, toLight.z + toViewer.z});
+    const proto::Vec3d half = proto::normalized(
+        proto::Vec3d{toLight.x + toViewer.x, toLight.y + toViewer.y, toLight.z + toViewer.z});
     const double nh = std::max(proto::dot(normal, half), 0.0);
     const double lh = std::max(proto::dot(toLight, half), 0.0);
     const double alpha = std::max(material.roughness, 1e-3);

@@ -27,11 +27,11 @@ double smoothstep(double a, double b, double x) {
     return t * t * (3 - 2 * t);
 }
 
-Vec3d mix(const Vec3d& a, const Vec3d& b, double t) {
+proto::Vec3d mix(const proto::Vec3d& a, const proto::Vec3d& b, double t) {
     return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
 }
 
-Vec3d scaled(const Vec3d& v, double s) {
+proto::Vec3d scaled(const proto::Vec3d& v, double s) {
     return {v.x * s, v.y * s, v.z * s};
 }
 
@@ -39,17 +39,18 @@ Vec3d scaled(const Vec3d& v, double s) {
 
 PotteryScene::PotteryScene(int size, std::uint64_t seed)
     : size_(size),
-      pattern_(mixBits(seed ^ 0x51)),
-      relief_(mixBits(seed ^ 0x52)),
-      albedo_(mixBits(seed ^ 0x53)),
-      roughness_(mixBits(seed ^ 0x54)) {
+      pattern_(common::mixBits(seed ^ 0x51)),
+      relief_(common::mixBits(seed ^ 0x52)),
+      albedo_(common::mixBits(seed ^ 0x53)),
+      roughness_(common::mixBits(seed ^ 0x54)) {
     const double tangent = kHalfWidth / (kCameraDistance - 1.0);
     camera_.fx = camera_.fy = (size / 2.0) / tangent;
     camera_.cx = camera_.cy = (size - 1) / 2.0;
     camera_.rotation = {1, 0, 0, 0, -1, 0, 0, 0, -1};  // looking down −z, image y down
     camera_.translation = {0, 0, kCameraDistance};
     for (int k = 0; k < 3; ++k) {
-        streakPhase_[k] = uniformFromBits(mixBits(seed * 3 + static_cast<std::uint64_t>(k)));
+        streakPhase_[k] =
+            common::uniformFromBits(common::mixBits(seed * 3 + static_cast<std::uint64_t>(k)));
     }
     reliefGrid_.resize(static_cast<std::size_t>(kGrid) * kGrid);
     for (int j = 0; j < kGrid; ++j) {
@@ -117,8 +118,10 @@ void PotteryScene::shade(SurfacePoint& p) const {
     const double speckle = albedo_.fractal(40.0 * p.u + 7, 40.0 * p.v, 2);
     const double roughNoise = roughness_.fractal(5.0 * p.u, 5.0 * p.v, 3);
     // Earthy ground: beige-brown, rough; streaks: red-brown, glossier.
-    const Vec3d ground = scaled(Vec3d{0.42, 0.31, 0.20}, 1.0 + 0.18 * shadeNoise + 0.06 * speckle);
-    const Vec3d streak = scaled(Vec3d{0.40, 0.10, 0.05}, 1.0 + 0.15 * shadeNoise + 0.04 * speckle);
+    const proto::Vec3d ground =
+        scaled(proto::Vec3d{0.42, 0.31, 0.20}, 1.0 + 0.18 * shadeNoise + 0.06 * speckle);
+    const proto::Vec3d streak =
+        scaled(proto::Vec3d{0.40, 0.10, 0.05}, 1.0 + 0.15 * shadeNoise + 0.04 * speckle);
     p.material.albedo = mix(ground, streak, t);
     p.material.roughness = (0.55 + (0.16 - 0.55) * t) * (1.0 + 0.25 * roughNoise);
     p.material.f0 = 0.035 + 0.015 * t;
@@ -129,9 +132,9 @@ SurfacePoint PotteryScene::surfaceAt(int x, int y) const {
     const auto& r = camera_.rotation;
     const double cx = (x - camera_.cx) / camera_.fx;
     const double cy = (y - camera_.cy) / camera_.fy;
-    const Vec3d d = proto::normalized(Vec3d{
+    const proto::Vec3d d = proto::normalized(proto::Vec3d{
         r[0] * cx + r[3] * cy + r[6], r[1] * cx + r[4] * cy + r[7], r[2] * cx + r[5] * cy + r[8]});
-    const Vec3d o = cameraCenter();
+    const proto::Vec3d o = cameraCenter();
     // Outside the surface x² + z² > r(y)²: march to the first crossing, then bisect.
     auto inside = [&](double t) {
         const double px = o.x + t * d.x, py = o.y + t * d.y, pz = o.z + t * d.z;
@@ -153,14 +156,14 @@ SurfacePoint PotteryScene::surfaceAt(int x, int y) const {
         (inside(mid) > 0 ? near : far) = mid;
     }
     const double t = 0.5 * (near + far);
-    const Vec3d base{o.x + t * d.x, o.y + t * d.y, o.z + t * d.z};
+    const proto::Vec3d base{o.x + t * d.x, o.y + t * d.y, o.z + t * d.z};
     p.hit = true;
     p.u = std::atan2(base.x, base.z);
     p.v = base.y;
     const double slope = radiusSlope(p.v);
-    p.baseNormal = proto::normalized(Vec3d{std::sin(p.u), -slope, std::cos(p.u)});
+    p.baseNormal = proto::normalized(proto::Vec3d{std::sin(p.u), -slope, std::cos(p.u)});
     p.tangentU = {std::cos(p.u), 0, -std::sin(p.u)};
-    p.tangentV = proto::normalized(Vec3d{slope * std::sin(p.u), 1, slope * std::cos(p.u)});
+    p.tangentV = proto::normalized(proto::Vec3d{slope * std::sin(p.u), 1, slope * std::cos(p.u)});
     shade(p);
     p.relief = reliefAt(p.u, p.v, p.streak);
     // Shading normal from the relief's gradient per unit arc length along each tangent.
@@ -173,7 +176,8 @@ SurfacePoint PotteryScene::surfaceAt(int x, int y) const {
     const double dhdv =
         (reliefAt(p.u, p.v + kStep, p.streak) - reliefAt(p.u, p.v - kStep, p.streak)) /
         (2 * kStep * arcV);
-    p.normal = proto::normalized(Vec3d{p.baseNormal.x - dhdu * p.tangentU.x - dhdv * p.tangentV.x,
+    p.normal =
+        proto::normalized(proto::Vec3d{p.baseNormal.x - dhdu * p.tangentU.x - dhdv * p.tangentV.x,
                                        p.baseNormal.y - dhdu * p.tangentU.y - dhdv * p.tangentV.y,
                                        p.baseNormal.z - dhdu * p.tangentU.z - dhdv * p.tangentV.z});
     p.position = {base.x + p.relief * p.baseNormal.x, base.y + p.relief * p.baseNormal.y,
@@ -181,7 +185,7 @@ SurfacePoint PotteryScene::surfaceAt(int x, int y) const {
     return p;
 }
 
-bool PotteryScene::reliefShadows(const SurfacePoint& p, const Vec3d& toLight) const {
+bool PotteryScene::reliefShadows(const SurfacePoint& p, const proto::Vec3d& toLight) const {
     const double up = proto::dot(toLight, p.baseNormal);
     if (up <= 0) {
         return true;  // below the smooth surface's horizon

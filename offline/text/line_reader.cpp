@@ -22,7 +22,7 @@ bool isBlank(char c) {
 std::string readTextFile(const std::filesystem::path& path, std::string_view what) {
     std::ifstream stream(path, std::ios::binary);
     if (!stream) {
-        throw InputError(path, "cannot open " + std::string(what));
+        throw common::InputError(path, "cannot open " + std::string(what));
     }
     std::ostringstream contents;
     contents << stream.rdbuf();

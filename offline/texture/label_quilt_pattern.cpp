@@ -29,10 +29,10 @@ cv::Mat distanceToZero(const cv::Mat& mask) {
 }  // namespace
 
 std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, int height) {
-    const LabelMap labels = readLabelImage(p.labels);
+    const segment::LabelMap labels = segment::readLabelImage(p.labels);
     if (p.region < 0 || p.region >= labels.labels) {
-        throw InputError(p.labels, "has labels 0.." + std::to_string(labels.labels - 1) +
-                                       ", not region " + std::to_string(p.region));
+        throw common::InputError(p.labels, "has labels 0.." + std::to_string(labels.labels - 1) +
+                                               ", not region " + std::to_string(p.region));
     }
     int block = 0;
     if (p.block) {
@@ -40,9 +40,9 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     } else {
         const StreakStatistics streaks = measureStreaks(streakMaskFromLabels(labels, p.region));
         if (std::isnan(streaks.widthMedian)) {
-            throw InputError(p.labels,
-                             "region " + std::to_string(p.region) +
-                                 " has no band whose width can be measured (give block=)");
+            throw common::InputError(p.labels,
+                                     "region " + std::to_string(p.region) +
+                                         " has no band whose width can be measured (give block=)");
         }
         block = std::max(8, static_cast<int>(std::lround(4 * streaks.widthMedian)));
     }
@@ -56,14 +56,14 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
         const bool in = labels.values[i] == p.region;
         inside.data[i] = in ? 255 : 0;
         outside.data[i] = in ? 0 : 255;
-        labelled[i] = labels.values[i] == LabelMap::kNoLabel ? 1 : 0;  // quilt "region" 0
+        labelled[i] = labels.values[i] == segment::LabelMap::kNoLabel ? 1 : 0;  // quilt "region" 0
     }
     const cv::Mat toOutside = distanceToZero(inside), toInside = distanceToZero(outside);
     const float clip = 0.5f * static_cast<float>(block);
-    quilt::SourceTexture source;
+    model::CoefficientImage source;
     source.width = labels.width;
     source.height = labels.height;
-    source.channels = 1;
+    source.dims = 1;
     source.values.resize(labels.values.size());
     for (std::size_t i = 0; i < labels.values.size(); ++i) {
         const float inner = reinterpret_cast<const float*>(toOutside.data)[i];
@@ -79,8 +79,8 @@ std::vector<float> quiltLabelPattern(const LabelQuiltParameters& p, int width, i
     quilt::RegionQuilt quilted;
     try {
         quilted = quilt::quiltRegion(source, labelled, 0, width, height, settings);
-    } catch (const InputError& error) {
-        throw InputError(p.labels, std::string("cannot be quilted: ") + error.what());
+    } catch (const common::InputError& error) {
+        throw common::InputError(p.labels, std::string("cannot be quilted: ") + error.what());
     }
     std::vector<float> weight(static_cast<std::size_t>(width) * height);
     for (std::size_t i = 0; i < weight.size(); ++i) {

@@ -18,29 +18,30 @@ constexpr int kBandRows = 32;
 
 }  // namespace
 
-ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps) {
+model::ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps) {
     if (regionMaps.empty()) {
-        throw InputError("no region maps to compose");
+        throw common::InputError("no region maps to compose");
     }
-    ModelInfo first;
+    model::ModelInfo first;
     for (std::size_t k = 0; k < regionMaps.size(); ++k) {
-        const ModelReader reader(regionMaps[k]);
-        const ModelInfo& info = reader.info();
+        const model::ModelReader reader(regionMaps[k]);
+        const model::ModelInfo& info = reader.info();
         if (k == 0) {
             first = info;
             continue;
         }
         if (info.width != first.width || info.height != first.height) {
-            throw InputError(regionMaps[k], "size " + std::to_string(info.width) + " × " +
-                                                std::to_string(info.height) + " differs from " +
-                                                regionMaps[0].filename().string() + "'s " +
-                                                std::to_string(first.width) + " × " +
-                                                std::to_string(first.height));
+            throw common::InputError(
+                regionMaps[k],
+                "size " + std::to_string(info.width) + " × " + std::to_string(info.height) +
+                    " differs from " + regionMaps[0].filename().string() + "'s " +
+                    std::to_string(first.width) + " × " + std::to_string(first.height));
         }
         if (info.harmonics != first.harmonics) {
-            throw InputError(regionMaps[k], std::to_string(info.harmonics) + " harmonics, but " +
-                                                regionMaps[0].filename().string() + " has " +
-                                                std::to_string(first.harmonics));
+            throw common::InputError(regionMaps[k], std::to_string(info.harmonics) +
+                                                        " harmonics, but " +
+                                                        regionMaps[0].filename().string() +
+                                                        " has " + std::to_string(first.harmonics));
         }
     }
     return first;
@@ -48,12 +49,12 @@ ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps) 
 
 ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& regionMaps,
                                 const WeightMaps& weights, const std::filesystem::path& out,
-                                std::optional<ModelStorage> storage) {
-    const ModelInfo first = checkRegionMaps(regionMaps);
+                                std::optional<model::ModelStorage> storage) {
+    const model::ModelInfo first = checkRegionMaps(regionMaps);
     const int regions = static_cast<int>(regionMaps.size());
     if (weights.regions() != regions || weights.width != first.width ||
         weights.height != first.height) {
-        throw InputError(
+        throw common::InputError(
             out, "weight maps (" + std::to_string(weights.regions()) + " of " +
                      std::to_string(weights.width) + " × " + std::to_string(weights.height) +
                      ") do not match the " + std::to_string(regions) + " region maps of " +
@@ -66,7 +67,7 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
     report.regions = regions;
     report.meanWeight.assign(static_cast<std::size_t>(regions), 0.0);
 
-    ModelInfo info;
+    model::ModelInfo info;
     info.width = first.width;
     info.height = first.height;
     info.harmonics = first.harmonics;
@@ -80,18 +81,18 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
                    regionMaps[0].parent_path().string();
     // The relief is blended as the coefficients are (a region without one is flat there).
     for (const auto& path : regionMaps) {
-        info.detailNormals = info.detailNormals || ModelReader(path).info().detailNormals;
+        info.detailNormals = info.detailNormals || model::ModelReader(path).info().detailNormals;
     }
 
-    std::vector<std::unique_ptr<ModelReader>> readers;
+    std::vector<std::unique_ptr<model::ModelReader>> readers;
     for (const auto& path : regionMaps) {
-        readers.push_back(std::make_unique<ModelReader>(path));
+        readers.push_back(std::make_unique<model::ModelReader>(path));
     }
-    ModelWriter writer(out, info);
+    model::ModelWriter writer(out, info);
     const int k = proto::coefficientCount(first.harmonics);
     const auto perPixel = static_cast<std::size_t>(3 * k);
-    std::vector<ModelRows> inputs(static_cast<std::size_t>(regions));
-    ModelRows rows;
+    std::vector<model::ModelRows> inputs(static_cast<std::size_t>(regions));
+    model::ModelRows rows;
     std::vector<double> coefficient(perPixel);
     for (int rowBegin = 0; rowBegin < first.height; rowBegin += kBandRows) {
         const int bandRows = std::min(kBandRows, first.height - rowBegin);
@@ -108,7 +109,7 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
                 double detail[3] = {0, 0, 0};
                 bool valid = true;
                 for (int r = 0; r < regions; ++r) {
-                    const ModelRows& in = inputs[static_cast<std::size_t>(r)];
+                    const model::ModelRows& in = inputs[static_cast<std::size_t>(r)];
                     const double alpha = static_cast<double>(weights.at(r, x, rowBegin + y));
                     report.meanWeight[static_cast<std::size_t>(r)] += alpha;
                     if (alpha == 0) {

@@ -165,16 +165,16 @@ StreakStatistics measureStreaks(const StreakMask& mask) {
     return stats;
 }
 
-StreakMask streakMaskFromLabels(const LabelMap& labels, int region) {
+StreakMask streakMaskFromLabels(const segment::LabelMap& labels, int region) {
     StreakMask mask;
     mask.width = labels.width;
     mask.height = labels.height;
     mask.pixels.assign(labels.values.size(), StreakPixel::kUnknown);
     for (std::size_t p = 0; p < labels.values.size(); ++p) {
         const std::uint8_t label = labels.values[p];
-        mask.pixels[p] = label == LabelMap::kNoLabel ? StreakPixel::kUnknown
-                         : label == region           ? StreakPixel::kStreak
-                                                     : StreakPixel::kBackground;
+        mask.pixels[p] = label == segment::LabelMap::kNoLabel ? StreakPixel::kUnknown
+                         : label == region                    ? StreakPixel::kStreak
+                                                              : StreakPixel::kBackground;
     }
     return mask;
 }
@@ -193,14 +193,14 @@ StreakMask streakMaskFromWeights(const std::vector<float>& weight, int width, in
 }
 
 StreakStatistics measureLabelStreaks(const std::filesystem::path& labels, int region) {
-    const LabelMap map = readLabelImage(labels);
+    const segment::LabelMap map = segment::readLabelImage(labels);
     if (region < 0 || region >= map.labels) {
-        throw InputError(labels, "has labels 0.." + std::to_string(map.labels - 1) +
-                                     ", not region " + std::to_string(region));
+        throw common::InputError(labels, "has labels 0.." + std::to_string(map.labels - 1) +
+                                             ", not region " + std::to_string(region));
     }
     StreakStatistics stats = measureStreaks(streakMaskFromLabels(map, region));
     if (stats.streakPixels == 0) {
-        throw InputError(labels, "region " + std::to_string(region) + " has no pixels");
+        throw common::InputError(labels, "region " + std::to_string(region) + " has no pixels");
     }
     return stats;
 }

@@ -19,7 +19,7 @@ constexpr double kPi = 3.14159265358979323846;
 class RandomStream {
 public:
     explicit RandomStream(std::uint64_t key) : key_(key) {}
-    double uniform() { return uniformFromBits(mixBits(key_ + counter_++)); }
+    double uniform() { return common::uniformFromBits(common::mixBits(key_ + counter_++)); }
     double normal() {                       // Box–Muller
         const double u1 = 1.0 - uniform();  // (0, 1]
         const double u2 = uniform();
@@ -32,8 +32,8 @@ private:
 };
 
 std::uint64_t streamKey(std::uint64_t seed, std::uint64_t stroke, std::uint64_t channel) {
-    return mixBits(mixBits(seed ^ 0x68696461ull) + stroke * 0x9E3779B97F4A7C15ull +
-                   channel * 0xD1B54A32D192ED03ull);
+    return common::mixBits(common::mixBits(seed ^ 0x68696461ull) + stroke * 0x9E3779B97F4A7C15ull +
+                           channel * 0xD1B54A32D192ED03ull);
 }
 
 // A smooth random function of t with unit variance everywhere: Catmull–Rom through standard
@@ -59,7 +59,7 @@ public:
 
 private:
     double knot(std::int64_t i) const {
-        RandomStream stream(mixBits(key_ + static_cast<std::uint64_t>(i)));
+        RandomStream stream(common::mixBits(key_ + static_cast<std::uint64_t>(i)));
         return stream.normal();
     }
     std::uint64_t key_;
@@ -213,8 +213,8 @@ ResolvedStrokes resolveStrokes(const StrokeParameters& p) {
     if (!p.labels.empty()) {
         s.source = measureLabelStreaks(p.labels, p.region.value_or(0));
         if (std::isnan(s.source->widthMedian)) {
-            throw InputError(p.labels, "region " + std::to_string(p.region.value_or(0)) +
-                                           " has no band whose width can be measured");
+            throw common::InputError(p.labels, "region " + std::to_string(p.region.value_or(0)) +
+                                                   " has no band whose width can be measured");
         }
     }
     s.fitWidth = s.source && !p.width;

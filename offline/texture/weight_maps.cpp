@@ -97,7 +97,7 @@ public:
     }
     std::string_view text() const { return value_; }
     [[noreturn]] void fail(const std::string& problem) const {
-        throw InputError(label_ + ": " + problem);
+        throw common::InputError(label_ + ": " + problem);
     }
 
 private:
@@ -144,7 +144,7 @@ void parseStrokes(ParameterParser parser, const std::vector<std::string_view>& p
             }
             strokes.labels = std::filesystem::path(std::string(parser.text()));
         } else if (name == "region") {
-            strokes.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            strokes.region = static_cast<int>(parser.integer(0, segment::LabelMap::kMaxLabels - 1));
         } else if (name == "coverage") {
             strokes.coverage = parser.number(0, 0.9, false);
         } else if (name == "count") {
@@ -203,7 +203,7 @@ void parseQuilted(ParameterParser parser, const std::vector<std::string_view>& p
             }
             quilted.labels = std::filesystem::path(std::string(parser.text()));
         } else if (name == "region") {
-            quilted.region = static_cast<int>(parser.integer(0, LabelMap::kMaxLabels - 1));
+            quilted.region = static_cast<int>(parser.integer(0, segment::LabelMap::kMaxLabels - 1));
             hasRegion = true;
         } else if (name == "block") {
             quilted.block = static_cast<int>(parser.integer(8, 4096));
@@ -226,7 +226,8 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
     source.entry = std::string(entry);
     source.index = index;
     if (entry.empty()) {
-        throw InputError(label + ": empty entry (one entry per region, separated by commas)");
+        throw common::InputError(label +
+                                 ": empty entry (one entry per region, separated by commas)");
     }
     std::vector<std::string_view> parts = split(entry, ':');
     const std::string_view kind = parts.front();
@@ -235,7 +236,7 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
     if (kind == "image") {
         source.kind = WeightKind::kImage;
         if (parts.size() < 2 || parts[1].empty()) {
-            throw InputError(label + ": image needs a path, as in image:weights.png");
+            throw common::InputError(label + ": image needs a path, as in image:weights.png");
         }
         source.image = std::filesystem::path(std::string(parts[1]));
         first = 2;
@@ -308,8 +309,8 @@ WeightSource parseEntry(std::string_view origin, int index, std::string_view ent
             source.value = parser.number(0, 1e6);
         }
     } else {
-        throw InputError(label + ": unknown kind '" + std::string(kind) +
-                         "' (image, stripes, radial, noise, strokes, quilted, constant)");
+        throw common::InputError(label + ": unknown kind '" + std::string(kind) +
+                                 "' (image, stripes, radial, noise, strokes, quilted, constant)");
     }
     return source;
 }
@@ -323,7 +324,7 @@ double profile(double s, double sharpness) {
 
 // Grey value of an image pixel: the single channel, grey of grey + alpha, or the Rec. 709
 // luma of RGB(A) as stored.
-float greyAt(const FloatImage& image, int x, int y) {
+float greyAt(const image::FloatImage& image, int x, int y) {
     if (image.channels < 3) {
         return image.at(x, y, 0);
     }
@@ -331,15 +332,15 @@ float greyAt(const FloatImage& image, int x, int y) {
 }
 
 std::vector<float> imageWeight(const WeightSource& source, int width, int height) {
-    const FloatImage image = readImage(source.image);
+    const image::FloatImage image = image::readImage(source.image);
     std::vector<float> grey(static_cast<std::size_t>(image.width) * image.height);
     for (int y = 0; y < image.height; ++y) {
         for (int x = 0; x < image.width; ++x) {
             const float value = greyAt(image, x, y);
             if (!std::isfinite(value) || value < 0) {
-                throw InputError(source.image, "pixel (" + std::to_string(x) + ", " +
-                                                   std::to_string(y) +
-                                                   "): a weight must be finite and ≥ 0");
+                throw common::InputError(source.image, "pixel (" + std::to_string(x) + ", " +
+                                                           std::to_string(y) +
+                                                           "): a weight must be finite and ≥ 0");
             }
             grey[static_cast<std::size_t>(y) * image.width + x] = value;
         }
@@ -378,7 +379,8 @@ std::vector<float> imageWeight(const WeightSource& source, int width, int height
 
 std::vector<WeightSource> parseWeightSpec(std::string_view spec, std::string_view origin) {
     if (spec.empty()) {
-        throw InputError(std::string(origin) + ": empty weight spec (one entry per region)");
+        throw common::InputError(std::string(origin) +
+                                 ": empty weight spec (one entry per region)");
     }
     std::vector<WeightSource> sources;
     int index = 1;
@@ -417,7 +419,7 @@ std::vector<float> generateWeight(const WeightSource& source, int width, int hei
     const double cx = source.centreX.value_or(0.5 * width);
     const double cy = source.centreY.value_or(0.5 * height);
     const double radius = source.radius.value_or(0.5 * std::min(width, height));
-    const GradientNoise noise(source.seed);
+    const common::GradientNoise noise(source.seed);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
             // Pixel centres, so a map and its transpose or mirror agree.
@@ -535,7 +537,7 @@ void writeWeightPicture(const std::filesystem::path& path, const WeightMaps& map
             put(regions * (tileW + kGap) + tx, ty, r, g, b);
         }
     }
-    writeImage8(path, width, tileH, 3, pixels);
+    image::writeImage8(path, width, tileH, 3, pixels);
 }
 
 }  // namespace vpe::texture

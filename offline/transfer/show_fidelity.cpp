@@ -177,7 +177,8 @@ std::vector<double> lightRatio(const renderer::SimulatedShowView& show,
 }
 
 // A picture's sRGB values averaged over the channels, everywhere valid.
-std::vector<double> pictureField(const Rgb8Image& picture, std::vector<std::uint8_t>& valid) {
+std::vector<double> pictureField(const image::Rgb8Image& picture,
+                                 std::vector<std::uint8_t>& valid) {
     const std::size_t n = static_cast<std::size_t>(picture.width) * picture.height;
     std::vector<double> field(n);
     for (std::size_t p = 0; p < n; ++p) {
@@ -208,10 +209,10 @@ std::vector<std::uint8_t> reachPicture(const renderer::SimulatedShowView& view) 
 ShowCheckReport checkShow(const ShowCheckOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (options.bundles.empty() || options.bundles.size() > 32) {
-        throw InputError("show check: give 1 to 32 bundles, one per projector");
+        throw common::InputError("show check: give 1 to 32 bundles, one per projector");
     }
     if (options.views < 1) {
-        throw InputError("--views: expected at least 1");
+        throw common::InputError("--views: expected at least 1");
     }
     const SyntheticTruth truth(options.capture);
     std::vector<proto::BundleFile> files;
@@ -219,17 +220,17 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
         try {
             files.push_back(proto::BundleFile::open(path));
         } catch (const proto::BundleError& error) {
-            throw InputError(error.what());
+            throw common::InputError(error.what());
         }
         const proto::BundleView& bundle = files.back().view();
         if (bundle.textureWidth() != truth.width() || bundle.textureHeight() != truth.height()) {
-            throw InputError(path, "textures of " + std::to_string(bundle.textureWidth()) + " x " +
-                                       std::to_string(bundle.textureHeight()) +
-                                       ", the capture's truth is " + std::to_string(truth.width()) +
-                                       " x " + std::to_string(truth.height()));
+            throw common::InputError(
+                path, "textures of " + std::to_string(bundle.textureWidth()) + " x " +
+                          std::to_string(bundle.textureHeight()) + ", the capture's truth is " +
+                          std::to_string(truth.width()) + " x " + std::to_string(truth.height()));
         }
         if (bundle.mesh().positions.size() != files.front().view().mesh().positions.size()) {
-            throw InputError(path, "not the same object as the first bundle's");
+            throw common::InputError(path, "not the same object as the first bundle's");
         }
     }
     std::vector<std::unique_ptr<renderer::BundleScene>> scenes;
@@ -238,12 +239,12 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
     }
     const auto& positions = files.front().view().mesh().positions;
     const MeshBounds bounds = meshBounds({positions.begin(), positions.end()});
-    const Vec3d centre = bounds.centre();
+    const proto::Vec3d centre = bounds.centre();
     const double distance = 4.0 * (bounds.upper.y - bounds.lower.y);
     const auto at = [&](double azimuth, double elevation) {
-        const Vec3d d = directionAt(azimuth, elevation);
-        return Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
-                     centre.z + distance * d.z};
+        const proto::Vec3d d = directionAt(azimuth, elevation);
+        return proto::Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
+                            centre.z + distance * d.z};
     };
     if (!options.out.empty()) {
         std::filesystem::create_directories(options.out);
@@ -251,11 +252,11 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
 
     ShowCheckReport report;
     std::size_t seen = 0, lit = 0;
-    ProgressBar progress("show", static_cast<std::size_t>(options.views));
+    common::ProgressBar progress("show", static_cast<std::size_t>(options.views));
     for (int k = 0; k < options.views; ++k) {
         ShowViewCheck check;
         check.azimuthDegrees = 360.0 * k / options.views;
-        const Vec3d viewer = at(check.azimuthDegrees, options.elevationDegrees);
+        const proto::Vec3d viewer = at(check.azimuthDegrees, options.elevationDegrees);
         renderer::VirtualLight light;
         light.position =
             at(check.azimuthDegrees + options.lightAzimuthDegrees, options.lightElevationDegrees);
@@ -282,8 +283,10 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
         const renderer::RgbImage truthImage =
             renderTruthView(renderScenes.front(), truth, camera, options.threads);
         const double exposure = truthExposure(truthImage, show.coverage);
-        const Rgb8Image a = toSrgb8(truthImage.values, camera.width, camera.height, exposure);
-        const Rgb8Image b = toSrgb8(show.radiance.values, camera.width, camera.height, exposure);
+        const image::Rgb8Image a =
+            image::toSrgb8(truthImage.values, camera.width, camera.height, exposure);
+        const image::Rgb8Image b =
+            image::toSrgb8(show.radiance.values, camera.width, camera.height, exposure);
         std::vector<std::uint8_t> compared(show.coverage.values.size(), 0);
         for (std::size_t p = 0; p < compared.size(); ++p) {
             if (!show.coverage.values[p]) {
@@ -298,7 +301,7 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
                 compared[p] = compared[p] || a.values[3 * p + c] > 0 || b.values[3 * p + c] > 0;
             }
         }
-        check.psnr = psnr(a, b, compared);
+        check.psnr = image::psnr(a, b, compared);
         const renderer::DirectView direct =
             renderer::renderDirectView(renderScenes.front(), camera, renderOptions);
         std::vector<std::uint8_t> valid;
@@ -314,9 +317,9 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
             const std::string base =
                 (options.out / ("view" + std::to_string(static_cast<int>(check.azimuthDegrees))))
                     .string();
-            writeImage8(base + "-truth.png", a.width, a.height, 3, a.values);
-            writeImage8(base + "-show.png", b.width, b.height, 3, b.values);
-            writeImage8(base + "-reach.png", a.width, a.height, 3, reachPicture(show));
+            image::writeImage8(base + "-truth.png", a.width, a.height, 3, a.values);
+            image::writeImage8(base + "-show.png", b.width, b.height, 3, b.values);
+            image::writeImage8(base + "-reach.png", a.width, a.height, 3, reachPicture(show));
             // The light relative to the material: mid grey 1, black 0.8 or less, white 1.2 or
             // more; red where it is not measured (too dark, or unlit).
             std::vector<std::uint8_t> relative(3 * ratio.size(), 0);
@@ -346,7 +349,7 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
                     }
                 }
             }
-            writeImage8(base + "-light.png", a.width, a.height, 3, relative);
+            image::writeImage8(base + "-light.png", a.width, a.height, 3, relative);
         }
         report.views.push_back(check);
         progress.advance();

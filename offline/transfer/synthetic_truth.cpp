@@ -19,16 +19,17 @@ namespace {
 // GGX needs α > 0; the synthetic materials stay far above this.
 constexpr double kMinRoughness = 0.02;
 
-FloatImage readTruthImage(const std::filesystem::path& path, int channels, int width, int height) {
-    FloatImage image = readImage(path);
+image::FloatImage readTruthImage(const std::filesystem::path& path, int channels, int width,
+                                 int height) {
+    image::FloatImage image = image::readImage(path);
     if (image.channels < channels ||
         (width > 0 && (image.width != width || image.height != height))) {
-        throw InputError(path,
-                         "expected " + std::to_string(channels) + " channels of " +
-                             (width > 0 ? std::to_string(width) + " x " + std::to_string(height)
-                                        : std::string("the truth's size")) +
-                             ", found " + std::to_string(image.channels) + " of " +
-                             std::to_string(image.width) + " x " + std::to_string(image.height));
+        throw common::InputError(
+            path, "expected " + std::to_string(channels) + " channels of " +
+                      (width > 0 ? std::to_string(width) + " x " + std::to_string(height)
+                                 : std::string("the truth's size")) +
+                      ", found " + std::to_string(image.channels) + " of " +
+                      std::to_string(image.width) + " x " + std::to_string(image.height));
     }
     return image;
 }
@@ -37,13 +38,14 @@ FloatImage readTruthImage(const std::filesystem::path& path, int channels, int w
 
 SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
     const std::filesystem::path truth = capture / "truth";
-    const FloatImage parameters = readTruthImage(truth / "parameters.exr", 5, 0, 0);
+    const image::FloatImage parameters = readTruthImage(truth / "parameters.exr", 5, 0, 0);
     width_ = parameters.width;
     height_ = parameters.height;
-    const FloatImage normals = readTruthImage(truth / "normals.exr", 3, width_, height_);
-    const FloatImage macro = readTruthImage(truth / "macro-normals.exr", 3, width_, height_);
+    const image::FloatImage normals = readTruthImage(truth / "normals.exr", 3, width_, height_);
+    const image::FloatImage macro = readTruthImage(truth / "macro-normals.exr", 3, width_, height_);
     // The frame the fit measures the relief in: the capture camera's right.
-    const Vec3d right = imageRightDirection(openCapture(capture / "train"));
+    const proto::Vec3d right =
+        normals::imageRightDirection(capture::openCapture(capture / "train"));
 
     const std::size_t texels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
     parameters_.assign(texels * 6, 0.0f);
@@ -54,13 +56,14 @@ SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
         std::copy_n(p, 3, parameters_.begin() + static_cast<long>(6 * t));  // albedo
         parameters_[6 * t + 3] = p[3];                                      // roughness
         parameters_[6 * t + 4] = p[4];                                      // F0
-        const auto vec = [t](const FloatImage& image) {
+        const auto vec = [t](const image::FloatImage& image) {
             const float* v = image.pixels.data() + t * static_cast<std::size_t>(image.channels);
-            return Vec3d{v[0], v[1], v[2]};
+            return proto::Vec3d{v[0], v[1], v[2]};
         };
-        const Vec3d n = vec(normals), m = vec(macro);
+        const proto::Vec3d n = vec(normals), m = vec(macro);
         if (proto::dot(n, n) > 0.25 && proto::dot(m, m) > 0.25) {  // the object is there
-            const Vec3d d = detailNormalOf(proto::normalized(n), proto::normalized(m), right);
+            const proto::Vec3d d =
+                normals::detailNormalOf(proto::normalized(n), proto::normalized(m), right);
             detail_[2 * t] = static_cast<float>(d.x);
             detail_[2 * t + 1] = static_cast<float>(d.y);
         }
@@ -76,12 +79,12 @@ SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
 std::array<double, 3> SyntheticTruth::radiance(const renderer::SurfacePoint& point,
                                                const renderer::VirtualLight& light,
                                                const renderer::Vec3d& viewer) const {
-    const auto unit = [](const Vec3d& from, const Vec3d& to) {
-        const Vec3d d{to.x - from.x, to.y - from.y, to.z - from.z};
+    const auto unit = [](const proto::Vec3d& from, const proto::Vec3d& to) {
+        const proto::Vec3d d{to.x - from.x, to.y - from.y, to.z - from.z};
         return proto::normalized(d);
     };
-    const Vec3d l = unit(point.position, light.position), v = unit(point.position, viewer);
-    const Vec3d n = renderer::shadingNormal(reliefTextures_, point);
+    const proto::Vec3d l = unit(point.position, light.position), v = unit(point.position, viewer);
+    const proto::Vec3d n = renderer::shadingNormal(reliefTextures_, point);
     const double horizon =
         proto::horizonFactor(proto::dot(n, l), proto::dot(point.geometricNormal, l),
                              proto::dot(n, v), proto::dot(point.geometricNormal, v));
@@ -94,7 +97,7 @@ std::array<double, 3> SyntheticTruth::radiance(const renderer::SurfacePoint& poi
     material.albedo = {values[0], values[1], values[2]};
     material.roughness = std::max(values[3], kMinRoughness);
     material.f0 = values[4];
-    const Vec3d f = synth::microfacetRadiance(material, n, l, v);
+    const proto::Vec3d f = synth::microfacetRadiance(material, n, l, v);
     const std::array<double, 3> irradiance = light.irradianceAt(point.position);
     return {irradiance[0] * horizon * f.x, irradiance[1] * horizon * f.y,
             irradiance[2] * horizon * f.z};

@@ -36,10 +36,11 @@ double reliefError(const renderer::BundleScene& bundleScene, const SyntheticTrut
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const renderer::Vec2d uv{(x + 0.5) / w, 1.0 - (y + 0.5) / h};
-            const Vec3d a = proto::normalized(renderer::sampleDetailNormal(scene.material, uv));
+            const proto::Vec3d a =
+                proto::normalized(renderer::sampleDetailNormal(scene.material, uv));
             const std::size_t t = static_cast<std::size_t>(y) * w + x;
-            const Vec3d b = proto::detailNormalFromXy<double>(truth.detailNormals()[2 * t],
-                                                              truth.detailNormals()[2 * t + 1]);
+            const proto::Vec3d b = proto::detailNormalFromXy<double>(
+                truth.detailNormals()[2 * t], truth.detailNormals()[2 * t + 1]);
             sum += std::acos(std::clamp(proto::dot(a, b), -1.0, 1.0));
         }
     }
@@ -73,10 +74,10 @@ renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const Syn
                                    const proto::PinholeCamera& camera, int threads) {
     renderer::RgbImage image(camera.width, camera.height);
     const renderer::RayCaster caster(scene.mesh);
-    const Vec3d eye = camera.center();
+    const proto::Vec3d eye = camera.center();
     renderer::forEachRow(camera.height, threads, [&](int y) {
         for (int x = 0; x < camera.width; ++x) {
-            const Vec3d ray = proto::pixelRayDirection(camera, {double(x), double(y)});
+            const proto::Vec3d ray = proto::pixelRayDirection(camera, {double(x), double(y)});
             const auto hit = caster.closestHit(eye, ray);
             if (!hit) {
                 continue;
@@ -92,7 +93,7 @@ renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const Syn
     return image;
 }
 
-Vec3d directionAt(double azimuthDegrees, double elevationDegrees) {
+proto::Vec3d directionAt(double azimuthDegrees, double elevationDegrees) {
     const double a = azimuthDegrees * std::numbers::pi / 180.0;
     const double e = elevationDegrees * std::numbers::pi / 180.0;
     return {std::sin(a) * std::cos(e), std::sin(e), std::cos(a) * std::cos(e)};
@@ -100,8 +101,8 @@ Vec3d directionAt(double azimuthDegrees, double elevationDegrees) {
 
 MeshBounds meshBounds(const std::vector<float>& positions) {
     MeshBounds bounds{{1e30, 1e30, 1e30}, {-1e30, -1e30, -1e30}};
-    Vec3d& lower = bounds.lower;
-    Vec3d& upper = bounds.upper;
+    proto::Vec3d& lower = bounds.lower;
+    proto::Vec3d& upper = bounds.upper;
     for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
         lower = {std::min(lower.x, double(positions[i])),
                  std::min(lower.y, double(positions[i + 1])),
@@ -113,14 +114,14 @@ MeshBounds meshBounds(const std::vector<float>& positions) {
     return bounds;
 }
 
-std::vector<TransferView> transferViews(const Vec3d& lower, const Vec3d& upper) {
-    const Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
-                       0.5 * (lower.z + upper.z)};
+std::vector<TransferView> transferViews(const proto::Vec3d& lower, const proto::Vec3d& upper) {
+    const proto::Vec3d centre{0.5 * (lower.x + upper.x), 0.5 * (lower.y + upper.y),
+                              0.5 * (lower.z + upper.z)};
     const double distance = 4.0 * (upper.y - lower.y);
     const auto at = [&](double azimuth, double elevation) {
-        const Vec3d d = directionAt(azimuth, elevation);
-        return Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
-                     centre.z + distance * d.z};
+        const proto::Vec3d d = directionAt(azimuth, elevation);
+        return proto::Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
+                            centre.z + distance * d.z};
     };
     // The paper's rig lit from −10° to 50° of elevation within ±81° of the camera: "key" is
     // inside that range (a control), every other view leaves it.
@@ -149,17 +150,17 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
         try {
             return proto::BundleFile::open(options.bundle);
         } catch (const proto::BundleError& error) {
-            throw InputError(error.what());
+            throw common::InputError(error.what());
         }
     }();
     const proto::BundleView& bundle = file.view();
     if (bundle.textureWidth() != truth.width() || bundle.textureHeight() != truth.height()) {
-        throw InputError(options.bundle,
-                         "textures of " + std::to_string(bundle.textureWidth()) + " x " +
-                             std::to_string(bundle.textureHeight()) + ", the capture's truth is " +
-                             std::to_string(truth.width()) + " x " +
-                             std::to_string(truth.height()) +
-                             " (bake the fitted model itself: vpe bake --texture MODEL.exr)");
+        throw common::InputError(
+            options.bundle, "textures of " + std::to_string(bundle.textureWidth()) + " x " +
+                                std::to_string(bundle.textureHeight()) +
+                                ", the capture's truth is " + std::to_string(truth.width()) +
+                                " x " + std::to_string(truth.height()) +
+                                " (bake the fitted model itself: vpe bake --texture MODEL.exr)");
     }
     const renderer::BundleScene bundleScene(bundle, "");
     TransferReport report;
@@ -174,7 +175,7 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
 
     const MeshBounds bounds =
         meshBounds({bundle.mesh().positions.begin(), bundle.mesh().positions.end()});
-    const Vec3d centre = bounds.centre();
+    const proto::Vec3d centre = bounds.centre();
     std::vector<TransferView> views;
     for (const TransferView& view : transferViews(bounds.lower, bounds.upper)) {
         if (options.views.empty() || std::find(options.views.begin(), options.views.end(),
@@ -185,14 +186,14 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
     for (const std::string& name : options.views) {
         if (std::none_of(views.begin(), views.end(),
                          [&name](const TransferView& v) { return v.name == name; })) {
-            throw InputError("--views: no view '" + name + "'");
+            throw common::InputError("--views: no view '" + name + "'");
         }
     }
     if (!options.out.empty()) {
         std::filesystem::create_directories(options.out);
     }
 
-    ProgressBar progress("transfer", views.size());
+    common::ProgressBar progress("transfer", views.size());
     for (const TransferView& view : views) {
         renderer::VirtualLight light;
         light.position = view.light;
@@ -214,10 +215,10 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
         ViewFidelity fidelity;
         fidelity.name = view.name;
         fidelity.exposure = truthExposure(truthImage, pipeline.coverage);
-        const Rgb8Image a =
-            toSrgb8(truthImage.values, camera.width, camera.height, fidelity.exposure);
-        const Rgb8Image b =
-            toSrgb8(pipeline.radiance.values, camera.width, camera.height, fidelity.exposure);
+        const image::Rgb8Image a =
+            image::toSrgb8(truthImage.values, camera.width, camera.height, fidelity.exposure);
+        const image::Rgb8Image b = image::toSrgb8(pipeline.radiance.values, camera.width,
+                                                  camera.height, fidelity.exposure);
         std::vector<std::uint8_t> lit(pipeline.coverage.values.size(), 0);
         std::size_t litPixels = 0;
         for (std::size_t p = 0; p < lit.size(); ++p) {
@@ -233,22 +234,22 @@ TransferReport measureTransferFidelity(const TransferOptions& options) {
         fidelity.litShare = fidelity.objectPixels ? static_cast<double>(litPixels) /
                                                         static_cast<double>(fidelity.objectPixels)
                                                   : 0.0;
-        fidelity.psnr = psnr(a, b, lit);
-        fidelity.ssim = meanSsim(a, b, lit);
-        fidelity.psnrObject = psnr(a, b, pipeline.coverage.values);
+        fidelity.psnr = image::psnr(a, b, lit);
+        fidelity.ssim = image::meanSsim(a, b, lit);
+        fidelity.psnrObject = image::psnr(a, b, pipeline.coverage.values);
         report.views.push_back(fidelity);
 
         if (!options.out.empty()) {
             const std::filesystem::path base = options.out / view.name;
-            writeImage8(base.string() + "-truth.png", a.width, a.height, 3, a.values);
-            writeImage8(base.string() + "-pipeline.png", b.width, b.height, 3, b.values);
+            image::writeImage8(base.string() + "-truth.png", a.width, a.height, 3, a.values);
+            image::writeImage8(base.string() + "-pipeline.png", b.width, b.height, 3, b.values);
             // |truth − pipeline| of the 8-bit pictures, ×4.
             std::vector<std::uint8_t> difference(a.values.size());
             for (std::size_t i = 0; i < difference.size(); ++i) {
                 difference[i] = static_cast<std::uint8_t>(
                     std::min(255, 4 * std::abs(int(a.values[i]) - int(b.values[i]))));
             }
-            writeImage8(base.string() + "-difference.png", a.width, a.height, 3, difference);
+            image::writeImage8(base.string() + "-difference.png", a.width, a.height, 3, difference);
         }
         progress.advance();
     }

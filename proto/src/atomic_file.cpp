@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // A temporary file beside the target, then rename(2).
-#include "atomic_file.h"
+#include "vpe/proto/atomic_file.h"
 
 #include <cerrno>
 #include <cstdio>

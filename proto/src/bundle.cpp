@@ -211,16 +211,15 @@ private:
         }
         for (flatbuffers::uoffset_t i = 0; i < 9; ++i) {
             r.mixing[i] = table->mixing()->m()->Get(i);
-            if (!std::isfinite(r.mixing[i]) || r.mixing[i] < 0) {
-                fail("radiometry: mixing: expected finite values ≥ 0");
-            }
         }
-        const double determinant =
-            r.mixing[0] * (r.mixing[4] * r.mixing[8] - r.mixing[5] * r.mixing[7]) -
-            r.mixing[1] * (r.mixing[3] * r.mixing[8] - r.mixing[5] * r.mixing[6]) +
-            r.mixing[2] * (r.mixing[3] * r.mixing[7] - r.mixing[4] * r.mixing[6]);
-        if (r.mixing[0] != 1 || r.mixing[4] != 1 || r.mixing[8] != 1 || !(determinant > 1e-6)) {
-            fail("radiometry: mixing: its diagonal must be 1 and it must be invertible");
+        switch (checkMixing(r.mixing)) {
+            case MixingRule::kHolds:
+                break;
+            case MixingRule::kNotFiniteOrNegative:
+                fail("radiometry: mixing: expected finite values ≥ 0");
+            case MixingRule::kDiagonalNotOne:
+            case MixingRule::kSingular:
+                fail("radiometry: mixing: its diagonal must be 1 and it must be invertible");
         }
         const std::vector<std::uint64_t> shape{view.projector_.height, view.projector_.width, 4};
         if (table->irradiance() == nullptr || table->floor() == nullptr) {
@@ -254,7 +253,7 @@ private:
         BlendView blend;
         blend.projectors = table->projectors();
         blend.index = table->index();
-        if (blend.projectors < 1 || blend.index >= blend.projectors) {
+        if (!blendIndexFits(blend.index, blend.projectors)) {
             fail("blend: projector " + std::to_string(blend.index) + " of " +
                  std::to_string(blend.projectors) + " (expected index < projectors, ≥ 1)");
         }
@@ -265,9 +264,8 @@ private:
             typed<std::uint16_t>(table->share(), "blend share", {fb::ElementType::Float16},
                                  {view.projector_.height, view.projector_.width});
         for (const std::uint16_t half : blend.share) {
-            const float v = halfToFloat(half);
-            if (!(v >= 0 && v <= 1)) {
-                fail("blend share: a value outside [0, 1]");
+            if (const std::string problem = checkBlendShare(halfToFloat(half)); !problem.empty()) {
+                fail(problem);
             }
         }
         view.blend_ = blend;
@@ -370,12 +368,8 @@ private:
         m.uvs = typed<float>(mesh->uvs(), "mesh uvs", {fb::ElementType::Float32}, {vertices, 2});
         m.indices = typed<std::uint32_t>(mesh->indices(), "mesh indices", {fb::ElementType::UInt32},
                                          {triangles, 3});
-        // An index past the vertices would have the GPU read out of bounds.
-        for (std::size_t i = 0; i < m.indices.size(); ++i) {
-            if (m.indices[i] >= vertices) {
-                fail("mesh indices: triangle " + std::to_string(i / 3) + " refers to vertex " +
-                     std::to_string(m.indices[i]) + ", there are " + std::to_string(vertices));
-            }
+        if (const std::string problem = checkMeshIndices(m.indices, vertices); !problem.empty()) {
+            fail(problem);
         }
     }
 
@@ -386,13 +380,11 @@ private:
         }
         const std::uint32_t width = textures->width();
         const std::uint32_t height = textures->height();
-        if (width == 0 || height == 0) {
+        if (!textureSizeFits(width, height)) {
             fail("textures: " + std::to_string(width) + " x " + std::to_string(height) +
-                 " is empty");
-        }
-        if (width > kMaxBundleTextureSize || height > kMaxBundleTextureSize) {
-            fail("textures: " + std::to_string(width) + " x " + std::to_string(height) +
-                 " exceeds the 4096 x 4096 limit of GLES 3.1 on the Raspberry Pi");
+                 (width == 0 || height == 0
+                      ? " is empty"
+                      : " exceeds the 4096 x 4096 limit of GLES 3.1 on the Raspberry Pi"));
         }
         view.textureWidth_ = static_cast<int>(width);
         view.textureHeight_ = static_cast<int>(height);
@@ -401,7 +393,7 @@ private:
         if (regions == nullptr || regions->size() == 0) {
             fail("textures: no regions");
         }
-        if (regions->size() > kMaxBundleRegions) {
+        if (!regionCountFits(regions->size())) {
             fail("textures: " + std::to_string(regions->size()) + " regions, more than " +
                  std::to_string(kMaxBundleRegions));
         }
@@ -454,9 +446,8 @@ private:
             }
             view.encoding = CoefficientEncoding::kLowRank;
             const std::uint32_t rank = lowRank->rank();
-            if (rank == 0 || rank > count) {
-                fail(what + ": rank " + std::to_string(rank) + " is outside 1.." +
-                     std::to_string(count));
+            if (const std::string problem = checkRank(what, rank, count); !problem.empty()) {
+                fail(problem);
             }
             view.rank = static_cast<int>(rank);
             view.mean = floats(lowRank->mean(), what + " mean", count);

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The rules for a bundle's calibration, settings and model, shared by reader and writer.
+// The rules for a bundle's calibration, settings, model and structure, shared by reader and
+// writer.
 #include "vpe/proto/bundle_contents.h"
 
 #include <cmath>
 #include <cstdio>
 
+#include "vpe/proto/bundle_format.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/theta_basis.h"
 
@@ -170,6 +172,56 @@ std::string checkModel(const BundleModel& m) {
         }
     }
     return "";
+}
+
+bool textureSizeFits(std::int64_t width, std::int64_t height) {
+    const auto limit = static_cast<std::int64_t>(kMaxBundleTextureSize);
+    return width >= 1 && height >= 1 && width <= limit && height <= limit;
+}
+
+bool regionCountFits(std::size_t regions) {
+    return regions >= 1 && regions <= kMaxBundleRegions;
+}
+
+std::string checkRank(const std::string& what, std::int64_t rank, std::int64_t coefficients) {
+    if (rank < 1 || rank > coefficients) {
+        return what + ": rank " + std::to_string(rank) + " is outside 1.." +
+               std::to_string(coefficients);
+    }
+    return "";
+}
+
+std::string checkMeshIndices(std::span<const std::uint32_t> indices, std::uint64_t vertices) {
+    for (std::size_t i = 0; i < indices.size(); ++i) {
+        if (indices[i] >= vertices) {
+            return "mesh indices: triangle " + std::to_string(i / 3) + " refers to vertex " +
+                   std::to_string(indices[i]) + ", there are " + std::to_string(vertices);
+        }
+    }
+    return "";
+}
+
+bool blendIndexFits(std::int64_t index, std::int64_t projectors) {
+    return projectors >= 1 && projectors <= 65535 && index >= 0 && index < projectors;
+}
+
+std::string checkBlendShare(float share) {
+    return share >= 0 && share <= 1 ? "" : "blend share: a value outside [0, 1]";
+}
+
+MixingRule checkMixing(const std::array<double, 9>& m) {
+    for (const double v : m) {
+        if (!std::isfinite(v) || v < 0) {
+            return MixingRule::kNotFiniteOrNegative;
+        }
+    }
+    if (m[0] != 1 || m[4] != 1 || m[8] != 1) {
+        return MixingRule::kDiagonalNotOne;
+    }
+    const double determinant = m[0] * (m[4] * m[8] - m[5] * m[7]) -
+                               m[1] * (m[3] * m[8] - m[5] * m[6]) +
+                               m[2] * (m[3] * m[7] - m[4] * m[6]);
+    return determinant > 1e-6 ? MixingRule::kHolds : MixingRule::kSingular;
 }
 
 }  // namespace vpe::proto

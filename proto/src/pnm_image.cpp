@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "atomic_file.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::proto {
 

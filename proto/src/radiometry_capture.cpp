@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/structured_light.h"
 
-#include "atomic_file.h"
 #include "json_fields.h"
 
 namespace vpe::proto {

@@ -11,7 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "atomic_file.h"
+#include "vpe/proto/atomic_file.h"
+
 #include "json_fields.h"
 
 namespace vpe::proto {

@@ -79,6 +79,22 @@ std::string checkMaterialTextures(const MaterialTextures& material) {
     return "";
 }
 
+namespace {
+
+// The region's weight at the footprint, bilinear in its weight map (1 without one).
+double sampleRegionWeight(const MaterialRegion& region, const BilinearFootprint& taps) {
+    if (region.weights.empty()) {
+        return 1.0;
+    }
+    double weight = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        weight += taps.weight[i] * static_cast<double>(region.weights[taps.texel[i]]);
+    }
+    return weight;
+}
+
+}  // namespace
+
 void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* coefficients) {
     const int count = material.coefficientsPerTexel();
     std::fill(coefficients, coefficients + count, 0.0);
@@ -86,13 +102,7 @@ void sampleMaterial(const MaterialTextures& material, const Vec2d& uv, double* c
         bilinearFootprint(material.width, material.height, uv, material.wrapU);
     const auto perTexel = static_cast<std::size_t>(count);
     for (const auto& region : material.regions) {
-        double regionWeight = 1.0;
-        if (!region.weights.empty()) {
-            regionWeight = 0.0;
-            for (int i = 0; i < 4; ++i) {
-                regionWeight += taps.weight[i] * static_cast<double>(region.weights[taps.texel[i]]);
-            }
-        }
+        const double regionWeight = sampleRegionWeight(region, taps);
         if (regionWeight == 0.0) {
             continue;
         }
@@ -119,13 +129,7 @@ Vec3d sampleDetailNormal(const MaterialTextures& material, const Vec2d& uv) {
         bilinearFootprint(material.width, material.height, uv, material.wrapU);
     Vec3d sum{0, 0, 0};
     for (const auto& region : material.regions) {
-        double regionWeight = 1.0;
-        if (!region.weights.empty()) {
-            regionWeight = 0.0;
-            for (int i = 0; i < 4; ++i) {
-                regionWeight += taps.weight[i] * static_cast<double>(region.weights[taps.texel[i]]);
-            }
-        }
+        const double regionWeight = sampleRegionWeight(region, taps);
         if (regionWeight == 0.0) {
             continue;
         }

@@ -27,20 +27,20 @@ constexpr double kLambda = 3.14;
 
 // A band of a capture rendered from per-pixel Fourier coefficients under the paper's rig.
 struct BenchmarkBand {
-    Capture capture;
-    NormalMap normals;
-    SampleBand band;
+    capture::Capture capture;
+    normals::NormalMap normals;
+    capture::SampleBand band;
 
     BenchmarkBand(int width, int rows) {
-        for (const Vec3d& light : benchmarks::paperRigLights()) {
+        for (const proto::Vec3d& light : benchmarks::paperRigLights()) {
             capture.images.push_back({"", light, 1.0, 0});
         }
         std::mt19937 random(1);
         std::uniform_real_distribution<double> uniform(-1.0, 1.0);
         normals.resize(width, rows);
         for (int i = 0; i < width * rows; ++i) {
-            const Vec3d n =
-                proto::normalized(Vec3d{0.4 * uniform(random), 0.4 * uniform(random), 1.0});
+            const proto::Vec3d n =
+                proto::normalized(proto::Vec3d{0.4 * uniform(random), 0.4 * uniform(random), 1.0});
             normals.xyz[static_cast<std::size_t>(i) * 3] = static_cast<float>(n.x);
             normals.xyz[static_cast<std::size_t>(i) * 3 + 1] = static_cast<float>(n.y);
             normals.xyz[static_cast<std::size_t>(i) * 3 + 2] = static_cast<float>(n.z);
@@ -59,7 +59,7 @@ struct BenchmarkBand {
                     for (int s = 0; s < band.images; ++s) {
                         const auto angles = proto::reflectionAngles(
                             normals.at(x, r), capture.images[static_cast<std::size_t>(s)].light,
-                            Vec3d{0, 0, 1});
+                            proto::Vec3d{0, 0, 1});
                         band.values[band.valueIndex(s, c, r, x)] = static_cast<float>(
                             proto::evaluateFourierBrdf(coefficients.data(), kHarmonics,
                                                        angles.cosThetaD, angles.cosThetaS));
@@ -83,12 +83,12 @@ const BenchmarkBand& sharedBand() {
 // BandFitter over `data` with M = 10, λ = 3.14 on all cores; reports its pixel rate.
 void measureBandFit(benchmark::State& state, const BenchmarkBand& data,
                     fit::BandFitSettings settings) {
-    const SurfaceGeometry geometry(data.capture, data.band.width, data.band.rows);
-    settings.harmonics = kHarmonics;
-    settings.lambda = kLambda;
-    settings.threads = resolveThreadCount(0);
+    const capture::SurfaceGeometry geometry(data.capture, data.band.width, data.band.rows);
+    settings.fit.harmonics = kHarmonics;
+    settings.fit.lambda = kLambda;
+    settings.threads = common::resolveThreadCount(0);
     const fit::BandFitter fitter(data.capture, geometry, data.normals, settings);
-    ModelRows rows;
+    model::ModelRows rows;
     for (auto _ : state) {
         fitter.fit(data.band, rows);
         benchmark::DoNotOptimize(rows.coefficient.data());
@@ -109,17 +109,17 @@ void BM_FitBandExtended(benchmark::State& state) {
     static const BenchmarkBand data(256, 16);
     fit::BandFitSettings settings;
     settings.extended = true;
-    settings.normalSearchDegrees = static_cast<double>(state.range(0));
+    settings.fit.normalSearchDegrees = static_cast<double>(state.range(0));
     measureBandFit(state, data, settings);
 }
 
 void BM_NaivePerPixel(benchmark::State& state) {
     const BenchmarkBand& data = sharedBand();
     const int pixels = 512;  // the baseline is slow; one row of the same band
-    const unsigned threads = resolveThreadCount(0);
+    const unsigned threads = common::resolveThreadCount(0);
     const int samples = data.band.images;
     for (auto _ : state) {
-        parallelFor(
+        common::parallelFor(
             static_cast<std::size_t>(pixels), 16, threads, [&](std::size_t begin, std::size_t end) {
                 std::vector<proto::ReflectionAngles<double>> angles(
                     static_cast<std::size_t>(samples));
@@ -130,7 +130,8 @@ void BM_NaivePerPixel(benchmark::State& state) {
                     for (int s = 0; s < samples; ++s) {
                         angles[static_cast<std::size_t>(s)] = proto::reflectionAngles(
                             data.normals.at(xi, 0),
-                            data.capture.images[static_cast<std::size_t>(s)].light, Vec3d{0, 0, 1});
+                            data.capture.images[static_cast<std::size_t>(s)].light,
+                            proto::Vec3d{0, 0, 1});
                         for (int c = 0; c < 3; ++c) {
                             y(s, c) = data.band.value(s, c, 0, xi);
                         }

@@ -28,20 +28,20 @@ namespace vpe {
 namespace {
 
 // A glazed, rippled surface: normals from a height field, albedo streaks, a specular lobe.
-Vec3d surfaceNormal(int x, int y, int size) {
+proto::Vec3d surfaceNormal(int x, int y, int size) {
     const double u = 12.0 * M_PI * x / size, v = 9.0 * M_PI * y / size;
     const double dx = 0.25 * std::cos(u) * std::cos(0.5 * v);
     const double dy = -0.125 * std::sin(u) * std::sin(0.5 * v) + 0.15 * std::cos(v);
-    return proto::normalized(Vec3d{-dx, -dy, 1.0});
+    return proto::normalized(proto::Vec3d{-dx, -dy, 1.0});
 }
 
 void writeCapture(const std::filesystem::path& dir, int size) {
     std::filesystem::create_directories(dir);
-    const std::vector<Vec3d> lights = benchmarks::paperRigLights();
+    const std::vector<proto::Vec3d> lights = benchmarks::paperRigLights();
     std::vector<float> normals(static_cast<std::size_t>(size) * size * 3);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
-            const Vec3d n = surfaceNormal(x, y, size);
+            const proto::Vec3d n = surfaceNormal(x, y, size);
             float* out = &normals[(static_cast<std::size_t>(y) * size + x) * 3];
             out[0] = static_cast<float>((n.x + 1) / 2);
             out[1] = static_cast<float>((n.y + 1) / 2);
@@ -59,36 +59,39 @@ void writeCapture(const std::filesystem::path& dir, int size) {
         lp << "image" << i << ".jpg " << lights[i].x << " " << lights[i].y << " " << lights[i].z
            << "\n";
     }
-    parallelFor(lights.size(), 1, resolveThreadCount(0), [&](std::size_t begin, std::size_t end) {
-        std::vector<std::uint8_t> pixels(static_cast<std::size_t>(size) * size * 3);
-        for (std::size_t i = begin; i < end; ++i) {
-            const Vec3d l = lights[i];
-            for (int y = 0; y < size; ++y) {
-                for (int x = 0; x < size; ++x) {
-                    const Vec3d n = surfaceNormal(x, y, size);
-                    const double nl = std::max(0.0, proto::dot(n, l));
-                    const Vec3d h = proto::normalized(Vec3d{l.x, l.y, l.z + 1.0});
-                    const double specular = 0.4 * std::pow(std::max(0.0, proto::dot(n, h)), 40.0);
-                    const double streak = 0.5 + 0.5 * std::sin(0.01 * (x + 2 * y));
-                    const double albedo[3] = {0.35 + 0.3 * streak, 0.25 + 0.1 * streak, 0.2};
-                    for (int c = 0; c < 3; ++c) {
-                        const double linear = std::min(1.0, albedo[c] * nl + specular * nl + 0.01);
-                        pixels[(static_cast<std::size_t>(y) * size + x) * 3 + c] =
-                            static_cast<std::uint8_t>(
-                                std::lround(proto::linearToSrgb(linear) * 255));
+    common::parallelFor(
+        lights.size(), 1, common::resolveThreadCount(0), [&](std::size_t begin, std::size_t end) {
+            std::vector<std::uint8_t> pixels(static_cast<std::size_t>(size) * size * 3);
+            for (std::size_t i = begin; i < end; ++i) {
+                const proto::Vec3d l = lights[i];
+                for (int y = 0; y < size; ++y) {
+                    for (int x = 0; x < size; ++x) {
+                        const proto::Vec3d n = surfaceNormal(x, y, size);
+                        const double nl = std::max(0.0, proto::dot(n, l));
+                        const proto::Vec3d h = proto::normalized(proto::Vec3d{l.x, l.y, l.z + 1.0});
+                        const double specular =
+                            0.4 * std::pow(std::max(0.0, proto::dot(n, h)), 40.0);
+                        const double streak = 0.5 + 0.5 * std::sin(0.01 * (x + 2 * y));
+                        const double albedo[3] = {0.35 + 0.3 * streak, 0.25 + 0.1 * streak, 0.2};
+                        for (int c = 0; c < 3; ++c) {
+                            const double linear =
+                                std::min(1.0, albedo[c] * nl + specular * nl + 0.01);
+                            pixels[(static_cast<std::size_t>(y) * size + x) * 3 + c] =
+                                static_cast<std::uint8_t>(
+                                    std::lround(proto::linearToSrgb(linear) * 255));
+                        }
                     }
                 }
+                auto out = OIIO::ImageOutput::create("jpg");
+                OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::UINT8);
+                spec.attribute("CompressionQuality", 92);
+                const std::string name = (dir / ("image" + std::to_string(i) + ".jpg")).string();
+                if (!out || !out->open(name, spec) ||
+                    !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
+                    throw std::runtime_error("cannot write " + name);
+                }
             }
-            auto out = OIIO::ImageOutput::create("jpg");
-            OIIO::ImageSpec spec(size, size, 3, OIIO::TypeDesc::UINT8);
-            spec.attribute("CompressionQuality", 92);
-            const std::string name = (dir / ("image" + std::to_string(i) + ".jpg")).string();
-            if (!out || !out->open(name, spec) ||
-                !out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !out->close()) {
-                throw std::runtime_error("cannot write " + name);
-            }
-        }
-    });
+        });
 }
 
 }  // namespace

@@ -16,10 +16,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        const vpe::LabelMap map = vpe::readLabelImage(argv[1]);
+        const vpe::segment::LabelMap map = vpe::segment::readLabelImage(argv[1]);
         std::printf("%s\n",
                     vpe::testing::seedsArgument(vpe::testing::innermostPixels(map)).c_str());
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         std::fprintf(stderr, "%s\n", error.what());
         return 2;
     } catch (const std::exception& error) {

@@ -63,7 +63,8 @@ std::optional<Arguments> parse(const std::vector<std::string>& args) {
                 end = 0;
             }
             if (end != text.size() || !(value > 0 && value <= 1000)) {
-                throw vpe::InputError("--radius: expected metres in (0, 1000], got '" + text + "'");
+                throw vpe::common::InputError("--radius: expected metres in (0, 1000], got '" +
+                                              text + "'");
             }
             parsed.radius = value;
         } else if (args[i] == "--json") {
@@ -83,20 +84,21 @@ int run(const Arguments& args) {
         try {
             return vpe::proto::BundleFile::open(args.bundle);
         } catch (const vpe::proto::BundleError& error) {
-            throw vpe::InputError(error.what());
+            throw vpe::common::InputError(error.what());
         }
     }();
     if (!bundle->camera()) {
-        throw vpe::InputError(args.bundle,
-                              "the bundle carries no camera (format 1.3: bake it from a "
-                              "calibration with cam_K)");
+        throw vpe::common::InputError(args.bundle,
+                                      "the bundle carries no camera (format 1.3: bake it from a "
+                                      "calibration with cam_K)");
     }
     const std::optional<vpe::proto::PinholeCamera> trueCamera =
         vpe::scene::readCameraCalibration(args.trueCamera, vpe::scene::CameraPose::kFromFile);
     if (!trueCamera) {
-        throw vpe::InputError(args.trueCamera,
-                              "cam_K: missing (the true camera needs cam_K, cam_kc, cam_width, "
-                              "cam_height, R and T)");
+        throw vpe::common::InputError(
+            args.trueCamera,
+            "cam_K: missing (the true camera needs cam_K, cam_kc, cam_width, "
+            "cam_height, R and T)");
     }
     const fw::LightSphere sphere(bundle->mesh().positions, bundle->settings().viewerPosition);
     const double radius = args.radius.value_or(2.0 * sphere.objectRadius());
@@ -108,7 +110,7 @@ int run(const Arguments& args) {
             return fw::CameraLampModel(vpe::proto::cameraOf(*bundle->camera()),
                                        settings.streamWidth, settings.streamHeight, sphere, radius);
         } catch (const fw::CalibrationError& error) {
-            throw vpe::InputError(args.bundle, std::string("camera: ") + error.what());
+            throw vpe::common::InputError(args.bundle, std::string("camera: ") + error.what());
         }
     }();
     // The true camera at another shape than the stream would be a crop: no lamp could be drawn
@@ -117,14 +119,14 @@ int run(const Arguments& args) {
         fw::CameraLampModel(*trueCamera, settings.streamWidth, settings.streamHeight, sphere,
                             radius);
     } catch (const fw::CalibrationError& error) {
-        throw vpe::InputError(args.trueCamera, error.what());
+        throw vpe::common::InputError(args.trueCamera, error.what());
     }
     const fw::testing::LampSurvey survey =
         fw::testing::surveyLampDirections(*trueCamera, *model, sphere, radius, settings);
     if (survey.positions.empty()) {
-        throw vpe::InputError(args.trueCamera,
-                              "the true camera sees none of the lamp's positions on the " +
-                                  std::to_string(radius) + " m sphere");
+        throw vpe::common::InputError(args.trueCamera,
+                                      "the true camera sees none of the lamp's positions on the " +
+                                          std::to_string(radius) + " m sphere");
     }
     const fw::testing::LampSurveyPosition* worst = nullptr;
     for (const auto& p : survey.positions) {
@@ -167,7 +169,7 @@ int main(int argc, char** argv) {
             return 2;
         }
         return run(*args);
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         std::fprintf(stderr, "vpe_lamp_direction: %s\n", error.what());
         return 2;
     } catch (const std::exception& error) {

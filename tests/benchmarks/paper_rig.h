@@ -10,8 +10,8 @@
 
 namespace vpe::benchmarks {
 
-inline std::vector<Vec3d> paperRigLights() {
-    std::vector<Vec3d> lights;
+inline std::vector<proto::Vec3d> paperRigLights() {
+    std::vector<proto::Vec3d> lights;
     for (int h = 0; h < 6; ++h) {
         const double elevation = (-20.0 + 12.0 * h) * M_PI / 180.0;
         for (int a = 0; a < 55; ++a) {

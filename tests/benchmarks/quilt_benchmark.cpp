@@ -19,17 +19,17 @@
 
 namespace {
 
+using vpe::model::CoefficientImage;
 using vpe::quilt::QuiltSettings;
-using vpe::quilt::SourceTexture;
 
 // A textured coefficient map: each channel a mix of a few shared noise fields, as fitted
 // coefficient maps are (strongly correlated across channels).
-SourceTexture makeSource(int size, int channels) {
-    SourceTexture source;
+CoefficientImage makeSource(int size, int channels) {
+    CoefficientImage source;
     source.width = source.height = size;
-    source.channels = channels;
+    source.dims = channels;
     source.values.resize(static_cast<std::size_t>(size) * size * channels);
-    vpe::GradientNoise noise(7);
+    vpe::common::GradientNoise noise(7);
     for (int y = 0; y < size; ++y) {
         for (int x = 0; x < size; ++x) {
             double fields[4];
@@ -49,7 +49,7 @@ SourceTexture makeSource(int size, int channels) {
     return source;
 }
 
-double quiltSeconds(const SourceTexture& source, int out, const QuiltSettings& settings) {
+double quiltSeconds(const CoefficientImage& source, int out, const QuiltSettings& settings) {
     const std::vector<std::uint8_t> labels(static_cast<std::size_t>(source.width) * source.height,
                                            0);
     const auto start = std::chrono::steady_clock::now();
@@ -63,7 +63,7 @@ double quiltSeconds(const SourceTexture& source, int out, const QuiltSettings& s
     return seconds;
 }
 
-double medianSeconds(const SourceTexture& source, int out, const QuiltSettings& settings,
+double medianSeconds(const CoefficientImage& source, int out, const QuiltSettings& settings,
                      int repeat) {
     std::vector<double> seconds;
     for (int i = 0; i < repeat; ++i) {
@@ -88,14 +88,14 @@ int main(int argc, char** argv) {
     }
     constexpr int kChannels = 66;  // M = 10: 22 coefficients × RGB
     QuiltSettings settings;
-    settings.threads = vpe::resolveThreadCount(0);
+    settings.threads = vpe::common::resolveThreadCount(0);
     std::printf("quilting %d channels on %u threads\n", kChannels, settings.threads);
-    const SourceTexture source = makeSource(size, kChannels);
+    const CoefficientImage source = makeSource(size, kChannels);
     std::printf("FFT search (block %d, overlap %d):\n", settings.block, settings.overlap);
     const double fft = medianSeconds(source, out, settings, repeat);
 
     // The ratio on a case the exhaustive search can finish: 128² → 256², same settings.
-    const SourceTexture small = makeSource(128, kChannels);
+    const CoefficientImage small = makeSource(128, kChannels);
     QuiltSettings smallSettings = settings;
     smallSettings.block = 32;
     smallSettings.overlap = 6;

@@ -37,8 +37,9 @@ namespace vpe {
 namespace {
 
 // The bases as `vpe fit --model ptm6|ptm10|hsh9|hsh16` fits them (model/rti_basis.h).
-const std::array<RtiBasis, 4> kBases{*RtiBasis::parse("ptm6"), *RtiBasis::parse("ptm10"),
-                                     *RtiBasis::parse("hsh9"), *RtiBasis::parse("hsh16")};
+const std::array<model::RtiBasis, 4> kBases{
+    *model::RtiBasis::parse("ptm6"), *model::RtiBasis::parse("ptm10"),
+    *model::RtiBasis::parse("hsh9"), *model::RtiBasis::parse("hsh16")};
 constexpr std::array<const char*, 4> kBasisNames{"PTM-6", "PTM-10", "HSH-9", "HSH-16"};
 
 // The domain the coefficients are fitted in. RTI tools fit the 8-bit codes (code/255);
@@ -47,7 +48,7 @@ enum class Domain { kSrgb, kLinear };
 constexpr std::array<Domain, 2> kDomains{Domain::kSrgb, Domain::kLinear};
 constexpr std::array<const char*, 2> kDomainNames{"srgb", "linear"};
 
-Eigen::MatrixXd designMatrix(const RtiBasis& basis, const Capture& capture) {
+Eigen::MatrixXd designMatrix(const model::RtiBasis& basis, const capture::Capture& capture) {
     Eigen::MatrixXd a(static_cast<Eigen::Index>(capture.images.size()), basis.terms);
     std::vector<double> row(static_cast<std::size_t>(basis.terms));
     for (std::size_t i = 0; i < capture.images.size(); ++i) {
@@ -61,8 +62,8 @@ Eigen::MatrixXd designMatrix(const RtiBasis& basis, const Capture& capture) {
 
 // The whole prediction is linear in the observations and the design is the same for every
 // pixel: Test values = B (AᵀA + λI)⁻¹ Aᵀ · Dome values, one Nt × Nd matrix per set and basis.
-Eigen::MatrixXd predictionOperator(const RtiBasis& basis, const Capture& dome,
-                                   const Capture& test) {
+Eigen::MatrixXd predictionOperator(const model::RtiBasis& basis, const capture::Capture& dome,
+                                   const capture::Capture& test) {
     const Eigen::MatrixXd a = designMatrix(basis, dome);
     Eigen::MatrixXd gram = a.transpose() * a;
     // A tiny ridge only guards against round-off; it does not regularize the fit.
@@ -78,16 +79,16 @@ struct DecodedCapture {
     Eigen::MatrixXd linear;
 };
 
-DecodedCapture decode(const Capture& capture, unsigned threads) {
-    ImageBandReader reader(capture, threads);
-    SampleBand band;
+DecodedCapture decode(const capture::Capture& capture, unsigned threads) {
+    capture::ImageBandReader reader(capture, threads);
+    capture::SampleBand band;
     reader.readBand(0, reader.height(), nullptr, band);
     DecodedCapture out;
     out.width = reader.width();
     out.height = reader.height();
     const Eigen::Index columns = static_cast<Eigen::Index>(out.width) * out.height * 3;
     out.linear.resize(reader.imageCount(), columns);
-    parallelFor(
+    common::parallelFor(
         static_cast<std::size_t>(out.height), 1, threads, [&](std::size_t begin, std::size_t end) {
             for (std::size_t r = begin; r < end; ++r) {
                 const int y = static_cast<int>(r);
@@ -112,8 +113,8 @@ struct SetResult {
 };
 
 SetResult evaluateSet(const std::filesystem::path& dir, const std::string& name, unsigned threads) {
-    const Capture dome = openCapture(dir / "Dome");
-    const Capture test = openCapture(dir / "Test");
+    const capture::Capture dome = capture::openCapture(dir / "Dome");
+    const capture::Capture test = capture::openCapture(dir / "Test");
     const DecodedCapture domeImages = decode(dome, threads);
     const DecodedCapture testImages = decode(test, threads);
     if (domeImages.width != testImages.width || domeImages.height != testImages.height) {
@@ -133,7 +134,7 @@ SetResult evaluateSet(const std::filesystem::path& dir, const std::string& name,
     using Errors = std::array<std::array<Eigen::VectorXd, kBases.size()>, kDomains.size()>;
     const std::size_t blocks = static_cast<std::size_t>((columns + kBlock - 1) / kBlock);
     std::vector<Errors> blockErrors(blocks);
-    parallelFor(blocks, 1, threads, [&](std::size_t begin, std::size_t end) {
+    common::parallelFor(blocks, 1, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
             const Eigen::Index first = static_cast<Eigen::Index>(k) * kBlock;
             const Eigen::Index width = std::min(kBlock, columns - first);
@@ -181,7 +182,8 @@ SetResult evaluateSet(const std::filesystem::path& dir, const std::string& name,
             }
             double sum = 0;
             for (Eigen::Index s = 0; s < testCount; ++s) {
-                const double psnr = psnrFromMse(squaredError(s) / static_cast<double>(columns));
+                const double psnr =
+                    eval::psnrFromMse(squaredError(s) / static_cast<double>(columns));
                 result.imagePsnr[d][b].push_back(psnr);
                 sum += psnr;
             }
@@ -289,7 +291,7 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "no set under %s matches\n", root.c_str());
         return 2;
     }
-    const unsigned threads = resolveThreadCount(threadRequest);
+    const unsigned threads = common::resolveThreadCount(threadRequest);
     const auto start = std::chrono::steady_clock::now();
 
     std::printf("SynthRTI %s: fit on Dome, PSNR (dB) on Test, mean over images\n", root.c_str());

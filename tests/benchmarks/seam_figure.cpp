@@ -29,9 +29,9 @@
 namespace {
 
 vpe::quilt::SeamStatistics regionSeam(const std::filesystem::path& map) {
-    vpe::ModelReader reader(map);
-    const vpe::ModelInfo info = reader.info();
-    vpe::ModelRows rows;
+    vpe::model::ModelReader reader(map);
+    const vpe::model::ModelInfo info = reader.info();
+    vpe::model::ModelRows rows;
     reader.readRows(0, info.height, rows);
     return vpe::quilt::measureSeam(rows.coefficient, info.width, info.height,
                                    3 * rows.coefficients);
@@ -39,8 +39,8 @@ vpe::quilt::SeamStatistics regionSeam(const std::filesystem::path& map) {
 
 // The interior column steps sorted, over their share (a quantile curve at 101 points), in
 // units of their mean.
-void addSorted(vpe::SvgLinePlot& plot, const std::string& name, const vpe::quilt::SeamStatistics& s,
-               const std::string& dash) {
+void addSorted(vpe::plot::SvgLinePlot& plot, const std::string& name,
+               const vpe::quilt::SeamStatistics& s, const std::string& dash) {
     std::vector<double> steps = s.columnSteps;
     std::sort(steps.begin(), steps.end());
     std::vector<double> x, y;
@@ -67,7 +67,7 @@ int run(int argc, char** argv) {
         } else if (plain.empty()) {
             plain = args[i];
         } else {
-            throw vpe::InputError("unexpected argument '" + args[i] + "'");
+            throw vpe::common::InputError("unexpected argument '" + args[i] + "'");
         }
     }
     if (tiled.empty() || plain.empty() || out.empty()) {
@@ -84,7 +84,7 @@ int run(int argc, char** argv) {
     for (std::size_t r = 0; r < tiledMaps.size() && r < plainMaps.size(); ++r) {
         const vpe::quilt::SeamStatistics on = regionSeam(tiledMaps[r]);
         const vpe::quilt::SeamStatistics off = regionSeam(plainMaps[r]);
-        vpe::SvgLinePlot plot(
+        vpe::plot::SvgLinePlot plot(
             "Region " + std::to_string(r) + ": the u seam against interior neighbours",
             "interior neighbour-column pairs, sorted by their step (share)",
             "mean step over the rows / interior mean");

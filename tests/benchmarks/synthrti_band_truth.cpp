@@ -29,7 +29,7 @@ std::vector<std::string> materialSets(const std::filesystem::path& object) {
         names.push_back("material" + std::to_string(m));
     }
     if (names.empty()) {
-        throw vpe::InputError(object, "no material1/ folder");
+        throw vpe::common::InputError(object, "no material1/ folder");
     }
     return names;
 }
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
                 all.rowLines.assign(grid.rowLines.size(), 1.0);
                 const BandTruth truth = labelBands(grid, all, 0.5);
                 const std::filesystem::path out = outDir / object / (sets[s] + ".png");
-                vpe::writeImage8(out, grid.width, grid.height, 1, truth.labels);
+                vpe::image::writeImage8(out, grid.width, grid.height, 1, truth.labels);
                 std::fprintf(stderr, "%s/%s: %d materials, column lines", object, sets[s].c_str(),
                              truth.materials);
                 for (double position : positions(grid.columnLines)) {
@@ -173,7 +173,7 @@ int main(int argc, char** argv) {
         if (json) {
             std::printf("%s\n", report.dump().c_str());
         }
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         std::fprintf(stderr, "%s\n", error.what());
         return 2;
     } catch (const std::exception& error) {

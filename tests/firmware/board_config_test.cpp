@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // BoardConfig: the boards/ files parse; unknown keys, wrong types and malformed values are
 // refused with one line naming file:key.
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 #include <gtest/gtest.h>
 #include <toml++/toml.h>

@@ -3,7 +3,7 @@
 // board's folder, and values refused with one line naming file:scan.key.
 #include <gtest/gtest.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 namespace vpe::firmware {
 namespace {

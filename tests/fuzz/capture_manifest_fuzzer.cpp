@@ -26,13 +26,14 @@ bool isFinite(const vpe::Vec3d& v) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     try {
-        const vpe::Capture capture = vpe::parseCaptureManifest(text, "fuzz/capture.json");
+        const vpe::capture::Capture capture =
+            vpe::capture::parseCaptureManifest(text, "fuzz/capture.json");
         // What the fitter and the geometry rely on once a manifest is accepted.
         if (capture.images.empty() || !(capture.lightReferenceDistance > 0)) {
             std::abort();
         }
-        for (const vpe::CaptureImage& image : capture.images) {
-            const bool lightValid = capture.lightKind == vpe::LightKind::kDirectional
+        for (const vpe::capture::CaptureImage& image : capture.images) {
+            const bool lightValid = capture.lightKind == vpe::capture::LightKind::kDirectional
                                         ? isUnit(image.light)
                                         : isFinite(image.light);
             if (!lightValid || !(image.intensity > 0) || !std::isfinite(image.intensity)) {
@@ -42,11 +43,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (capture.plane && (!isUnit(capture.plane->normal) || !isFinite(capture.plane->point))) {
             std::abort();
         }
-        if (std::holds_alternative<vpe::PinholeCamera>(capture.camera) && !capture.plane &&
+        if (std::holds_alternative<vpe::capture::PinholeCamera>(capture.camera) && !capture.plane &&
             !capture.positionMap) {
             std::abort();
         }
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         // "capture.json: key: problem" or "capture.json:<line>: invalid JSON: problem".
         if (!std::string_view(error.what()).starts_with("fuzz/capture.json:")) {
             std::abort();

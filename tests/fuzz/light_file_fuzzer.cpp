@@ -28,18 +28,18 @@ bool namesFileAndLine(std::string_view message) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     try {
-        const vpe::Capture capture = vpe::parseLightFile(text, "fuzz/dirs.lp");
+        const vpe::capture::Capture capture = vpe::capture::parseLightFile(text, "fuzz/dirs.lp");
         // What the fitter relies on: at least one image, and unit directions.
         if (capture.images.empty()) {
             std::abort();
         }
-        for (const vpe::CaptureImage& image : capture.images) {
+        for (const vpe::capture::CaptureImage& image : capture.images) {
             const double length = std::sqrt(vpe::proto::dot(image.light, image.light));
             if (!(std::fabs(length - 1.0) < 1e-12) || image.line < 2 || image.file.empty()) {
                 std::abort();
             }
         }
-    } catch (const vpe::InputError& error) {
+    } catch (const vpe::common::InputError& error) {
         if (!namesFileAndLine(error.what())) {
             std::abort();
         }

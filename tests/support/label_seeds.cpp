@@ -6,7 +6,7 @@
 
 namespace vpe::testing {
 
-std::vector<PixelSeed> innermostPixels(const LabelMap& map) {
+std::vector<segment::PixelSeed> innermostPixels(const segment::LabelMap& map) {
     const int w = map.width, h = map.height;
     const auto at = [w](int x, int y) { return static_cast<std::size_t>(y) * w + x; };
     // Two-pass chamfer transform: distance to the nearest pixel of another label (unlabelled
@@ -15,7 +15,8 @@ std::vector<PixelSeed> innermostPixels(const LabelMap& map) {
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::uint8_t label = map.values[at(x, y)];
-            int d = label == LabelMap::kNoLabel ? 0 : std::min({x + 1, y + 1, w - x, h - y});
+            int d =
+                label == segment::LabelMap::kNoLabel ? 0 : std::min({x + 1, y + 1, w - x, h - y});
             if (d > 0 && x > 0) {
                 d = map.values[at(x - 1, y)] != label ? 1 : std::min(d, distance[at(x - 1, y)] + 1);
             }
@@ -39,19 +40,20 @@ std::vector<PixelSeed> innermostPixels(const LabelMap& map) {
             }
         }
     }
-    std::vector<int> best(LabelMap::kMaxLabels, 0);
-    std::vector<PixelSeed> seeds(LabelMap::kMaxLabels, PixelSeed{-1, -1});
+    std::vector<int> best(segment::LabelMap::kMaxLabels, 0);
+    std::vector<segment::PixelSeed> seeds(segment::LabelMap::kMaxLabels,
+                                          segment::PixelSeed{-1, -1});
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::uint8_t label = map.values[at(x, y)];
-            if (label != LabelMap::kNoLabel && distance[at(x, y)] > best[label]) {
+            if (label != segment::LabelMap::kNoLabel && distance[at(x, y)] > best[label]) {
                 best[label] = distance[at(x, y)];
-                seeds[label] = PixelSeed{x, y};
+                seeds[label] = segment::PixelSeed{x, y};
             }
         }
     }
-    std::vector<PixelSeed> present;
-    for (const PixelSeed& seed : seeds) {
+    std::vector<segment::PixelSeed> present;
+    for (const segment::PixelSeed& seed : seeds) {
         if (seed.x >= 0) {
             present.push_back(seed);
         }
@@ -59,9 +61,9 @@ std::vector<PixelSeed> innermostPixels(const LabelMap& map) {
     return present;
 }
 
-std::string seedsArgument(const std::vector<PixelSeed>& seeds) {
+std::string seedsArgument(const std::vector<segment::PixelSeed>& seeds) {
     std::string text;
-    for (const PixelSeed& seed : seeds) {
+    for (const segment::PixelSeed& seed : seeds) {
         text += (text.empty() ? "" : ";") + std::to_string(seed.x) + "," + std::to_string(seed.y);
     }
     return text;

@@ -13,9 +13,9 @@ namespace vpe::testing {
 
 // For each label present (ascending), the pixel farthest (city-block distance) from any other
 // label and from the picture's border; ties: the first in row order.
-std::vector<PixelSeed> innermostPixels(const LabelMap& map);
+std::vector<segment::PixelSeed> innermostPixels(const segment::LabelMap& map);
 
 // "x,y;x,y;...", the form `vpe segment --seeds` takes.
-std::string seedsArgument(const std::vector<PixelSeed>& seeds);
+std::string seedsArgument(const std::vector<segment::PixelSeed>& seeds);
 
 }  // namespace vpe::testing

@@ -39,8 +39,8 @@ void writeImage(const std::filesystem::path& path, int width, int height,
 
 }  // namespace
 
-std::vector<Vec3d> sphereLights(int count) {
-    std::vector<Vec3d> lights;
+std::vector<proto::Vec3d> sphereLights(int count) {
+    std::vector<proto::Vec3d> lights;
     const double golden = M_PI * (3.0 - std::sqrt(5.0));
     for (int i = 0; i < count; ++i) {
         const double z = 1.0 - 2.0 * (i + 0.5) / count;
@@ -50,9 +50,9 @@ std::vector<Vec3d> sphereLights(int count) {
     return lights;
 }
 
-std::vector<Vec3d> domeLights(const std::vector<double>& elevations, int perRing,
-                              double azimuthOffsetDegrees) {
-    std::vector<Vec3d> lights;
+std::vector<proto::Vec3d> domeLights(const std::vector<double>& elevations, int perRing,
+                                     double azimuthOffsetDegrees) {
+    std::vector<proto::Vec3d> lights;
     for (double elevation : elevations) {
         const double e = elevation * M_PI / 180;
         for (int i = 0; i < perRing; ++i) {
@@ -72,7 +72,7 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     const int w = spec.width;
     const int h = spec.height;
     const int k = proto::coefficientCount(spec.harmonics);
-    const std::vector<Vec3d> lights = spec.lights.empty() ? sphereLights(64) : spec.lights;
+    const std::vector<proto::Vec3d> lights = spec.lights.empty() ? sphereLights(64) : spec.lights;
     SyntheticCapture capture;
     capture.dir = dir;
     capture.coefficientCount = k;
@@ -82,7 +82,7 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            Vec3d n;
+            proto::Vec3d n;
             if (spec.normal) {
                 n = spec.normal(x, y);
             } else {
@@ -107,12 +107,13 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     const char* extension = spec.format == SyntheticFormat::kExr ? ".exr" : ".png";
     std::vector<std::string> names;
     // The geometry the images are rendered under (the .lp keeps the bare directions).
-    Capture stated;
-    for (const Vec3d& light : lights) {
+    capture::Capture stated;
+    for (const proto::Vec3d& light : lights) {
         stated.images.push_back({"", light, 1.0, 0});
     }
-    const Capture rendered = applyGeometryCalibration(stated, spec.geometry, w, h);
-    const SurfaceGeometry geometry(rendered, w, h);
+    const capture::Capture rendered =
+        capture::applyGeometryCalibration(stated, spec.geometry, w, h);
+    const capture::SurfaceGeometry geometry(rendered, w, h);
     std::vector<float> rgb(static_cast<std::size_t>(w) * h * 3);
     for (std::size_t s = 0; s < lights.size(); ++s) {
         const std::string name = "light" + std::to_string(s) + extension;
@@ -120,8 +121,8 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
         for (int y = 0; y < h; ++y) {
             for (int x = 0; x < w; ++x) {
                 const std::size_t p = static_cast<std::size_t>(y) * w + x;
-                const IncidentLight light =
-                    incidentLight(rendered, rendered.images[s], geometry.position(x, y));
+                const capture::IncidentLight light =
+                    capture::incidentLight(rendered, rendered.images[s], geometry.position(x, y));
                 const auto angles = proto::reflectionAngles(capture.normals[p], light.direction,
                                                             geometry.toViewer(x, y));
                 const double shadow = spec.transport ? spec.transport(x, y, lights[s]) : 1.0;
@@ -172,8 +173,8 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
     return capture;
 }
 
-NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height) {
-    NormalMap map;
+normals::NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height) {
+    normals::NormalMap map;
     map.resize(width, height);
     for (std::size_t p = 0; p < capture.normals.size(); ++p) {
         map.xyz[p * 3] = static_cast<float>(capture.normals[p].x);

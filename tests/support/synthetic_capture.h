@@ -25,10 +25,10 @@ struct SyntheticCaptureSpec {
     int width = 24;
     int height = 16;
     int harmonics = 3;
-    std::vector<Vec3d> lights;  // unit directions; default: a full sphere of 64 lights
+    std::vector<proto::Vec3d> lights;  // unit directions; default: a full sphere of 64 lights
     SyntheticFormat format = SyntheticFormat::kExr;
     // Normal of pixel (x, y); default: a gentle dome facing the camera.
-    std::function<Vec3d(int x, int y)> normal;
+    std::function<proto::Vec3d(int x, int y)> normal;
     // Writes 2M + 2 coefficients of pixel (x, y), channel c; default: seeded random values
     // around a plausible diffuse + specular material.
     std::function<void(int x, int y, int c, double* coefficients)> coefficients;
@@ -37,18 +37,18 @@ struct SyntheticCaptureSpec {
     bool manifest = true;
     // Render under this camera and light geometry while the .lp still states directions
     // (what a real dome's light file does); identity = orthographic and directional.
-    GeometryCalibration geometry;
+    capture::GeometryCalibration geometry;
     // Multiplies the rendering of pixel (x, y) under a light direction: cast shadows.
-    std::function<double(int x, int y, const Vec3d& light)> transport;
+    std::function<double(int x, int y, const proto::Vec3d& light)> transport;
     // Multiplies channel c of that rendering too: light reaching the pixel off a coloured
     // neighbour.
-    std::function<double(int x, int y, int c, const Vec3d& light)> tint;
+    std::function<double(int x, int y, int c, const proto::Vec3d& light)> tint;
 };
 
 struct SyntheticCapture {
     std::filesystem::path dir;
-    std::vector<double> coefficients;  // [y][x][c][k]
-    std::vector<Vec3d> normals;        // [y][x]
+    std::vector<double> coefficients;   // [y][x][c][k]
+    std::vector<proto::Vec3d> normals;  // [y][x]
     int coefficientCount = 0;
     const double* at(int x, int y, int c, int width) const {
         return coefficients.data() +
@@ -60,12 +60,12 @@ SyntheticCapture writeSyntheticCapture(const std::filesystem::path& dir,
                                        const SyntheticCaptureSpec& spec);
 
 // The capture's true normals as a NormalMap, every pixel valid.
-NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height);
+normals::NormalMap trueNormalMap(const SyntheticCapture& capture, int width, int height);
 
 // Lights spread over the whole sphere (Fibonacci lattice): well-conditioned fits.
-std::vector<Vec3d> sphereLights(int count);
+std::vector<proto::Vec3d> sphereLights(int count);
 // An RTI dome: rings at the given elevations (degrees), `perRing` lights each.
-std::vector<Vec3d> domeLights(const std::vector<double>& elevations, int perRing,
-                              double azimuthOffsetDegrees = 0);
+std::vector<proto::Vec3d> domeLights(const std::vector<double>& elevations, int perRing,
+                                     double azimuthOffsetDegrees = 0);
 
 }  // namespace vpe::testing

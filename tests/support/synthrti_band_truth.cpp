@@ -14,19 +14,19 @@ namespace vpe::testing {
 
 namespace {
 
-std::vector<FloatImage> readCaptureImages(const std::filesystem::path& path) {
-    const Capture capture = openCapture(path);
-    std::vector<FloatImage> images;
+std::vector<image::FloatImage> readCaptureImages(const std::filesystem::path& path) {
+    const capture::Capture capture = capture::openCapture(path);
+    std::vector<image::FloatImage> images;
     images.reserve(capture.images.size());
-    for (const CaptureImage& image : capture.images) {
-        images.push_back(readImage(image.file));
+    for (const capture::CaptureImage& image : capture.images) {
+        images.push_back(image::readImage(image.file));
         if (images.back().width != images.front().width ||
             images.back().height != images.front().height || images.back().channels < 3) {
-            throw InputError(image.file, "size or channels differ from the first image");
+            throw common::InputError(image.file, "size or channels differ from the first image");
         }
     }
     if (images.empty()) {
-        throw InputError(path, "no images");
+        throw common::InputError(path, "no images");
     }
     return images;
 }
@@ -141,14 +141,14 @@ BandGrid locateBandGrid(const std::vector<std::filesystem::path>& captures,
     // summing over images counts gloss-only differences, which show in a few of them.
     constexpr int kReach = 2;
     std::vector<std::vector<double>> columnShift, rowShift;
-    auto accumulate = [&](const std::vector<FloatImage>& images, bool vertical,
+    auto accumulate = [&](const std::vector<image::FloatImage>& images, bool vertical,
                           std::vector<std::vector<double>>& shift) {
         const int size = vertical ? grid.width : grid.height;
         const int length = vertical ? grid.height : grid.width;
         const int pieces = (length + options.pieceLength - 1) / options.pieceLength;
         shift.resize(static_cast<std::size_t>(pieces), std::vector<double>(size, 0.0));
         std::vector<double> differences;
-        for (const FloatImage& image : images) {
+        for (const image::FloatImage& image : images) {
             for (int c = 0; c < 3; ++c) {
                 for (int piece = 0; piece < pieces; ++piece) {
                     const int from = piece * options.pieceLength;
@@ -170,17 +170,17 @@ BandGrid locateBandGrid(const std::vector<std::filesystem::path>& captures,
         }
     };
     for (const std::filesystem::path& capture : captures) {
-        const std::vector<FloatImage> images = readCaptureImages(capture);
-        const FloatImage& first = images.front();
+        const std::vector<image::FloatImage> images = readCaptureImages(capture);
+        const image::FloatImage& first = images.front();
         if (grid.width == 0) {
             grid.width = first.width;
             grid.height = first.height;
             if (options.columns < 1 || options.rows < 1 || grid.width < 4 * options.columns ||
                 grid.height < 4 * options.rows) {
-                throw InputError(capture, "images too small for the band grid");
+                throw common::InputError(capture, "images too small for the band grid");
             }
         } else if (first.width != grid.width || first.height != grid.height) {
-            throw InputError(capture, "image size differs from the other captures'");
+            throw common::InputError(capture, "image size differs from the other captures'");
         }
         if (options.columns > 1) {
             accumulate(images, true, columnShift);
@@ -217,7 +217,7 @@ BandGrid locateBandGrid(const std::vector<std::filesystem::path>& captures,
         return lines;
     };
     if (grid.width == 0) {
-        throw InputError("band grid: no captures");
+        throw common::InputError("band grid: no captures");
     }
     grid.columnLines = locate(columnShift, true, options.columns);
     grid.rowLines = locate(rowShift, false, options.rows);
@@ -226,9 +226,9 @@ BandGrid locateBandGrid(const std::vector<std::filesystem::path>& captures,
 
 LineContrasts measureLineContrasts(const std::filesystem::path& capture, const BandGrid& grid,
                                    const BandMergeOptions& options) {
-    const std::vector<FloatImage> images = readCaptureImages(capture);
+    const std::vector<image::FloatImage> images = readCaptureImages(capture);
     if (images.front().width != grid.width || images.front().height != grid.height) {
-        throw InputError(capture, "image size differs from the band grid's");
+        throw common::InputError(capture, "image size differs from the band grid's");
     }
     // Per piece, image and channel: the median signed difference across the line — relief
     // and shading vary along it alike on both sides, a change of material shifts it all.
@@ -240,7 +240,7 @@ LineContrasts measureLineContrasts(const std::filesystem::path& capture, const B
         const int limit = vertical ? grid.width : grid.height;
         std::vector<double> differences, pieces;
         double largest = 0;
-        for (const FloatImage& image : images) {
+        for (const image::FloatImage& image : images) {
             for (int c = 0; c < 3; ++c) {
                 pieces.clear();
                 for (std::size_t piece = 0; piece < line.pieces.size(); ++piece) {
@@ -292,7 +292,7 @@ BandTruth labelBands(const BandGrid& grid, const LineContrasts& contrasts, doubl
     truth.materialRows = row.back() + 1;
     truth.materials = truth.materialColumns * truth.materialRows;
     if (truth.materials > 255) {
-        throw InputError("band grid: more than 255 materials");
+        throw common::InputError("band grid: more than 255 materials");
     }
     truth.labels.resize(static_cast<std::size_t>(grid.width) * grid.height);
     for (int y = 0; y < grid.height; ++y) {

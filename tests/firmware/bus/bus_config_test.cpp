@@ -10,7 +10,7 @@
 #include <toml++/toml.h>
 #include <unistd.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 namespace vpe::firmware::bus {
 namespace {

@@ -3,7 +3,7 @@
 // file:gpio.encoder[i].key for every kind of bad value.
 #include <gtest/gtest.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/knobs/knobs_config_parser.h"
 
 namespace vpe::firmware::knobs {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 
 namespace vpe::firmware {
 namespace {

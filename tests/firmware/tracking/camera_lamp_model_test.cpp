@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/tracking/camera_config.h"
 #include "vpe/firmware/tracking/lamp_tracker.h"
 #include "vpe/firmware/tracking/synthetic_lamp_frame.h"

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 // The small, by-value parts of a bundle — projector calibration, render settings, model —
-// and the rules they must satisfy. The reader decodes the metadata into these; the offline
-// writer takes them as input; both refuse values for the same reasons (check* below).
+// and the rules a bundle must satisfy. The reader decodes the metadata into these; the offline
+// writer takes them as input; both refuse values for the same reasons (the rules below, one
+// definition for both sides).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,5 +68,26 @@ std::string checkProjector(const ProjectorCalibration& projector);
 std::string checkBundleCamera(const ProjectorCalibration& camera);
 std::string checkSettings(const RenderSettings& settings);
 std::string checkModel(const BundleModel& model);
+
+// The bundle's structural rules. Where the writer and the reader word a refusal alike, the
+// check returns it ("" when the rule holds); where each words it its own way (what it was given,
+// or what the file holds), the rule says which way it fails and each side keeps its words.
+
+// Textures of 1..kMaxBundleTextureSize a side (what GLES 3.1 guarantees on the Pi).
+bool textureSizeFits(std::int64_t width, std::int64_t height);
+// 1..kMaxBundleRegions regions.
+bool regionCountFits(std::size_t regions);
+// A low-rank map's rank, 1..the values per texel: "WHAT: rank R is outside 1..C".
+std::string checkRank(const std::string& what, std::int64_t rank, std::int64_t coefficients);
+// Every index names a vertex: an index past them would have the GPU read out of bounds.
+std::string checkMeshIndices(std::span<const std::uint32_t> indices, std::uint64_t vertices);
+// Projector `index` of `projectors` (1..65535 of them).
+bool blendIndexFits(std::int64_t index, std::int64_t projectors);
+// A projector's share of the light at one of its pixels, in [0, 1].
+std::string checkBlendShare(float share);
+// The radiometry's crosstalk X: finite values ≥ 0, its diagonal 1, invertible (the device
+// inverts it).
+enum class MixingRule { kHolds, kNotFiniteOrNegative, kDiagonalNotOne, kSingular };
+MixingRule checkMixing(const std::array<double, 9>& mixing);
 
 }  // namespace vpe::proto

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/player_options.h"
 
 namespace vpe::firmware {

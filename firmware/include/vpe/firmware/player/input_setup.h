@@ -8,7 +8,7 @@
 
 #include <optional>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/bus/bus_config.h"
 #include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/knobs/knobs_config.h"

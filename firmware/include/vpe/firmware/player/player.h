@@ -20,17 +20,17 @@
 #include <string>
 #include <vector>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/input/input_device.h"
 #include "vpe/firmware/light/light_rig.h"
 #include "vpe/firmware/light/shared_light_publisher.h"
 #include "vpe/firmware/loop/event_loop.h"
 #include "vpe/firmware/loop/file_watch.h"
-#include "vpe/firmware/loop/service_watchdog.h"
 #include "vpe/firmware/loop/show_clock.h"
 #include "vpe/firmware/player/frame_report.h"
 #include "vpe/firmware/player/light_log.h"
 #include "vpe/firmware/player/scene_slot.h"
+#include "vpe/firmware/player/service_watchdog.h"
 #include "vpe/firmware/player_options.h"
 #include "vpe/renderer/gles/graphics_platform.h"
 

@@ -10,7 +10,7 @@
 // is refused with one line.
 #pragma once
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/player_options.h"

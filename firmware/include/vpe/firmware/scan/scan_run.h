@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "vpe/firmware/board_config.h"
+#include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/player_options.h"
 #include "vpe/firmware/scan/capture_loop.h"
 #include "vpe/firmware/scan/frame_check.h"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The conversions from the offline world to the bundle's: a model file's coefficients into
-// the bundle's texel order, scene/'s mesh, calibration and response into proto's types.
+// The conversions from the offline world to the bundle's: a model's coefficients into the
+// bundle's texel order, scene/'s mesh, calibration and response into proto's types.
 // Conventions that differ, and are converted here (once): mesh UVs follow OBJ (v = 0 at the
 // bottom of the texture), bundle UVs have (0, 0) at the top-left texel; a sampled response
 // curve may have any levels, the bundle's is sampled evenly.
@@ -10,28 +10,19 @@
 #include <vector>
 
 #include "vpe/bake/bundle_writer.h"
+#include "vpe/model/coefficient_image.h"
 #include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/response_input.h"
 #include "vpe/scene/screen_mesh.h"
 
 namespace vpe::bake {
 
-struct CoefficientTexture {
-    int width = 0;
-    int height = 0;
-    int harmonics = 0;
-    double lambda = 0;
-    bool tilesU = false;        // the model file says it tiles in u (vpe quilt on a wrapping mesh)
-    std::vector<float> values;  // C per texel, proto::bundleCoefficientIndex order
-    std::vector<unsigned char> valid;  // per texel
-    // The relief, when the model carries one: the detail normal's x and y per texel
-    // (proto/detail_normal.h), (0, 0) where invalid; empty when it has none.
-    std::vector<float> detailNormals;
-};
-
-// Reads a model file (vpe fit, quilt, compose): the coefficients and the relief. Invalid
-// texels are zero (and flat).
-CoefficientTexture readCoefficientTexture(const std::filesystem::path& model);
+// A model's coefficients in the bundle's order: C per texel, proto::bundleCoefficientIndex,
+// zero where the texel is invalid.
+std::vector<float> bundleCoefficients(const model::CoefficientImage& model);
+// The model's relief as the bundle holds it: the detail normal's x and y per texel
+// (proto/detail_normal.h), (0, 0) where invalid; empty when the model has none.
+std::vector<float> bundleDetailNormals(const model::CoefficientImage& model);
 
 BundleMesh toBundleMesh(const scene::ScreenMesh& mesh);
 proto::ProjectorCalibration toBundleProjector(const scene::ProjectorCalibration& projector);

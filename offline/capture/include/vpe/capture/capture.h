@@ -12,7 +12,7 @@
 
 #include "vpe/proto/reflection_geometry.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 using Vec3d = proto::Vec3<double>;
 
@@ -111,4 +111,4 @@ struct IncidentLight {
 IncidentLight incidentLight(const Capture& capture, const CaptureImage& image,
                             const Vec3d& surfacePoint);
 
-}  // namespace vpe
+}  // namespace vpe::capture

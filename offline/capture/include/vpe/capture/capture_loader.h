@@ -7,8 +7,8 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 Capture openCapture(const std::filesystem::path& path);
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -9,7 +9,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 // Parses manifest text; `source` names it in messages and relative paths are resolved
 // against its folder. Throws InputError naming the file, line or key.
@@ -17,4 +17,4 @@ Capture parseCaptureManifest(std::string_view text, const std::filesystem::path&
 
 Capture readCaptureManifest(const std::filesystem::path& path);
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -15,7 +15,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 // The relative intensity of the light from one direction, as calibrated.
 struct LightIntensity {
@@ -66,4 +66,4 @@ Capture applyGeometryCalibration(const Capture& capture, const GeometryCalibrati
 Capture applyAcceptedCalibration(const Capture& capture, GeometryCalibration calibration, int width,
                                  int height);
 
-}  // namespace vpe
+}  // namespace vpe::capture

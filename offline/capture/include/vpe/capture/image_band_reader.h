@@ -10,7 +10,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/capture/sample_band.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 class ImageBandReader {
 public:
@@ -46,4 +46,4 @@ private:
 // Names an image of a capture in messages: "image07.jpg (dirs.lp:8)".
 std::string describeImage(const Capture& capture, std::size_t index);
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -9,7 +9,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 // Parses .lp text. `source` names the file in error messages; image paths are resolved
 // against its folder. Throws InputError naming the file and line.
@@ -18,4 +18,4 @@ Capture parseLightFile(std::string_view text, const std::filesystem::path& sourc
 // Reads and parses a .lp file; also picks up normals.png beside it (SynthRTI convention).
 Capture readLightFile(const std::filesystem::path& path);
 
-}  // namespace vpe
+}  // namespace vpe::capture

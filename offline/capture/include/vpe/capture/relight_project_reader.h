@@ -9,7 +9,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 // Parses project text. `source` names the file in messages and anchors "folder". Images
 // marked "skip" have no direction; those not "visible" have one but are left out, as
@@ -18,4 +18,4 @@ Capture parseRelightProject(std::string_view text, const std::filesystem::path& 
 
 Capture readRelightProject(const std::filesystem::path& path);
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -15,7 +15,7 @@
 
 #include <sys/mman.h>
 
-namespace vpe {
+namespace vpe::capture {
 
 // Storage for a band's arrays.
 // - On cache-line boundaries: a chunk's runs are whole cache lines only if the arrays start on
@@ -124,4 +124,4 @@ struct SampleBand {
     }
 };
 
-}  // namespace vpe
+}  // namespace vpe::capture

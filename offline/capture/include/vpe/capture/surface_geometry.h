@@ -9,7 +9,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/image/image_file.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 class SurfaceGeometry {
 public:
@@ -26,7 +26,7 @@ private:
     std::optional<SurfacePlane> plane_;
     int width_;
     int height_;
-    std::optional<FloatImage> positions_;
+    std::optional<image::FloatImage> positions_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::capture

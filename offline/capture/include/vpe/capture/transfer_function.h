@@ -8,7 +8,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::capture {
 
 struct TransferFunction {
     enum class Kind { kLinear, kSrgb, kGamma };
@@ -29,4 +29,4 @@ TransferFunction storedTransfer(const Capture& capture, bool eightBitImages);
 // for 8-bit sRGB photographs the two are the same thing.
 TransferFunction metricTransfer(const Capture& capture);
 
-}  // namespace vpe
+}  // namespace vpe::capture

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string_view>
 
-namespace vpe {
+namespace vpe::common {
 
 class AtomicFolder {
 public:
@@ -30,4 +30,4 @@ private:
     bool committed_ = false;
 };
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string_view>
 
-namespace vpe {
+namespace vpe::common {
 
 class AtomicOutput {
 public:
@@ -31,4 +31,4 @@ private:
 // Writes a whole text file atomically.
 void writeTextFileAtomically(const std::filesystem::path& path, std::string_view text);
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -6,8 +6,8 @@
 
 #include <mutex>
 
-namespace vpe {
+namespace vpe::common {
 
 std::mutex& fftwPlannerMutex();
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace vpe {
+namespace vpe::common {
 
 class InputError : public std::runtime_error {
 public:
@@ -18,4 +18,4 @@ public:
         : std::runtime_error(input.string() + ":" + std::to_string(line) + ": " + problem) {}
 };
 
-}  // namespace vpe
+}  // namespace vpe::common

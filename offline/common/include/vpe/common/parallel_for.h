@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <functional>
 
-namespace vpe {
+namespace vpe::common {
 
 // 0 means one thread per hardware thread.
 unsigned resolveThreadCount(int requested);
@@ -16,4 +16,4 @@ unsigned resolveThreadCount(int requested);
 void parallelFor(std::size_t count, std::size_t grain, unsigned threads,
                  const std::function<void(std::size_t begin, std::size_t end)>& body);
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-namespace vpe {
+namespace vpe::common {
 
 struct PrincipalAxes {
     Eigen::VectorXd mean;       // the samples' mean
@@ -42,4 +42,4 @@ using SampleAt = std::function<const float*(std::size_t i)>;
 PrincipalAxes principalAxes(std::size_t count, int dims, const SampleAt& sampleAt,
                             const AxisSelection& selection = {});
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace vpe {
+namespace vpe::common {
 
 class GradientNoise {
 public:
@@ -22,4 +22,4 @@ private:
     std::uint64_t seed_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -4,10 +4,10 @@
 
 #include <vector>
 
-namespace vpe {
+namespace vpe::common {
 
 // The element of rank round(share · (n − 1)) in increasing order (share 0: the least, 0.5: the
 // median, 1: the greatest); NaN for an empty set. Takes the values by copy (nth_element).
 double quantile(std::vector<double> values, double share);
 
-}  // namespace vpe
+}  // namespace vpe::common

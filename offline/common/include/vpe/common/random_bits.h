@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-namespace vpe {
+namespace vpe::common {
 
 // splitmix64's finalizer of value + the golden-ratio increment: a bijective 64-bit hash.
 constexpr std::uint64_t mixBits(std::uint64_t value) {
@@ -21,4 +21,4 @@ constexpr double uniformFromBits(std::uint64_t bits) {
     return static_cast<double>(bits >> 11) * 0x1.0p-53;
 }
 
-}  // namespace vpe
+}  // namespace vpe::common

@@ -14,32 +14,35 @@
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/model/rti_basis.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 class CapturePredictor {
 public:
     // `capture` names the lights to predict; a model fitted under a calibrated geometry
     // predicts under that geometry (applied here when the capture accepts one). `stored` is
     // the curve the capture's images were stored with (an RTI basis predicts stored values).
-    CapturePredictor(const ModelInfo& info, const Capture& capture, const TransferFunction& stored);
+    CapturePredictor(const model::ModelInfo& info, const capture::Capture& capture,
+                     const capture::TransferFunction& stored);
 
-    const Capture& capture() const { return capture_; }
+    const capture::Capture& capture() const { return capture_; }
     int lightCount() const { return static_cast<int>(capture_.images.size()); }
 
     // Prediction of pixel (x, y), row `row` of `rows`, under light `light` (an index into
     // capture().images), clamped to [0, 1] and encoded as metricTransfer(capture()) says:
     // sRGB, or the images' calibrated response. The pixel must hold a valid fit.
-    std::array<double, 3> predict(const ModelRows& rows, int row, int x, int y, int light) const;
+    std::array<double, 3> predict(const model::ModelRows& rows, int row, int x, int y,
+                                  int light) const;
 
 private:
-    ModelInfo info_;
-    Capture capture_;
-    TransferFunction stored_;
-    TransferFunction metric_;  // what predictions are encoded in (capture/transfer_function.h)
-    SurfaceGeometry geometry_;
-    std::optional<RtiBasis> rti_;
-    std::vector<double> rtiBasisValues_;      // [light][term]
-    std::vector<Vec3d> transportDirections_;  // [light]
+    model::ModelInfo info_;
+    capture::Capture capture_;
+    capture::TransferFunction stored_;
+    capture::TransferFunction
+        metric_;  // what predictions are encoded in (capture/transfer_function.h)
+    capture::SurfaceGeometry geometry_;
+    std::optional<model::RtiBasis> rti_;
+    std::vector<double> rtiBasisValues_;             // [light][term]
+    std::vector<proto::Vec3d> transportDirections_;  // [light]
 };
 
-}  // namespace vpe
+}  // namespace vpe::eval

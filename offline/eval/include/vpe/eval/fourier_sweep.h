@@ -11,7 +11,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 struct SweepOptions {
     int maxHarmonics = 15;
@@ -33,9 +33,10 @@ struct SweepResult {
     double seconds = 0;
 };
 
-SweepResult runSweep(const Capture& train, const Capture& test, const SweepOptions& options);
+SweepResult runSweep(const capture::Capture& train, const capture::Capture& test,
+                     const SweepOptions& options);
 
 void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result);
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result);
 
-}  // namespace vpe
+}  // namespace vpe::eval

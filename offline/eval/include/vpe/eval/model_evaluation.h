@@ -14,7 +14,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::eval {
 
 struct ImageScore {
     std::string name;
@@ -37,9 +37,9 @@ struct EvaluationOptions {
     std::optional<std::filesystem::path> predictionsDir;  // writes <image stem>.png there
 };
 
-EvaluationReport evaluateModel(const std::filesystem::path& modelPath, const Capture& capture,
-                               const EvaluationOptions& options);
+EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
+                               const capture::Capture& capture, const EvaluationOptions& options);
 
 double psnrFromMse(double mse);
 
-}  // namespace vpe
+}  // namespace vpe::eval

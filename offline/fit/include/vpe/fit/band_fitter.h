@@ -18,14 +18,10 @@
 namespace vpe::fit {
 
 struct BandFitSettings {
-    int harmonics = proto::kDefaultHarmonics;
-    double lambda = proto::kDefaultLambda;
-    AccumulationPrecision precision = AccumulationPrecision::kFloatBlocks;
+    // M, λ and the precision of either model's fit; the rest for the extended model only
+    // (with normalSearchDegrees > 0, ModelRows::normal holds the refined normals).
+    ExtendedFitSettings fit;
     bool extended = false;
-    double transportRidge = ExtendedFitSettings{}.transportRidge;  // extended only
-    // Extended only: refine each texel's normal by the fit (ExtendedFitSettings); the refined
-    // normals are what ModelRows::normal then holds.
-    double normalSearchDegrees = 0;
     unsigned threads = 1;
 };
 
@@ -33,16 +29,16 @@ class BandFitter {
 public:
     // `capture` is the geometry the fit runs under (calibrated, for the extended model);
     // all references must outlive the fitter.
-    BandFitter(const Capture& capture, const SurfaceGeometry& geometry, const NormalMap& normals,
-               const BandFitSettings& settings);
+    BandFitter(const capture::Capture& capture, const capture::SurfaceGeometry& geometry,
+               const normals::NormalMap& normals, const BandFitSettings& settings);
 
     // Fits rows band.rowBegin .. + band.rows into `rows` (resized here).
-    void fit(const SampleBand& band, ModelRows& rows) const;
+    void fit(const capture::SampleBand& band, model::ModelRows& rows) const;
 
 private:
-    const Capture& capture_;
-    const SurfaceGeometry& geometry_;
-    const NormalMap& normals_;
+    const capture::Capture& capture_;
+    const capture::SurfaceGeometry& geometry_;
+    const normals::NormalMap& normals_;
     BandFitSettings settings_;
     std::vector<KernelLight> lights_;
     KernelLightSet lightSet_;

@@ -18,7 +18,7 @@
 #include "vpe/model/rti_basis.h"
 #include "vpe/proto/fourier_brdf.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 enum class FitPrecision {
     kAuto,   // exact for unregularized fits (λ < 1e-3), fast otherwise
@@ -45,7 +45,7 @@ enum class ReliefMode {
 
 struct FitOptions {
     ModelVariant variant = ModelVariant::kPaper;
-    RtiBasis rtiBasis;  // kRti only
+    model::RtiBasis rtiBasis;  // kRti only
     // Choose M and λ by held-out validation on the training lights instead of using the
     // values below (the CLI does so for the extended model unless they are given).
     bool selectRegularization = false;
@@ -62,7 +62,7 @@ struct FitOptions {
     std::optional<double> macroSigma;
     std::size_t bandBudgetBytes = std::size_t{192} << 20;  // decoded samples held at once
     bool writePreview = true;
-    ModelStorage storage = ModelStorage::kFloat;  // the model file's channels
+    model::ModelStorage storage = model::ModelStorage::kFloat;  // the model file's channels
 };
 
 struct FitReport {
@@ -85,7 +85,7 @@ struct FitReport {
     std::filesystem::path preview;
     // Held-out search (extended variant): the calibration and regularization found, and
     // the held-out RMS against that of the stated geometry with the given M and λ.
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     double calibrationSeconds = 0;
     double calibratedRms = 0;
     double uncalibratedRms = 0;
@@ -113,7 +113,7 @@ struct FitReport {
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);
 
-FitReport fitCapture(const Capture& capture, const FitOptions& options,
+FitReport fitCapture(const capture::Capture& capture, const FitOptions& options,
                      const std::filesystem::path& modelPath);
 
-}  // namespace vpe
+}  // namespace vpe::fit

@@ -13,19 +13,20 @@
 
 namespace vpe::fit {
 
-std::vector<KernelLight> kernelLights(const Capture& capture);
+std::vector<KernelLight> kernelLights(const capture::Capture& capture);
 
-KernelLightSet kernelLightSet(const Capture& capture, const std::vector<KernelLight>& lights);
+KernelLightSet kernelLightSet(const capture::Capture& capture,
+                              const std::vector<KernelLight>& lights);
 
 // Geometry of pixels x0 .. x0 + kLanes − 1 of image row y; lanes past the row end or without
 // a normal get a harmless placeholder and laneValid = false.
-void fillChunkGeometry(const SurfaceGeometry& geometry, const NormalMap& normals, int x0, int y,
-                       ChunkGeometry& chunk, bool (&laneValid)[kLanes]);
+void fillChunkGeometry(const capture::SurfaceGeometry& geometry, const normals::NormalMap& normals,
+                       int x0, int y, ChunkGeometry& chunk, bool (&laneValid)[kLanes]);
 
 // One lane of a chunk: pixel (x, y), or a placeholder when x < 0.
-void fillChunkLane(const SurfaceGeometry& geometry, const NormalMap& normals, int x, int y,
-                   int lane, ChunkGeometry& chunk, bool& laneValid);
+void fillChunkLane(const capture::SurfaceGeometry& geometry, const normals::NormalMap& normals,
+                   int x, int y, int lane, ChunkGeometry& chunk, bool& laneValid);
 
-ChunkObservations chunkObservations(const SampleBand& band, int row, int x0);
+ChunkObservations chunkObservations(const capture::SampleBand& band, int row, int x0);
 
 }  // namespace vpe::fit

@@ -47,7 +47,7 @@ struct ExtendedFitSettings {
 
 struct ExtendedChunkSolution {
     ChunkSolution brdf;
-    float transport[kLanes][kTransportValues];  // [lane][channel][term]
+    float transport[kLanes][model::kTransportValues];  // [lane][channel][term]
     // Σ w (y − T E f)² over the lane's usable training samples and RGB, in linear radiance
     // (censored samples the model already reaches count zero): what the normal search lowers.
     double trainingError[kLanes];
@@ -55,24 +55,25 @@ struct ExtendedChunkSolution {
 
 // Light data shared by all chunks of a capture.
 struct ExtendedLightTable {
-    std::vector<std::array<double, kTransportTerms>> transportBasis;  // per sample
-    explicit ExtendedLightTable(const Capture& capture);
+    std::vector<std::array<double, model::kTransportTerms>> transportBasis;  // per sample
+    explicit ExtendedLightTable(const capture::Capture& capture);
 };
 
-void fitChunkExtended(const Capture& capture, const ExtendedLightTable& table,
+void fitChunkExtended(const capture::Capture& capture, const ExtendedLightTable& table,
                       const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                      const KernelLightSet& lights, const SampleBand& band, int row, int x0,
-                      const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+                      const KernelLightSet& lights, const capture::SampleBand& band, int row,
+                      int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
 
 // The same fit, then (with settings.normalSearchDegrees > 0) each lane's normal refined: a
 // photometric-stereo normal is a Lambertian estimate that drops the darkest samples, and raking
 // lights, where the model is most sensitive to the tilt, are among them. Every tilt of the
 // pattern is a full extended fit of the chunk; a lane keeps the normal, BRDF and T of the
 // lowest training error. `geometry`'s normals are replaced by the chosen ones.
-void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLightTable& table,
-                                     ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
-                                     const KernelLightSet& lights, const SampleBand& band, int row,
-                                     int x0, const ExtendedFitSettings& settings,
+void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
+                                     const ExtendedLightTable& table, ChunkGeometry& geometry,
+                                     const bool (&laneValid)[kLanes], const KernelLightSet& lights,
+                                     const capture::SampleBand& band, int row, int x0,
+                                     const ExtendedFitSettings& settings,
                                      ExtendedChunkSolution& out);
 
 }  // namespace vpe::fit

@@ -15,7 +15,7 @@
 #include "vpe/fit/extended_chunk_fit.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::fit {
 
 // Held-out RMS in 8-bit levels: pooled over every held-out sample, and the geometric mean
 // of the held-out images' RMS (whose PSNR is the images' mean PSNR, vpe eval's figure).
@@ -31,30 +31,30 @@ enum class HeldOutFolds { kOne, kEvery };
 // Scores hypotheses on a fixed grid of pixels, decoded once.
 class HeldOutValidator {
 public:
-    HeldOutValidator(const Capture& capture, const NormalMap& normals, int samplePixels,
-                     int holdOutEvery, unsigned threads);
+    HeldOutValidator(const capture::Capture& capture, const normals::NormalMap& normals,
+                     int samplePixels, int holdOutEvery, unsigned threads);
     ~HeldOutValidator();
     HeldOutValidator(const HeldOutValidator&) = delete;
     HeldOutValidator& operator=(const HeldOutValidator&) = delete;
 
     // Held-out RMS in 8-bit sRGB levels of a fit under this geometry, M and λ.
-    double score(const GeometryCalibration& calibration, int harmonics, double lambda,
+    double score(const capture::GeometryCalibration& calibration, int harmonics, double lambda,
                  HeldOutFolds folds = HeldOutFolds::kOne) const;
     // The same for the extended model's fit, light transport T included (settings give M, λ
     // and T's ridge).
-    HeldOutScore scoreWithTransport(const GeometryCalibration& calibration,
+    HeldOutScore scoreWithTransport(const capture::GeometryCalibration& calibration,
                                     const fit::ExtendedFitSettings& settings) const;
     // Each light's gain under that extended fit: the factor Σ ŷ y / Σ ŷ² by which the grid's
     // observations y exceed the model's predictions ŷ, for the lights the fit used (all
     // lights, or the three quarters the scores train on when `holdOut`); 0 for the others.
-    std::vector<double> lightGains(const GeometryCalibration& calibration,
+    std::vector<double> lightGains(const capture::GeometryCalibration& calibration,
                                    const fit::ExtendedFitSettings& settings, bool holdOut) const;
 
     struct Samples;  // the decoded pixel grid (defined in the .cpp)
 
 private:
-    const Capture& capture_;
-    const NormalMap& normals_;
+    const capture::Capture& capture_;
+    const normals::NormalMap& normals_;
     int holdOutEvery_;
     unsigned threads_;
     std::unique_ptr<Samples> samples_;
@@ -89,7 +89,7 @@ struct TransportRidgeTrial {
 };
 
 struct HeldOutTrial {
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     int harmonics = 0;
     double lambda = 0;
     HeldOutFolds folds = HeldOutFolds::kOne;
@@ -97,7 +97,7 @@ struct HeldOutTrial {
 };
 
 struct HeldOutSearchResult {
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     int harmonics = 0;
     double lambda = 0;
     double rms = 0;          // of the choice, over the folds that judged the camera and rig
@@ -114,7 +114,8 @@ struct HeldOutSearchResult {
     double lightIntensityRms = 0;
 };
 
-HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
+HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
+                                  const normals::NormalMap& normals,
                                   const HeldOutSearchOptions& options);
 
-}  // namespace vpe
+}  // namespace vpe::fit

@@ -18,16 +18,16 @@ namespace vpe::fit {
 class RtiBandFitter {
 public:
     // `stored` is the curve the band's linear values were decoded with; the fit undoes it.
-    RtiBandFitter(const Capture& capture, const RtiBasis& basis, const TransferFunction& stored,
-                  unsigned threads);
+    RtiBandFitter(const capture::Capture& capture, const model::RtiBasis& basis,
+                  const capture::TransferFunction& stored, unsigned threads);
 
     // Fits rows band.rowBegin .. + band.rows into `rows` (resized here). A pixel with fewer
     // usable samples than the basis has terms is left invalid.
-    void fit(const SampleBand& band, ModelRows& rows) const;
+    void fit(const capture::SampleBand& band, model::ModelRows& rows) const;
 
 private:
-    RtiBasis basis_;
-    TransferFunction stored_;
+    model::RtiBasis basis_;
+    capture::TransferFunction stored_;
     unsigned threads_;
     Eigen::MatrixXd design_;         // images × terms
     Eigen::MatrixXd pseudoInverse_;  // terms × images: the least-squares solution operator

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace vpe {
+namespace vpe::image {
 
 // A picture to show: display values in [0, 1] (already encoded for the eye), 1 or 3 channels.
 struct SheetTile {
@@ -26,4 +26,4 @@ void writeContactSheet(const std::filesystem::path& path, const std::vector<Shee
 SheetTile scalarTile(std::string label, int width, int height, const std::vector<float>& values,
                      float low, float high);
 
-}  // namespace vpe
+}  // namespace vpe::image

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace vpe {
+namespace vpe::image {
 
 struct FloatImage {
     int width = 0;
@@ -43,4 +43,4 @@ void writeImage(const std::filesystem::path& path, int width, int height, int ch
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
                  const std::vector<std::uint8_t>& pixels);
 
-}  // namespace vpe
+}  // namespace vpe::image

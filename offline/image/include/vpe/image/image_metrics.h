@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace vpe {
+namespace vpe::image {
 
 // Interleaved RGB, row 0 at the top.
 struct Rgb8Image {
@@ -33,4 +33,4 @@ double meanSsim(const Rgb8Image& a, const Rgb8Image& b, const std::vector<std::u
 // image. For tests and pictures.
 std::vector<double> ssimMap(const Rgb8Image& a, const Rgb8Image& b, int channel);
 
-}  // namespace vpe
+}  // namespace vpe::image

@@ -16,7 +16,7 @@
 #include "vpe/capture/geometry_calibration.h"
 #include "vpe/model/rti_basis.h"
 
-namespace vpe {
+namespace vpe::model {
 
 // The channel type of a model file. Half floats keep 11 significant bits (relative error
 // ≤ 2⁻¹¹ ≈ 4.9e-4 for |x| ≥ 2⁻¹⁴, absolute ≤ 2⁻²⁵ below): on the fits measured it changes
@@ -39,7 +39,7 @@ struct ModelInfo {
     std::string capture;  // what was fitted (for people reading the header)
     // The capture geometry the model was fitted under (extended variant): evaluation of
     // another capture from the same dome applies it too.
-    GeometryCalibration calibration;
+    capture::GeometryCalibration calibration;
     // The side of a texel on the captured surface, millimetres (0: unknown): from the capture's
     // manifest through vpe fit; a quilted texture keeps its source's.
     double texelMm = 0;
@@ -128,4 +128,4 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::model

@@ -12,7 +12,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::model {
 
 inline constexpr int kTransportTerms = 16;
 inline constexpr int kTransportChannels = 3;  // R, G, B
@@ -20,7 +20,7 @@ inline constexpr int kTransportChannels = 3;  // R, G, B
 inline constexpr int kTransportValues = kTransportChannels * kTransportTerms;
 
 // Writes the 16 basis values for a unit light direction.
-void lightTransportBasis(const Vec3d& direction, double* basis);
+void lightTransportBasis(const proto::Vec3d& direction, double* basis);
 
 // Coefficients of T ≡ 1 (no shadowing, no interreflection).
 void identityTransport(double* coefficients);
@@ -28,11 +28,12 @@ void identityTransport(double* coefficients);
 // Each colour channel's T for one light direction, at least 0 (light is never taken away
 // below none): `values` holds a texel's kTransportValues.
 std::array<double, kTransportChannels> evaluateColourTransport(const float* values,
-                                                               const Vec3d& direction);
+                                                               const proto::Vec3d& direction);
 
 // The direction a light's transport is indexed by: directional lights as given; point
 // lights by their direction from the rig's origin (the object's centre), so that T is a
 // function over the dome, independent of where on the object the texel is.
-Vec3d transportDirection(const Capture& capture, const CaptureImage& image);
+proto::Vec3d transportDirection(const capture::Capture& capture,
+                                const capture::CaptureImage& image);
 
-}  // namespace vpe
+}  // namespace vpe::model

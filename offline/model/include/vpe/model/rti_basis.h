@@ -13,7 +13,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::model {
 
 struct RtiBasis {
     enum class Kind { kPtm, kHsh };
@@ -29,7 +29,7 @@ struct RtiBasis {
 
     // Writes the `terms` basis values for a unit direction towards the light (x right, y up,
     // z towards the camera).
-    void evaluate(const Vec3d& light, double* out) const;
+    void evaluate(const proto::Vec3d& light, double* out) const;
 };
 
-}  // namespace vpe
+}  // namespace vpe::model

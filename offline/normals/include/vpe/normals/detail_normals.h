@@ -12,7 +12,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 // The regression window's σ as a share of the image's larger side: chosen on the synthetic
 // capture, whose true macro shape is known (docs/transfer-fidelity.md).
@@ -29,10 +29,11 @@ NormalMap lowPassNormals(const NormalMap& normals, double sigma);
 
 // The world direction of the image's +x axis (the camera's right): the texture's +u on the
 // capture. With the macro normal it fixes the tangent frame (t from it, b = n × t ≈ image up).
-Vec3d imageRightDirection(const Capture& capture);
+proto::Vec3d imageRightDirection(const capture::Capture& capture);
 
 // The detail normal of one pixel: the normal's components in the macro normal's frame
 // (proto::tangentFrame(macro, right, up), proto::detailNormalIn).
-Vec3d detailNormalOf(const Vec3d& normal, const Vec3d& macroNormal, const Vec3d& imageRight);
+proto::Vec3d detailNormalOf(const proto::Vec3d& normal, const proto::Vec3d& macroNormal,
+                            const proto::Vec3d& imageRight);
 
-}  // namespace vpe
+}  // namespace vpe::normals

@@ -8,7 +8,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct NormalMap {
     int width = 0;
@@ -24,7 +24,7 @@ struct NormalMap {
     }
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width + x; }
     bool validAt(int x, int y) const { return valid[index(x, y)] != 0; }
-    Vec3d at(int x, int y) const {
+    proto::Vec3d at(int x, int y) const {
         const std::size_t i = index(x, y) * 3;
         return {xyz[i], xyz[i + 1], xyz[i + 2]};
     }
@@ -32,7 +32,7 @@ struct NormalMap {
 
 // Reads a normal map. kAuto: integer images are (n + 1)/2, floating-point images hold n.
 // Pixels whose decoded vector is far from unit length (e.g. black background) are invalid.
-NormalMap readNormalMap(const std::filesystem::path& path, NormalEncoding encoding);
+NormalMap readNormalMap(const std::filesystem::path& path, capture::NormalEncoding encoding);
 
 // Writes (n + 1)/2 as 8-bit RGB; invalid pixels are black.
 void writeNormalMapPng(const std::filesystem::path& path, const NormalMap& normals);
@@ -45,4 +45,4 @@ struct AngularError {
 
 AngularError compareNormalMaps(const NormalMap& estimate, const NormalMap& truth);
 
-}  // namespace vpe
+}  // namespace vpe::normals

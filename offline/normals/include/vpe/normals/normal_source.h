@@ -10,7 +10,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct NormalsResult {
     NormalMap normals;
@@ -18,8 +18,8 @@ struct NormalsResult {
     bool estimated = false;  // photometric stereo, not a given map
 };
 
-NormalsResult acquireNormals(const Capture& capture,
+NormalsResult acquireNormals(const capture::Capture& capture,
                              const std::optional<std::filesystem::path>& overridePath, int width,
                              int height, unsigned threads);
 
-}  // namespace vpe
+}  // namespace vpe::normals

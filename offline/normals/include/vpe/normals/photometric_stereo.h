@@ -8,7 +8,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
-namespace vpe {
+namespace vpe::normals {
 
 struct PhotometricStereoOptions {
     double darkFraction = 0.3;    // share of darkest samples left out of the first fit
@@ -17,6 +17,6 @@ struct PhotometricStereoOptions {
     unsigned threads = 1;
 };
 
-NormalMap estimateNormals(const Capture& capture, const PhotometricStereoOptions& options);
+NormalMap estimateNormals(const capture::Capture& capture, const PhotometricStereoOptions& options);
 
-}  // namespace vpe
+}  // namespace vpe::normals

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace vpe {
+namespace vpe::plot {
 
 class SvgLinePlot {
 public:
@@ -37,4 +37,4 @@ private:
 // Round tick positions covering [low, high].
 std::vector<double> niceTicks(double low, double high, int approximateCount);
 
-}  // namespace vpe
+}  // namespace vpe::plot

@@ -11,7 +11,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/model/fourier_model_file.h"
 
-namespace vpe {
+namespace vpe::preview {
 
 class RelightPreview {
 public:
@@ -19,14 +19,14 @@ public:
 
     RelightPreview(int width, int height, int harmonics);
     // Rows may arrive in any order, from one thread at a time.
-    void addRows(int rowBegin, const ModelRows& rows);
+    void addRows(int rowBegin, const model::ModelRows& rows);
     void write(const std::filesystem::path& path) const;
 
-    static const std::vector<Vec3d>& lights();
+    static const std::vector<proto::Vec3d>& lights();
 
 private:
     int harmonics_, step_, tileWidth_, tileHeight_;
     std::vector<std::uint8_t> pixels_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::preview

@@ -28,8 +28,8 @@ struct InstallationCheckOptions {
 
 struct VisitorComparison {
     renderer::Vec3d light;
-    double psnr = 0;            // as people see it: 8-bit sRGB, one exposure for both
-    Rgb8Image measured, truth;  // what the visitor sees
+    double psnr = 0;                   // as people see it: 8-bit sRGB, one exposure for both
+    image::Rgb8Image measured, truth;  // what the visitor sees
 };
 
 struct InstallationCheck {

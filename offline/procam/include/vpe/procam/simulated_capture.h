@@ -27,7 +27,7 @@ struct SimulatedScanOptions {
 // given.
 void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
                         const std::filesystem::path& folder, const SimulatedScanOptions& options,
-                        ProgressBar* progress = nullptr);
+                        common::ProgressBar* progress = nullptr);
 
 struct SimulatedRadiometryOptions {
     int levels = 16;  // per primary (proto::RadiometryParameters::levels)
@@ -44,7 +44,7 @@ struct SimulatedRadiometryOptions {
 void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator,
                               const std::filesystem::path& folder,
                               const SimulatedRadiometryOptions& options,
-                              ProgressBar* progress = nullptr);
+                              common::ProgressBar* progress = nullptr);
 
 // The truth of the simulator's installation, in the camera's frame:
 //   camera-truth.exr: per camera pixel, the projector coordinate it sees (projector.x/y: the

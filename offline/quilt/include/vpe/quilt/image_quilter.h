@@ -13,19 +13,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "vpe/model/coefficient_image.h"
+
 namespace vpe::quilt {
 
 // Source coefficient vectors, row-major: values[(y * width + x) * channels + c].
-struct SourceTexture {
-    int width = 0;
-    int height = 0;
-    int channels = 0;
-    std::vector<float> values;
-    const float* at(int x, int y) const {
-        return values.data() + (static_cast<std::size_t>(y) * width + x) * channels;
-    }
-};
-
 struct QuiltSettings {
     int block = 64;          // block side in pixels
     int overlap = 12;        // overlap width (Efros & Freeman: about a sixth of the block)
@@ -60,7 +52,8 @@ struct RegionQuilt {
 // Synthesizes a width × height texture for `region` (pixels of `labels` equal to it). Throws
 // InputError when the region cannot hold a block of at least 8 pixels, or when a texture that
 // wraps is not wider than one block.
-RegionQuilt quiltRegion(const SourceTexture& source, const std::vector<std::uint8_t>& labels,
-                        int region, int width, int height, const QuiltSettings& settings);
+RegionQuilt quiltRegion(const model::CoefficientImage& source,
+                        const std::vector<std::uint8_t>& labels, int region, int width, int height,
+                        const QuiltSettings& settings);
 
 }  // namespace vpe::quilt

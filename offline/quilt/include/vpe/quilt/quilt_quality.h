@@ -10,23 +10,10 @@
 #include <filesystem>
 #include <vector>
 
+#include "vpe/model/coefficient_image.h"
 #include "vpe/quilt/quilt_folder.h"
 
 namespace vpe::quilt {
-
-// A model's coefficients as one vector per pixel: values[(y·width + x)·dims + c·K + k] for
-// colour channel c and coefficient k (K = 2M + 2, dims = 3K).
-struct CoefficientImage {
-    int width = 0;
-    int height = 0;
-    int dims = 0;
-    int harmonics = 0;
-    std::vector<float> values;
-    std::vector<std::uint8_t> valid;
-    const float* at(std::size_t pixel) const { return values.data() + pixel * dims; }
-};
-
-CoefficientImage readCoefficientImage(const std::filesystem::path& model);
 
 struct SlicedWassersteinOptions {
     int directions = 64;
@@ -101,9 +88,9 @@ struct RegionQuality {
 
 // `output` is region map `region` (the quilt), `positions` its copy positions; `source` and
 // `labels` the model that was quilted and its region labels.
-RegionQuality measureRegionQuality(const CoefficientImage& source,
+RegionQuality measureRegionQuality(const model::CoefficientImage& source,
                                    const std::vector<std::uint8_t>& labels, int region,
-                                   const CoefficientImage& output, const PositionMap& positions,
-                                   const QualityOptions& options);
+                                   const model::CoefficientImage& output,
+                                   const PositionMap& positions, const QualityOptions& options);
 
 }  // namespace vpe::quilt

@@ -46,7 +46,7 @@ struct QuiltTextureOptions {
     WrapMode wrap = WrapMode::kAuto;
     QuiltSettings settings;
     // The region maps' channels; unset: as the source model's.
-    std::optional<ModelStorage> storage;
+    std::optional<model::ModelStorage> storage;
 };
 
 struct RegionReport {

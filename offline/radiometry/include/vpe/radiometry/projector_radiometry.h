@@ -73,7 +73,7 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
                                       const proto::PinholeCamera& camera,
                                       const proto::PinholeCamera& projector,
                                       const RadiometryOptions& options = {},
-                                      ProgressBar* progress = nullptr);
+                                      common::ProgressBar* progress = nullptr);
 
 // The files vpe radiometry writes and vpe bake --radiometry reads.
 inline constexpr const char* kIrradianceFile = "irradiance.exr";  // F: R, G, B

@@ -8,7 +8,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 // The four grid nodes (index x + y·R) a light blends and their weights (summing to 1).
 struct LightGridWeights {
@@ -30,13 +30,13 @@ public:
 
     // The unit direction towards the light at node x + y·R (Relight's fromOcta: the square's
     // corners land on the horizon, z is clamped at 0 against rounding, then normalized).
-    Vec3d nodeDirection(int node) const;
+    proto::Vec3d nodeDirection(int node) const;
 
     // The nodes and weights OpenLIME blends for the unit direction towards a light.
-    LightGridWeights weights(const Vec3d& towardsLight) const;
+    LightGridWeights weights(const proto::Vec3d& towardsLight) const;
 
 private:
     int resolution_;
 };
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -11,7 +11,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/relight_web/relight_web_encoder.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 struct RelightRoundTrip {
     int lights = 0;                // capture lights compared
@@ -29,8 +29,9 @@ struct RelightModelExport {
 // `checkLights` are the lights the round trip compares under (e.g. the capture's held-out
 // ones); empty means all of the capture's lights. Throws InputError for bad inputs.
 RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
-                                        const Capture& capture, const std::filesystem::path& folder,
+                                        const capture::Capture& capture,
+                                        const std::filesystem::path& folder,
                                         const RelightWebOptions& options,
-                                        const Capture& checkLights);
+                                        const capture::Capture& checkLights);
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -11,12 +11,13 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 // Fills `rgb` (width·height·3, interleaved, row 0 at the top) with the subject as seen under
 // a directional light towards `towardsLight` (unit): sRGB-encoded values in [0, 1], the
 // units of the photographs the format was made for.
-using LightRenderer = std::function<void(const Vec3d& towardsLight, std::vector<float>& rgb)>;
+using LightRenderer =
+    std::function<void(const proto::Vec3d& towardsLight, std::vector<float>& rgb)>;
 
 // What the grid's nodes hold.
 enum class GridValues {
@@ -46,6 +47,6 @@ struct RelightWebSummary {
 // for options out of range.
 RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width, int height,
                                   const LightRenderer& render, const RelightWebOptions& options,
-                                  const std::vector<Vec3d>& captureLights = {});
+                                  const std::vector<proto::Vec3d>& captureLights = {});
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -10,7 +10,7 @@
 #include "vpe/capture/capture.h"
 #include "vpe/relight_web/bilinear_light_grid.h"
 
-namespace vpe {
+namespace vpe::relight_web {
 
 class RelightWebReader {
 public:
@@ -23,24 +23,24 @@ public:
     int planes() const { return planes_; }
     int resolution() const { return grid_.resolution(); }
     // info.json's "lights": the capture's light directions, if the export records them.
-    const std::vector<Vec3d>& lights() const { return lights_; }
+    const std::vector<proto::Vec3d>& lights() const { return lights_; }
 
     // The picture OpenLIME draws with the light towards `towardsLight`: sRGB values,
     // width·height·3 interleaved, clamped to [0, 1] as a display does.
-    std::vector<float> relight(const Vec3d& towardsLight) const;
+    std::vector<float> relight(const proto::Vec3d& towardsLight) const;
 
 private:
     int width_ = 0;
     int height_ = 0;
     int planes_ = 0;
     BilinearLightGrid grid_;
-    std::vector<Vec3d> lights_;
+    std::vector<proto::Vec3d> lights_;
     std::vector<float> basis_;         // decoded: (planes + 1) · R² · 3, OpenLIME's layout
     std::vector<float> coefficients_;  // decoded: per pixel, `planes_` values
 };
 
 // The light directions a Relight export's info.json records ("lights", flat x, y, z triples),
 // normalized; empty when it has none. Throws InputError naming the file.
-std::vector<Vec3d> readRelightExportLights(const std::filesystem::path& infoJson);
+std::vector<proto::Vec3d> readRelightExportLights(const std::filesystem::path& infoJson);
 
-}  // namespace vpe
+}  // namespace vpe::relight_web

@@ -11,7 +11,7 @@
 
 #include "vpe/capture/capture.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 struct AppearanceOptions {
     // Principal components of the coefficients kept as features.
@@ -43,7 +43,7 @@ struct Appearance {
 // The dome the average is taken under: 40 directions spread evenly (equal solid angle) over
 // the upper hemisphere of the camera frame, so their mean approximates the average over all
 // directions a light can come from.
-const std::vector<Vec3d>& averagingLights();
+const std::vector<proto::Vec3d>& averagingLights();
 
 // Reads the model file (twice, band by band: first the average and the principal axes, then
 // the projections) and computes the appearance. Throws InputError naming the file.
@@ -52,4 +52,4 @@ Appearance computeAppearance(const std::filesystem::path& model, const Appearanc
 // CIELAB (D65 white, Y of white = 1) of a linear sRGB colour.
 void linearRgbToLab(const float* rgb, float* lab);
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace vpe {
+namespace vpe::segment {
 
 struct KMeansOptions {
     int clusters = 2;
@@ -56,4 +56,4 @@ ClusterCountChoice chooseClusterCount(const std::vector<float>& points, int dims
 // count 0.
 double meanSilhouette(const std::vector<float>& points, int dims, const std::vector<int>& labels);
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -10,7 +10,7 @@
 
 #include "vpe/segment/label_map.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 struct LabelComparison {
     std::vector<int> truthLabels;    // the reference labels present, ascending
@@ -27,4 +27,4 @@ LabelComparison compareLabels(const LabelMap& predicted, const LabelMap& truth);
 // (Hungarian method with potentials, O(n³)). Returns the column of each row.
 std::vector<int> minimumCostAssignment(const std::vector<std::vector<double>>& cost);
 
-}  // namespace vpe
+}  // namespace vpe::segment

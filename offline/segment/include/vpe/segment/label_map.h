@@ -10,7 +10,7 @@
 
 #include "vpe/segment/average_appearance.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 struct LabelMap {
     // The value of pixels without a valid model (and so without a label): labels are
@@ -79,4 +79,4 @@ void writeLabelOverlay(const std::filesystem::path& path, const LabelMap& map,
 // The overlay's path next to a label file: labels.png → labels-overlay.png.
 std::filesystem::path overlayPathFor(const std::filesystem::path& labels);
 
-}  // namespace vpe
+}  // namespace vpe::segment

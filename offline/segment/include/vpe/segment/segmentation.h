@@ -10,7 +10,7 @@
 #include "vpe/segment/average_appearance.h"
 #include "vpe/segment/label_map.h"
 
-namespace vpe {
+namespace vpe::segment {
 
 struct SegmentOptions {
     std::vector<PixelSeed> seeds;  // seeded when not empty
@@ -43,4 +43,4 @@ struct SegmentResult {
 // outside [1, LabelMap::kMaxLabels] or above the number of valid pixels.
 SegmentResult segmentAppearance(const Appearance& appearance, const SegmentOptions& options);
 
-}  // namespace vpe
+}  // namespace vpe::segment

@@ -14,7 +14,7 @@ namespace vpe::structured_light {
 
 // A picture's grey values (Rec. 709 luminance of a colour one). Throws InputError naming `source`
 // for a picture of 2 channels.
-std::vector<float> greyPixels(FloatImage picture, const std::filesystem::path& source);
+std::vector<float> greyPixels(image::FloatImage picture, const std::filesystem::path& source);
 
 class ScanCapture {
 public:

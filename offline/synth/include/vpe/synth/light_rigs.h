@@ -13,10 +13,10 @@ namespace vpe::synth {
 
 struct LightRig {
     std::string name;
-    LightKind kind = LightKind::kPoint;
-    double referenceDistance = 1.0;  // point lights: irradiance 1 at this distance
-    std::vector<Vec3d> train;        // positions (point) or unit directions (directional)
-    std::vector<Vec3d> test;         // held out: between the training positions
+    capture::LightKind kind = capture::LightKind::kPoint;
+    double referenceDistance = 1.0;   // point lights: irradiance 1 at this distance
+    std::vector<proto::Vec3d> train;  // positions (point) or unit directions (directional)
+    std::vector<proto::Vec3d> test;   // held out: between the training positions
 };
 
 // Azimuth is measured around the vase's (y) axis from the camera direction (+z), elevation

@@ -10,16 +10,16 @@
 namespace vpe::synth {
 
 struct MicrofacetMaterial {
-    Vec3d albedo{0.5, 0.5, 0.5};  // diffuse reflectance ρ per channel
-    double roughness = 0.3;       // GGX α (perceptual roughness squared)
-    double f0 = 0.04;             // Fresnel reflectance at normal incidence (dielectric glaze)
+    proto::Vec3d albedo{0.5, 0.5, 0.5};  // diffuse reflectance ρ per channel
+    double roughness = 0.3;              // GGX α (perceptual roughness squared)
+    double f0 = 0.04;  // Fresnel reflectance at normal incidence (dielectric glaze)
 };
 
 // Radiance leaving the surface towards `toViewer` under a light of unit irradiance
 // (perpendicular to the light) from `toLight`, scaled by π so that a white Lambertian
 // surface lit head-on returns 1: (ρ + π f_spec) · max(n·l, 0) per channel. Unit vectors.
-Vec3d microfacetRadiance(const MicrofacetMaterial& material, const Vec3d& normal,
-                         const Vec3d& toLight, const Vec3d& toViewer);
+proto::Vec3d microfacetRadiance(const MicrofacetMaterial& material, const proto::Vec3d& normal,
+                                const proto::Vec3d& toLight, const proto::Vec3d& toViewer);
 
 // The pieces, exposed for the closed-form tests.
 double ggxDistribution(double cosThetaH, double alpha);

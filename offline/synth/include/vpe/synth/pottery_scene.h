@@ -17,13 +17,13 @@ namespace vpe::synth {
 
 struct SurfacePoint {
     bool hit = false;
-    Vec3d position;    // world, relief included
-    Vec3d normal;      // shading normal, relief included
-    Vec3d baseNormal;  // of the smooth surface of revolution
-    Vec3d tangentU;    // around the axis
-    Vec3d tangentV;    // along the profile
-    double u = 0;      // azimuth (radians)
-    double v = 0;      // height
+    proto::Vec3d position;    // world, relief included
+    proto::Vec3d normal;      // shading normal, relief included
+    proto::Vec3d baseNormal;  // of the smooth surface of revolution
+    proto::Vec3d tangentU;    // around the axis
+    proto::Vec3d tangentV;    // along the profile
+    double u = 0;             // azimuth (radians)
+    double v = 0;             // height
     double relief = 0;
     double streak = 0;  // 0 ground … 1 streak (soft edges)
     int label = 0;      // 0 ground, 1 streak
@@ -41,8 +41,8 @@ public:
     PotteryScene(int size, std::uint64_t seed);
 
     int size() const { return size_; }
-    const PinholeCamera& camera() const { return camera_; }
-    Vec3d cameraCenter() const { return camera_.center(); }
+    const capture::PinholeCamera& camera() const { return camera_; }
+    proto::Vec3d cameraCenter() const { return camera_.center(); }
     // The side of one pixel's footprint on the surface at the image centre, where the surface
     // faces the camera, millimetres (away from the centre foreshortening widens it along u).
     double texelMillimetres() const;
@@ -51,7 +51,7 @@ public:
     SurfacePoint surfaceAt(int x, int y) const;
     // Whether the relief around p blocks light arriving from the unit direction toLight
     // (a horizon test along the light's direction in the tangent plane).
-    bool reliefShadows(const SurfacePoint& p, const Vec3d& toLight) const;
+    bool reliefShadows(const SurfacePoint& p, const proto::Vec3d& toLight) const;
 
 private:
     double radius(double y) const;
@@ -63,8 +63,8 @@ private:
     double gridRelief(double u, double v) const;
 
     int size_;
-    PinholeCamera camera_;
-    GradientNoise pattern_, relief_, albedo_, roughness_;
+    capture::PinholeCamera camera_;
+    common::GradientNoise pattern_, relief_, albedo_, roughness_;
     double streakPhase_[3];
     // The relief sampled on a fine (u, v) grid: the shadow test marches through it instead
     // of evaluating noise at every step (30x faster renders).

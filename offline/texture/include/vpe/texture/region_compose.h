@@ -17,7 +17,7 @@ namespace vpe::texture {
 
 // Opens every region map and checks they agree on size and harmonics; returns the first
 // one's header. Throws InputError naming the map that differs and how.
-ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps);
+model::ModelInfo checkRegionMaps(const std::vector<std::filesystem::path>& regionMaps);
 
 struct ComposeReport {
     int width = 0;
@@ -36,6 +36,6 @@ struct ComposeReport {
 // `storage`, or unset: as the first region map's.
 ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& regionMaps,
                                 const WeightMaps& weights, const std::filesystem::path& out,
-                                std::optional<ModelStorage> storage = std::nullopt);
+                                std::optional<model::ModelStorage> storage = std::nullopt);
 
 }  // namespace vpe::texture

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace vpe {
+namespace vpe::segment {
 struct LabelMap;
 }
 
@@ -55,8 +55,8 @@ struct StreakStatistics {
 StreakStatistics measureStreaks(const StreakMask& mask);
 
 // Region `region` of a label map as streaks, every other label background, unlabelled pixels
-// (LabelMap::kNoLabel) unknown.
-StreakMask streakMaskFromLabels(const LabelMap& labels, int region);
+// (segment::LabelMap::kNoLabel) unknown.
+StreakMask streakMaskFromLabels(const segment::LabelMap& labels, int region);
 
 // A weight map as streaks where weight ≥ threshold (½: the weight's own midpoint).
 StreakMask streakMaskFromWeights(const std::vector<float>& weight, int width, int height,
