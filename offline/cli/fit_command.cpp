@@ -140,6 +140,13 @@ void runFit(const Arguments& args) {
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};
         }
+        if (!report.searchStageSeconds.empty()) {
+            nlohmann::json stages = nlohmann::json::array();
+            for (const SearchStageTime& stage : report.searchStageSeconds) {
+                stages.push_back({{"stage", stage.stage}, {"seconds", stage.seconds}});
+            }
+            json["calibration"]["stage_seconds"] = stages;
+        }
         if (!report.transportTrials.empty()) {
             nlohmann::json trials = nlohmann::json::array();
             for (const TransportRidgeTrial& trial : report.transportTrials) {

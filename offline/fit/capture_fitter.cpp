@@ -186,6 +186,11 @@ void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reade
     std::optional<NormalsResult> previous;
     for (int round = 0; round < 2; ++round) {
         const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+        for (const SearchStageTime& stage : found.stageSeconds) {
+            report.searchStageSeconds.push_back(
+                {stage.stage + " (under " + (round == 0 ? "first" : "calibrated") + " normals)",
+                 stage.seconds});
+        }
         if (previous && found.rms >= report.responseRms) {
             // The normals estimated under the capture's own response predict the held-out
             // lights better: keep them, with the response chosen under them.
@@ -211,8 +216,11 @@ void calibrateResponse(Capture& capture, std::unique_ptr<ImageBandReader>& reade
         capture = applyGeometryCalibration(capture, found.calibration, report.width, report.height);
         reader = std::make_unique<ImageBandReader>(capture, options.threads);
         previous = std::move(normals);
+        const auto normalsStart = Clock::now();
         normals =
             acquireNormals(capture, options.normals, report.width, report.height, options.threads);
+        report.searchStageSeconds.push_back(
+            {"normals under the calibrated response", secondsSince(normalsStart)});
     }
     report.calibrationSeconds += secondsSince(searchStart);
 }
@@ -270,6 +278,8 @@ Capture searchUnstated(const Capture& capture, const NormalMap& normals, const F
     report.transportRidge = found.transportRidge;
     report.transportRms = found.transportRms;
     report.transportTrials = found.transportTrials;
+    report.searchStageSeconds.insert(report.searchStageSeconds.end(), found.stageSeconds.begin(),
+                                     found.stageSeconds.end());
     Capture calibrated =
         applyGeometryCalibration(capture, found.calibration, report.width, report.height);
     report.calibrationSeconds += secondsSince(searchStart);

@@ -3,6 +3,7 @@
 #include "vpe/fit/held_out_search.h"
 
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/model/light_transport.h"
 
@@ -563,21 +565,26 @@ HeldOutSearch::HeldOutSearch(const Capture& capture, const NormalMap& normals,
 }
 
 HeldOutSearchResult HeldOutSearch::run() {
-    score(GeometryCalibration{}, options_.harmonics, options_.lambda);
+    const auto timed = [this](const char* stage, auto&& run) {
+        const auto start = std::chrono::steady_clock::now();
+        run();
+        result_.stageSeconds.push_back({stage, secondsSince(start)});
+    };
+    timed("stated", [&] { score(GeometryCalibration{}, options_.harmonics, options_.lambda); });
     if (options_.calibrateResponse) {
-        searchResponse();
+        timed("response", [&] { searchResponse(); });
     }
     if (options_.calibrateGeometry) {
-        searchGeometry();
+        timed("geometry", [&] { searchGeometry(); });
     }
     if (options_.selectRegularization) {
-        searchRegularization();
+        timed("regularization", [&] { searchRegularization(); });
     }
-    scoreStatedGeometry();
+    timed("stated geometry", [&] { scoreStatedGeometry(); });
     if (options_.selectTransportRidge) {
-        searchTransportRidge();
+        timed("transport ridge", [&] { searchTransportRidge(); });
         if (options_.calibrateLightIntensities) {
-            searchLightIntensities();
+            timed("blocked lights", [&] { searchLightIntensities(); });
         }
     }
     return result_;

@@ -101,6 +101,9 @@ struct FitReport {
     double transportRidge = 0;
     double transportRms = 0;
     std::vector<TransportRidgeTrial> transportTrials;
+    // Where the search's time went (calibrationSeconds): the response search per round, the
+    // normals estimated again under a calibrated response, the unstated search's stages.
+    std::vector<SearchStageTime> searchStageSeconds;
     // Blocked lights (HeldOutSearchResult::lightIntensityRms): the held-out per-image RMS of
     // the extended fit with and without them (0: not tried); calibration.lightIntensities
     // holds them when they predicted better.

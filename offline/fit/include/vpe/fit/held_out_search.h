@@ -8,6 +8,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "vpe/capture/capture.h"
@@ -88,6 +89,12 @@ struct TransportRidgeTrial {
     double rms = 0;
 };
 
+// Where a search's time went: one stage's name and its seconds.
+struct SearchStageTime {
+    std::string stage;
+    double seconds = 0;
+};
+
 struct HeldOutTrial {
     GeometryCalibration calibration;
     int harmonics = 0;
@@ -112,6 +119,8 @@ struct HeldOutSearchResult {
     // of the extended fit with the intensities calibrated on the other lights, adopted when
     // below transportImageRms.
     double lightIntensityRms = 0;
+    // The stages run, in order, with their seconds.
+    std::vector<SearchStageTime> stageSeconds;
 };
 
 HeldOutSearchResult searchHeldOut(const Capture& capture, const NormalMap& normals,
