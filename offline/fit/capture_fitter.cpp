@@ -262,6 +262,7 @@ Capture searchUnstated(const Capture& capture, const NormalMap& normals, const F
     search.selectTransportRidge = extended;
     search.normalSearchDegrees = report.normalSearchDegrees;
     search.calibrateLightIntensities = calibrate;
+    search.compareClassicBases = extended;
     search.harmonics = options.harmonics;
     search.lambda = options.lambda;
     search.threads = options.threads;
@@ -280,6 +281,15 @@ Capture searchUnstated(const Capture& capture, const NormalMap& normals, const F
     report.transportTrials = found.transportTrials;
     report.searchStageSeconds.insert(report.searchStageSeconds.end(), found.stageSeconds.begin(),
                                      found.stageSeconds.end());
+    report.extendedEveryFold = found.extendedEveryFold;
+    report.classicBases = found.classicBases;
+    double best = found.extendedEveryFold.imageMean;
+    for (const ClassicBasisScore& basis : found.classicBases) {
+        if (found.extendedEveryFold.imageMean > 0 && basis.score.imageMean < best) {
+            best = basis.score.imageMean;
+            report.betterClassicBasis = basis.basis;
+        }
+    }
     Capture calibrated =
         applyGeometryCalibration(capture, found.calibration, report.width, report.height);
     report.calibrationSeconds += secondsSince(searchStart);
@@ -439,6 +449,19 @@ FitReport fitCapture(const Capture& originalCapture, const FitOptions& options,
         report.normalsSource += ", refined by the fit";
     }
     capture = searchUnstated(capture, normals.normals, options, report);
+    if (options.fallBackToClassicBasis && !report.betterClassicBasis.empty()) {
+        // What RTI tools would fit predicts this capture better: write that, and say so.
+        FitOptions classic = options;
+        classic.variant = ModelVariant::kRti;
+        classic.rtiBasis = *RtiBasis::parse(report.betterClassicBasis);
+        FitReport fallen = fitRtiCapture(originalCapture, classic, modelPath);
+        fallen.extendedEveryFold = report.extendedEveryFold;
+        fallen.classicBases = report.classicBases;
+        fallen.betterClassicBasis = report.betterClassicBasis;
+        fallen.fellBackToClassicBasis = true;
+        fallen.totalSeconds = secondsSince(start);
+        return fallen;
+    }
 
     const SurfaceGeometry geometry(capture, report.width, report.height);
     const fit::BandFitter fitter(capture, geometry, normals.normals,
