@@ -127,16 +127,16 @@ void runFit(const Arguments& args) {
     if (!report.betterClassicBasis.empty()) {
         for (const ClassicBasisScore& basis : report.classicBases) {
             if (basis.basis == report.betterClassicBasis) {
-                std::fprintf(stderr,
-                             "%s predicts this capture's own held-out training lights better than "
-                             "the extended model (every fold: %.2f against %.2f levels, the images' "
-                             "mean RMS)%s\n",
-                             basis.basis.c_str(), basis.score.imageMean,
-                             report.extendedEveryFold.imageMean,
-                             report.fellBackToClassicBasis
-                                 ? ": written instead (--fall-back)"
-                                 : "; --fall-back writes it instead (not a BRDF: nothing in it "
-                                   "transfers to another shape)");
+                std::fprintf(
+                    stderr,
+                    "%s predicts this capture's own held-out training lights better than "
+                    "the extended model (every fold: %.2f against %.2f levels, the images' "
+                    "mean RMS)%s\n",
+                    basis.basis.c_str(), basis.score.imageMean, report.extendedEveryFold.imageMean,
+                    report.fellBackToClassicBasis
+                        ? ": written instead (--fall-back)"
+                        : "; --fall-back writes it instead (not a BRDF: nothing in it "
+                          "transfers to another shape)");
             }
         }
     }
@@ -165,12 +165,12 @@ void runFit(const Arguments& args) {
                                  {"heldout_rms", basis.score.pooled},
                                  {"image_rms", basis.score.imageMean}});
             }
-            json["classic_bases"] = {
-                {"every_fold", bases},
-                {"extended", {{"heldout_rms", report.extendedEveryFold.pooled},
-                              {"image_rms", report.extendedEveryFold.imageMean}}},
-                {"better", report.betterClassicBasis},
-                {"written_instead", report.fellBackToClassicBasis}};
+            json["classic_bases"] = {{"every_fold", bases},
+                                     {"extended",
+                                      {{"heldout_rms", report.extendedEveryFold.pooled},
+                                       {"image_rms", report.extendedEveryFold.imageMean}}},
+                                     {"better", report.betterClassicBasis},
+                                     {"written_instead", report.fellBackToClassicBasis}};
         }
         if (!report.searchStageSeconds.empty()) {
             nlohmann::json stages = nlohmann::json::array();
@@ -192,8 +192,8 @@ void runFit(const Arguments& args) {
         json["width"] = report.width;
         json["height"] = report.height;
         if (options.variant == ModelVariant::kRti || report.fellBackToClassicBasis) {
-            json["basis"] = report.fellBackToClassicBasis ? report.betterClassicBasis
-                                                          : options.rtiBasis.name();
+            json["basis"] =
+                report.fellBackToClassicBasis ? report.betterClassicBasis : options.rtiBasis.name();
         } else {
             json["harmonics"] = report.harmonics;
             json["lambda"] = report.lambda;

@@ -115,10 +115,10 @@ double texelTransportRidge(const TransportEquations& equations,
         for (std::size_t i = 0; i < samples.size(); ++i) {
             const TransportSample& sample = samples[i];
             const auto z = projected.col(static_cast<Eigen::Index>(i));
-            const double leverage = sample.weight * sample.predicted * sample.predicted *
-                                    z.cwiseAbs2().dot(inverse);
-            const double residual = (sample.observed - sample.predicted * z.dot(y)) /
-                                    std::max(1e-3, 1 - leverage);
+            const double leverage =
+                sample.weight * sample.predicted * sample.predicted * z.cwiseAbs2().dot(inverse);
+            const double residual =
+                (sample.observed - sample.predicted * z.dot(y)) / std::max(1e-3, 1 - leverage);
             press += sample.weight * residual * residual;
         }
         if (factor < 1) {
@@ -166,12 +166,15 @@ public:
              const bool (&laneValid)[kLanes], const KernelLightSet& lights, const SampleBand& band,
              int row, int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out,
              const double* laneRidges);
-    // After fit(): f fitted once more for `candidate`'s normals under the last fit's T, shadow
-    // weights and censoring, into `out` (whose transport is the last fit's), with its training
-    // error. A tilt's trial at the cost of one BRDF fit where a whole fit takes four and two T
-    // fits: T is a function of the rig's light directions, which a tilt does not change.
-    void refitUnderTransport(const ChunkGeometry& candidate, const KernelLightSet& lights,
-                             ExtendedChunkSolution& out);
+    // After fit(): keeps that fit's T per sample as the centre a normal search tries its
+    // tilts around.
+    void rememberCentre();
+    // A tilt's trial: from the centre's fit (`centre`: its f, T and ridges), T fitted once to
+    // the centre's f as `candidate`'s normals shade it, then f once under that T, with the
+    // centre's shadow weights and censoring; into `out` with its training error. One T fit and
+    // one BRDF fit where a whole fit takes two and four.
+    void tryTilt(const ChunkGeometry& candidate, const KernelLightSet& lights,
+                 const ExtendedChunkSolution& centre, ExtendedChunkSolution& out);
 
 private:
     // Index of sample s, lane `lane` in the per-sample buffers; of its channel c in values_.
@@ -210,6 +213,10 @@ private:
     std::vector<std::uint8_t> saturated_, censored_;
     std::vector<double> cosD_, cosS_, irradiance_;
     std::vector<Vec3d> lightDirections_;  // per sample and lane (the candidate tilts reuse it)
+    // The centre of a normal search (rememberCentre): its T per sample, and per lane the mean
+    // weight of its luminance T fit.
+    std::vector<float> centreTransport_, centreChannelTransport_;
+    double centreLuminanceWeight_[kLanes] = {};
     std::vector<float> robust_;      // shadow down-weighting of the BRDF fit
     std::vector<double> predicted_;  // the BRDF's luminance prediction of one lane's samples
     std::vector<double> magnitudes_;
@@ -362,7 +369,7 @@ void ExtendedChunkFit::fitTransport(int lane) {
     if (!equations.solvable()) {
         return;
     }
-    const double ridge = laneRidges_          ? laneRidges_[lane]
+    const double ridge = laneRidges_              ? laneRidges_[lane]
                          : settings_->texelRidges ? texelTransportRidge(equations, fitted_, one,
                                                                         settings_->transportRidge)
                                                   : settings_->transportRidge;
@@ -494,10 +501,22 @@ void ExtendedChunkFit::fitBrdf(const ChunkGeometry& geometry, const KernelLightS
     solveNormalEquations(sums, settings.harmonics, settings.lambda, out_->brdf);
 }
 
-void ExtendedChunkFit::refitUnderTransport(const ChunkGeometry& candidate,
-                                           const KernelLightSet& lights,
-                                           ExtendedChunkSolution& out) {
+void ExtendedChunkFit::rememberCentre() {
+    centreTransport_ = transport_;
+    centreChannelTransport_ = channelTransport_;
+    std::copy_n(luminanceWeight_, kLanes, centreLuminanceWeight_);
+}
+
+void ExtendedChunkFit::tryTilt(const ChunkGeometry& candidate, const KernelLightSet& lights,
+                               const ExtendedChunkSolution& centre, ExtendedChunkSolution& out) {
     out_ = &out;
+    laneRidges_ = centre.transportRidge;
+    transport_ = centreTransport_;
+    channelTransport_ = centreChannelTransport_;
+    std::copy_n(centreLuminanceWeight_, kLanes, luminanceWeight_);
+    out.brdf = centre.brdf;
+    std::copy_n(&centre.transport[0][0], kLanes * kTransportValues, &out.transport[0][0]);
+    std::copy_n(centre.transportRidge, kLanes, out.transportRidge);
     for (int s = 0; s < samples_; ++s) {
         for (int lane = 0; lane < kLanes; ++lane) {
             const std::size_t i = at(s, lane);
@@ -508,6 +527,16 @@ void ExtendedChunkFit::refitUnderTransport(const ChunkGeometry& candidate,
             const auto angles = proto::reflectionAngles(n, lightDirections_[i], v);
             cosD_[i] = angles.cosThetaD;
             cosS_[i] = angles.cosThetaS;
+        }
+    }
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!out.brdf.valid[lane]) {
+            continue;
+        }
+        predictLane(lane);
+        fitTransport(lane);
+        if (settings_->colourTransport && luminanceWeight_[lane] > 0) {
+            fitColourTransport(lane);
         }
     }
     auto sums = std::make_unique<NormalEquationSums>();
@@ -617,26 +646,32 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
     if (!trial) {
         trial = std::make_unique<ExtendedChunkSolution>();
     }
-    // Every tilt is tried under the T the centre's fit took (refitUnderTransport), which a
-    // tilt leaves as it is; the normal found is then fitted whole, T and all, once.
-    std::copy_n(&out.transport[0][0], kLanes * kTransportValues, &trial->transport[0][0]);
-    std::copy_n(out.transportRidge, kLanes, trial->transportRidge);
+    // Every tilt is tried from the centre's fit (tryTilt): T fitted once to the centre's f as
+    // the tilt shades it, then f once; the normals found are then fitted whole, T and all.
+    // Trying a tilt by f alone under the centre's T left item3 0.5 dB short: T had taken up
+    // part of the centre's error and judged every tilt in the centre's favour.
+    fit.rememberCentre();
+    thread_local std::unique_ptr<ExtendedChunkSolution> centre;
+    if (!centre) {
+        centre = std::make_unique<ExtendedChunkSolution>();
+    }
+    *centre = out;
     bool moved[kLanes] = {};
     ChunkGeometry candidate = geometry;
     double radians = settings.normalSearchDegrees * std::numbers::pi / 180.0;
     for (int step = 0; step < settings.normalSearchSteps; ++step, radians *= 0.5) {
-        const ChunkGeometry centre = geometry;  // each step searches around the last best
+        const ChunkGeometry around = geometry;  // each step searches around the last best
         for (int direction = 0; direction < kDirections; ++direction) {
             const double phi = 2.0 * std::numbers::pi * direction / kDirections;
             for (int lane = 0; lane < kLanes; ++lane) {
                 const Vec3d n =
-                    tilted({centre.normal[0][lane], centre.normal[1][lane], centre.normal[2][lane]},
+                    tilted({around.normal[0][lane], around.normal[1][lane], around.normal[2][lane]},
                            radians, phi);
                 candidate.normal[0][lane] = static_cast<float>(n.x);
                 candidate.normal[1][lane] = static_cast<float>(n.y);
                 candidate.normal[2][lane] = static_cast<float>(n.z);
             }
-            fit.refitUnderTransport(candidate, lights, *trial);
+            fit.tryTilt(candidate, lights, *centre, *trial);
             for (int lane = 0; lane < kLanes; ++lane) {
                 if (!laneValid[lane] || !trial->brdf.valid[lane] ||
                     (out.brdf.valid[lane] &&
@@ -649,6 +684,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
                 std::copy_n(&trial->brdf.coefficients[lane][0][0], kChannels * kMaxCoefficients,
                             &out.brdf.coefficients[lane][0][0]);
                 std::copy_n(trial->brdf.rms[lane], kChannels, out.brdf.rms[lane]);
+                std::copy_n(trial->transport[lane], kTransportValues, out.transport[lane]);
                 out.brdf.valid[lane] = true;
                 out.trainingError[lane] = trial->trainingError[lane];
                 moved[lane] = true;
@@ -660,7 +696,7 @@ void fitChunkExtendedRefiningNormals(const Capture& capture, const ExtendedLight
     }
     // The normals found, fitted whole: f and T again, under the centre's ridges.
     fit.fit(capture, table, geometry, laneValid, lights, band, row, x0, settings, *trial,
-            out.transportRidge);
+            centre->transportRidge);
     for (int lane = 0; lane < kLanes; ++lane) {
         if (!moved[lane] || !trial->brdf.valid[lane] ||
             !(trial->trainingError[lane] < out.trainingError[lane])) {

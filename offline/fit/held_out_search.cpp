@@ -3,8 +3,8 @@
 #include "vpe/fit/held_out_search.h"
 
 #include <algorithm>
-#include <chrono>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -28,7 +28,7 @@ namespace vpe {
 struct HeldOutValidator::Samples {
     std::vector<int> x, y;
     int images = 0;
-    bool eightBit = true;  // the images hold 8-bit codes (their stored values' rule)
+    bool eightBit = true;                 // the images hold 8-bit codes (their stored values' rule)
     std::vector<float> values;            // [chunk][image][channel][lane]
     std::vector<float> weights;           // [chunk][image][lane]
     std::vector<std::uint8_t> saturated;  // [chunk][image][lane]: a channel at full scale
@@ -436,8 +436,9 @@ HeldOutScore HeldOutValidator::scoreWithTransport(const GeometryCalibration& cal
     for (int fold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1; fold < holdOutEvery_;
          ++fold) {
         heldOut.merge(fitEveryChunkExtended(
-            samples, normals_, hypothesis, gridBand(samples, *hypothesis.values, holdOutEvery_, fold),
-            settings, threads_, HeldOutErrors(samples.images),
+            samples, normals_, hypothesis,
+            gridBand(samples, *hypothesis.values, holdOutEvery_, fold), settings, threads_,
+            HeldOutErrors(samples.images),
             [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
                 errors.add(samples, hypothesis, holdOutEvery_, fold, chunk, lane, pixel);
             }));
@@ -483,10 +484,9 @@ HeldOutScore HeldOutValidator::scoreRtiBasis(const RtiBasis& basis, HeldOutFolds
                     if (usable < basis.terms) {
                         continue;
                     }
-                    const Eigen::MatrixXd coefficients =
-                        (weights.asDiagonal() * design)
-                            .completeOrthogonalDecomposition()
-                            .solve(weights.asDiagonal() * values);
+                    const Eigen::MatrixXd coefficients = (weights.asDiagonal() * design)
+                                                             .completeOrthogonalDecomposition()
+                                                             .solve(weights.asDiagonal() * values);
                     const Eigen::MatrixXd predicted = design * coefficients;
                     for (int s = fold; s < samples.images; s += holdOutEvery_) {
                         if (samples.weights[samples.weightIndex(c, s, lane)] <= 0) {
@@ -495,7 +495,8 @@ HeldOutScore HeldOutValidator::scoreRtiBasis(const RtiBasis& basis, HeldOutFolds
                         for (int k = 0; k < 3; ++k) {
                             // In the metric's values, as the Fourier hypotheses are scored.
                             const double e =
-                                metric.encode(stored.decode(std::clamp(predicted(s, k), 0.0, 1.0))) -
+                                metric.encode(
+                                    stored.decode(std::clamp(predicted(s, k), 0.0, 1.0))) -
                                 metric.encode(std::clamp(
                                     static_cast<double>(
                                         samples.values[samples.valueIndex(c, s, k, lane)]),

@@ -477,7 +477,7 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     const double asEstimated = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
     settings.normalSearchDegrees = 4;
     const double refined = validator.scoreWithTransport(GeometryCalibration{}, settings).pooled;
-    // Measured: 5.81 → 4.77 levels.
+    // Measured: 5.81 → 4.47 levels.
     EXPECT_LT(refined, 0.85 * asEstimated) << "held-out RMS " << asEstimated << " → " << refined;
 
     FitOptions options;
@@ -499,7 +499,10 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     }
     const AngularError before = compareNormalMaps(estimated, trueNormals);
     const AngularError after = compareNormalMaps(fitted, trueNormals);
-    // Measured: 13.5° → 8.7° (the search moves a normal by at most 4 + 2 + 1°).
+    std::printf("held-out RMS %.3f → %.3f levels; mean angular error %.2f° → %.2f°\n", asEstimated,
+                refined, before.meanDegrees, after.meanDegrees);
+    // Measured: 13.5° → 9.3° (the search moves a normal by at most 4 + 2 + 1°; 8.7° with a whole
+    // fit per tilt).
     EXPECT_LT(after.meanDegrees, 0.7 * before.meanDegrees)
         << "mean angular error " << before.meanDegrees << "° → " << after.meanDegrees << "°";
 }

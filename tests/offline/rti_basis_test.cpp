@@ -236,8 +236,7 @@ TEST(RtiBasis, ExtendedFitSaysWhereAClassicBasisPredictsBetterAndFallsBackOnRequ
     ASSERT_EQ(said.exitStatus, 0) << said.err;
     const nlohmann::json classic = lastJsonLine(said.out).at("classic_bases");
     const std::string better = classic.at("better");
-    std::printf("extended %.3f levels, %s\n",
-                classic.at("extended").at("image_rms").get<double>(),
+    std::printf("extended %.3f levels, %s\n", classic.at("extended").at("image_rms").get<double>(),
                 classic.at("every_fold").dump().c_str());
     EXPECT_TRUE(better == "hsh9" || better == "hsh16") << classic.dump();
     EXPECT_FALSE(classic.at("written_instead").get<bool>());
