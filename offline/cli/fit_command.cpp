@@ -37,6 +37,7 @@ struct Arguments {
     bool regularizationGiven = false;
     bool json = false;
     bool noPreview = false;
+    bool fallBack = false;
 };
 
 // The blocked lights' calibration: how many lights it found blocked (none: not adopted), the
@@ -71,6 +72,7 @@ void runFit(const Arguments& args) {
     options.relief = args.relief == "coefficients" ? fit::ReliefMode::kInCoefficients
                                                    : fit::ReliefMode::kDetailMap;
     options.calibrateResponse = args.response == "auto";
+    options.fallBackToClassicBasis = args.fallBack;
     if (!(args.macroSigma >= 0) || !std::isfinite(args.macroSigma)) {
         throw common::InputError("--macro-sigma must be a number of pixels ≥ 0");
     }
@@ -122,6 +124,22 @@ void runFit(const Arguments& args) {
             report.normalSearchDegrees > 0 ? "refined by the fit" : "as estimated or given",
             report.calibrationSeconds);
     }
+    if (!report.betterClassicBasis.empty()) {
+        for (const fit::ClassicBasisScore& basis : report.classicBases) {
+            if (basis.basis == report.betterClassicBasis) {
+                std::fprintf(
+                    stderr,
+                    "%s predicts this capture's own held-out training lights better than "
+                    "the extended model (every fold: %.2f against %.2f levels, the images' "
+                    "mean RMS)%s\n",
+                    basis.basis.c_str(), basis.score.imageMean, report.extendedEveryFold.imageMean,
+                    report.fellBackToClassicBasis
+                        ? ": written instead (--fall-back)"
+                        : "; --fall-back writes it instead (not a BRDF: nothing in it "
+                          "transfers to another shape)");
+            }
+        }
+    }
     if (args.json) {
         nlohmann::json json;
         json["model_variant"] = args.model;
@@ -140,6 +158,27 @@ void runFit(const Arguments& args) {
                                    {"uncalibrated_heldout_rms", report.uncalibratedRms},
                                    {"seconds", report.calibrationSeconds}};
         }
+        if (!report.classicBases.empty()) {
+            nlohmann::json bases = nlohmann::json::array();
+            for (const fit::ClassicBasisScore& basis : report.classicBases) {
+                bases.push_back({{"basis", basis.basis},
+                                 {"heldout_rms", basis.score.pooled},
+                                 {"image_rms", basis.score.imageMean}});
+            }
+            json["classic_bases"] = {{"every_fold", bases},
+                                     {"extended",
+                                      {{"heldout_rms", report.extendedEveryFold.pooled},
+                                       {"image_rms", report.extendedEveryFold.imageMean}}},
+                                     {"better", report.betterClassicBasis},
+                                     {"written_instead", report.fellBackToClassicBasis}};
+        }
+        if (!report.searchStageSeconds.empty()) {
+            nlohmann::json stages = nlohmann::json::array();
+            for (const fit::SearchStageTime& stage : report.searchStageSeconds) {
+                stages.push_back({{"stage", stage.stage}, {"seconds", stage.seconds}});
+            }
+            json["calibration"]["stage_seconds"] = stages;
+        }
         if (!report.transportTrials.empty()) {
             nlohmann::json trials = nlohmann::json::array();
             for (const fit::TransportRidgeTrial& trial : report.transportTrials) {
@@ -152,8 +191,9 @@ void runFit(const Arguments& args) {
         json["images"] = report.images;
         json["width"] = report.width;
         json["height"] = report.height;
-        if (options.variant == fit::ModelVariant::kRti) {
-            json["basis"] = options.rtiBasis.name();
+        if (options.variant == fit::ModelVariant::kRti || report.fellBackToClassicBasis) {
+            json["basis"] =
+                report.fellBackToClassicBasis ? report.betterClassicBasis : options.rtiBasis.name();
         } else {
             json["harmonics"] = report.harmonics;
             json["lambda"] = report.lambda;
@@ -243,6 +283,10 @@ void addFitCommand(CLI::App& app, Action& action) {
                         "σ (pixels) of the regression window giving the macro shape (0: 1/8 of the "
                         "larger side)");
     command->add_flag("--no-preview", args->noPreview, "Do not write MODEL.preview.png");
+    command->add_flag("--fall-back", args->fallBack,
+                      "extended model: where a classic RTI basis (PTM-6, HSH-9, HSH-16) predicts "
+                      "the capture's own held-out training lights better (every fold), write that "
+                      "basis instead (without it the fit only says so)");
     addJsonFlag(command, args->json);
     command->callback([args, &action, harmonicsOption, lambdaOption] {
         args->regularizationGiven = harmonicsOption->count() > 0 || lambdaOption->count() > 0;

@@ -189,6 +189,11 @@ void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::Image
     std::optional<normals::NormalsResult> previous;
     for (int round = 0; round < 2; ++round) {
         const HeldOutSearchResult found = searchHeldOut(capture, normals.normals, search);
+        for (const SearchStageTime& stage : found.stageSeconds) {
+            report.searchStageSeconds.push_back(
+                {stage.stage + " (under " + (round == 0 ? "first" : "calibrated") + " normals)",
+                 stage.seconds});
+        }
         if (previous && found.rms >= report.responseRms) {
             // The normals estimated under the capture's own response predict the held-out
             // lights better: keep them, with the response chosen under them.
@@ -215,8 +220,11 @@ void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::Image
                                                     report.height);
         reader = std::make_unique<capture::ImageBandReader>(capture, options.threads);
         previous = std::move(normals);
+        const auto normalsStart = Clock::now();
         normals = normals::acquireNormals(capture, options.normals, report.width, report.height,
                                           options.threads);
+        report.searchStageSeconds.push_back(
+            {"normals under the calibrated response", common::secondsSince(normalsStart)});
     }
     report.calibrationSeconds += common::secondsSince(searchStart);
 }
@@ -260,6 +268,7 @@ capture::Capture searchUnstated(const capture::Capture& capture, const normals::
     search.selectTransportRidge = extended;
     search.normalSearchDegrees = report.normalSearchDegrees;
     search.calibrateLightIntensities = calibrate;
+    search.compareClassicBases = extended;
     search.harmonics = options.harmonics;
     search.lambda = options.lambda;
     search.threads = options.threads;
@@ -276,8 +285,19 @@ capture::Capture searchUnstated(const capture::Capture& capture, const normals::
     report.transportRidge = found.transportRidge;
     report.transportRms = found.transportRms;
     report.transportTrials = found.transportTrials;
+    report.searchStageSeconds.insert(report.searchStageSeconds.end(), found.stageSeconds.begin(),
+                                     found.stageSeconds.end());
+    report.extendedEveryFold = found.extendedEveryFold;
+    report.classicBases = found.classicBases;
+    double best = found.extendedEveryFold.imageMean;
+    for (const ClassicBasisScore& basis : found.classicBases) {
+        if (found.extendedEveryFold.imageMean > 0 && basis.score.imageMean < best) {
+            best = basis.score.imageMean;
+            report.betterClassicBasis = basis.basis;
+        }
+    }
     capture::Capture calibrated =
-        capture::applyGeometryCalibration(capture, found.calibration, report.width, report.height);
+        applyGeometryCalibration(capture, found.calibration, report.width, report.height);
     report.calibrationSeconds += common::secondsSince(searchStart);
     return calibrated;
 }
@@ -437,6 +457,19 @@ FitReport fitCapture(const capture::Capture& originalCapture, const FitOptions& 
         report.normalsSource += ", refined by the fit";
     }
     capture = searchUnstated(capture, normals.normals, options, report);
+    if (options.fallBackToClassicBasis && !report.betterClassicBasis.empty()) {
+        // What RTI tools would fit predicts this capture better: write that, and say so.
+        FitOptions classic = options;
+        classic.variant = ModelVariant::kRti;
+        classic.rtiBasis = *model::RtiBasis::parse(report.betterClassicBasis);
+        FitReport fallen = fitRtiCapture(originalCapture, classic, modelPath);
+        fallen.extendedEveryFold = report.extendedEveryFold;
+        fallen.classicBases = report.classicBases;
+        fallen.betterClassicBasis = report.betterClassicBasis;
+        fallen.fellBackToClassicBasis = true;
+        fallen.totalSeconds = common::secondsSince(start);
+        return fallen;
+    }
 
     const capture::SurfaceGeometry geometry(capture, report.width, report.height);
     const fit::BandFitter fitter(capture, geometry, normals.normals,

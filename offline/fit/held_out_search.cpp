@@ -4,16 +4,20 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <mutex>
 #include <utility>
+
+#include <Eigen/Dense>
 
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/surface_geometry.h"
 #include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/common/seconds_since.h"
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/model/light_transport.h"
 
@@ -24,6 +28,7 @@ namespace vpe::fit {
 struct HeldOutValidator::Samples {
     std::vector<int> x, y;
     int images = 0;
+    bool eightBit = true;                 // the images hold 8-bit codes (their stored values' rule)
     std::vector<float> values;            // [chunk][image][channel][lane]
     std::vector<float> weights;           // [chunk][image][lane]
     std::vector<std::uint8_t> saturated;  // [chunk][image][lane]: a channel at full scale
@@ -64,6 +69,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture&
     }
     capture::ImageBandReader reader(capture, threads);
     samples.images = reader.imageCount();
+    samples.eightBit = reader.eightBitCodes();
     samples.values.assign(
         static_cast<std::size_t>(samples.chunks()) * samples.images * 3 * fit::kLanes, 0.0f);
     samples.weights.assign(
@@ -372,11 +378,10 @@ double HeldOutValidator::score(const capture::GeometryCalibration& calibration, 
 
 namespace {
 
-// The grid as one row of a band (the same chunk layout), the fold's lights unusable when
-// `holdOut`.
+// The grid as one row of a band (the same chunk layout), the lights of `fold` (positions fold,
+// fold + holdOutEvery, …) unusable; fold < 0: every light usable.
 capture::SampleBand gridBand(const HeldOutValidator::Samples& samples,
-                             const std::vector<float>& values, int holdOutEvery, bool holdOut) {
-    const int fold = holdOutEvery - 1;
+                             const std::vector<float>& values, int holdOutEvery, int fold) {
     capture::SampleBand band;
     band.resize(samples.images, static_cast<int>(samples.x.size()), 1);
     std::copy(values.begin(), values.end(), band.values.begin());
@@ -384,7 +389,7 @@ capture::SampleBand gridBand(const HeldOutValidator::Samples& samples,
         for (int s = 0; s < samples.images; ++s) {
             for (int lane = 0; lane < fit::kLanes; ++lane) {
                 const std::size_t i = samples.weightIndex(c, s, lane);
-                band.weights[i] = holdOut && s % holdOutEvery == fold ? 0.0f : samples.weights[i];
+                band.weights[i] = s % holdOutEvery == fold ? 0.0f : samples.weights[i];
                 band.saturated[i] = samples.saturated[i];
             }
         }
@@ -426,17 +431,90 @@ Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
 }  // namespace
 
 HeldOutScore HeldOutValidator::scoreWithTransport(const capture::GeometryCalibration& calibration,
-                                                  const fit::ExtendedFitSettings& settings) const {
+                                                  const fit::ExtendedFitSettings& settings,
+                                                  HeldOutFolds folds) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     // One fold, as for everything else the search chooses: judged over all four folds in
     // turn, realrti-dev item5 chose 0.01 and lost 1.9 dB on its test lights.
-    const HeldOutErrors heldOut = fitEveryChunkExtended(
-        samples, normals_, hypothesis, gridBand(samples, *hypothesis.values, holdOutEvery_, true),
-        settings, threads_, HeldOutErrors(samples.images),
-        [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
-            errors.add(samples, hypothesis, holdOutEvery_, holdOutEvery_ - 1, chunk, lane, pixel);
-        });
+    HeldOutErrors heldOut(samples.images);
+    for (int fold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1; fold < holdOutEvery_;
+         ++fold) {
+        heldOut.merge(fitEveryChunkExtended(
+            samples, normals_, hypothesis,
+            gridBand(samples, *hypothesis.values, holdOutEvery_, fold), settings, threads_,
+            HeldOutErrors(samples.images),
+            [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
+                errors.add(samples, hypothesis, holdOutEvery_, fold, chunk, lane, pixel);
+            }));
+    }
+    return {heldOut.rms(), heldOut.imageMeanRms()};
+}
+
+HeldOutScore HeldOutValidator::scoreRtiBasis(const model::RtiBasis& basis,
+                                             HeldOutFolds folds) const {
+    const Samples& samples = *samples_;
+    const capture::TransferFunction stored = capture::storedTransfer(capture_, samples.eightBit);
+    const capture::TransferFunction metric = capture::metricTransfer(capture_);
+    Eigen::MatrixXd design(samples.images, basis.terms);
+    std::vector<double> row(static_cast<std::size_t>(basis.terms));
+    for (int s = 0; s < samples.images; ++s) {
+        basis.evaluate(capture_.images[static_cast<std::size_t>(s)].light, row.data());
+        for (int k = 0; k < basis.terms; ++k) {
+            design(s, k) = row[static_cast<std::size_t>(k)];
+        }
+    }
+    HeldOutErrors heldOut(samples.images);
+    for (int fold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1; fold < holdOutEvery_;
+         ++fold) {
+        heldOut.merge(reduceEveryChunk(samples, threads_, HeldOutErrors(samples.images), [&] {
+            return [&](int c, HeldOutErrors& errors) {
+                Eigen::VectorXd weights(samples.images);
+                Eigen::MatrixXd values(samples.images, 3);
+                for (int lane = 0; lane < fit::kLanes; ++lane) {
+                    const std::size_t p = static_cast<std::size_t>(c) * fit::kLanes + lane;
+                    if (p >= samples.x.size()) {
+                        break;
+                    }
+                    int usable = 0;
+                    for (int s = 0; s < samples.images; ++s) {
+                        const bool train = s % holdOutEvery_ != fold &&
+                                           samples.weights[samples.weightIndex(c, s, lane)] > 0;
+                        weights(s) = train ? 1.0 : 0.0;
+                        usable += train ? 1 : 0;
+                        for (int k = 0; k < 3; ++k) {
+                            values(s, k) = stored.encode(static_cast<double>(
+                                samples.values[samples.valueIndex(c, s, k, lane)]));
+                        }
+                    }
+                    if (usable < basis.terms) {
+                        continue;
+                    }
+                    const Eigen::MatrixXd coefficients = (weights.asDiagonal() * design)
+                                                             .completeOrthogonalDecomposition()
+                                                             .solve(weights.asDiagonal() * values);
+                    const Eigen::MatrixXd predicted = design * coefficients;
+                    for (int s = fold; s < samples.images; s += holdOutEvery_) {
+                        if (samples.weights[samples.weightIndex(c, s, lane)] <= 0) {
+                            continue;
+                        }
+                        for (int k = 0; k < 3; ++k) {
+                            // In the metric's values, as the Fourier hypotheses are scored.
+                            const double e =
+                                metric.encode(
+                                    stored.decode(std::clamp(predicted(s, k), 0.0, 1.0))) -
+                                metric.encode(std::clamp(
+                                    static_cast<double>(
+                                        samples.values[samples.valueIndex(c, s, k, lane)]),
+                                    0.0, 1.0));
+                            errors.imageSquared[static_cast<std::size_t>(s)] += e * e;
+                            errors.imageCount[static_cast<std::size_t>(s)] += 1;
+                        }
+                    }
+                }
+            };
+        }));
+    }
     return {heldOut.rms(), heldOut.imageMeanRms()};
 }
 
@@ -446,7 +524,7 @@ std::vector<double> HeldOutValidator::lightGains(const capture::GeometryCalibrat
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     const capture::SampleBand training =
-        gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut);
+        gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut ? holdOutEvery_ - 1 : -1);
     const LightGainSums sums = fitEveryChunkExtended(
         samples, normals_, hypothesis, training, settings, threads_, LightGainSums(samples.images),
         [&](LightGainSums& gains, int chunk, int lane, const FittedPixel& pixel) {
@@ -541,6 +619,7 @@ private:
     fit::ExtendedFitSettings extendedSettings() const;
     void searchTransportRidge();
     void searchLightIntensities();
+    void compareClassicBases();
 
     const capture::Capture& capture_;
     const HeldOutSearchOptions& options_;
@@ -569,21 +648,30 @@ HeldOutSearch::HeldOutSearch(const capture::Capture& capture, const normals::Nor
 }
 
 HeldOutSearchResult HeldOutSearch::run() {
-    score(capture::GeometryCalibration{}, options_.harmonics, options_.lambda);
+    const auto timed = [this](const char* stage, auto&& run) {
+        const auto start = std::chrono::steady_clock::now();
+        run();
+        result_.stageSeconds.push_back({stage, common::secondsSince(start)});
+    };
+    timed("stated",
+          [&] { score(capture::GeometryCalibration{}, options_.harmonics, options_.lambda); });
     if (options_.calibrateResponse) {
-        searchResponse();
+        timed("response", [&] { searchResponse(); });
     }
     if (options_.calibrateGeometry) {
-        searchGeometry();
+        timed("geometry", [&] { searchGeometry(); });
     }
     if (options_.selectRegularization) {
-        searchRegularization();
+        timed("regularization", [&] { searchRegularization(); });
     }
-    scoreStatedGeometry();
+    timed("stated geometry", [&] { scoreStatedGeometry(); });
     if (options_.selectTransportRidge) {
-        searchTransportRidge();
+        timed("transport ridge", [&] { searchTransportRidge(); });
         if (options_.calibrateLightIntensities) {
-            searchLightIntensities();
+            timed("blocked lights", [&] { searchLightIntensities(); });
+        }
+        if (options_.compareClassicBases) {
+            timed("classic bases", [&] { compareClassicBases(); });
         }
     }
     return result_;
@@ -785,6 +873,23 @@ void HeldOutSearch::searchLightIntensities() {
                 .lightIntensities;
         if (anyBlocked(table)) {  // else the lights as stated, as the model file says
             result_.calibration.lightIntensities = std::move(table);
+        }
+    }
+}
+
+// The extended model as chosen and the classic bases on every fold: a criterion that does not
+// depend on which quarter of the lights happens to be held out (one fold moved realrti-dev
+// item7's comparison with HSH-16 by ±0.5 dB from one draw to the next).
+void HeldOutSearch::compareClassicBases() {
+    fit::ExtendedFitSettings settings = extendedSettings();
+    settings.transportRidge = result_.transportRidge;
+    result_.extendedEveryFold =
+        validator_.scoreWithTransport(result_.calibration, settings, HeldOutFolds::kEvery);
+    for (const char* name : {"ptm6", "hsh9", "hsh16"}) {
+        const model::RtiBasis basis = *model::RtiBasis::parse(name);
+        if (basis.terms <= trainingLights() - trainingLights() / options_.holdOutEvery) {
+            result_.classicBases.push_back(
+                {name, validator_.scoreRtiBasis(basis, HeldOutFolds::kEvery)});
         }
     }
 }

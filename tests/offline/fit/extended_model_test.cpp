@@ -489,7 +489,7 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     settings.normalSearchDegrees = 4;
     const double refined =
         validator.scoreWithTransport(capture::GeometryCalibration{}, settings).pooled;
-    // Measured: 5.81 → 4.77 levels.
+    // Measured: 5.81 → 4.47 levels.
     EXPECT_LT(refined, 0.85 * asEstimated) << "held-out RMS " << asEstimated << " → " << refined;
 
     fit::FitOptions options;
@@ -511,7 +511,10 @@ TEST(ExtendedModel, NormalSearchRefinesPhotometricStereoNormals) {
     }
     const normals::AngularError before = normals::compareNormalMaps(estimated, trueNormals);
     const normals::AngularError after = normals::compareNormalMaps(fitted, trueNormals);
-    // Measured: 13.5° → 8.7° (the search moves a normal by at most 4 + 2 + 1°).
+    std::printf("held-out RMS %.3f → %.3f levels; mean angular error %.2f° → %.2f°\n", asEstimated,
+                refined, before.meanDegrees, after.meanDegrees);
+    // Measured: 13.5° → 9.3° (the search moves a normal by at most 4 + 2 + 1°; 8.7° with a whole
+    // fit per tilt).
     EXPECT_LT(after.meanDegrees, 0.7 * before.meanDegrees)
         << "mean angular error " << before.meanDegrees << "° → " << after.meanDegrees << "°";
 }

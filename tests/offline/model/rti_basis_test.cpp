@@ -222,6 +222,43 @@ TEST(RtiBasis, BrdfConsumersRefuseAnRtiFit) {
         << "not refused, or without naming it: '" << message << "'";
 }
 
+// Where a capture is what a classic basis draws and no BRDF does — every pixel a random HSH-9
+// function of the light — the extended fit says, on its own training lights over every fold,
+// that a classic basis predicts them better; with --fall-back it writes that basis instead.
+TEST(RtiBasis, ExtendedFitSaysWhereAClassicBasisPredictsBetterAndFallsBackOnRequest) {
+    testing::TemporaryFolder folder;
+    writeKnownCapture(folder / "capture", *model::RtiBasis::parse("hsh9"),
+                      testing::domeLights({15, 35, 55, 75}, 10, 7), 12, 10);
+    const std::string capture = (folder / "capture" / "dirs.lp").string();
+    const std::filesystem::path model = folder / "model.exr";
+    const CommandResult said = runCommand(vpe({"fit", capture, "--model", "extended", "--held-out",
+                                               "4", "--out", model.string(), "--json"}));
+    ASSERT_EQ(said.exitStatus, 0) << said.err;
+    const nlohmann::json classic = lastJsonLine(said.out).at("classic_bases");
+    const std::string better = classic.at("better");
+    std::printf("extended %.3f levels, %s\n", classic.at("extended").at("image_rms").get<double>(),
+                classic.at("every_fold").dump().c_str());
+    EXPECT_TRUE(better == "hsh9" || better == "hsh16") << classic.dump();
+    EXPECT_FALSE(classic.at("written_instead").get<bool>());
+    EXPECT_NE(said.err.find(better + " predicts this capture's own held-out training lights"),
+              std::string::npos)
+        << said.err;
+    EXPECT_FALSE(model::ModelReader(model, model::ModelKinds::kAny)
+                     .info()
+                     .rtiBasis());  // the extended model
+
+    const CommandResult fallen =
+        runCommand(vpe({"fit", capture, "--model", "extended", "--held-out", "4", "--fall-back",
+                        "--out", model.string(), "--json"}));
+    ASSERT_EQ(fallen.exitStatus, 0) << fallen.err;
+    const nlohmann::json json = lastJsonLine(fallen.out);
+    EXPECT_TRUE(json.at("classic_bases").at("written_instead").get<bool>());
+    EXPECT_EQ(json.at("basis"), better);
+    model::ModelReader reader(model, model::ModelKinds::kAny);
+    ASSERT_TRUE(reader.info().rtiBasis());
+    EXPECT_EQ(reader.info().rtiBasis()->name(), better);
+}
+
 // The RTI protocol of ../shared/data/realrti-dev (every 4th light held out, mean of per-image
 // PSNR) on item1, the door: the figures its README states for PTM-6 and HSH-16.
 TEST(RtiBasis, RealDataDoorMatchesThePublishedBaselines) {

@@ -52,6 +52,10 @@ struct FitOptions {
     // Extended variant: calibrate the camera response of 8-bit images whose encoding the
     // capture leaves unstated (held-out search); false keeps sRGB.
     bool calibrateResponse = true;
+    // Extended variant: where a classic RTI basis predicts the capture's own training lights
+    // better than the extended model (every fold, vpe eval's figure), fit and write that basis
+    // instead. Off, the fit only says so.
+    bool fallBackToClassicBasis = false;
     int harmonics = proto::kDefaultHarmonics;
     double lambda = proto::kDefaultLambda;
     unsigned threads = 1;
@@ -101,6 +105,9 @@ struct FitReport {
     double transportRidge = 0;
     double transportRms = 0;
     std::vector<TransportRidgeTrial> transportTrials;
+    // Where the search's time went (calibrationSeconds): the response search per round, the
+    // normals estimated again under a calibrated response, the unstated search's stages.
+    std::vector<SearchStageTime> searchStageSeconds;
     // Blocked lights (HeldOutSearchResult::lightIntensityRms): the held-out per-image RMS of
     // the extended fit with and without them (0: not tried); calibration.lightIntensities
     // holds them when they predicted better.
@@ -109,6 +116,13 @@ struct FitReport {
     // Photometric-stereo normals refined by the extended fit: its normal search's first tilt
     // (0: the normals as estimated or given).
     double normalSearchDegrees = 0;
+    // The extended model as chosen and the classic bases on every fold of the training lights
+    // (HeldOutSearchResult); the basis that beat the extended model there, if one did (by the
+    // images' mean RMS), and whether the fit wrote it instead (fallBackToClassicBasis).
+    HeldOutScore extendedEveryFold;
+    std::vector<ClassicBasisScore> classicBases;
+    std::string betterClassicBasis;
+    bool fellBackToClassicBasis = false;
 };
 
 fit::AccumulationPrecision resolvePrecision(FitPrecision precision, double lambda);

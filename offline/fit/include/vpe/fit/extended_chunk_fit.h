@@ -51,6 +51,8 @@ struct ExtendedChunkSolution {
     // Σ w (y − T E f)² over the lane's usable training samples and RGB, in linear radiance
     // (censored samples the model already reaches count zero): what the normal search lowers.
     double trainingError[kLanes];
+    // The ridge each lane's last T fit took (the texel's own, or the settings').
+    double transportRidge[kLanes];
 };
 
 // Light data shared by all chunks of a capture.
@@ -59,16 +61,21 @@ struct ExtendedLightTable {
     explicit ExtendedLightTable(const capture::Capture& capture);
 };
 
+// `laneRidges` (kLanes values), when given, are T's ridges as they are: each texel's own ridge
+// is not chosen again (a normal search's tilts keep the one their centre's fit chose).
 void fitChunkExtended(const capture::Capture& capture, const ExtendedLightTable& table,
                       const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
                       const KernelLightSet& lights, const capture::SampleBand& band, int row,
-                      int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out);
+                      int x0, const ExtendedFitSettings& settings, ExtendedChunkSolution& out,
+                      const double* laneRidges = nullptr);
 
 // The same fit, then (with settings.normalSearchDegrees > 0) each lane's normal refined: a
 // photometric-stereo normal is a Lambertian estimate that drops the darkest samples, and raking
 // lights, where the model is most sensitive to the tilt, are among them. Every tilt of the
-// pattern is a full extended fit of the chunk; a lane keeps the normal, BRDF and T of the
-// lowest training error. `geometry`'s normals are replaced by the chosen ones.
+// pattern is a full extended fit of the chunk under the ridges the first fit chose (choosing a
+// texel's ridge is most of a T fit's cost; a tilt of a few degrees does not move it); a lane
+// keeps the normal, BRDF and T of the lowest training error. `geometry`'s normals are replaced
+// by the chosen ones.
 void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
                                      const ExtendedLightTable& table, ChunkGeometry& geometry,
                                      const bool (&laneValid)[kLanes], const KernelLightSet& lights,

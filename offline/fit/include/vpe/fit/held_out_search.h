@@ -8,11 +8,13 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "vpe/capture/capture.h"
 #include "vpe/capture/geometry_calibration.h"
 #include "vpe/fit/extended_chunk_fit.h"
+#include "vpe/model/rti_basis.h"
 #include "vpe/normals/normal_map.h"
 
 namespace vpe::fit {
@@ -43,7 +45,12 @@ public:
     // The same for the extended model's fit, light transport T included (settings give M, λ
     // and T's ridge).
     HeldOutScore scoreWithTransport(const capture::GeometryCalibration& calibration,
-                                    const fit::ExtendedFitSettings& settings) const;
+                                    const fit::ExtendedFitSettings& settings,
+                                    HeldOutFolds folds = HeldOutFolds::kOne) const;
+    // A classic RTI basis fitted as RTI tools fit it (least squares on the images' stored
+    // values, no ridge; rti_band_fitter.h) and scored the same way: what the extended model
+    // is measured against on the capture's own training lights.
+    HeldOutScore scoreRtiBasis(const model::RtiBasis& basis, HeldOutFolds folds) const;
     // Each light's gain under that extended fit: the factor Σ ŷ y / Σ ŷ² by which the grid's
     // observations y exceed the model's predictions ŷ, for the lights the fit used (all
     // lights, or the three quarters the scores train on when `holdOut`); 0 for the others.
@@ -75,10 +82,14 @@ struct HeldOutSearchOptions {
     // The extended fit's normal search (ExtendedFitSettings::normalSearchDegrees) the ridge is
     // judged under: the final fit's own.
     double normalSearchDegrees = 0;
-    // Lights that a part of the rig blocks (GeometryCalibration::lightIntensities: those
+    // Lights that a part of the rig blocks (capture::GeometryCalibration::lightIntensities: those
     // reaching the object at under 90% of the median light keep their own intensity), judged
     // after T's ridge by the extended fit: kept when they predict the held-out lights better.
     bool calibrateLightIntensities = false;
+    // Last, the extended model as chosen and the classic RTI bases (PTM-6, HSH-9, HSH-16),
+    // each over every fold of the training lights: whether the extended model predicts this
+    // capture's own lights better than what RTI tools would fit (with selectTransportRidge).
+    bool compareClassicBases = false;
     int samplePixels = 4096;
     int holdOutEvery = 4;
 };
@@ -86,6 +97,18 @@ struct HeldOutSearchOptions {
 struct TransportRidgeTrial {
     double ridge = 0;
     double rms = 0;
+};
+
+// A classic RTI basis's held-out score on the training lights (compareClassicBases).
+struct ClassicBasisScore {
+    std::string basis;  // "hsh16"
+    HeldOutScore score;
+};
+
+// Where a search's time went: one stage's name and its seconds.
+struct SearchStageTime {
+    std::string stage;
+    double seconds = 0;
 };
 
 struct HeldOutTrial {
@@ -112,6 +135,12 @@ struct HeldOutSearchResult {
     // of the extended fit with the intensities calibrated on the other lights, adopted when
     // below transportImageRms.
     double lightIntensityRms = 0;
+    // Only with compareClassicBases: the extended model as chosen and the classic bases, each
+    // over every fold (the extended one's scores 0 when not compared).
+    HeldOutScore extendedEveryFold;
+    std::vector<ClassicBasisScore> classicBases;
+    // The stages run, in order, with their seconds.
+    std::vector<SearchStageTime> stageSeconds;
 };
 
 HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
