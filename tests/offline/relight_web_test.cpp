@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The Relight web export: the light grid as OpenLIME reads it, an encoder → reader round trip
 // on a smooth synthetic appearance, and how broken exports are refused.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -12,6 +14,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/proto/srgb.h"
 #include "vpe/relight_web/bilinear_light_grid.h"
+#include "vpe/relight_web/openlime_display.h"
 #include "vpe/relight_web/relight_web_encoder.h"
 #include "vpe/relight_web/relight_web_reader.h"
 
@@ -277,6 +280,47 @@ TEST_F(BrokenRelightWeb, PlaneOfTheWrongSizeIsNamed) {
     const std::string message = rejectionOf(copy);
     EXPECT_NE(message.find("plane_0.jpg: is 64x48x3, expected 65x48 RGB"), std::string::npos)
         << message;
+}
+
+TEST_F(RelightWebRoundTrip, DecodingANodeIsRelightingUnderItsLight) {
+    const RelightWebReader reader(exportPath());
+    const BilinearLightGrid& grid = reader.grid();
+    for (const int node : {0, 9, 27, 63}) {
+        const std::vector<float> atNode = reader.decodeNode(node);
+        const std::vector<float> underLight = reader.decode(grid.nodeDirection(node));
+        const std::vector<float> clamped = reader.relight(grid.nodeDirection(node));
+        ASSERT_EQ(atNode.size(), underLight.size());
+        for (std::size_t i = 0; i < atNode.size(); ++i) {
+            ASSERT_NEAR(atNode[i], underLight[i], 1e-5) << "node " << node << " value " << i;
+            ASSERT_EQ(clamped[i], std::clamp(underLight[i], 0.0f, 1.0f));
+        }
+    }
+    EXPECT_THROW(reader.decodeNode(64), std::out_of_range);
+}
+
+TEST(OpenLimeDisplay, StoresLinearLightInEightBits) {
+    EXPECT_EQ(openLimeDisplayed(0.0f), 0.0f);
+    EXPECT_EQ(openLimeDisplayed(1.0f), 1.0f);
+    EXPECT_EQ(openLimeDisplayed(1.7f), 1.0f);
+    // pow() of a negative value is undefined in GLSL: shown black.
+    EXPECT_EQ(openLimeDisplayed(-0.01f), 0.0f);
+    EXPECT_EQ(openLimeDisplayed(std::nanf("")), 0.0f);
+    // Below (0.5/255)^(1/2.2) ≈ 0.0588 the 8-bit linear buffer holds 0; the first step up
+    // shows (1/255)^(1/2.2) ≈ 0.0805 → code 21.
+    EXPECT_EQ(openLimeDisplayed(0.058f), 0.0f);
+    EXPECT_EQ(openLimeDisplayed(0.060f), 21.0f / 255.0f);
+    // Bright values keep (nearly) their own 8-bit code.
+    for (int code = 128; code < 256; ++code) {
+        const float shown = openLimeDisplayed(code / 255.0f);
+        EXPECT_NEAR(shown * 255.0f, code, 1.01f) << "code " << code;
+        EXPECT_EQ(std::round(shown * 255.0f), shown * 255.0f);
+    }
+    float previous = 0;
+    for (int i = 0; i <= 1000; ++i) {
+        const float shown = openLimeDisplayed(i / 1000.0f);
+        EXPECT_GE(shown, previous);
+        previous = shown;
+    }
 }
 
 TEST(RelightWebEncoder, RefusesPlaneCountsOpenLimeCannotRead) {
