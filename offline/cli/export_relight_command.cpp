@@ -55,11 +55,15 @@ void runExportRelight(const Arguments& args) {
                  "%.2f dB (worst %.2f dB)\n",
                  trip.lights, trip.viewer.mean, trip.viewer.worst, trip.decoded.mean,
                  trip.decoded.worst, trip.displayOnly.mean, trip.displayOnly.worst);
-    std::fprintf(stderr,
-                 "decoded values below 0 at the %d grid lights: %zu, in %zu pixels (lowest decoded "
-                 "value %.1f/255)\n",
-                 result.summary.resolution * result.summary.resolution, trip.negative.values,
-                 trip.negative.pixels, 255.0 * trip.negative.lowest);
+    std::fprintf(
+        stderr,
+        "decoded values below 0 at the %d grid lights: %zu, in %zu pixels (lowest decoded "
+        "value %.1f/255); %zu pixels solved under the floor, %zu again in %d rounds against "
+        "the planes' rounding, mean lifted by up to %.0f/255\n",
+        result.summary.resolution * result.summary.resolution, trip.negative.values,
+        trip.negative.pixels, 255.0 * trip.negative.lowest, result.summary.flooredPixels,
+        result.summary.repairedPixels, result.summary.repairRounds,
+        255.0 * result.summary.meanLift);
     if (args.json) {
         const auto psnrs = [](const LightPsnrs& p) {
             return nlohmann::json{
@@ -73,6 +77,11 @@ void runExportRelight(const Arguments& args) {
         json["planes"] = result.summary.planes;
         json["retained_variance"] = result.summary.retainedVariance;
         json["bytes"] = result.summary.bytes;
+        json["floor"] = {{"floored_pixels", result.summary.flooredPixels},
+                         {"repaired_pixels", result.summary.repairedPixels},
+                         {"repair_rounds", result.summary.repairRounds},
+                         {"mean_lift", result.summary.meanLift},
+                         {"lowest_at_nodes", result.summary.lowestAtNodes}};
         // psnr, worst_psnr and per_light: what a viewer sees in OpenLIME.
         json["round_trip"] = psnrs(trip.viewer);
         json["round_trip"]["lights"] = trip.lights;
