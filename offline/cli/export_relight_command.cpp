@@ -39,21 +39,37 @@ void runExportRelight(const Arguments& args) {
     options.grid = args.grid == "nodes" ? relight_web::GridValues::kNodes
                                         : relight_web::GridValues::kLeastSquares;
     const capture::Capture capture = capture::openCapture(args.capture);
-    const capture::Capture check = args.heldOut > 0
-                                       ? capture::selectHeldOutLights(capture, args.heldOut, true)
-                                       : capture::Capture{};
+    const capture::Capture check =
+        args.heldOut > 0 ? selectHeldOutLights(capture, args.heldOut, true) : capture::Capture{};
     const relight_web::RelightModelExport result =
-        relight_web::exportModelToRelight(args.model, capture, args.out, options, check);
+        exportModelToRelight(args.model, capture, args.out, options, check);
+    const relight_web::RelightRoundTrip& trip = result.roundTrip;
+    std::fprintf(
+        stderr, "%s: %dx%d, bilinear %dx%d grid, %d planes (%.4f of the variance), %.1f KiB\n",
+        args.out.c_str(), result.summary.width, result.summary.height, result.summary.resolution,
+        result.summary.resolution, result.summary.planes, result.summary.retainedVariance,
+        static_cast<double>(result.summary.bytes) / 1024.0);
     std::fprintf(stderr,
-                 "%s: %dx%d, bilinear %dx%d grid, %d planes (%.4f of the variance), %.1f KiB; "
-                 "round trip against the model under %d capture lights: PSNR %.2f dB (worst "
-                 "%.2f dB)\n",
-                 args.out.c_str(), result.summary.width, result.summary.height,
-                 result.summary.resolution, result.summary.resolution, result.summary.planes,
-                 result.summary.retainedVariance,
-                 static_cast<double>(result.summary.bytes) / 1024.0, result.roundTrip.lights,
-                 result.roundTrip.psnr, result.roundTrip.worstPsnr);
+                 "round trip against the model under %d capture lights: as OpenLIME shows it "
+                 "PSNR %.2f dB (worst %.2f dB); decoded, before OpenLIME's 8-bit linear buffer, "
+                 "%.2f dB (worst %.2f dB); the model's own prediction through that buffer "
+                 "%.2f dB (worst %.2f dB)\n",
+                 trip.lights, trip.viewer.mean, trip.viewer.worst, trip.decoded.mean,
+                 trip.decoded.worst, trip.displayOnly.mean, trip.displayOnly.worst);
+    std::fprintf(
+        stderr,
+        "decoded values below 0 at the %d grid lights: %zu, in %zu pixels (lowest decoded "
+        "value %.1f/255); %zu pixels solved under the floor, %zu again in %d rounds against "
+        "the planes' rounding, mean lifted by up to %.0f/255\n",
+        result.summary.resolution * result.summary.resolution, trip.negative.values,
+        trip.negative.pixels, 255.0 * trip.negative.lowest, result.summary.flooredPixels,
+        result.summary.repairedPixels, result.summary.repairRounds,
+        255.0 * result.summary.meanLift);
     if (args.json) {
+        const auto psnrs = [](const relight_web::LightPsnrs& p) {
+            return nlohmann::json{
+                {"psnr", p.mean}, {"worst_psnr", p.worst}, {"per_light", p.perLight}};
+        };
         nlohmann::json json;
         json["out"] = args.out;
         json["width"] = result.summary.width;
@@ -62,11 +78,22 @@ void runExportRelight(const Arguments& args) {
         json["planes"] = result.summary.planes;
         json["retained_variance"] = result.summary.retainedVariance;
         json["bytes"] = result.summary.bytes;
-        json["round_trip"] = {{"lights", result.roundTrip.lights},
-                              {"pixels", result.roundTrip.pixels},
-                              {"psnr", result.roundTrip.psnr},
-                              {"worst_psnr", result.roundTrip.worstPsnr},
-                              {"per_light", result.roundTrip.perLight}};
+        json["floor"] = {{"floored_pixels", result.summary.flooredPixels},
+                         {"repaired_pixels", result.summary.repairedPixels},
+                         {"repair_rounds", result.summary.repairRounds},
+                         {"mean_lift", result.summary.meanLift},
+                         {"lowest_at_nodes", result.summary.lowestAtNodes}};
+        // psnr, worst_psnr and per_light: what a viewer sees in OpenLIME.
+        json["round_trip"] = psnrs(trip.viewer);
+        json["round_trip"]["lights"] = trip.lights;
+        json["round_trip"]["pixels"] = trip.pixels;
+        json["round_trip"]["shown_as"] = "openlime";
+        json["round_trip"]["decoded"] = psnrs(trip.decoded);
+        json["round_trip"]["display_only"] = psnrs(trip.displayOnly);
+        json["round_trip"]["below_zero_at_grid"] = {{"values", trip.negative.values},
+                                                    {"pixels", trip.negative.pixels},
+                                                    {"nodes", trip.negative.nodes},
+                                                    {"lowest", trip.negative.lowest}};
         printJson(json.dump());
     }
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/transfer_function.h"
@@ -11,6 +12,7 @@
 #include "vpe/common/parallel_for.h"
 #include "vpe/eval/capture_predictor.h"
 #include "vpe/model/fourier_model_file.h"
+#include "vpe/relight_web/openlime_display.h"
 #include "vpe/relight_web/relight_web_reader.h"
 
 namespace vpe::relight_web {
@@ -72,6 +74,32 @@ proto::Vec3d directionOf(const capture::Capture& capture, const capture::Capture
     return capture::unitDirection(image.light).value_or(proto::Vec3d{0, 0, 1});
 }
 
+// Every decoded value below 0 at the grid's nodes; between them a light blends four nodes with
+// non-negative weights, so the nodes bound the whole light field from below.
+NegativeDecodes negativeDecodes(const RelightWebReader& reader) {
+    NegativeDecodes negative;
+    negative.lowest = std::numeric_limits<double>::infinity();
+    const std::size_t pixels = static_cast<std::size_t>(reader.width()) * reader.height();
+    std::vector<std::uint8_t> below(pixels, 0);
+    for (int node = 0; node < reader.grid().nodeCount(); ++node) {
+        const std::vector<float> values = reader.decodeNode(node);
+        bool any = false;
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            if (values[i] < 0.0f) {
+                ++negative.values;
+                below[i / 3] = 1;
+                any = true;
+            }
+            negative.lowest = std::min(negative.lowest, static_cast<double>(values[i]));
+        }
+        negative.nodes += any ? 1 : 0;
+    }
+    for (const std::uint8_t b : below) {
+        negative.pixels += b;
+    }
+    return negative;
+}
+
 }  // namespace
 
 RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
@@ -126,30 +154,48 @@ RelightModelExport exportModelToRelight(const std::filesystem::path& modelPath,
     if (valid == 0) {
         throw common::InputError(modelPath, "no pixel has a valid fit: nothing to export");
     }
-    double sum = 0;
-    double worst = 1e9;
-    for (std::size_t s = 0; s < check.images.size(); ++s) {
-        const std::vector<float> relit = reader.relight(directionOf(check, check.images[s]));
+    const auto psnrOf = [&](const std::vector<float>& shown, const std::vector<float>& truth) {
         double squared = 0;
         for (std::size_t p = 0; p < rows.valid.size(); ++p) {
             if (!rows.valid[p]) {
                 continue;
             }
             for (std::size_t c = 0; c < 3; ++c) {
-                const double d = relit[p * 3 + c] - predicted[s][p * 3 + c];
+                const double d = shown[p * 3 + c] - truth[p * 3 + c];
                 squared += d * d;
             }
         }
         const double mse = squared / (3.0 * static_cast<double>(valid));
-        const double psnr = mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
-        sum += psnr;
-        worst = std::min(worst, psnr);
-        result.roundTrip.perLight.push_back(psnr);
+        return mse > 1e-10 ? 10.0 * std::log10(1.0 / mse) : 100.0;
+    };
+    const auto add = [](LightPsnrs& psnrs, double psnr) {
+        psnrs.perLight.push_back(psnr);
+        psnrs.worst = psnrs.perLight.size() == 1 ? psnr : std::min(psnrs.worst, psnr);
+    };
+    RelightRoundTrip& trip = result.roundTrip;
+    for (std::size_t s = 0; s < check.images.size(); ++s) {
+        std::vector<float> decoded = reader.decode(directionOf(check, check.images[s]));
+        std::vector<float> shown = decoded;
+        showAsOpenLime(shown);
+        for (float& value : decoded) {
+            value = std::clamp(value, 0.0f, 1.0f);
+        }
+        std::vector<float> ceiling = predicted[s];
+        showAsOpenLime(ceiling);
+        add(trip.viewer, psnrOf(shown, predicted[s]));
+        add(trip.decoded, psnrOf(decoded, predicted[s]));
+        add(trip.displayOnly, psnrOf(ceiling, predicted[s]));
     }
-    result.roundTrip.lights = static_cast<int>(check.images.size());
-    result.roundTrip.pixels = valid;
-    result.roundTrip.psnr = sum / std::max<std::size_t>(1, check.images.size());
-    result.roundTrip.worstPsnr = worst;
+    for (LightPsnrs* psnrs : {&trip.viewer, &trip.decoded, &trip.displayOnly}) {
+        double sum = 0;
+        for (const double psnr : psnrs->perLight) {
+            sum += psnr;
+        }
+        psnrs->mean = sum / std::max<std::size_t>(1, psnrs->perLight.size());
+    }
+    trip.lights = static_cast<int>(check.images.size());
+    trip.pixels = valid;
+    trip.negative = negativeDecodes(reader);
     return result;
 }
 

@@ -3,8 +3,12 @@
 #include "vpe/relight_web/relight_web_encoder.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <fstream>
+#include <mutex>
+#include <unordered_map>
+#include <utility>
 
 #include <Eigen/Dense>
 #include <OpenImageIO/imageio.h>
@@ -13,7 +17,9 @@
 #include "vpe/common/atomic_folder.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
+#include "vpe/image/image_file.h"
 #include "vpe/relight_web/bilinear_light_grid.h"
+#include "vpe/relight_web/floored_projection.h"
 
 namespace vpe::relight_web {
 
@@ -22,6 +28,32 @@ namespace {
 // Pixels the covariance is estimated from: enough for a stable basis of a few hundred
 // dimensions, few enough that a large picture does not cost minutes.
 constexpr std::size_t kCovarianceSamples = 262144;
+
+// OpenLIME raises every decoded value to the power 2.2 unclamped, and pow() of a negative
+// number is undefined in GLSL (coloured specks). The encoder keeps every value decoded at a
+// grid node at least kFloor, or the mean's own value where that is lower; between nodes a
+// light blends four of them with non-negative weights. Both are far below anything OpenLIME
+// shows: its 8-bit linear buffer stores every value under 0.059 (15/255) as 0.
+constexpr double kFloor = 1.0 / 255.0;
+// Grid values below a node's black level are encoded as that level: kBlack, or more where a
+// trial encoding decodes that node's black pixels further down (PCA, rounding and JPEG
+// together: kFloor plus the 99.9th percentile of their drop), up to kBlackCap. Nine PCA
+// planes cannot hold a value of exactly 0 without error, nor can JPEG planes at quality 95
+// (a few 255ths at a node): at 0 about half of the black pixels decode below it, and holding
+// them all at the floor costs the other nodes. As OpenLIME shows it (held-out lights, R 8,
+// K 9): item1's paper model 40.74 dB before the floor, 40.43 with black at 4/255, 40.87 with
+// these levels; its extended model 39.22 and 39.33 dB (all 60 lights: 38.81 before). The
+// levels stay below 15/255, all of which OpenLIME shows as black.
+constexpr double kBlack = 4.0 / 255.0;
+constexpr double kBlackCap = 12.0 / 255.0;
+// The mean's smallest byte, so that every node leaves room for kFloor and for the planes'
+// rounding.
+constexpr int kMeanFloorByte = 2;
+// Rounds of writing the planes, decoding them and raising the floor of the pixels whose
+// rounding and JPEG compression took a node below kFloor / 2.
+constexpr int kRepairRounds = 16;
+// What a pixel's floor rises by beyond its shortfall, times the rounds it came back in.
+constexpr double kRepairMargin = 2.0 / 255.0;
 
 void validate(int width, int height, const RelightWebOptions& options) {
     if (width <= 0 || height <= 0) {
@@ -181,7 +213,7 @@ QuantizedBasis quantizeBasis(const PrincipalPlanes& pca) {
     basis.bytes.reserve(static_cast<std::size_t>((planes + 1) * dimensions));
     basis.meanDecoded.resize(dimensions);
     for (Eigen::Index d = 0; d < dimensions; ++d) {
-        const std::uint8_t b = toByte(pca.mean(d) * 255.0);
+        const std::uint8_t b = std::max<std::uint8_t>(toByte(pca.mean(d) * 255.0), kMeanFloorByte);
         basis.bytes.push_back(b);
         basis.meanDecoded(d) = b / 255.0;
     }
@@ -220,6 +252,43 @@ Eigen::MatrixXf projectOntoBasis(const Eigen::MatrixXf& samples, const Quantized
     return coefficients;
 }
 
+// The lowest value each grid node may decode to: kFloor, or the mean's own where that is lower
+// (r = 0 then keeps it, as FlooredProjection needs).
+Eigen::VectorXd nodeFloors(const QuantizedBasis& basis) {
+    return basis.meanDecoded.cwiseMin(kFloor);
+}
+
+// The lowest of (decoded value − floor) over the nodes of one pixel's coefficients.
+double lowestAboveFloor(const QuantizedBasis& basis, const Eigen::VectorXd& coefficients,
+                        const Eigen::VectorXd& floors) {
+    return (basis.meanDecoded + basis.basisDecoded * coefficients - floors).minCoeff();
+}
+
+// Pixels whose least-squares coefficients decode below a node's floor are solved again under
+// the floors (most pixels keep theirs). Returns how many were.
+std::size_t floorCoefficients(const Eigen::MatrixXf& samples, const QuantizedBasis& basis,
+                              const FlooredProjection& projection, Eigen::MatrixXf& coefficients,
+                              unsigned threads) {
+    const Eigen::VectorXd floors = nodeFloors(basis);
+    const Eigen::VectorXd floorsOffMean = floors - basis.meanDecoded;
+    std::atomic<std::size_t> floored{0};
+    common::parallelFor(
+        static_cast<std::size_t>(samples.cols()), 1024, threads,
+        [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                const auto p = static_cast<Eigen::Index>(i);
+                const Eigen::VectorXd r = coefficients.col(p).cast<double>();
+                if (lowestAboveFloor(basis, r, floors) >= 0) {
+                    continue;
+                }
+                const Eigen::VectorXd target = samples.col(p).cast<double>() - basis.meanDecoded;
+                coefficients.col(p) = projection.solve(target, floorsOffMean).cast<float>();
+                ++floored;
+            }
+        });
+    return floored.load();
+}
+
 // Per plane: byte = 255·(c − min)/(max − min); OpenLIME decodes (byte/255 − bias)·scale
 // with scale = max − min, bias = −min/scale.
 struct PlaneScaling {
@@ -231,8 +300,9 @@ PlaneScaling scalePlanes(const Eigen::MatrixXf& coefficients) {
     PlaneScaling scaling{std::vector<double>(planes), std::vector<double>(planes)};
     for (std::size_t k = 0; k < planes; ++k) {
         const auto row = static_cast<Eigen::Index>(k);
-        const double lo = coefficients.row(row).minCoeff();
-        const double hi = coefficients.row(row).maxCoeff();
+        // Zero inside the range: the floored solve starts from r = 0 (floored_projection.h).
+        const double lo = std::min(0.0, static_cast<double>(coefficients.row(row).minCoeff()));
+        const double hi = std::max(0.0, static_cast<double>(coefficients.row(row).maxCoeff()));
         const double span = std::max(hi - lo, 1e-9);
         scaling.scale[k] = span;
         scaling.bias[k] = -lo / span;
@@ -257,6 +327,182 @@ void writePlanes(const std::filesystem::path& dir, int width, int height,
         }
         writeJpeg(dir / ("plane_" + std::to_string(j) + ".jpg"), width, height, bytes, quality);
     }
+}
+
+// The coefficients as a viewer reads them back from the planes written in `dir`.
+Eigen::MatrixXf readPlanesBack(const std::filesystem::path& dir, Eigen::Index pixels,
+                               const PlaneScaling& scaling) {
+    const auto planes = static_cast<Eigen::Index>(scaling.scale.size());
+    Eigen::MatrixXf decoded(planes, pixels);
+    for (Eigen::Index j = 0; j < planes / 3; ++j) {
+        const std::filesystem::path path = dir / ("plane_" + std::to_string(j) + ".jpg");
+        const image::FloatImage image = image::readImage(path);
+        if (static_cast<Eigen::Index>(image.width) * image.height != pixels || image.channels < 3) {
+            throw common::InputError(path, "reads back with another size than it was written");
+        }
+        const auto channels = static_cast<Eigen::Index>(image.channels);
+        for (Eigen::Index p = 0; p < pixels; ++p) {
+            for (Eigen::Index c = 0; c < 3; ++c) {
+                const auto k = static_cast<std::size_t>(j * 3 + c);
+                const double byte = image.pixels[static_cast<std::size_t>(p * channels + c)];
+                decoded(j * 3 + c, p) =
+                    static_cast<float>((byte - scaling.bias[k]) * scaling.scale[k]);
+            }
+        }
+    }
+    return decoded;
+}
+
+struct FloorRepair {
+    int rounds = 0;          // times the planes were written again
+    std::size_t pixels = 0;  // pixels solved again
+    // After the rounds: per decoded value (node × colour), its lowest over the pixels.
+    Eigen::VectorXd lowest;
+};
+
+// Writes the planes; then, while the planes' rounding and JPEG compression take some pixel's
+// decoded node values below kFloor / 2, raises that pixel's floors there by the shortfall and
+// a margin that grows each time the pixel comes back, solves it again within the planes' byte
+// range and writes the planes again. JPEG is deterministic, but a pixel's change moves the
+// error of its 8×8 block: hence rounds. On item1 (extended model) 493 pixels were floored and
+// 586 solved again over 12 rounds; a fixed margin (no growth) left pixels short after them.
+FloorRepair writeFlooredPlanes(const std::filesystem::path& dir, int width, int height,
+                               const Eigen::MatrixXf& samples, const QuantizedBasis& basis,
+                               const FlooredProjection& projection, Eigen::MatrixXf& coefficients,
+                               const PlaneScaling& scaling, const RelightWebOptions& options) {
+    const Eigen::Index pixels = coefficients.cols();
+    const Eigen::Index dimensions = basis.meanDecoded.size();
+    const auto planes = static_cast<Eigen::Index>(scaling.scale.size());
+    Eigen::VectorXd lo(planes);
+    Eigen::VectorXd hi(planes);
+    for (Eigen::Index k = 0; k < planes; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        lo(k) = -scaling.bias[i] * scaling.scale[i];
+        hi(k) = lo(k) + scaling.scale[i];
+    }
+    struct Raised {
+        Eigen::VectorXd floors;
+        int times = 0;
+    };
+    std::unordered_map<Eigen::Index, Raised> raised;  // pixel → its own floors
+    FloorRepair repair;
+    for (int round = 0;; ++round) {
+        writePlanes(dir, width, height, coefficients, scaling, options.quality);
+        const Eigen::MatrixXf decoded = readPlanesBack(dir, pixels, scaling);
+        // Every pixel's decoded node values; the shortfalls below kFloor / 2.
+        std::vector<std::vector<std::pair<Eigen::Index, double>>> shortfalls(
+            static_cast<std::size_t>(pixels));
+        std::mutex lowestMutex;
+        repair.lowest = Eigen::VectorXd::Constant(dimensions, 1.0);
+        common::parallelFor(static_cast<std::size_t>(pixels), 1024, options.threads,
+                            [&](std::size_t begin, std::size_t end) {
+                                Eigen::VectorXd lowest = Eigen::VectorXd::Constant(dimensions, 1.0);
+                                for (std::size_t i = begin; i < end; ++i) {
+                                    const auto p = static_cast<Eigen::Index>(i);
+                                    const Eigen::VectorXd values =
+                                        basis.meanDecoded +
+                                        basis.basisDecoded * decoded.col(p).cast<double>();
+                                    lowest = lowest.cwiseMin(values);
+                                    for (Eigen::Index d = 0; d < dimensions; ++d) {
+                                        if (values(d) < kFloor / 2) {
+                                            shortfalls[i].emplace_back(d, kFloor - values(d));
+                                        }
+                                    }
+                                }
+                                const std::lock_guard<std::mutex> lock(lowestMutex);
+                                repair.lowest = repair.lowest.cwiseMin(lowest);
+                            });
+        std::vector<Eigen::Index> shortPixels;
+        for (std::size_t i = 0; i < shortfalls.size(); ++i) {
+            if (!shortfalls[i].empty()) {
+                shortPixels.push_back(static_cast<Eigen::Index>(i));
+            }
+        }
+        if (shortPixels.empty() || round == kRepairRounds) {
+            return repair;
+        }
+        ++repair.rounds;
+        for (const Eigen::Index p : shortPixels) {
+            auto [it, added] = raised.try_emplace(p, Raised{nodeFloors(basis), 0});
+            repair.pixels += added ? 1 : 0;
+            Raised& pixel = it->second;
+            ++pixel.times;
+            for (const auto& [d, shortfall] : shortfalls[static_cast<std::size_t>(p)]) {
+                // No higher than the mean: r = 0 must keep every floor.
+                pixel.floors(d) = std::min(basis.meanDecoded(d), pixel.floors(d) + shortfall +
+                                                                     kRepairMargin * pixel.times);
+            }
+        }
+        common::parallelFor(
+            shortPixels.size(), 16, options.threads, [&](std::size_t begin, std::size_t end) {
+                for (std::size_t i = begin; i < end; ++i) {
+                    const Eigen::Index p = shortPixels[i];
+                    const Eigen::VectorXd target =
+                        samples.col(p).cast<double>() - basis.meanDecoded;
+                    const Eigen::VectorXd floorsOffMean = raised.at(p).floors - basis.meanDecoded;
+                    coefficients.col(p) =
+                        projection.solve(target, floorsOffMean, lo, hi).cast<float>();
+                }
+            });
+    }
+}
+
+// Every grid value below its node's black level is raised to it.
+void liftBlack(Eigen::MatrixXf& samples, const Eigen::VectorXd& black) {
+    const Eigen::VectorXf level = black.cast<float>();
+    for (Eigen::Index p = 0; p < samples.cols(); ++p) {
+        samples.col(p) = samples.col(p).cwiseMax(level);
+    }
+}
+
+// Per decoded value (node × colour), how far below black the trial encoding decodes the
+// pixels that are black there: the 99.9th percentile over them of (black − decoded), PCA,
+// rounding and JPEG together.
+Eigen::VectorXd blackDrop(const Eigen::MatrixXf& samples, const QuantizedBasis& basis,
+                          const Eigen::MatrixXf& decoded, unsigned threads) {
+    Eigen::VectorXd result = Eigen::VectorXd::Zero(samples.rows());
+    const Eigen::MatrixXf values =
+        (basis.basisDecoded.cast<float>() * decoded).colwise() + basis.meanDecoded.cast<float>();
+    common::parallelFor(static_cast<std::size_t>(samples.rows()), 1, threads,
+                        [&](std::size_t begin, std::size_t end) {
+                            std::vector<float> drops;
+                            for (std::size_t d = begin; d < end; ++d) {
+                                const auto row = static_cast<Eigen::Index>(d);
+                                drops.clear();
+                                for (Eigen::Index p = 0; p < samples.cols(); ++p) {
+                                    if (samples(row, p) <= static_cast<float>(kBlack)) {
+                                        drops.push_back(samples(row, p) - values(row, p));
+                                    }
+                                }
+                                if (drops.empty()) {
+                                    continue;
+                                }
+                                const auto rank = static_cast<std::ptrdiff_t>(
+                                    0.999 * static_cast<double>(drops.size() - 1));
+                                std::nth_element(drops.begin(), drops.begin() + rank, drops.end());
+                                result(row) = std::max(0.0f, drops[static_cast<std::size_t>(rank)]);
+                            }
+                        });
+    return result;
+}
+
+// The last resort, exact because info.json's basis is not compressed: a node value that the
+// rounds left below kFloor / 2 in some pixel is lifted in every pixel, by raising the mean's
+// byte there. Returns the largest lift (0 when the rounds sufficed).
+double liftMean(QuantizedBasis& basis, const Eigen::VectorXd& lowest) {
+    double largest = 0;
+    for (Eigen::Index d = 0; d < lowest.size(); ++d) {
+        if (lowest(d) >= kFloor / 2) {
+            continue;
+        }
+        const int codes = static_cast<int>(std::ceil((kFloor / 2 - lowest(d)) * 255.0));
+        const auto o = static_cast<std::size_t>(d);
+        const int lifted = std::min(255, basis.bytes[o] + codes);
+        largest = std::max(largest, (lifted - basis.bytes[o]) / 255.0);
+        basis.bytes[o] = lifted;
+        basis.meanDecoded(d) = lifted / 255.0;
+    }
+    return largest;
 }
 
 void writeInfo(const std::filesystem::path& dir, int width, int height,
@@ -296,22 +542,41 @@ void writeInfo(const std::filesystem::path& dir, int width, int height,
 }  // namespace
 
 // docs/relight-export.md, "What vpe does": grid values, PCA, the quantized basis, the
-// coefficients against it, the planes and info.json.
+// coefficients against it (floored), the planes (repaired) and info.json.
 RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width, int height,
                                   const LightRenderer& render, const RelightWebOptions& options,
                                   const std::vector<proto::Vec3d>& captureLights) {
     validate(width, height, options);
     const BilinearLightGrid grid(options.resolution);
     const Eigen::Index pixels = static_cast<Eigen::Index>(width) * height;
-    const Eigen::MatrixXf samples = renderGridValues(grid, pixels, render, options);
-    const PrincipalPlanes pca = principalPlanes(samples, options.planes);
-    const QuantizedBasis basis = quantizeBasis(pca);
-    const Eigen::MatrixXf coefficients = projectOntoBasis(samples, basis, options.threads);
-    const PlaneScaling scaling = scalePlanes(coefficients);
-
+    Eigen::MatrixXf samples = renderGridValues(grid, pixels, render, options);
     common::AtomicFolder output(folder, "info.json", "vpe export-relight");
     const std::filesystem::path& dir = output.temporaryPath();
-    writePlanes(dir, width, height, coefficients, scaling, options.quality);
+
+    // A trial encoding with black at kBlack measures how far below it each node decodes its
+    // black pixels; black is then raised at each node to clear that (see kBlack).
+    liftBlack(samples, Eigen::VectorXd::Constant(samples.rows(), kBlack));
+    {
+        const QuantizedBasis trialBasis = quantizeBasis(principalPlanes(samples, options.planes));
+        const Eigen::MatrixXf trial = projectOntoBasis(samples, trialBasis, options.threads);
+        const PlaneScaling trialScaling = scalePlanes(trial);
+        writePlanes(dir, width, height, trial, trialScaling, options.quality);
+        const Eigen::MatrixXf trialDecoded = readPlanesBack(dir, pixels, trialScaling);
+        const Eigen::VectorXd drop = blackDrop(samples, trialBasis, trialDecoded, options.threads);
+        liftBlack(samples, (drop.array() + kFloor).max(kBlack).min(kBlackCap).matrix());
+    }
+
+    const PrincipalPlanes pca = principalPlanes(samples, options.planes);
+    QuantizedBasis basis = quantizeBasis(pca);
+    Eigen::MatrixXf coefficients = projectOntoBasis(samples, basis, options.threads);
+    const FlooredProjection projection(basis.basisDecoded);
+    const std::size_t floored =
+        floorCoefficients(samples, basis, projection, coefficients, options.threads);
+    const PlaneScaling scaling = scalePlanes(coefficients);
+    const FloorRepair repair = writeFlooredPlanes(dir, width, height, samples, basis, projection,
+                                                  coefficients, scaling, options);
+    const Eigen::VectorXd meanBefore = basis.meanDecoded;
+    const double lift = liftMean(basis, repair.lowest);
     writeInfo(dir, width, height, options, captureLights, basis, scaling);
 
     RelightWebSummary summary;
@@ -320,6 +585,12 @@ RelightWebSummary writeRelightWeb(const std::filesystem::path& folder, int width
     summary.planes = options.planes;
     summary.resolution = options.resolution;
     summary.retainedVariance = pca.retainedVariance;
+    summary.flooredPixels = floored;
+    summary.repairedPixels = repair.pixels;
+    summary.repairRounds = repair.rounds;
+    summary.meanLift = lift;
+    summary.lowestAtNodes = (repair.lowest + basis.meanDecoded - meanBefore).minCoeff();
+    summary.blackLevel = samples.minCoeff();
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         summary.bytes += entry.file_size();
     }

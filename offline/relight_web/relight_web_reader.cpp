@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -196,10 +197,24 @@ RelightWebReader::RelightWebReader(const std::filesystem::path& path)
     }
 }
 
-std::vector<float> RelightWebReader::relight(const proto::Vec3d& towardsLight) const {
+std::vector<float> RelightWebReader::decode(const proto::Vec3d& towardsLight) const {
+    return decode(grid_.weights(towardsLight));
+}
+
+std::vector<float> RelightWebReader::decodeNode(int node) const {
+    if (node < 0 || node >= grid_.nodeCount()) {
+        throw std::out_of_range("light grid node " + std::to_string(node) + " is outside 0.." +
+                                std::to_string(grid_.nodeCount() - 1));
+    }
+    LightGridWeights only;
+    only.nodes = {node, node, node, node};
+    only.weights = {1.0, 0.0, 0.0, 0.0};
+    return decode(only);
+}
+
+std::vector<float> RelightWebReader::decode(const LightGridWeights& w) const {
     // The per-light weights OpenLIME's BLN.lightWeights computes on the CPU: the basis
     // blended between the four grid nodes around the light, for the mean and every plane.
-    const LightGridWeights w = grid_.weights(towardsLight);
     const std::size_t count = static_cast<std::size_t>(planes_);
     const std::size_t dimensions = static_cast<std::size_t>(grid_.nodeCount()) * 3;
     std::vector<float> base((count + 1) * 3, 0.0f);
@@ -222,8 +237,16 @@ std::vector<float> RelightWebReader::relight(const proto::Vec3d& towardsLight) c
             for (std::size_t p = 0; p < count; ++p) {
                 value += base[(p + 1) * 3 + k] * c[p];
             }
-            rgb[i * 3 + k] = std::clamp(value, 0.0f, 1.0f);
+            rgb[i * 3 + k] = value;
         }
+    }
+    return rgb;
+}
+
+std::vector<float> RelightWebReader::relight(const proto::Vec3d& towardsLight) const {
+    std::vector<float> rgb = decode(towardsLight);
+    for (float& value : rgb) {
+        value = std::clamp(value, 0.0f, 1.0f);
     }
     return rgb;
 }

@@ -40,6 +40,17 @@ struct RelightWebSummary {
     int resolution = 0;
     double retainedVariance = 0;  // fraction of the grid images' variance the planes keep
     std::uintmax_t bytes = 0;     // size on disk of info.json and the planes
+    // Keeping the decoded light field non-negative (OpenLIME takes pow() of it): pixels whose
+    // least-squares coefficients dipped below the floor at some grid node and were solved
+    // under it; pixels solved again because the planes' rounding and JPEG took a node below
+    // it, and the rounds of that; the largest lift of the mean at a node that the rounds
+    // left short (0 when they sufficed); the lowest value decoded at any node (> 0).
+    std::size_t flooredPixels = 0;
+    std::size_t repairedPixels = 0;
+    int repairRounds = 0;
+    double meanLift = 0;
+    double lowestAtNodes = 0;
+    double blackLevel = 0;  // the lowest value the grid was encoded with (black's level)
 };
 
 // Writes the export into `folder` (replaced as a whole, atomically). `captureLights` go to

@@ -14,7 +14,7 @@ namespace vpe::relight_web {
 
 class RelightWebReader {
 public:
-    // `path` is the export's folder or its info.json. Throws InputError naming the file and
+    // `path` is the export's folder or its info.json. Throws common::InputError naming the file and
     // what is wrong with it (other bases and colour spaces are refused, not misread).
     explicit RelightWebReader(const std::filesystem::path& path);
 
@@ -25,11 +25,21 @@ public:
     // info.json's "lights": the capture's light directions, if the export records them.
     const std::vector<proto::Vec3d>& lights() const { return lights_; }
 
-    // The picture OpenLIME draws with the light towards `towardsLight`: sRGB values,
-    // width·height·3 interleaved, clamped to [0, 1] as a display does.
+    // What OpenLIME's shader computes for the light towards `towardsLight` before anything
+    // is displayed (ShaderRTI's mrgb render()): width·height·3 interleaved, unclamped — it
+    // can fall below 0 or rise above 1. openlime_display.h shows it as a browser does.
+    std::vector<float> decode(const proto::Vec3d& towardsLight) const;
+    // The same at grid node `node` exactly (the light of grid().nodeDirection(node)): the
+    // values every light between the nodes interpolates, with non-negative weights.
+    std::vector<float> decodeNode(int node) const;
+    // The decoded values clamped to [0, 1]: the picture with no display step in between.
     std::vector<float> relight(const proto::Vec3d& towardsLight) const;
 
+    const BilinearLightGrid& grid() const { return grid_; }
+
 private:
+    std::vector<float> decode(const LightGridWeights& weights) const;
+
     int width_ = 0;
     int height_ = 0;
     int planes_ = 0;
@@ -40,7 +50,7 @@ private:
 };
 
 // The light directions a Relight export's info.json records ("lights", flat x, y, z triples),
-// normalized; empty when it has none. Throws InputError naming the file.
+// normalized; empty when it has none. Throws common::InputError naming the file.
 std::vector<proto::Vec3d> readRelightExportLights(const std::filesystem::path& infoJson);
 
 }  // namespace vpe::relight_web
