@@ -117,6 +117,24 @@ proto::BundleFile openBundle(const std::string& path) {
     }
 }
 
+// Where the visitor stands: --viewer, or the bundle's viewer.
+proto::Vec3d viewerOf(const Arguments& args, const renderer::BundleScene& bundleScene) {
+    if (args.viewer.empty()) {
+        return bundleScene.bundleViewer();
+    }
+    const auto v = scene::parsePosition(args.viewer, "--viewer");
+    return {v.x, v.y, v.z};
+}
+
+// The virtual light at --light, of --intensity in every channel.
+template <typename Position>
+renderer::VirtualLight virtualLightOf(const Arguments& args, const Position& light) {
+    renderer::VirtualLight virtualLight;
+    virtualLight.position = {light.x, light.y, light.z};
+    virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
+    return virtualLight;
+}
+
 // `vpe render` with the bundles of a show (vpe bake with several projectors): a frame per
 // projector into the folder --out, and the visitor's view of their combined light.
 void runRenderShow(const Arguments& args) {
@@ -149,14 +167,8 @@ void runRenderShow(const Arguments& args) {
                                      args.bundles[0] + " (a show's bundles share one mesh)");
         }
     }
-    proto::Vec3d viewer = bundleScenes[0]->bundleViewer();
-    if (!args.viewer.empty()) {
-        const auto v = scene::parsePosition(args.viewer, "--viewer");
-        viewer = {v.x, v.y, v.z};
-    }
-    renderer::VirtualLight virtualLight;
-    virtualLight.position = {light.x, light.y, light.z};
-    virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
+    const proto::Vec3d viewer = viewerOf(args, *bundleScenes[0]);
+    const renderer::VirtualLight virtualLight = virtualLightOf(args, light);
     std::vector<renderer::RenderScene> scenes;
     for (const auto& bundleScene : bundleScenes) {
         scenes.push_back(bundleScene->scene(virtualLight, viewer));
@@ -270,14 +282,8 @@ void runRender(const Arguments& args) {
             throw common::InputError(std::string("--weights: ") + error.what());
         }
     }();
-    proto::Vec3d viewer = bundleScene.bundleViewer();
-    if (!args.viewer.empty()) {
-        const auto v = scene::parsePosition(args.viewer, "--viewer");
-        viewer = {v.x, v.y, v.z};
-    }
-    renderer::VirtualLight virtualLight;
-    virtualLight.position = {light.x, light.y, light.z};
-    virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
+    const proto::Vec3d viewer = viewerOf(args, bundleScene);
+    const renderer::VirtualLight virtualLight = virtualLightOf(args, light);
     const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
     renderer::RenderOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));

@@ -29,6 +29,27 @@ struct CameraVertex {
     bool valid = false;
 };
 
+// Calls visit(di, dj, q) for every projector pixel q = (i + di, j + dj) of the square window of
+// `radius` around (i, j) whose position is known, row by row: the neighbours the completion's
+// depth fit and the normals' principal axes both take.
+template <typename Visit>
+void forEachKnownNeighbour(const std::vector<float>& position, int width, int height, int i, int j,
+                           int radius, Visit visit) {
+    for (int dj = -radius; dj <= radius; ++dj) {
+        for (int di = -radius; di <= radius; ++di) {
+            const int x = i + di, y = j + dj;
+            if (x < 0 || y < 0 || x >= width || y >= height) {
+                continue;
+            }
+            const std::size_t q = static_cast<std::size_t>(y) * width + x;
+            if (std::isnan(position[3 * q])) {
+                continue;
+            }
+            visit(di, dj, q);
+        }
+    }
+}
+
 }  // namespace
 
 RayMeeting closestApproach(const proto::Vec3d& o1, const proto::Vec3d& d1, const proto::Vec3d& o2,
@@ -241,16 +262,8 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
                     double squares = 0;
                     int count = 0, nearest = r + 1;
                     float confidence = 1;
-                    for (int dj = -r; dj <= r; ++dj) {
-                        for (int di = -r; di <= r; ++di) {
-                            const int x = i + di, y = j + dj;
-                            if (x < 0 || y < 0 || x >= pw || y >= ph) {
-                                continue;
-                            }
-                            const std::size_t q = static_cast<std::size_t>(y) * pw + x;
-                            if (std::isnan(surface.position[3 * q])) {
-                                continue;
-                            }
+                    forEachKnownNeighbour(
+                        surface.position, pw, ph, i, j, r, [&](int di, int dj, std::size_t q) {
                             const double t =
                                 std::hypot(double(surface.position[3 * q]) - projectorCentre.x,
                                            double(surface.position[3 * q + 1]) - projectorCentre.y,
@@ -262,8 +275,7 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
                             ++count;
                             nearest = std::min(nearest, std::max(std::abs(di), std::abs(dj)));
                             confidence = std::min(confidence, surface.confidence[q]);
-                        }
-                    }
+                        });
                     if (count < 12 || nearest > options.fillRadius) {
                         continue;
                     }
@@ -321,25 +333,15 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
             Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
             Eigen::Vector3d sum = Eigen::Vector3d::Zero();
             int count = 0;
-            for (int dj = -r; dj <= r; ++dj) {
-                for (int di = -r; di <= r; ++di) {
-                    const int x = i + di, y = j + dj;
-                    if (x < 0 || y < 0 || x >= pw || y >= ph) {
-                        continue;
-                    }
-                    const std::size_t q = static_cast<std::size_t>(y) * pw + x;
-                    if (std::isnan(surface.position[3 * q])) {
-                        continue;
-                    }
-                    const Eigen::Vector3d d =
-                        Eigen::Vector3d(surface.position[3 * q], surface.position[3 * q + 1],
-                                        surface.position[3 * q + 2]) -
-                        centre;
-                    sum += d;
-                    scatter += d * d.transpose();
-                    ++count;
-                }
-            }
+            forEachKnownNeighbour(surface.position, pw, ph, i, j, r, [&](int, int, std::size_t q) {
+                const Eigen::Vector3d d =
+                    Eigen::Vector3d(surface.position[3 * q], surface.position[3 * q + 1],
+                                    surface.position[3 * q + 2]) -
+                    centre;
+                sum += d;
+                scatter += d * d.transpose();
+                ++count;
+            });
             if (count < 6) {
                 continue;
             }

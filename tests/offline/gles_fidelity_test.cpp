@@ -15,6 +15,7 @@
 #include "vpe/renderer/gles/headless_egl_platform.h"
 
 #include "support/command_runner.h"
+#include "support/fitted_capture.h"
 #include "support/gpu_fidelity.h"
 #include "support/test_data.h"
 
@@ -35,9 +36,7 @@ TEST(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
     const std::string capture = (folder / "capture").string();
     const std::string model = (folder / "model.exr").string();
     const std::string bundle = (folder / "scene.vpeb").string();
-    ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "64"})).exitStatus, 0);
-    ASSERT_EQ(
-        runCommand(vpe({"fit", capture + "/train", "--out", model, "--no-preview"})).exitStatus, 0);
+    ASSERT_NO_FATAL_FAILURE(testing::synthesizeAndFit(capture, model, 64));
     const testing::CommandResult baked =
         runCommand(vpe({"bake", "--texture", model, "--out", bundle}));
     ASSERT_EQ(baked.exitStatus, 0) << baked.err;

@@ -24,6 +24,7 @@
 
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
+#include "support/fitted_capture.h"
 #include "support/test_data.h"
 
 namespace vpe {
@@ -88,12 +89,7 @@ class Bake : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         folder_ = new testing::TemporaryFolder;
-        const std::string capture = path("capture");
-        ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "48"})).exitStatus, 0);
-        ASSERT_EQ(
-            runCommand(vpe({"fit", capture + "/train", "--out", path("model.exr"), "--no-preview"}))
-                .exitStatus,
-            0);
+        ASSERT_NO_FATAL_FAILURE(testing::synthesizeAndFit(path("capture"), path("model.exr"), 48));
     }
     static void TearDownTestSuite() {
         delete folder_;

@@ -18,6 +18,7 @@
 
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
+#include "support/fitted_capture.h"
 #include "support/label_seeds.h"
 #include "support/test_data.h"
 
@@ -39,13 +40,7 @@ class TexturePipeline : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         folder_ = new testing::TemporaryFolder;
-        const std::string capture = (*folder_ / "capture").string();
-        const testing::CommandResult synth =
-            runCommand(vpe({"synth", "--out", capture, "--size", "96"}));
-        ASSERT_EQ(synth.exitStatus, 0) << synth.err;
-        const testing::CommandResult fit =
-            runCommand(vpe({"fit", capture + "/train", "--out", model(), "--no-preview"}));
-        ASSERT_EQ(fit.exitStatus, 0) << fit.err;
+        ASSERT_NO_FATAL_FAILURE(testing::synthesizeAndFit(*folder_ / "capture", model(), 96));
     }
     static void TearDownTestSuite() {
         delete folder_;

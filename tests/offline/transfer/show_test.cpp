@@ -28,6 +28,7 @@
 
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
+#include "support/fitted_capture.h"
 #include "support/gpu_fidelity.h"
 #include "support/test_data.h"
 
@@ -244,12 +245,7 @@ class Show : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         folder_ = new testing::TemporaryFolder;
-        const std::string capture = path("capture");
-        ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "48"})).exitStatus, 0);
-        ASSERT_EQ(
-            runCommand(vpe({"fit", capture + "/train", "--out", path("model.exr"), "--no-preview"}))
-                .exitStatus,
-            0);
+        ASSERT_NO_FATAL_FAILURE(testing::synthesizeAndFit(path("capture"), path("model.exr"), 48));
         ASSERT_EQ(runCommand(vpe({"projector-ring", "--count", "3", "--size", "480x270", "--out",
                                   path("ring")}))
                       .exitStatus,
@@ -389,9 +385,7 @@ TEST(GlesShowFidelity, DeviceFramesCarryTheShare) {
     const testing::TemporaryFolder folder;
     const std::string capture = (folder / "capture").string();
     const std::string model = (folder / "model.exr").string();
-    ASSERT_EQ(runCommand(vpe({"synth", "--out", capture, "--size", "48"})).exitStatus, 0);
-    ASSERT_EQ(
-        runCommand(vpe({"fit", capture + "/train", "--out", model, "--no-preview"})).exitStatus, 0);
+    ASSERT_NO_FATAL_FAILURE(testing::synthesizeAndFit(capture, model, 48));
     ASSERT_EQ(runCommand(vpe({"projector-ring", "--count", "2", "--size", "320x180", "--out",
                               (folder / "ring").string()}))
                   .exitStatus,
