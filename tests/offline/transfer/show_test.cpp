@@ -31,14 +31,12 @@
 #include "support/fitted_capture.h"
 #include "support/gpu_fidelity.h"
 #include "support/test_data.h"
+#include "support/vpe_command_names.h"
 
 namespace vpe {
 namespace {
 
-using testing::expectInputError;
-using testing::lastJsonLine;
-using testing::runCommand;
-constexpr auto& vpe = testing::vpeCommand;
+using namespace testing::vpe_command_names;  // NOLINT: support/vpe_command_names.h
 
 // The procedural vase as the renderer takes it (v up), owning its arrays.
 struct Vase {
