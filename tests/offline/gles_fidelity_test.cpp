@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/gles/headless_egl_platform.h"
 
+#include "renderer/gles_test_platform.h"
 #include "support/command_runner.h"
 #include "support/fitted_capture.h"
 #include "support/gpu_fidelity.h"
@@ -25,13 +25,10 @@ namespace {
 using testing::runCommand;
 constexpr auto& vpe = testing::vpeCommand;
 
-TEST(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
-    std::unique_ptr<renderer::gles::GraphicsPlatform> platform;
-    try {
-        platform = renderer::gles::createHeadlessEglPlatform();
-    } catch (const renderer::gles::GraphicsError& error) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << error.what();
-    }
+// The shared headless platform; SKIPs without EGL.
+class GlesFidelity : public renderer::testing::GlesTest {};
+
+TEST_F(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
     const testing::TemporaryFolder folder;
     const std::string capture = (folder / "capture").string();
     const std::string model = (folder / "model.exr").string();
@@ -42,9 +39,10 @@ TEST(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
     ASSERT_EQ(baked.exitStatus, 0) << baked.err;
     const proto::BundleFile file = proto::BundleFile::open(bundle);
     ASSERT_EQ(file->model().thetaBasisSize(), 4);
-    platform->makeCurrent();
+    platform()->makeCurrent();
     double worstObject = std::numeric_limits<double>::infinity(), worstFrame = worstObject;
-    for (const testing::GpuFidelity& light : testing::measureGpuFidelity(file.view(), *platform)) {
+    for (const testing::GpuFidelity& light :
+         testing::measureGpuFidelity(file.view(), *platform())) {
         std::cout << light.light << ": gain " << light.gain << ", " << light.covered
                   << " pixels on the vase, " << light.psnrObject << " dB on it, " << light.psnrFrame
                   << " dB over the frame, largest difference " << light.largest << " levels\n";

@@ -26,14 +26,12 @@
 #include "support/command_runner.h"
 #include "support/fitted_capture.h"
 #include "support/test_data.h"
+#include "support/vpe_command_names.h"
 
 namespace vpe {
 namespace {
 
-using testing::expectInputError;
-using testing::lastJsonLine;
-using testing::runCommand;
-constexpr auto& vpe = testing::vpeCommand;
+using namespace testing::vpe_command_names;  // NOLINT: support/vpe_command_names.h
 
 TEST(HalfFloat, DecodesEveryHalfAsEigenEncodesIt) {
     for (float value : {0.0f, -0.0f, 1.0f, -2.5f, 65504.0f, 6.1e-5f, 5.96e-8f, 3.0e-6f, 0.3333f,

@@ -103,13 +103,15 @@ TEST(CaptureManifest, ReadsRotationAsRowsAndNormalsAsObject) {
     EXPECT_FALSE(capture.plane);
 }
 
+// A valid manifest with `fields` added at the top level (they come last, so they override).
+std::string withTopLevel(const std::string& fields) {
+    return R"({"version": 1, "images": [{"file": "a.png", "light": [0, 0, 1]}], )" + fields + "}";
+}
+
 TEST(CaptureManifest, ReadsNormalEncodings) {
-    const auto encodingOf = [](std::string_view encoding) {
-        return capture::parseCaptureManifest(R"({"version": 1,
-            "images": [{"file": "a.png", "light": [0, 0, 1]}],
-            "normals": {"file": "n.png", "encoding": ")" +
-                                                 std::string(encoding) + R"("}})",
-                                             kSource)
+    const auto encodingOf = [](const std::string& encoding) {
+        const std::string normals = R"("normals": {"file": "n.png", "encoding": ")" + encoding;
+        return capture::parseCaptureManifest(withTopLevel(normals + R"("})"), kSource)
             .normalEncoding;
     };
     EXPECT_EQ(encodingOf("auto"), capture::NormalEncoding::kAuto);
@@ -118,11 +120,9 @@ TEST(CaptureManifest, ReadsNormalEncodings) {
 }
 
 TEST(CaptureManifest, ReadsImageEncodings) {
-    const auto encodingOf = [](std::string_view encoding) {
-        return capture::parseCaptureManifest(
-                   R"({"version": 1, "encoding": ")" + std::string(encoding) +
-                       R"(", "images": [{"file": "a.png", "light": [0, 0, 1]}]})",
-                   kSource)
+    const auto encodingOf = [](const std::string& encoding) {
+        return capture::parseCaptureManifest(withTopLevel(R"("encoding": ")" + encoding + R"(")"),
+                                             kSource)
             .encoding;
     };
     EXPECT_EQ(encodingOf("auto"), capture::ImageEncoding::kAuto);
@@ -179,11 +179,6 @@ struct BadManifest {
 
 std::ostream& operator<<(std::ostream& stream, const BadManifest& manifest) {
     return stream << manifest.name;
-}
-
-// A valid manifest with `fields` added at the top level (they come last, so they override).
-std::string withTopLevel(const std::string& fields) {
-    return R"({"version": 1, "images": [{"file": "a.png", "light": [0, 0, 1]}], )" + fields + "}";
 }
 
 // A valid manifest with `image` as its second image, "images[1]" in messages.

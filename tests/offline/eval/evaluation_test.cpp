@@ -181,6 +181,16 @@ void expectFigures(const eval::EvaluationReport& report, const Expected& e, doub
                          "pooled psnr");
 }
 
+// `model` written to folder/model.exr and evaluated on the test capture, written to folder/test.
+eval::EvaluationReport evaluateOnTestCapture(const testing::TemporaryFolder& folder,
+                                             const ModelFunction& model,
+                                             const eval::EvaluationOptions& options = {}) {
+    writeModel(folder / "model.exr", model);
+    writeTestCapture(folder / "test");
+    return eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"),
+                               options);
+}
+
 PixelModel halfGrey(int, int, int) {
     // a0·(1/√2) = 0.5: the same linear prediction for every pixel and light.
     return {0.0f, static_cast<float>(0.5 * std::sqrt(2.0)), true};
@@ -188,11 +198,7 @@ PixelModel halfGrey(int, int, int) {
 
 TEST(Evaluation, ReproducesTheDocumentedFiguresForAConstantPrediction) {
     testing::TemporaryFolder folder;
-    writeModel(folder / "model.exr", halfGrey);
-    writeTestCapture(folder / "test");
-    eval::EvaluationOptions options;
-    const eval::EvaluationReport report =
-        eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
+    const eval::EvaluationReport report = evaluateOnTestCapture(folder, halfGrey);
     expectFigures(report, expectedFigures(halfGrey, codeThroughFloatDecode), 1e-9);
     // Measured: ~3e-9 relative, from the float decode alone.
     expectFigures(report, expectedFigures(halfGrey, codeOver255), 1e-8);
@@ -211,12 +217,9 @@ TEST(Evaluation, ClampsPredictionsAndFollowsTheLight) {
         return m;
     };
     testing::TemporaryFolder folder;
-    writeModel(folder / "model.exr", model);
-    writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     options.threads = 3;
-    const eval::EvaluationReport report =
-        eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
+    const eval::EvaluationReport report = evaluateOnTestCapture(folder, model, options);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
 }
 
@@ -231,10 +234,7 @@ TEST(Evaluation, SkipsAndCountsPixelsWithoutAValidFit) {
         return m;
     };
     testing::TemporaryFolder folder;
-    writeModel(folder / "model.exr", model);
-    writeTestCapture(folder / "test");
-    const eval::EvaluationReport report = eval::evaluateModel(
-        folder / "model.exr", capture::openCapture(folder / "test"), eval::EvaluationOptions{});
+    const eval::EvaluationReport report = evaluateOnTestCapture(folder, model);
     EXPECT_EQ(report.skippedPixels, 4u);  // (0,0) (3,0) (1,2) (2,1)
     EXPECT_EQ(report.pixels, 8u);
     expectFigures(report, expectedFigures(model, codeThroughFloatDecode), 1e-9);
@@ -249,11 +249,9 @@ TEST(Evaluation, WritesOnePredictedPngPerTestImage) {
         return m;
     };
     testing::TemporaryFolder folder;
-    writeModel(folder / "model.exr", model);
-    writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
+    evaluateOnTestCapture(folder, model, options);
 
     std::size_t files = 0;
     for (const auto& entry : std::filesystem::directory_iterator(folder / "predicted")) {
@@ -290,11 +288,9 @@ TEST(Evaluation, WritesOnePredictedPngPerTestImage) {
 TEST(Evaluation, HalfGreyPredictsCode188) {
     // linearToSrgb(0.5) · 255 = 187.52: the constant fixture's prediction, as people see it.
     testing::TemporaryFolder folder;
-    writeModel(folder / "model.exr", halfGrey);
-    writeTestCapture(folder / "test");
     eval::EvaluationOptions options;
     options.predictionsDir = folder / "predicted";
-    eval::evaluateModel(folder / "model.exr", capture::openCapture(folder / "test"), options);
+    evaluateOnTestCapture(folder, halfGrey, options);
     auto input = OIIO::ImageInput::open((folder / "predicted/image1.png").string());
     ASSERT_TRUE(input);
     std::vector<std::uint8_t> codes(static_cast<std::size_t>(kWidth) * kHeight * 3);

@@ -65,6 +65,20 @@ double heldOutPsnr(const std::filesystem::path& train, const std::filesystem::pa
     return eval::evaluateModel(model, capture::openCapture(test), eval::EvaluationOptions{}).psnr;
 }
 
+// Held-out PSNRs (dB) of the paper model and the extended one, each fitted on folder/train
+// (into folder/paper.exr and folder/extended.exr) and measured under folder/test's lights.
+struct VariantPsnrs {
+    double paper;
+    double extended;
+};
+
+VariantPsnrs heldOutPsnrsOfBothVariants(const testing::TemporaryFolder& folder) {
+    return {heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr",
+                        fit::ModelVariant::kPaper),
+            heldOutPsnr(folder / "train", folder / "test", folder / "extended.exr",
+                        fit::ModelVariant::kExtended)};
+}
+
 TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     testing::TemporaryFolder folder;
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
@@ -115,10 +129,7 @@ TEST(ExtendedModel, CalibratedFitPredictsHeldOutLightsOfTheSameRigBetter) {
     auto test = domeSpec({20, 40, 60, 80}, 5, 18);
     test.geometry = train.geometry;
     writeSyntheticCapture(folder / "test", test);
-    const double paper = heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr",
-                                     fit::ModelVariant::kPaper);
-    const double extended = heldOutPsnr(folder / "train", folder / "test", folder / "extended.exr",
-                                        fit::ModelVariant::kExtended);
+    const auto [paper, extended] = heldOutPsnrsOfBothVariants(folder);
     EXPECT_GT(extended, paper + 6.0) << "paper " << paper << " dB, extended " << extended;
 
     model::ModelReader reader(folder / "extended.exr");
@@ -227,10 +238,7 @@ TEST(ExtendedModel, LightTransportExplainsShadowsAndKeepsThemOutOfTheMaterial) {
     auto test = domeSpec({20, 40, 60, 80}, 5, 18);
     test.transport = train.transport;
     writeSyntheticCapture(folder / "test", test);
-    const double paper = heldOutPsnr(folder / "train", folder / "test", folder / "paper.exr",
-                                     fit::ModelVariant::kPaper);
-    const double extended = heldOutPsnr(folder / "train", folder / "test", folder / "extended.exr",
-                                        fit::ModelVariant::kExtended);
+    const auto [paper, extended] = heldOutPsnrsOfBothVariants(folder);
     EXPECT_GT(extended, paper + 1.0) << "paper " << paper << " dB, extended " << extended;
 
     // The transferable part: both models' BRDFs rendered without shadows, against the truth.

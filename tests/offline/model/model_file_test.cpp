@@ -85,6 +85,15 @@ void writeModel(const std::filesystem::path& path, const model::ModelInfo& info,
     writer.finish();
 }
 
+// Random rows over the whole of `info`'s picture, written to `path` as a model and returned
+// to compare what is read back with.
+model::ModelRows writeRandomModel(const std::filesystem::path& path, const model::ModelInfo& info,
+                                  std::uint32_t seed) {
+    model::ModelRows rows = randomRows(info.width, info.height, info.harmonics, seed);
+    writeModel(path, info, rows);
+    return rows;
+}
+
 bool sameBits(const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
@@ -122,8 +131,7 @@ TEST(ModelFile, CoefficientNamesFollowTheInterleavedLayout) {
 TEST(ModelFile, RoundTripIsBitExact) {
     testing::TemporaryFolder folder;
     const model::ModelInfo info = sampleInfo(7, 5, 2);
-    const model::ModelRows written = randomRows(info.width, info.height, info.harmonics, 3);
-    writeModel(folder / "model.exr", info, written);
+    const model::ModelRows written = writeRandomModel(folder / "model.exr", info, 3);
 
     model::ModelReader reader(folder / "model.exr");
     EXPECT_EQ(reader.info().width, info.width);
@@ -153,7 +161,7 @@ TEST(ModelFile, KeepsTheTexelSizeAndTiling) {
     model::ModelInfo info = sampleInfo(4, 3, 1);
     info.texelMm = 0.625;  // exact in float
     info.tilesU = true;
-    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    writeRandomModel(folder / "model.exr", info, 5);
     model::ModelReader reader(folder / "model.exr");
     EXPECT_EQ(reader.info().texelMm, 0.625);
     EXPECT_TRUE(reader.info().tilesU);
@@ -165,7 +173,7 @@ TEST(ModelFile, KeepsTheCaptureCalibration) {
     testing::TemporaryFolder folder;
     model::ModelInfo info = sampleInfo(4, 3, 1);
     info.calibration = {12.5, 6.0, 1.4, {{{0.6, 0.0, 0.8}, 0.25}, {{0.0, 0.0, 1.0}, 1.0}}};
-    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    writeRandomModel(folder / "model.exr", info, 5);
     const capture::GeometryCalibration read =
         model::ModelReader(folder / "model.exr").info().calibration;
     EXPECT_EQ(read.fieldOfViewDegrees, 12.5);
@@ -178,7 +186,7 @@ TEST(ModelFile, KeepsTheCaptureCalibration) {
     EXPECT_EQ(read.lightIntensities[1].intensity, 1.0);
     // A model without a calibrated response reads as "as the capture states".
     model::ModelInfo plain = sampleInfo(4, 3, 1);
-    writeModel(folder / "plain.exr", plain, randomRows(4, 3, 1, 5));
+    writeRandomModel(folder / "plain.exr", plain, 5);
     EXPECT_EQ(model::ModelReader(folder / "plain.exr").info().calibration.responseGamma, 0.0);
     EXPECT_TRUE(
         model::ModelReader(folder / "plain.exr").info().calibration.lightIntensities.empty());
@@ -189,7 +197,7 @@ TEST(ModelFile, RejectsAMalformedLightTable) {
     testing::TemporaryFolder folder;
     model::ModelInfo info = sampleInfo(4, 3, 1);
     info.calibration.lightIntensities = {{{3.0, 0.0, 4.0}, 0.5}};  // not a unit direction
-    writeModel(folder / "model.exr", info, randomRows(4, 3, 1, 5));
+    writeRandomModel(folder / "model.exr", info, 5);
     try {
         model::ModelReader reader(folder / "model.exr");
         FAIL() << "read a light table whose direction has length 5";
@@ -403,8 +411,7 @@ TEST(ModelFile, TheReliefIsOptionalAndRoundTrips) {
 TEST(ModelFile, RowsCanBeReadInBands) {
     testing::TemporaryFolder folder;
     const model::ModelInfo info = sampleInfo(5, 6, 1);
-    const model::ModelRows written = randomRows(info.width, info.height, info.harmonics, 11);
-    writeModel(folder / "model.exr", info, written);
+    const model::ModelRows written = writeRandomModel(folder / "model.exr", info, 11);
     model::ModelReader reader(folder / "model.exr");
     model::ModelRows band;
     for (int begin = 0; begin < info.height; begin += 4) {
@@ -427,7 +434,7 @@ TEST(ModelFile, RowsCanBeReadInBands) {
 TEST(ModelFile, ChannelNamesAreVisibleToStandardExrTools) {
     testing::TemporaryFolder folder;
     const model::ModelInfo info = sampleInfo(3, 2, 2);
-    writeModel(folder / "model.exr", info, randomRows(3, 2, 2, 5));
+    writeRandomModel(folder / "model.exr", info, 5);
     auto input = OIIO::ImageInput::open((folder / "model.exr").string());
     ASSERT_TRUE(input);
     const std::vector<std::string>& names = input->spec().channelnames;
@@ -442,12 +449,18 @@ TEST(ModelFile, ChannelNamesAreVisibleToStandardExrTools) {
     EXPECT_EQ(input->spec().get_int_attribute("vpeHarmonics"), 2);
 }
 
+// Why ModelReader refuses to open `path`; the message must name the file.
+std::string readerRefusalOf(const std::filesystem::path& path) {
+    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
+    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    return message;
+}
+
 TEST(ModelFile, ReaderRefusesAPlainExr) {
     testing::TemporaryFolder folder;
     const std::filesystem::path path = folder / "plain.exr";
     writePlainExr(path, 4, 4);
-    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    const std::string message = readerRefusalOf(path);
     EXPECT_NE(message.find("vpeFormat"), std::string::npos) << message;
 }
 
@@ -459,16 +472,13 @@ TEST(ModelFile, ReaderRefusesAnotherFormatVersion) {
         spec.attribute("vpeFormatVersion", 2);
         spec.attribute("vpeHarmonics", 0);
     });
-    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    const std::string message = readerRefusalOf(path);
     EXPECT_NE(message.find("version 2"), std::string::npos) << message;
 }
 
 TEST(ModelFile, ReaderRefusesAMissingFile) {
     testing::TemporaryFolder folder;
-    const std::filesystem::path path = folder / "absent.exr";
-    const std::string message = inputErrorOf([&] { model::ModelReader reader(path); });
-    EXPECT_NE(message.find(path.string()), std::string::npos) << message;
+    readerRefusalOf(folder / "absent.exr");
 }
 
 TEST(ModelFile, ReaderRefusesATruncatedFile) {
@@ -476,7 +486,7 @@ TEST(ModelFile, ReaderRefusesATruncatedFile) {
     const std::filesystem::path path = folder / "model.exr";
     // Random values do not compress: the cut falls inside the pixel data, past the header.
     const model::ModelInfo info = sampleInfo(64, 64, 3);
-    writeModel(path, info, randomRows(info.width, info.height, info.harmonics, 7));
+    writeRandomModel(path, info, 7);
     std::string bytes;
     {
         std::ifstream stream(path, std::ios::binary);

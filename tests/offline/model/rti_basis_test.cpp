@@ -22,16 +22,13 @@
 #include "support/command_runner.h"
 #include "support/synthetic_capture.h"
 #include "support/test_data.h"
+#include "support/vpe_command_names.h"
 
 namespace vpe {
 namespace {
 
 using testing::CommandResult;
-using testing::expectInputError;
-using testing::lastJsonLine;
-using testing::runCommand;
-
-constexpr auto& vpe = testing::vpeCommand;
+using namespace testing::vpe_command_names;  // NOLINT: support/vpe_command_names.h
 
 TEST(RtiBasis, ParsesTheModelNames) {
     const std::vector<std::pair<std::string, std::string>> valid{

@@ -10,7 +10,6 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "vpe/image/image_file.h"
 #include "vpe/proto/bundle.h"
@@ -22,45 +21,30 @@
 
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
+#include "support/json_report_command.h"
+#include "support/shared_test_folders.h"
 
 namespace vpe::testing {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The installation and a texture, made once per build of vpe and shared by the tests (each test
-// is its own process): written under a temporary name and renamed, so concurrent tests either
-// find it whole or make their own.
+// The installation and a texture, made once per build of vpe and shared by the tests.
 const fs::path& installation() {
-    static const fs::path folder = [] {
-        const fs::path vpe = vpeExecutable();
-        const auto stamp = fs::last_write_time(vpe).time_since_epoch().count();
-        const fs::path final =
-            fs::temp_directory_path() / ("vpe-install-test-" + std::to_string(stamp % 1000000007));
-        if (fs::exists(final / "done")) {
-            return final;
-        }
-        const fs::path partial = final.string() + ".partial" + std::to_string(::getpid());
-        fs::remove_all(partial);
-        const CommandResult room = runCommand(vpeCommand(
-            {"synth-procam", "--out", (partial / "room").string(), "--projector-size", "640x360",
-             "--camera-size", "656x492", "--poses", "6", "--phase-period", "16"}));
-        EXPECT_EQ(room.exitStatus, 0) << room.err;
-        const CommandResult capture = runCommand(
-            vpeCommand({"synth", "--out", (partial / "capture").string(), "--size", "64"}));
-        EXPECT_EQ(capture.exitStatus, 0) << capture.err;
-        const CommandResult fit =
-            runCommand(vpeCommand({"fit", (partial / "capture" / "train").string(), "--out",
-                                   (partial / "texture.exr").string(), "--no-preview"}));
-        EXPECT_EQ(fit.exitStatus, 0) << fit.err;
-        std::ofstream(partial / "done") << "ok\n";
-        std::error_code error;
-        fs::rename(partial, final, error);
-        if (error) {
-            fs::remove_all(partial);  // another test made it first
-        }
-        return final;
-    }();
+    static const fs::path folder =
+        folderMadeOncePerVpeBuild("vpe-install-test", [](const fs::path& partial) {
+            const CommandResult room = runCommand(vpeCommand(
+                {"synth-procam", "--out", (partial / "room").string(), "--projector-size",
+                 "640x360", "--camera-size", "656x492", "--poses", "6", "--phase-period", "16"}));
+            EXPECT_EQ(room.exitStatus, 0) << room.err;
+            const CommandResult capture = runCommand(
+                vpeCommand({"synth", "--out", (partial / "capture").string(), "--size", "64"}));
+            EXPECT_EQ(capture.exitStatus, 0) << capture.err;
+            const CommandResult fit =
+                runCommand(vpeCommand({"fit", (partial / "capture" / "train").string(), "--out",
+                                       (partial / "texture.exr").string(), "--no-preview"}));
+            EXPECT_EQ(fit.exitStatus, 0) << fit.err;
+        });
     return folder;
 }
 
@@ -70,11 +54,7 @@ fs::path room() {
 
 // A scratch folder of the test's own.
 fs::path scratch(const std::string& name) {
-    const fs::path folder =
-        fs::temp_directory_path() / ("vpe-install-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
+    return scratchFolder("vpe-install-" + name);
 }
 
 std::vector<std::string> posesOf(const fs::path& room) {
@@ -88,14 +68,6 @@ std::vector<std::string> posesOf(const fs::path& room) {
     return poses;
 }
 
-nlohmann::json run(const std::vector<std::string>& arguments) {
-    std::vector<std::string> withJson = arguments;
-    withJson.push_back("--json");
-    const CommandResult result = runCommand(vpeCommand(withJson));
-    EXPECT_EQ(result.exitStatus, 0) << result.err;
-    return result.exitStatus == 0 ? lastJsonLine(result.out) : nlohmann::json::object();
-}
-
 TEST(Install, CalibrationAgreesWithTheTruth) {
     const fs::path out = scratch("calibrate");
     std::vector<std::string> arguments{"calibrate"};
@@ -105,7 +77,7 @@ TEST(Install, CalibrationAgreesWithTheTruth) {
     arguments.insert(arguments.end(),
                      {"--board", "10x7:18mm", "--out", (out / "procam.yml").string(), "--truth",
                       (room() / "truth" / "truth.json").string()});
-    const nlohmann::json report = run(arguments);
+    const nlohmann::json report = runWithJson(arguments);
     // Measured on this rig: 0.062 / 0.086 px, 0.71 %, 0.60 mm, 0.31°.
     EXPECT_LT(report["camera_rms_px"].get<double>(), 0.12);
     EXPECT_LT(report["projector_rms_px"].get<double>(), 0.15);
@@ -119,9 +91,9 @@ TEST(Install, CalibrationAgreesWithTheTruth) {
 TEST(Install, ScanMeasuresTheVaseWithoutWrongDecodes) {
     const fs::path out = scratch("scan");
     const nlohmann::json report =
-        run({"scan", (room() / "scan").string(), "--calibration",
-             (room() / "truth" / "calibration.yml").string(), "--out", (out / "scan").string(),
-             "--truth", (room() / "truth").string()});
+        runWithJson({"scan", (room() / "scan").string(), "--calibration",
+                     (room() / "truth" / "calibration.yml").string(), "--out",
+                     (out / "scan").string(), "--truth", (room() / "truth").string()});
     // Measured on this rig: 96.97 %, 0.087 mm, 0 wrong, 0.047 px.
     EXPECT_GT(report["scan_coverage"].get<double>(), 0.96);
     EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.15);
@@ -154,19 +126,19 @@ TEST(Install, WhatTheVisitorSeesFromTheMeasuredBundleIsTheTruth) {
     }
     calibrate.insert(calibrate.end(),
                      {"--board", "10x7:18mm", "--out", (out / "procam.yml").string()});
-    run(calibrate);
-    run({"scan", (room() / "scan").string(), "--calibration", (out / "procam.yml").string(),
-         "--out", (out / "scan").string()});
+    runWithJson(calibrate);
+    runWithJson({"scan", (room() / "scan").string(), "--calibration", (out / "procam.yml").string(),
+                 "--out", (out / "scan").string()});
     const nlohmann::json bake =
-        run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
-             (out / "scan").string(), "--mesh", (room() / "object.obj").string(), "--out",
-             (out / "scene.vpeb").string()});
+        runWithJson({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+                     (out / "scan").string(), "--mesh", (room() / "object.obj").string(), "--out",
+                     (out / "scene.vpeb").string()});
     EXPECT_TRUE(bake["registration"]["turn_unmeasured"].get<bool>());
     EXPECT_LT(bake["registration"]["rms_mm"].get<double>(), 0.1);
     EXPECT_TRUE(bake["camera"].get<bool>());
     const nlohmann::json check =
-        run({"synth-procam", "--scene", (room() / "installation.toml").string(), "--check",
-             (out / "scene.vpeb").string(), "--out", (out / "check").string()});
+        runWithJson({"synth-procam", "--scene", (room() / "installation.toml").string(), "--check",
+                     (out / "scene.vpeb").string(), "--out", (out / "check").string()});
     // Measured on this rig: 51.1 dB (worst 49.5), 0.27 mm; the pose through the small rig's
     // calibration (0.3° off) is 3.4 mm away, its texture lands on the vase regardless.
     EXPECT_GT(check["psnr"].get<double>(), 47);
@@ -176,9 +148,9 @@ TEST(Install, WhatTheVisitorSeesFromTheMeasuredBundleIsTheTruth) {
     EXPECT_TRUE(fs::exists(out / "check" / "visitor-check.png"));
     // A show of scans made with one camera: the first scan's registration places the object
     // for the others. The same scan twice is two projectors in one place: each gives half.
-    run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
-         (out / "scan").string(), "--scan", (out / "scan").string(), "--mesh",
-         (room() / "object.obj").string(), "--out", (out / "show").string()});
+    runWithJson({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+                 (out / "scan").string(), "--scan", (out / "scan").string(), "--mesh",
+                 (room() / "object.obj").string(), "--out", (out / "show").string()});
     const proto::BundleFile first = proto::BundleFile::open(out / "show" / "projector1.vpeb");
     const proto::BundleFile second = proto::BundleFile::open(out / "show" / "projector2.vpeb");
     EXPECT_EQ(first->projector().translation, second->projector().translation);
@@ -192,8 +164,8 @@ TEST(Install, WhatTheVisitorSeesFromTheMeasuredBundleIsTheTruth) {
     EXPECT_GT(lit, 1000u);
     EXPECT_EQ(halves, lit);
     // --check compares bundles of the object's own mesh only.
-    run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
-         (out / "scan").string(), "--out", (out / "surface.vpeb").string()});
+    runWithJson({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+                 (out / "scan").string(), "--out", (out / "surface.vpeb").string()});
     expectInputError(
         runCommand(vpeCommand({"synth-procam", "--scene", (room() / "installation.toml").string(),
                                "--check", (out / "surface.vpeb").string(), "--out",
@@ -204,11 +176,12 @@ TEST(Install, WhatTheVisitorSeesFromTheMeasuredBundleIsTheTruth) {
 
 TEST(Install, WithoutAMeshTheScansSurfaceIsTheObject) {
     const fs::path out = scratch("surface");
-    run({"scan", (room() / "scan").string(), "--calibration",
-         (room() / "truth" / "calibration.yml").string(), "--out", (out / "scan").string()});
+    runWithJson({"scan", (room() / "scan").string(), "--calibration",
+                 (room() / "truth" / "calibration.yml").string(), "--out",
+                 (out / "scan").string()});
     const nlohmann::json bake =
-        run({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
-             (out / "scan").string(), "--out", (out / "scene.vpeb").string()});
+        runWithJson({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+                     (out / "scan").string(), "--out", (out / "scene.vpeb").string()});
     EXPECT_EQ(bake["surface_chart"], "cylindrical");
     EXPECT_GT(bake["triangles"].get<int>(), 2000);
     // Every vertex of the surface mesh lies on the true vase: carried to the camera's frame by
@@ -382,9 +355,9 @@ TEST(Install, InterreflectionIsDroppedNotGuessed) {
                                (out / "scan").string(), "--phase-period", "16"}));
     ASSERT_EQ(synth.exitStatus, 0) << synth.err;
     const nlohmann::json report =
-        run({"scan", (out / "scan").string(), "--calibration",
-             (out / "scan" / "truth" / "calibration.yml").string(), "--out",
-             (out / "result").string(), "--truth", (out / "scan" / "truth").string()});
+        runWithJson({"scan", (out / "scan").string(), "--calibration",
+                     (out / "scan" / "truth" / "calibration.yml").string(), "--out",
+                     (out / "result").string(), "--truth", (out / "scan" / "truth").string()});
     // Where the other wing's light is a large share (a fifth of the direct light or more: most
     // of the corner), bits it would flip are dropped as ambiguous and no pixel is decoded wrong.
     // Along the crease itself the other wing is a mirror a few millimetres away: its sinusoid
@@ -430,8 +403,9 @@ TEST(Install, RefusesABoardNotFoundAndAMeshThatIsNotTheObject) {
                                             (out / "procam.yml").string()})),
                      {"--board '10x7'"});
     // A mesh that is not the object: the registration does not converge.
-    run({"scan", (room() / "scan").string(), "--calibration",
-         (room() / "truth" / "calibration.yml").string(), "--out", (out / "scan").string()});
+    runWithJson({"scan", (room() / "scan").string(), "--calibration",
+                 (room() / "truth" / "calibration.yml").string(), "--out",
+                 (out / "scan").string()});
     std::ifstream in(room() / "object.obj");
     std::ofstream bigger(out / "bigger.obj");
     std::string line;

@@ -44,19 +44,39 @@ std::vector<std::uint8_t> halves(int size) {  // left half region 0, right half 
     return labels;
 }
 
-TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
-    const model::CoefficientImage source = texturedSource(48, 6, 3);
-    const std::vector<std::uint8_t> labels(48 * 48, 0);
+// A quilt of the whole of `source`, as one region.
+RegionQuilt quiltWhole(const model::CoefficientImage& source, int width, int height,
+                       const QuiltSettings& settings) {
+    const std::vector<std::uint8_t> oneRegion(
+        static_cast<std::size_t>(source.width) * source.height, 0);
+    return quiltRegion(source, oneRegion, 0, width, height, settings);
+}
+
+// 16-pixel blocks overlapping by 4: many blocks in these small textures.
+QuiltSettings smallBlocks() {
     QuiltSettings settings;
     settings.block = 16;
     settings.overlap = 4;
-    settings.tolerance = 0.0;  // the unique best
+    return settings;
+}
+
+// Small blocks searched on every one of 6 components for the unique best: the FFT search is
+// then exact up to rounding, and must pick what the exhaustive search picks.
+QuiltSettings exactSearchOf6Components() {
+    QuiltSettings settings = smallBlocks();
+    settings.tolerance = 0.0;
     settings.pcaVariance = 1.0;
-    settings.maxComponents = 6;  // every component: the search is exact up to rounding
+    settings.maxComponents = 6;
     settings.shortlist = 4;
-    const RegionQuilt fft = quiltRegion(source, labels, 0, 80, 80, settings);
+    return settings;
+}
+
+TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
+    const model::CoefficientImage source = texturedSource(48, 6, 3);
+    QuiltSettings settings = exactSearchOf6Components();
+    const RegionQuilt fft = quiltWhole(source, 80, 80, settings);
     settings.search = QuiltSettings::Search::kExhaustive;
-    const RegionQuilt exhaustive = quiltRegion(source, labels, 0, 80, 80, settings);
+    const RegionQuilt exhaustive = quiltWhole(source, 80, 80, settings);
     EXPECT_EQ(fft.components, 6);
     EXPECT_EQ(fft.sourceX, exhaustive.sourceX);
     EXPECT_EQ(fft.sourceY, exhaustive.sourceY);
@@ -65,9 +85,7 @@ TEST(ImageQuilter, FftSearchWithAllComponentsPicksWhatExhaustiveSearchPicks) {
 TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
     const model::CoefficientImage source = texturedSource(64, 5, 4);
     const std::vector<std::uint8_t> labels = halves(64);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    const QuiltSettings settings = smallBlocks();
     for (int region : {0, 1}) {
         const RegionQuilt quilt = quiltRegion(source, labels, region, 100, 70, settings);
         ASSERT_EQ(quilt.sourceX.size(), 100u * 70u);
@@ -82,29 +100,23 @@ TEST(ImageQuilter, EveryOutputPixelComesFromItsRegion) {
 
 TEST(ImageQuilter, IsDeterministicForASeedWhateverTheThreads) {
     const model::CoefficientImage source = texturedSource(64, 4, 5);
-    const std::vector<std::uint8_t> labels(64 * 64, 0);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    QuiltSettings settings = smallBlocks();
     settings.threads = 1;
-    const RegionQuilt one = quiltRegion(source, labels, 0, 150, 150, settings);
+    const RegionQuilt one = quiltWhole(source, 150, 150, settings);
     settings.threads = 3;
-    const RegionQuilt three = quiltRegion(source, labels, 0, 150, 150, settings);
+    const RegionQuilt three = quiltWhole(source, 150, 150, settings);
     EXPECT_EQ(one.sourceX, three.sourceX);
     EXPECT_EQ(one.sourceY, three.sourceY);
     settings.seed = 2;
-    const RegionQuilt other = quiltRegion(source, labels, 0, 150, 150, settings);
+    const RegionQuilt other = quiltWhole(source, 150, 150, settings);
     EXPECT_NE(one.sourceX, other.sourceX);
 }
 
 TEST(ImageQuilter, CopiesWholeBlocksAndUsesManyOfThem) {
     const model::CoefficientImage source = texturedSource(64, 4, 6);
-    const std::vector<std::uint8_t> labels(64 * 64, 0);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    QuiltSettings settings = smallBlocks();
     settings.tolerance = 0.3;
-    const RegionQuilt quilt = quiltRegion(source, labels, 0, 128, 128, settings);
+    const RegionQuilt quilt = quiltWhole(source, 128, 128, settings);
     // Inside a block, away from the cuts, neighbouring output pixels copy neighbouring source
     // pixels; across the texture many distinct source offsets are used.
     std::size_t coherent = 0, pairs = 0;
@@ -158,15 +170,12 @@ std::vector<float> quiltedValues(const model::CoefficientImage& source, const Re
 // wavefront needs a wider skew) and widths that do not divide into equal steps.
 TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
     const model::CoefficientImage source = texturedSource(64, 4, 8);
-    const std::vector<std::uint8_t> labels(64 * 64, 0);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    QuiltSettings settings = smallBlocks();
     settings.threads = 2;
     double worstWrapped = 0, bestUnwrapped = 1e30;
     for (int width : {18, 24, 31, 36, 47, 50, 97, 160}) {
         settings.wrapU = true;
-        const RegionQuilt wrapped = quiltRegion(source, labels, 0, width, 70, settings);
+        const RegionQuilt wrapped = quiltWhole(source, width, 70, settings);
         ASSERT_TRUE(wrapped.wrapU);
         for (std::size_t i = 0; i < wrapped.sourceX.size(); ++i) {
             ASSERT_GE(wrapped.sourceX[i], 0) << "width " << width << ", pixel " << i;
@@ -174,7 +183,7 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
         const quilt::SeamStatistics on =
             quilt::measureSeam(quiltedValues(source, wrapped), width, 70, source.dims);
         settings.wrapU = false;
-        const RegionQuilt plain = quiltRegion(source, labels, 0, width, 70, settings);
+        const RegionQuilt plain = quiltWhole(source, width, 70, settings);
         const quilt::SeamStatistics off =
             quilt::measureSeam(quiltedValues(source, plain), width, 70, source.dims);
         std::cout << "width " << width << ": seam/interior mean " << on.ratio() << " wrapped, "
@@ -191,24 +200,17 @@ TEST(ImageQuilter, WrapsInXSoThatTheTextureTiles) {
 
 TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
     const model::CoefficientImage source = texturedSource(48, 6, 9);
-    const std::vector<std::uint8_t> labels(48 * 48, 0);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    QuiltSettings settings = exactSearchOf6Components();
     settings.wrapU = true;
-    settings.tolerance = 0.0;
-    settings.pcaVariance = 1.0;
-    settings.maxComponents = 6;
-    settings.shortlist = 4;
     for (int width : {38, 80}) {  // three blocks a row (skew 3), and more
         settings.threads = 1;
-        const RegionQuilt one = quiltRegion(source, labels, 0, width, 60, settings);
+        const RegionQuilt one = quiltWhole(source, width, 60, settings);
         settings.threads = 3;
-        const RegionQuilt three = quiltRegion(source, labels, 0, width, 60, settings);
+        const RegionQuilt three = quiltWhole(source, width, 60, settings);
         EXPECT_EQ(one.sourceX, three.sourceX);
         EXPECT_EQ(one.sourceY, three.sourceY);
         settings.search = QuiltSettings::Search::kExhaustive;
-        const RegionQuilt exhaustive = quiltRegion(source, labels, 0, width, 60, settings);
+        const RegionQuilt exhaustive = quiltWhole(source, width, 60, settings);
         settings.search = QuiltSettings::Search::kFft;
         EXPECT_EQ(one.sourceX, exhaustive.sourceX) << "width " << width;
         EXPECT_EQ(one.sourceY, exhaustive.sourceY) << "width " << width;
@@ -217,13 +219,10 @@ TEST(ImageQuilter, WrappingIsDeterministicAndTheFftSearchStillExact) {
 
 TEST(ImageQuilter, RefusesToWrapATextureNoWiderThanABlock) {
     const model::CoefficientImage source = texturedSource(48, 3, 10);
-    const std::vector<std::uint8_t> labels(48 * 48, 0);
-    QuiltSettings settings;
-    settings.block = 16;
-    settings.overlap = 4;
+    QuiltSettings settings = smallBlocks();
     settings.wrapU = true;
     try {
-        quiltRegion(source, labels, 0, 16, 40, settings);
+        quiltWhole(source, 16, 40, settings);
         FAIL() << "a 16-pixel-wide texture cannot wrap with 16-pixel blocks";
     } catch (const common::InputError& error) {
         EXPECT_NE(std::string(error.what()).find("wraps in u cannot be 16 pixels wide"),
@@ -231,8 +230,8 @@ TEST(ImageQuilter, RefusesToWrapATextureNoWiderThanABlock) {
             << error.what();
         EXPECT_NE(std::string(error.what()).find("at least 18"), std::string::npos) << error.what();
     }
-    EXPECT_THROW(quiltRegion(source, labels, 0, 17, 40, settings), common::InputError);
-    EXPECT_NO_THROW(quiltRegion(source, labels, 0, 18, 40, settings));
+    EXPECT_THROW(quiltWhole(source, 17, 40, settings), common::InputError);
+    EXPECT_NO_THROW(quiltWhole(source, 18, 40, settings));
 }
 
 }  // namespace

@@ -17,57 +17,33 @@
 
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
+#include "support/json_report_command.h"
+#include "support/shared_test_folders.h"
 
 namespace vpe::testing {
 namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json run(const std::vector<std::string>& arguments) {
-    std::vector<std::string> withJson = arguments;
-    withJson.push_back("--json");
-    const CommandResult result = runCommand(vpeCommand(withJson));
-    EXPECT_EQ(result.exitStatus, 0) << result.err;
-    return result.exitStatus == 0 ? lastJsonLine(result.out) : nlohmann::json::object();
-}
-
 // The room, its scan and a texture, made once per build of vpe and shared by the tests.
 const fs::path& gallery() {
-    static const fs::path folder = [] {
-        const auto stamp = fs::last_write_time(vpeExecutable()).time_since_epoch().count();
-        const fs::path final = fs::temp_directory_path() /
-                               ("vpe-radiometry-test-" + std::to_string(stamp % 1000000007));
-        if (fs::exists(final / "done")) {
-            return final;
-        }
-        const fs::path partial = final.string() + ".partial" + std::to_string(::getpid());
-        fs::remove_all(partial);
-        run({"synth-procam", "--out", (partial / "room").string(), "--projector-size", "640x360",
-             "--camera-size", "656x492", "--poses", "0", "--phase-period", "16",
-             "--realistic-light"});
-        run({"scan", (partial / "room" / "scan").string(), "--calibration",
-             (partial / "room" / "truth" / "calibration.yml").string(), "--out",
-             (partial / "scan").string()});
-        run({"synth", "--out", (partial / "capture").string(), "--size", "64"});
-        run({"fit", (partial / "capture" / "train").string(), "--out",
-             (partial / "texture.exr").string(), "--no-preview"});
-        std::ofstream(partial / "done") << "ok\n";
-        std::error_code error;
-        fs::rename(partial, final, error);
-        if (error) {
-            fs::remove_all(partial);
-        }
-        return final;
-    }();
+    static const fs::path folder =
+        folderMadeOncePerVpeBuild("vpe-radiometry-test", [](const fs::path& partial) {
+            runWithJson({"synth-procam", "--out", (partial / "room").string(), "--projector-size",
+                         "640x360", "--camera-size", "656x492", "--poses", "0", "--phase-period",
+                         "16", "--realistic-light"});
+            runWithJson({"scan", (partial / "room" / "scan").string(), "--calibration",
+                         (partial / "room" / "truth" / "calibration.yml").string(), "--out",
+                         (partial / "scan").string()});
+            runWithJson({"synth", "--out", (partial / "capture").string(), "--size", "64"});
+            runWithJson({"fit", (partial / "capture" / "train").string(), "--out",
+                         (partial / "texture.exr").string(), "--no-preview"});
+        });
     return folder;
 }
 
 fs::path scratch(const std::string& name) {
-    const fs::path folder =
-        fs::temp_directory_path() / ("vpe-radiometry-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
+    return scratchFolder("vpe-radiometry-" + name);
 }
 
 std::vector<std::string> radiometryCommand(const fs::path& capture, const fs::path& out) {
@@ -78,8 +54,8 @@ std::vector<std::string> radiometryCommand(const fs::path& capture, const fs::pa
 TEST(Radiometry, MeasuresTheCrosstalkTheRoomAndTheResponse) {
     const fs::path out = scratch("measure");
     const nlohmann::json measured =
-        run({"radiometry", (gallery() / "room" / "scan").string(), "--scan",
-             (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
+        runWithJson({"radiometry", (gallery() / "room" / "scan").string(), "--scan",
+                     (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
     // The scene's crosstalk (gallery_installation.cpp), each camera channel's row divided by its
     // own primary's share: X_kc = m_kc / m_kk.
     const double truth[9] = {
@@ -129,8 +105,8 @@ TEST(Radiometry, MeasuresTheCrosstalkTheRoomAndTheResponse) {
 
 TEST(Radiometry, TheMeasuredBundleGivesItsTargetWhereTheAssumedOneCannot) {
     const fs::path out = scratch("compensate");
-    run({"radiometry", (gallery() / "room" / "scan").string(), "--scan",
-         (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
+    runWithJson({"radiometry", (gallery() / "room" / "scan").string(), "--scan",
+                 (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
     const std::vector<std::string> bake{"bake",
                                         "--texture",
                                         (gallery() / "texture.exr").string(),
@@ -141,15 +117,15 @@ TEST(Radiometry, TheMeasuredBundleGivesItsTargetWhereTheAssumedOneCannot) {
     std::vector<std::string> measured = bake;
     measured.insert(measured.end(), {"--radiometry", (out / "radiometry").string(), "--out",
                                      (out / "measured.vpeb").string()});
-    run(measured);
+    runWithJson(measured);
     std::vector<std::string> assumed = bake;
     assumed.insert(assumed.end(), {"--out", (out / "assumed.vpeb").string()});
-    run(assumed);
-    const nlohmann::json info = run({"info", (out / "measured.vpeb").string()});
+    runWithJson(assumed);
+    const nlohmann::json info = runWithJson({"info", (out / "measured.vpeb").string()});
     const nlohmann::json check =
-        run({"synth-procam", "--scene", (gallery() / "room" / "installation.toml").string(),
-             "--check-light", (out / "measured.vpeb").string(), "--baseline",
-             (out / "assumed.vpeb").string(), "--out", (out / "check").string()});
+        runWithJson({"synth-procam", "--scene", (gallery() / "room" / "installation.toml").string(),
+                     "--check-light", (out / "measured.vpeb").string(), "--baseline",
+                     (out / "assumed.vpeb").string(), "--out", (out / "check").string()});
     // Measured 0.5 levels of 255 at this size (0.38 at 1080p); the assumed radiometry 5.6.
     EXPECT_LT(check["rms_levels"].get<double>(), 0.9);
     EXPECT_LT(check["worst_rms_levels"].get<double>(), 1.4);
@@ -175,23 +151,24 @@ TEST(Radiometry, AnIspCameraIsLinearizedFromItsBracket) {
     scene.replace(at, 19, "response = 'gamma'");
     std::ofstream(gallery() / "room" / ("isp-" + std::to_string(::getpid()) + ".toml")) << scene;
     const fs::path toml = gallery() / "room" / ("isp-" + std::to_string(::getpid()) + ".toml");
-    run({"synth-procam", "--scene", toml.string(), "--out", (out / "capture").string()});
+    runWithJson({"synth-procam", "--scene", toml.string(), "--out", (out / "capture").string()});
     fs::remove(toml);
     const proto::RadiometryManifest manifest =
         proto::readRadiometryManifest(out / "capture" / "radiometry");
     EXPECT_EQ(manifest.camera.response, proto::CameraResponseKind::kUnknown);
     EXPECT_EQ(manifest.camera.bits, 8);
     const nlohmann::json measured =
-        run({"radiometry", (out / "capture").string(), "--scan", (gallery() / "scan").string(),
-             "--out", (out / "radiometry").string()});
+        runWithJson({"radiometry", (out / "capture").string(), "--scan",
+                     (gallery() / "scan").string(), "--out", (out / "radiometry").string()});
     EXPECT_FALSE(measured["camera_linear"].get<bool>());
     EXPECT_NEAR(measured["mixing"][1].get<double>(), 0.07 / 0.92, 0.004);
-    run({"bake", "--texture", (gallery() / "texture.exr").string(), "--scan",
-         (gallery() / "scan").string(), "--mesh", (gallery() / "room" / "object.obj").string(),
-         "--radiometry", (out / "radiometry").string(), "--out", (out / "isp.vpeb").string()});
-    const nlohmann::json check =
-        run({"synth-procam", "--scene", (gallery() / "room" / "installation.toml").string(),
-             "--check-light", (out / "isp.vpeb").string(), "--out", (out / "check").string()});
+    runWithJson({"bake", "--texture", (gallery() / "texture.exr").string(), "--scan",
+                 (gallery() / "scan").string(), "--mesh",
+                 (gallery() / "room" / "object.obj").string(), "--radiometry",
+                 (out / "radiometry").string(), "--out", (out / "isp.vpeb").string()});
+    const nlohmann::json check = runWithJson(
+        {"synth-procam", "--scene", (gallery() / "room" / "installation.toml").string(),
+         "--check-light", (out / "isp.vpeb").string(), "--out", (out / "check").string()});
     // Measured 0.54 levels at 820 x 616 (0.41 through the raw camera).
     EXPECT_LT(check["rms_levels"].get<double>(), 1.0);
     fs::remove_all(out);

@@ -22,17 +22,31 @@ namespace {
 using namespace test;  // NOLINT: the shared helpers of scene_test_support.h
 using testing::TemporaryFolder;
 
+// The mesh loaded back from `path` has every corner of `written`.
+void expectLoadsAs(const ScreenMesh& written, const std::filesystem::path& path) {
+    const ScreenMesh loaded = loadScreenMesh(path);
+    EXPECT_EQ(loaded.vertexCount(), written.vertexCount());
+    expectSameTriangles(written, loaded);
+}
+
+// The mesh in `text`, written to `name` in `folder` and loaded: for the refusals.
+ScreenMesh loadWritten(const TemporaryFolder& folder, const std::string& name,
+                       const std::string& text) {
+    writeFile(folder / name, text);
+    return loadScreenMesh(folder / name);
+}
+
+// A square, as kSquareObj has it: two triangles on four corners.
+void expectTwoTrianglesOnFourCorners(const ScreenMesh& mesh) {
+    EXPECT_EQ(mesh.triangleCount(), 2u);
+    EXPECT_EQ(mesh.vertexCount(), 4u);
+}
+
 TEST(ScreenMesh, ObjRoundTripKeepsEveryCorner) {
     TemporaryFolder folder;
-    VaseParameters small;
-    small.segments = 12;
-    small.rings = 6;
-    small.baseRings = 2;
-    const ScreenMesh vase = makeProceduralVase(small);
+    const ScreenMesh vase = makeProceduralVase({.segments = 12, .rings = 6, .baseRings = 2});
     writeScreenMeshObj(vase, folder / "vase.obj");
-    const ScreenMesh loaded = loadScreenMesh(folder / "vase.obj");
-    EXPECT_EQ(loaded.vertexCount(), vase.vertexCount());
-    expectSameTriangles(vase, loaded);
+    expectLoadsAs(vase, folder / "vase.obj");
     // Nothing but the file is left behind (the write was atomic).
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder.path()), {}), 1);
 }
@@ -41,8 +55,7 @@ TEST(ScreenMesh, ObjQuadsAreTriangulatedAndNormalsGenerated) {
     TemporaryFolder folder;
     writeFile(folder / "square.obj", kSquareObj);
     const ScreenMesh mesh = loadScreenMesh(folder / "square.obj");
-    EXPECT_EQ(mesh.triangleCount(), 2u);
-    EXPECT_EQ(mesh.vertexCount(), 4u);
+    expectTwoTrianglesOnFourCorners(mesh);
     for (const Vec3f& n : mesh.normals) {
         EXPECT_NEAR(n.z, 1.0f, 1e-6f);
     }
@@ -103,15 +116,9 @@ void writeBinaryPly(const ScreenMesh& mesh, const std::filesystem::path& path,
 
 TEST(ScreenMesh, BinaryPlyRoundTripKeepsEveryCorner) {
     TemporaryFolder folder;
-    VaseParameters small;
-    small.segments = 10;
-    small.rings = 5;
-    small.baseRings = 2;
-    const ScreenMesh vase = makeProceduralVase(small);
+    const ScreenMesh vase = makeProceduralVase({.segments = 10, .rings = 5, .baseRings = 2});
     writeBinaryPly(vase, folder / "vase.ply");
-    const ScreenMesh loaded = loadScreenMesh(folder / "vase.ply");
-    EXPECT_EQ(loaded.vertexCount(), vase.vertexCount());
-    expectSameTriangles(vase, loaded);
+    expectLoadsAs(vase, folder / "vase.ply");
 }
 
 TEST(ScreenMesh, AsciiPlyWithoutNormalsGetsSmoothNormals) {
@@ -120,8 +127,7 @@ TEST(ScreenMesh, AsciiPlyWithoutNormalsGetsSmoothNormals) {
                                          "0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n"
                                          "3 0 1 2\n3 0 2 3\n");
     const ScreenMesh mesh = loadScreenMesh(folder / "square.ply");
-    EXPECT_EQ(mesh.triangleCount(), 2u);
-    EXPECT_EQ(mesh.vertexCount(), 4u);
+    expectTwoTrianglesOnFourCorners(mesh);
     for (std::size_t i = 0; i < mesh.vertexCount(); ++i) {
         EXPECT_NEAR(mesh.normals[i].z, 1.0f, 1e-6f);
         // s, t carried through as u, v.
@@ -136,8 +142,7 @@ TEST(ScreenMesh, DegenerateTrianglesAreDroppedWithTheirVertices) {
                                          "v 2 0 0\nv 3 0 0\nv 4 0 0\nvt 0.5 0.5\n"
                                          "f 5/5 6/5 7/5\n");  // collinear
     const ScreenMesh mesh = loadScreenMesh(folder / "square.obj");
-    EXPECT_EQ(mesh.triangleCount(), 2u);
-    EXPECT_EQ(mesh.vertexCount(), 4u);
+    expectTwoTrianglesOnFourCorners(mesh);
 }
 
 TEST(ScreenMesh, UvsSlightlyOutsideAreClamped) {
@@ -159,52 +164,46 @@ TEST(ScreenMesh, RefusesMissingFile) {
 
 TEST(ScreenMesh, RefusesOtherFormats) {
     TemporaryFolder folder;
-    writeFile(folder / "square.stl", "solid x\nendsolid x\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "square.stl"),
+    EXPECT_INPUT_ERROR(loadWritten(folder, "square.stl", "solid x\nendsolid x\n"),
                        "square.stl: unsupported mesh format '.stl' (vpe reads .obj and .ply)");
 }
 
 TEST(ScreenMesh, RefusesUnparsableFiles) {
     TemporaryFolder folder;
-    writeFile(folder / "broken.ply", "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "broken.ply"), "broken.ply: cannot parse mesh");
-    writeFile(folder / "empty.obj", "");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "empty.obj"), "empty.obj: cannot parse mesh");
+    EXPECT_INPUT_ERROR(loadWritten(folder, "broken.ply",
+                                   "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n"),
+                       "broken.ply: cannot parse mesh");
+    EXPECT_INPUT_ERROR(loadWritten(folder, "empty.obj", ""), "empty.obj: cannot parse mesh");
 }
 
 TEST(ScreenMesh, RefusesFilesWithoutTriangles) {
     TemporaryFolder folder;
-    writeFile(folder / "lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nl 1 2\nl 2 3\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "lines.obj"),
-                       "lines.obj: no triangles: a screen mesh needs faces, not only points or "
-                       "lines");
-    writeFile(folder / "cloud.ply",
-              plyHeader("ascii", 3, 0, false) + "0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "cloud.ply"), "cloud.ply: no triangles");
-    writeFile(folder / "text.obj", "this is not a mesh\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "text.obj"), "text.obj: no triangles");
+    EXPECT_INPUT_ERROR(
+        loadWritten(folder, "lines.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nl 1 2\nl 2 3\n"),
+        "lines.obj: no triangles: a screen mesh needs faces, not only points or lines");
+    EXPECT_INPUT_ERROR(
+        loadWritten(folder, "cloud.ply",
+                    plyHeader("ascii", 3, 0, false) + "0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n"),
+        "cloud.ply: no triangles");
+    EXPECT_INPUT_ERROR(loadWritten(folder, "text.obj", "this is not a mesh\n"),
+                       "text.obj: no triangles");
 }
 
 TEST(ScreenMesh, RefusesMeshesWithoutUvs) {
     TemporaryFolder folder;
-    writeFile(folder / "plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "plain.obj"),
+    EXPECT_INPUT_ERROR(loadWritten(folder, "plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n"),
                        "plain.obj: no texture coordinates: a screen mesh needs UVs");
 }
 
 TEST(ScreenMesh, RefusesNonFinitePositions) {
     TemporaryFolder folder;
-    VaseParameters small;
-    small.segments = 6;
-    small.rings = 2;
-    small.baseRings = 1;
-    const ScreenMesh vase = makeProceduralVase(small);
+    const ScreenMesh vase = makeProceduralVase({.segments = 6, .rings = 2, .baseRings = 1});
     writeBinaryPly(vase, folder / "nan.ply", 7, std::nanf(""));
     EXPECT_INPUT_ERROR(loadScreenMesh(folder / "nan.ply"),
                        "nan.ply: a vertex has a position that is not a finite number");
-    writeFile(folder / "nan.obj", "v 0 0 0\nv 1 nan 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "nan.obj"),
-                       "nan.obj: a vertex has a position that is not a finite number (1, nan, 0)");
+    EXPECT_INPUT_ERROR(
+        loadWritten(folder, "nan.obj", "v 0 0 0\nv 1 nan 0\nv 1 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"),
+        "nan.obj: a vertex has a position that is not a finite number (1, nan, 0)");
     writeBinaryPly(vase, folder / "inf.ply", 7, INFINITY);
     EXPECT_INPUT_ERROR(loadScreenMesh(folder / "inf.ply"),
                        "inf.ply: a vertex has a position that is not a finite number (");
@@ -215,18 +214,18 @@ TEST(ScreenMesh, RefusesNonFinitePositions) {
 
 TEST(ScreenMesh, RefusesUvsOutsideTheUnitSquare) {
     TemporaryFolder folder;
-    writeFile(folder / "tiled.obj",
-              "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 2 0\nvt 2 1\nf 1/1 2/2 3/3\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "tiled.obj"),
-                       "has texture coordinates (2, 0) outside [0, 1]; vpe does not wrap");
+    EXPECT_INPUT_ERROR(
+        loadWritten(folder, "tiled.obj",
+                    "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 2 0\nvt 2 1\nf 1/1 2/2 3/3\n"),
+        "has texture coordinates (2, 0) outside [0, 1]; vpe does not wrap");
 }
 
 TEST(ScreenMesh, RefusesMeshesOfOnlyDegenerateTriangles) {
     TemporaryFolder folder;
-    writeFile(folder / "flat.obj",
-              "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nvt 0 0\nf 1/1 2/1 3/1\nf 2/1 3/1 4/1\n");
-    EXPECT_INPUT_ERROR(loadScreenMesh(folder / "flat.obj"),
-                       "flat.obj: all 2 triangles are degenerate (zero area)");
+    EXPECT_INPUT_ERROR(
+        loadWritten(folder, "flat.obj",
+                    "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nvt 0 0\nf 1/1 2/1 3/1\nf 2/1 3/1 4/1\n"),
+        "flat.obj: all 2 triangles are degenerate (zero area)");
 }
 
 TEST(ScreenMesh, RefusesMoreVerticesThan32BitIndicesReach) {

@@ -21,14 +21,12 @@
 #include "support/fitted_capture.h"
 #include "support/label_seeds.h"
 #include "support/test_data.h"
+#include "support/vpe_command_names.h"
 
 namespace vpe {
 namespace {
 
-using testing::expectInputError;
-using testing::lastJsonLine;
-using testing::runCommand;
-constexpr auto& vpe = testing::vpeCommand;
+using namespace testing::vpe_command_names;  // NOLINT: support/vpe_command_names.h
 
 std::string fileBytes(const std::filesystem::path& file) {
     return text::readTextFile(file, "position map");

@@ -19,26 +19,24 @@
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/half_float.h"
 #include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/gles/headless_egl_platform.h"
 #include "vpe/renderer/projector_frame.h"
 #include "vpe/renderer/projector_pixels.h"
 #include "vpe/renderer/visitor_view.h"
 #include "vpe/scene/procedural_vase.h"
 #include "vpe/scene/projector_calibration.h"
 
+#include "renderer/gles_test_platform.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/fitted_capture.h"
 #include "support/gpu_fidelity.h"
 #include "support/test_data.h"
+#include "support/vpe_command_names.h"
 
 namespace vpe {
 namespace {
 
-using testing::expectInputError;
-using testing::lastJsonLine;
-using testing::runCommand;
-constexpr auto& vpe = testing::vpeCommand;
+using namespace testing::vpe_command_names;  // NOLINT: support/vpe_command_names.h
 
 // The procedural vase as the renderer takes it (v up), owning its arrays.
 struct Vase {
@@ -374,14 +372,11 @@ TEST_F(Show, BadInputExitsTwoNamingIt) {
                      {"--views"});
 }
 
+// The shared headless platform; SKIPs without EGL.
+class GlesShowFidelity : public renderer::testing::GlesTest {};
+
 // The GLES renderer on a share bundle agrees with the CPU reference as on any other.
-TEST(GlesShowFidelity, DeviceFramesCarryTheShare) {
-    std::unique_ptr<renderer::gles::GraphicsPlatform> platform;
-    try {
-        platform = renderer::gles::createHeadlessEglPlatform();
-    } catch (const renderer::gles::GraphicsError& error) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << error.what();
-    }
+TEST_F(GlesShowFidelity, DeviceFramesCarryTheShare) {
     const testing::TemporaryFolder folder;
     const std::string capture = (folder / "capture").string();
     const std::string model = (folder / "model.exr").string();
@@ -397,9 +392,10 @@ TEST(GlesShowFidelity, DeviceFramesCarryTheShare) {
     ASSERT_EQ(baked.exitStatus, 0) << baked.err;
     const proto::BundleFile file = proto::BundleFile::open(folder / "show/projector1.vpeb");
     ASSERT_TRUE(file->blend().has_value());
-    platform->makeCurrent();
+    platform()->makeCurrent();
     double worst = std::numeric_limits<double>::infinity();
-    for (const testing::GpuFidelity& light : testing::measureGpuFidelity(file.view(), *platform)) {
+    for (const testing::GpuFidelity& light :
+         testing::measureGpuFidelity(file.view(), *platform())) {
         worst = std::min(worst, light.psnrObject);
     }
     // Measured 51.4 dB on the vase (the single-projector bundle of GlesFidelity: 49.1).
