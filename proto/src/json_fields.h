@@ -94,6 +94,37 @@ private:
     std::string where_;
 };
 
+// The camera keys a scan and a radiometric capture share (ScanCamera and RadiometryCamera name
+// them alike): size and bits, then exposure, gain and source. Two readers, so that a capture
+// can read its own keys in between, in the order its messages have always come.
+template <typename Camera>
+void readCameraFormat(const JsonFields& camera, Camera& into) {
+    into.width = camera.integer("width", 1, 16384);
+    into.height = camera.integer("height", 1, 16384);
+    into.bits = camera.integer("bits", 1, 16);
+    if (into.bits != 8 && into.bits != 10) {
+        camera.fail("bits: " + std::to_string(into.bits) + " (8 or 10)");
+    }
+}
+
+template <typename Camera>
+void readCameraSettings(const JsonFields& camera, Camera& into) {
+    into.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
+    into.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
+    into.source = camera.text("source", false);
+}
+
+// The shared camera keys as JSON; a capture adds its own (the keys are written sorted).
+template <typename Camera>
+Json cameraJson(const Camera& camera) {
+    return {{"width", camera.width},
+            {"height", camera.height},
+            {"bits", camera.bits},
+            {"exposure_us", camera.exposureUs},
+            {"analogue_gain", camera.analogueGain},
+            {"source", camera.source}};
+}
+
 // A file name inside the manifest's folder: no directory part.
 inline bool plainFileName(const std::string& name) {
     return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&

@@ -101,6 +101,9 @@ std::vector<FlatField> radiometrySequence(const RadiometryParameters& p) {
 }
 
 std::string radiometryManifestJson(const RadiometryManifest& m) {
+    Json camera = detail::cameraJson(m.camera);
+    camera["channels"] = m.camera.channels;
+    camera["response"] = responseName(m.camera.response);
     const Json json = {
         {"format", "vpe-radiometry"},
         {"version", kRadiometryManifestVersion},
@@ -111,15 +114,7 @@ std::string radiometryManifestJson(const RadiometryManifest& m) {
           {"levels", m.fields.levels},
           {"bracket_stops", m.fields.bracketStops},
           {"latency_ms", m.projectorLatencyMs}}},
-        {"camera",
-         {{"width", m.camera.width},
-          {"height", m.camera.height},
-          {"bits", m.camera.bits},
-          {"channels", m.camera.channels},
-          {"response", responseName(m.camera.response)},
-          {"exposure_us", m.camera.exposureUs},
-          {"analogue_gain", m.camera.analogueGain},
-          {"source", m.camera.source}}},
+        {"camera", camera},
     };
     return detail::manifestText(json, m.images);
 }
@@ -138,12 +133,7 @@ RadiometryManifest parseRadiometryManifest(std::string_view text, const std::str
         projector.find("bracket_stops") ? projector.integer("bracket_stops", 0, 1 << 20) : 5;
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
-    m.camera.width = camera.integer("width", 1, 16384);
-    m.camera.height = camera.integer("height", 1, 16384);
-    m.camera.bits = camera.integer("bits", 1, 16);
-    if (m.camera.bits != 8 && m.camera.bits != 10) {
-        camera.fail("bits: " + std::to_string(m.camera.bits) + " (8 or 10)");
-    }
+    detail::readCameraFormat(camera, m.camera);
     m.camera.channels = camera.integer("channels", 1, 4);
     if (m.camera.channels != 3) {
         camera.fail("channels: " + std::to_string(m.camera.channels) +
@@ -163,9 +153,7 @@ RadiometryManifest parseRadiometryManifest(std::string_view text, const std::str
         camera.fail("response: '" + response + "' (linear or unknown)");
     }
     m.fields.cameraResponse = m.camera.response;
-    m.camera.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
-    m.camera.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
-    m.camera.source = camera.text("source", false);
+    detail::readCameraSettings(camera, m.camera);
 
     std::vector<FlatField> fields;
     try {

@@ -35,13 +35,7 @@ std::string scanManifestJson(const ScanManifest& m) {
           {"phase_period", m.patterns.phasePeriod},
           {"phase_steps", m.patterns.phaseSteps},
           {"latency_ms", m.projectorLatencyMs}}},
-        {"camera",
-         {{"width", m.camera.width},
-          {"height", m.camera.height},
-          {"bits", m.camera.bits},
-          {"exposure_us", m.camera.exposureUs},
-          {"analogue_gain", m.camera.analogueGain},
-          {"source", m.camera.source}}},
+        {"camera", detail::cameraJson(m.camera)},
     };
     return detail::manifestText(json, m.images);
 }
@@ -59,15 +53,8 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     m.patterns.phaseSteps = projector.integer("phase_steps", 1, 1 << 20);
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
-    m.camera.width = camera.integer("width", 1, 16384);
-    m.camera.height = camera.integer("height", 1, 16384);
-    m.camera.bits = camera.integer("bits", 1, 16);
-    if (m.camera.bits != 8 && m.camera.bits != 10) {
-        camera.fail("bits: " + std::to_string(m.camera.bits) + " (8 or 10)");
-    }
-    m.camera.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
-    m.camera.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
-    m.camera.source = camera.text("source", false);
+    detail::readCameraFormat(camera, m.camera);
+    detail::readCameraSettings(camera, m.camera);
 
     std::optional<StructuredLightSequence> sequence;
     try {
