@@ -23,25 +23,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=install-report seed=1 poses=15
-while (($#)); do
-    case $1 in
-        --out) out=$2; shift 2 ;;
-        --seed) seed=$2; shift 2 ;;
-        --poses) poses=$2; shift 2 ;;
-        *) echo "install-report: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
-build_vpe >&2
+source scripts/lib/report.sh
+report_options install-report out seed poses -- "$@"
+start_report
 cmake --build --preset release --target vpe_lamp_direction -j "$(nproc)" >&2
 lamp=build/release/tests/benchmarks/vpe_lamp_direction
-out=$(realpath -m "$out")
-rm -rf "$out"
-mkdir -p "$out"
 started=$(date +%s.%N)
-step() { printf '\n== %s\n' "$*" >&2; }
-json() { jq -r "$1" "$2"; }
 
 step "the simulated gallery (vpe synth-procam, seed $seed, $poses board poses)"
 room="$out/room"
