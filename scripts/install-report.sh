@@ -93,18 +93,12 @@ jq -c -n \
     --slurpfile cal "$out/calibrate.json" --slurpfile scan "$out/scan-true.json" \
     --slurpfile chain "$out/scan.json" --slurpfile reg "$out/check-true.json" \
     --slurpfile check "$out/check.json" --slurpfile lamp "$out/lamp.json" \
-    --argjson seconds "$seconds" '{
-        calibration_rms_px: $cal[0].calibration_rms_px,
-        intrinsics_error_pct: $cal[0].intrinsics_error_pct,
-        extrinsic_mm: $cal[0].extrinsic_mm,
-        extrinsic_deg: $cal[0].extrinsic_deg,
-        scan_coverage: $scan[0].scan_coverage,
-        depth_rms_mm: $scan[0].depth_rms_mm,
-        wrong_decode_share: $scan[0].wrong_decode_share,
-        pose_error_mm: $reg[0].pose_error_mm,
-        pose_error_deg: $reg[0].pose_error_deg,
-        psnr: $check[0].psnr,
-        misregistration_mm: $check[0].misregistration_mm,
+    --argjson seconds "$seconds" '
+    ($cal[0] | {calibration_rms_px, intrinsics_error_pct, extrinsic_mm, extrinsic_deg})
+    + ($scan[0] | {scan_coverage, depth_rms_mm, wrong_decode_share})
+    + ($reg[0] | {pose_error_mm, pose_error_deg})
+    + ($check[0] | {psnr, misregistration_mm})
+    + {
         lamp_error_deg: $lamp[0].lamp_error_deg_max,
         scan_seconds: $scan[0].scan_seconds,
         seconds: $seconds,
