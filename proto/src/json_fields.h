@@ -94,6 +94,25 @@ private:
     std::string where_;
 };
 
+// created_by and the projector's size, the first keys of every capture manifest after its format
+// and version (checkManifestHead); the projector's section is returned for the manifest's own
+// keys.
+template <typename Manifest, typename Parameters>
+JsonFields readManifestHead(const JsonFields& root, Manifest& into, Parameters& parameters) {
+    into.createdBy = root.text("created_by", false);
+    JsonFields projector = root.child("projector");
+    parameters.width = projector.integer("width", 1, 16384);
+    parameters.height = projector.integer("height", 1, 16384);
+    return projector;
+}
+
+// The projector keys every capture manifest has; a manifest adds its own (keys are written
+// sorted).
+template <typename Parameters>
+Json projectorJson(const Parameters& parameters, double latencyMs) {
+    return {{"width", parameters.width}, {"height", parameters.height}, {"latency_ms", latencyMs}};
+}
+
 // The camera keys a scan and a radiometric capture share (ScanCamera and RadiometryCamera name
 // them alike): size and bits, then exposure, gain and source. Two readers, so that a capture
 // can read its own keys in between, in the order its messages have always come.
@@ -133,6 +152,14 @@ inline bool plainFileName(const std::string& name) {
 
 // The manifest's "format" and "version": exactly these, or a ScanManifestError.
 void checkManifestHead(const JsonFields& root, const char* format, int version);
+
+// A manifest's head: format, version, created_by, and its projector and camera sections.
+Json manifestHead(const char* format, int version, const std::string& createdBy,
+                  const Json& projector, const Json& camera);
+
+// A manifest's JSON text parsed, its format and version checked (checkManifestHead).
+Json parseManifestJson(std::string_view text, const std::string& source, const char* format,
+                       int version);
 
 // A manifest's text: `head` indented, then "images" with one image a line (readable, diffable).
 std::string manifestText(const Json& head, const std::vector<ScanImage>& images);

@@ -104,30 +104,20 @@ std::string radiometryManifestJson(const RadiometryManifest& m) {
     Json camera = detail::cameraJson(m.camera);
     camera["channels"] = m.camera.channels;
     camera["response"] = responseName(m.camera.response);
-    const Json json = {
-        {"format", "vpe-radiometry"},
-        {"version", kRadiometryManifestVersion},
-        {"created_by", m.createdBy},
-        {"projector",
-         {{"width", m.fields.width},
-          {"height", m.fields.height},
-          {"levels", m.fields.levels},
-          {"bracket_stops", m.fields.bracketStops},
-          {"latency_ms", m.projectorLatencyMs}}},
-        {"camera", camera},
-    };
-    return detail::manifestText(json, m.images);
+    Json projector = detail::projectorJson(m.fields, m.projectorLatencyMs);
+    projector["levels"] = m.fields.levels;
+    projector["bracket_stops"] = m.fields.bracketStops;
+    return detail::manifestText(detail::manifestHead("vpe-radiometry", kRadiometryManifestVersion,
+                                                     m.createdBy, projector, camera),
+                                m.images);
 }
 
 RadiometryManifest parseRadiometryManifest(std::string_view text, const std::string& source) {
-    const Json json = detail::parseJsonText(text, source);
+    const Json json =
+        detail::parseManifestJson(text, source, "vpe-radiometry", kRadiometryManifestVersion);
     const Fields root(json, source, "");
-    detail::checkManifestHead(root, "vpe-radiometry", kRadiometryManifestVersion);
     RadiometryManifest m;
-    m.createdBy = root.text("created_by", false);
-    const Fields projector = root.child("projector");
-    m.fields.width = projector.integer("width", 1, 16384);
-    m.fields.height = projector.integer("height", 1, 16384);
+    const Fields projector = detail::readManifestHead(root, m, m.fields);
     m.fields.levels = projector.integer("levels", 1, 1 << 20);
     m.fields.bracketStops =
         projector.find("bracket_stops") ? projector.integer("bracket_stops", 0, 1 << 20) : 5;
