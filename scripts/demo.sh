@@ -18,7 +18,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh --test --demo
 source scripts/lib/pictures.sh
-source scripts/lib/vpe.sh
+source scripts/lib/report.sh  # build_vpe, step
 
 started=$(date +%s)
 out=$(realpath -m "${1:-demo-output}")
@@ -28,7 +28,14 @@ rm -rf "$out"
 mkdir -p "$out"
 summary="$out/summary.txt"
 : > "$summary"
-step() { printf '\n== %s\n' "$*" >&2; }
+
+# run_report NAME: scripts/NAME-report.sh into $out/NAME (which the report empties first), its
+# JSON line (the last of its stdout) kept there as NAME.json; $report names that file.
+run_report() {
+    scripts/"$1"-report.sh --out "$out/$1" | tail -1 > "$out/$1.json"
+    mv "$out/$1.json" "$out/$1/$1.json"
+    report="$out/$1/$1.json"
+}
 
 # Fits the paper's model and the extended one to TRAIN, predicts TEST, records the PSNRs.
 fit_and_score() {  # name train test
@@ -213,33 +220,30 @@ printf '%-28s transfer fidelity, 8 new lights and views: %.2f dB, SSIM %.4f (ext
     | tee -a "$summary"
 
 step "installing on a simulated gallery (scripts/install-report.sh): calibrate → scan → register → bake → what a visitor sees"
-scripts/install-report.sh --out "$out/install" | tail -1 > "$out/install.json"
-mv "$out/install.json" "$out/install/install.json"
+run_report install
 printf '%-28s calibration %.3f px, scan coverage %.1f%% / depth RMS %.3f mm / %.1f s; visitor view %.1f dB, texture %.2f mm from its place; lamp %.2f deg\n' \
-    "install (simulated)" "$(jq .calibration_rms_px "$out/install/install.json")" \
-    "$(jq '.scan_coverage * 100' "$out/install/install.json")" "$(jq .depth_rms_mm "$out/install/install.json")" \
-    "$(jq .scan_seconds "$out/install/install.json")" "$(jq .psnr "$out/install/install.json")" \
-    "$(jq .misregistration_mm "$out/install/install.json")" "$(jq .lamp_error_deg "$out/install/install.json")" \
+    "install (simulated)" "$(jq .calibration_rms_px "$report")" \
+    "$(jq '.scan_coverage * 100' "$report")" "$(jq .depth_rms_mm "$report")" \
+    "$(jq .scan_seconds "$report")" "$(jq .psnr "$report")" \
+    "$(jq .misregistration_mm "$report")" "$(jq .lamp_error_deg "$report")" \
     | tee -a "$summary"
 
 step "measuring the light on a stained gallery (scripts/radiometry-report.sh): flat fields → vpe radiometry → bake → what the camera sees"
-scripts/radiometry-report.sh --out "$out/radiometry" | tail -1 > "$out/radiometry.json"
-mv "$out/radiometry.json" "$out/radiometry/radiometry.json"
+run_report radiometry
 printf '%-28s %.2f levels of 255 RMS against the target (assumed radiometry: %.2f); re-measured: %.2f; %.0f s\n' \
-    "radiometry (simulated)" "$(jq .rms_levels "$out/radiometry/radiometry.json")" \
-    "$(jq .baseline_rms_levels "$out/radiometry/radiometry.json")" \
-    "$(jq .stability_levels "$out/radiometry/radiometry.json")" "$(jq .seconds "$out/radiometry/radiometry.json")" \
+    "radiometry (simulated)" "$(jq .rms_levels "$report")" \
+    "$(jq .baseline_rms_levels "$report")" \
+    "$(jq .stability_levels "$report")" "$(jq .seconds "$report")" \
     | tee -a "$summary"
 
 step "three projectors around the vase (scripts/multi-projector-report.sh): shares from the geometry → 8 visitors"
-scripts/multi-projector-report.sh --out "$out/multi-projector" | tail -1 > "$out/multi-projector.json"
-mv "$out/multi-projector.json" "$out/multi-projector/multi-projector.json"
+run_report multi-projector
 printf '%-28s seam step %.2fx its surroundings (no blending %.2fx), worst view %.2f dB (one projector, front: %.2f), %.1f%% of what visitors see lit\n' \
-    "three projectors" "$(jq .seam_step_ratio "$out/multi-projector/multi-projector.json")" \
-    "$(jq .unblended_seam_step_ratio "$out/multi-projector/multi-projector.json")" \
-    "$(jq .worst_psnr "$out/multi-projector/multi-projector.json")" \
-    "$(jq .single_front_psnr "$out/multi-projector/multi-projector.json")" \
-    "$(jq '.lit_share * 100' "$out/multi-projector/multi-projector.json")" | tee -a "$summary"
+    "three projectors" "$(jq .seam_step_ratio "$report")" \
+    "$(jq .unblended_seam_step_ratio "$report")" \
+    "$(jq .worst_psnr "$report")" \
+    "$(jq .single_front_psnr "$report")" \
+    "$(jq '.lit_share * 100' "$report")" | tee -a "$summary"
 
 if [[ -d "$data/synthrti" ]]; then
     for set in Single/Object1/material4:glossy-relief Multi/Object2/material1:shadowed-figures; do

@@ -11,18 +11,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 from="" out=docs/install
-while (($#)); do
-    case $1 in
-        --from) from=$(realpath -m "$2"); shift 2 ;;
-        --out) out=$2; shift 2 ;;
-        *) echo "install-figures: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
-build_vpe >&2
-out=$(realpath -m "$out")
-mkdir -p "$out"
+source scripts/lib/report.sh
+report_options install-figures from out -- "$@"
+[[ -z "$from" ]] || from=$(realpath -m "$from")
+start_report --keep-out
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 if [[ -z "$from" ]]; then

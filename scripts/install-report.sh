@@ -23,25 +23,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=install-report seed=1 poses=15
-while (($#)); do
-    case $1 in
-        --out) out=$2; shift 2 ;;
-        --seed) seed=$2; shift 2 ;;
-        --poses) poses=$2; shift 2 ;;
-        *) echo "install-report: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
-build_vpe >&2
+source scripts/lib/report.sh
+report_options install-report out seed poses -- "$@"
+start_report
 cmake --build --preset release --target vpe_lamp_direction -j "$(nproc)" >&2
 lamp=build/release/tests/benchmarks/vpe_lamp_direction
-out=$(realpath -m "$out")
-rm -rf "$out"
-mkdir -p "$out"
 started=$(date +%s.%N)
-step() { printf '\n== %s\n' "$*" >&2; }
-json() { jq -r "$1" "$2"; }
 
 step "the simulated gallery (vpe synth-procam, seed $seed, $poses board poses)"
 room="$out/room"
@@ -106,18 +93,12 @@ jq -c -n \
     --slurpfile cal "$out/calibrate.json" --slurpfile scan "$out/scan-true.json" \
     --slurpfile chain "$out/scan.json" --slurpfile reg "$out/check-true.json" \
     --slurpfile check "$out/check.json" --slurpfile lamp "$out/lamp.json" \
-    --argjson seconds "$seconds" '{
-        calibration_rms_px: $cal[0].calibration_rms_px,
-        intrinsics_error_pct: $cal[0].intrinsics_error_pct,
-        extrinsic_mm: $cal[0].extrinsic_mm,
-        extrinsic_deg: $cal[0].extrinsic_deg,
-        scan_coverage: $scan[0].scan_coverage,
-        depth_rms_mm: $scan[0].depth_rms_mm,
-        wrong_decode_share: $scan[0].wrong_decode_share,
-        pose_error_mm: $reg[0].pose_error_mm,
-        pose_error_deg: $reg[0].pose_error_deg,
-        psnr: $check[0].psnr,
-        misregistration_mm: $check[0].misregistration_mm,
+    --argjson seconds "$seconds" '
+    ($cal[0] | {calibration_rms_px, intrinsics_error_pct, extrinsic_mm, extrinsic_deg})
+    + ($scan[0] | {scan_coverage, depth_rms_mm, wrong_decode_share})
+    + ($reg[0] | {pose_error_mm, pose_error_deg})
+    + ($check[0] | {psnr, misregistration_mm})
+    + {
         lamp_error_deg: $lamp[0].lamp_error_deg_max,
         scan_seconds: $scan[0].scan_seconds,
         seconds: $seconds,

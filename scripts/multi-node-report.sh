@@ -25,25 +25,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=multi-node-report load_seconds=60
-while (($#)); do
-    case $1 in
-        --out) out=$2; shift 2 ;;
-        --load-seconds) load_seconds=$2; shift 2 ;;
-        *) echo "multi-node-report: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
+source scripts/lib/report.sh
+report_options multi-node-report out load-seconds -- "$@"
 [[ "$load_seconds" =~ ^[0-9]+$ && "$load_seconds" -ge 10 ]] ||
     { echo "multi-node-report: --load-seconds: expected a whole number from 10, got '$load_seconds'" >&2; exit 2; }
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
-build_vpe >&2
+start_report
+mkdir -p "$out/broker"
 cmake --build --preset release --target vpe_write_test_bundle vpe_bus_load vpe_light_log_compare \
     -j "$(nproc)" >&2
 tools=$(realpath build/release/tests/firmware/bus)
-out=$(realpath -m "$out")
-rm -rf "$out"
-mkdir -p "$out/broker"
-step() { printf '\n== %s\n' "$*" >&2; }
 now_us() { date +%s%6N; }
 compare() { "$tools/vpe_light_log_compare" "$@"; }
 

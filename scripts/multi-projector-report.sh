@@ -16,20 +16,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=multi-projector-report
-while (($#)); do
-    case $1 in
-        --out) out=$2; shift 2 ;;
-        *) echo "multi-projector-report: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
+source scripts/lib/report.sh
+report_options multi-projector-report out -- "$@"
 source scripts/lib/pictures.sh
-build_vpe >&2
-out=$(realpath -m "$out")
-rm -rf "$out"
-mkdir -p "$out"
-step() { printf '\n== %s\n' "$*" >&2; }
+start_report
 
 step "the synthetic Bizen capture and its extended model"
 "$vpe" synth --out "$out/capture" --size 160 --noise camera >&2

@@ -21,21 +21,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=radiometry-report seed=1
-while (($#)); do
-    case $1 in
-        --out) out=$2; shift 2 ;;
-        --seed) seed=$2; shift 2 ;;
-        *) echo "radiometry-report: unknown argument '$1'" >&2; exit 2 ;;
-    esac
-done
-scripts/install-deps.sh --test
-source scripts/lib/vpe.sh
-build_vpe >&2
-out=$(realpath -m "$out")
-rm -rf "$out"
-mkdir -p "$out"
-step() { printf '\n== %s\n' "$*" >&2; }
-json() { jq -r "$1" "$2"; }
+source scripts/lib/report.sh
+report_options radiometry-report out seed -- "$@"
+start_report
 
 step "the gallery with its real light (vpe synth-procam --realistic-light, seed $seed)"
 room="$out/room"

@@ -13,6 +13,8 @@
 
 #include <poll.h>
 
+#include "vpe/proto/luminance.h"
+
 namespace vpe::firmware {
 
 namespace {
@@ -45,8 +47,8 @@ CameraImage luminanceOf(const LuminanceView& view) {
 CameraImage colourOf(const LuminanceView& luma, const ChromaView& chroma) {
     double kr = 0.299, kb = 0.114;  // Rec. 601
     if (chroma.encoding == ChromaView::Encoding::kRec709) {
-        kr = 0.2126;
-        kb = 0.0722;
+        kr = proto::kLuminance709[0];
+        kb = proto::kLuminance709[2];
     } else if (chroma.encoding == ChromaView::Encoding::kRec2020) {
         kr = 0.2627;
         kb = 0.0593;

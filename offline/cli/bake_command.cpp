@@ -351,10 +351,7 @@ void addBakeCommand(CLI::App& app, Action& action) {
                         "A scan (vpe scan's --out): its calibration, and the mesh registered to "
                         "it (or its surface when no --mesh); repeat for a show of several "
                         "projectors seen by one camera (the first scan places the object)");
-    command
-        ->add_option("--mesh-scale", args->options.meshMetresPerUnit,
-                     "Metres per mesh unit (0.001 for millimetres)")
-        ->capture_default_str();
+    addMeshScaleOption(command, args->options.meshMetresPerUnit);
     command->add_option("--projector", args->projectors,
                         "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T; with "
                         "cam_K, cam_kc, cam_width, cam_height the bundle carries the camera "

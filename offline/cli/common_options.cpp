@@ -13,4 +13,14 @@ void addJsonFlag(CLI::App* command, bool& json) {
     command->add_flag("--json", json, "End stdout with a JSON report");
 }
 
+void addHeldOutOption(CLI::App* command, int& heldOut, const std::string& description) {
+    command->add_option("--held-out", heldOut, description)->check(CLI::Range(2, 1000));
+}
+
+void addMeshScaleOption(CLI::App* command, double& metresPerUnit) {
+    command
+        ->add_option("--mesh-scale", metresPerUnit, "Metres per mesh unit (0.001 for millimetres)")
+        ->capture_default_str();
+}
+
 }  // namespace vpe::cli

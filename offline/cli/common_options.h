@@ -2,6 +2,8 @@
 // Options most subcommands share, worded the same everywhere.
 #pragma once
 
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace vpe::cli {
@@ -11,5 +13,12 @@ void addThreadsOption(CLI::App* command, int& threads);
 
 // --json: end stdout with a JSON report (printJson).
 void addJsonFlag(CLI::App* command, bool& json);
+
+// --held-out N: the RTI benchmarks' every N-th light (N from 2); `description` says what the
+// command does with those lights.
+void addHeldOutOption(CLI::App* command, int& heldOut, const std::string& description);
+
+// --mesh-scale: metres per unit of the screen object's mesh file.
+void addMeshScaleOption(CLI::App* command, double& metresPerUnit);
 
 }  // namespace vpe::cli

@@ -77,11 +77,9 @@ void addEvalCommand(CLI::App& app, Action& action) {
     command->add_option("--predictions", args->predictions,
                         "Folder to write the predicted images to (PNG)");
     addThreadsOption(command, args->threads);
-    command
-        ->add_option("--held-out", args->heldOut,
+    addHeldOutOption(command, args->heldOut,
                      "Score only every N-th light (positions N-1, 2N-1, ...): those vpe fit "
-                     "--held-out N left out")
-        ->check(CLI::Range(2, 1000));
+                     "--held-out N left out");
     addJsonFlag(command, args->json);
     command->callback([args, &action] { action = [args] { runEval(*args); }; });
 }

@@ -124,11 +124,9 @@ void addExportRelightCommand(CLI::App& app, Action& action) {
                      "whose interpolation best matches a twice-as-fine grid (least-squares)")
         ->capture_default_str()
         ->check(CLI::IsMember({"nodes", "least-squares"}));
-    command
-        ->add_option("--held-out", args->heldOut,
+    addHeldOutOption(command, args->heldOut,
                      "Measure the round trip under every N-th light only (those vpe fit "
-                     "--held-out N left out); default: all lights")
-        ->check(CLI::Range(2, 1000));
+                     "--held-out N left out); default: all lights");
     addThreadsOption(command, args->threads);
     addJsonFlag(command, args->json);
     command->callback([args, &action] { action = [args] { runExportRelight(*args); }; });

@@ -259,11 +259,9 @@ void addFitCommand(CLI::App& app, Action& action) {
                              model + "'";
         })
         ->capture_default_str();
-    command
-        ->add_option("--held-out", args->heldOut,
+    addHeldOutOption(command, args->heldOut,
                      "Leave every N-th light out (positions N-1, 2N-1, ... of the capture): the "
-                     "RTI benchmarks' protocol; score them with vpe eval --held-out N")
-        ->check(CLI::Range(2, 1000));
+                     "RTI benchmarks' protocol; score them with vpe eval --held-out N");
     addStorageOption(command, args->storage, "half");
     command
         ->add_option("--relief", args->relief,

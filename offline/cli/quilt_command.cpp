@@ -135,10 +135,7 @@ void addQuiltCommand(CLI::App& app, Action& action) {
     command->add_option("--mesh", args->mesh,
                         "The screen object the texture is for (OBJ or PLY with UVs): its size and "
                         "seam; default: the built-in vase, as vpe bake's");
-    command
-        ->add_option("--mesh-scale", args->meshScale,
-                     "Metres per mesh unit (0.001 for millimetres)")
-        ->capture_default_str();
+    addMeshScaleOption(command, args->meshScale);
     command->add_option("--texel-mm", args->texelMm,
                         "A capture pixel's size on its surface, mm (default: the model's, from the "
                         "capture manifest's texel_mm)");

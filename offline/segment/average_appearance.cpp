@@ -13,6 +13,7 @@
 #include "vpe/common/principal_axes.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
+#include "vpe/proto/luminance.h"
 
 namespace vpe::segment {
 
@@ -73,6 +74,23 @@ void scaleGroup(Appearance& a, int first, int count) {
     }
 }
 
+// The model a band of kBandRows rows at a time, so that a large model's coefficients need not
+// fit in memory at once: `rowsWork(rowBegin, begin, end)` on the band's rows [begin, end) on the
+// worker threads, then `bandDone(rowBegin, count)` on this one, before the next band replaces
+// `rows`.
+template <typename RowsWork, typename BandDone>
+void forEachBand(model::ModelReader& reader, int height, int threads, model::ModelRows& rows,
+                 RowsWork rowsWork, BandDone bandDone) {
+    for (int rowBegin = 0; rowBegin < height; rowBegin += kBandRows) {
+        const int count = std::min(kBandRows, height - rowBegin);
+        reader.readRows(rowBegin, count, rows);
+        common::parallelFor(
+            static_cast<std::size_t>(count), 1, threads,
+            [&](std::size_t begin, std::size_t end) { rowsWork(rowBegin, begin, end); });
+        bandDone(rowBegin, count);
+    }
+}
+
 }  // namespace
 
 const std::vector<proto::Vec3d>& averagingLights() {
@@ -97,7 +115,7 @@ void linearRgbToLab(const float* rgb, float* lab) {
     const double b = static_cast<double>(rgb[2]);
     // sRGB primaries to XYZ, normalized by the D65 white's X and Z.
     const double x = (0.4124564 * r + 0.3575761 * g + 0.1804375 * b) / 0.95047;
-    const double y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
+    const double y = proto::luminance709(r, g, b);
     const double z = (0.0193339 * r + 0.1191920 * g + 0.9503041 * b) / 1.08883;
     const double fx = labCompand(x), fy = labCompand(y), fz = labCompand(z);
     lab[0] = static_cast<float>(116.0 * fy - 16.0);
@@ -129,58 +147,55 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     model::ModelRows rows;
     const proto::Vec3d view{0, 0, 1};
     const std::vector<proto::Vec3d>& lights = averagingLights();
-    for (int rowBegin = 0; rowBegin < a.height; rowBegin += kBandRows) {
-        const int count = std::min(kBandRows, a.height - rowBegin);
-        reader.readRows(rowBegin, count, rows);
-        common::parallelFor(
-            static_cast<std::size_t>(count), 1, options.threads,
-            [&](std::size_t begin, std::size_t end) {
-                for (std::size_t r = begin; r < end; ++r) {
-                    const int row = static_cast<int>(r);
-                    for (int x = 0; x < a.width; ++x) {
-                        const std::size_t local = rows.pixel(row, x);
-                        if (!rows.valid[local]) {
+    forEachBand(
+        reader, a.height, options.threads, rows,
+        [&](int rowBegin, std::size_t begin, std::size_t end) {
+            for (std::size_t r = begin; r < end; ++r) {
+                const int row = static_cast<int>(r);
+                for (int x = 0; x < a.width; ++x) {
+                    const std::size_t local = rows.pixel(row, x);
+                    if (!rows.valid[local]) {
+                        continue;
+                    }
+                    const std::size_t p = a.pixel(x, rowBegin + row);
+                    a.valid[p] = 1;
+                    const float* n = &rows.normal[local * 3];
+                    const proto::Vec3d normal{static_cast<double>(n[0]), static_cast<double>(n[1]),
+                                              static_cast<double>(n[2])};
+                    double sum[3] = {0, 0, 0};
+                    for (const proto::Vec3d& light : lights) {
+                        const auto angles = proto::reflectionAngles(normal, light, view);
+                        // A light below the surface's horizon does not reach it,
+                        // whatever the series extrapolates to there.
+                        if (angles.cosThetaD <= 0) {
                             continue;
                         }
-                        const std::size_t p = a.pixel(x, rowBegin + row);
-                        a.valid[p] = 1;
-                        const float* n = &rows.normal[local * 3];
-                        const proto::Vec3d normal{static_cast<double>(n[0]),
-                                                  static_cast<double>(n[1]),
-                                                  static_cast<double>(n[2])};
-                        double sum[3] = {0, 0, 0};
-                        for (const proto::Vec3d& light : lights) {
-                            const auto angles = proto::reflectionAngles(normal, light, view);
-                            // A light below the surface's horizon does not reach it,
-                            // whatever the series extrapolates to there.
-                            if (angles.cosThetaD <= 0) {
-                                continue;
-                            }
-                            for (int c = 0; c < 3; ++c) {
-                                sum[c] += std::max(
-                                    0.0, proto::evaluateFourierBrdf(
-                                             rows.coefficientsAt(row, x, c), info.harmonics,
-                                             angles.cosThetaD, angles.cosThetaS));
-                            }
-                        }
                         for (int c = 0; c < 3; ++c) {
-                            a.average[p * 3 + static_cast<std::size_t>(c)] =
-                                static_cast<float>(sum[c] / static_cast<double>(lights.size()));
+                            sum[c] +=
+                                std::max(0.0, proto::evaluateFourierBrdf(
+                                                  rows.coefficientsAt(row, x, c), info.harmonics,
+                                                  angles.cosThetaD, angles.cosThetaS));
                         }
-                        linearRgbToLab(&a.average[p * 3], &a.lab[p * 3]);
                     }
-                }
-            });
-        for (int row = 0; row < count; ++row) {
-            for (int x = 0; x < a.width; ++x) {
-                const std::size_t p = a.pixel(x, rowBegin + row);
-                if (a.valid[p] && p % stride == 0) {
-                    const float* c = rows.coefficientsAt(row, x, 0);
-                    samples.insert(samples.end(), c, c + dims);
+                    for (int c = 0; c < 3; ++c) {
+                        a.average[p * 3 + static_cast<std::size_t>(c)] =
+                            static_cast<float>(sum[c] / static_cast<double>(lights.size()));
+                    }
+                    linearRgbToLab(&a.average[p * 3], &a.lab[p * 3]);
                 }
             }
-        }
-    }
+        },
+        [&](int rowBegin, int count) {
+            for (int row = 0; row < count; ++row) {
+                for (int x = 0; x < a.width; ++x) {
+                    const std::size_t p = a.pixel(x, rowBegin + row);
+                    if (a.valid[p] && p % stride == 0) {
+                        const float* c = rows.coefficientsAt(row, x, 0);
+                        samples.insert(samples.end(), c, c + dims);
+                    }
+                }
+            }
+        });
     for (std::uint8_t v : a.valid) {
         a.validPixels += v;
     }
@@ -200,36 +215,33 @@ Appearance computeAppearance(const std::filesystem::path& modelPath,
     a.explainedVariance = pca.explained();
 
     // Pass 2: the features.
-    for (int rowBegin = 0; rowBegin < a.height; rowBegin += kBandRows) {
-        const int count = std::min(kBandRows, a.height - rowBegin);
-        reader.readRows(rowBegin, count, rows);
-        common::parallelFor(
-            static_cast<std::size_t>(count), 1, options.threads,
-            [&](std::size_t begin, std::size_t end) {
-                Eigen::VectorXd c(dims);
-                for (std::size_t r = begin; r < end; ++r) {
-                    const int row = static_cast<int>(r);
-                    for (int x = 0; x < a.width; ++x) {
-                        const std::size_t p = a.pixel(x, rowBegin + row);
-                        if (!a.valid[p]) {
-                            continue;
-                        }
-                        const float* values = rows.coefficientsAt(row, x, 0);
-                        for (int d = 0; d < dims; ++d) {
-                            c(d) = static_cast<double>(values[d]) - mean(d);
-                        }
-                        float* f = &a.features[p * static_cast<std::size_t>(a.featureCount)];
-                        for (int d = 0; d < 3; ++d) {
-                            f[d] = a.lab[p * 3 + static_cast<std::size_t>(d)];
-                        }
-                        const Eigen::VectorXd projected = axes.transpose() * c;
-                        for (int i = 0; i < components; ++i) {
-                            f[3 + i] = static_cast<float>(projected(i));
-                        }
+    forEachBand(
+        reader, a.height, options.threads, rows,
+        [&](int rowBegin, std::size_t begin, std::size_t end) {
+            Eigen::VectorXd c(dims);
+            for (std::size_t r = begin; r < end; ++r) {
+                const int row = static_cast<int>(r);
+                for (int x = 0; x < a.width; ++x) {
+                    const std::size_t p = a.pixel(x, rowBegin + row);
+                    if (!a.valid[p]) {
+                        continue;
+                    }
+                    const float* values = rows.coefficientsAt(row, x, 0);
+                    for (int d = 0; d < dims; ++d) {
+                        c(d) = static_cast<double>(values[d]) - mean(d);
+                    }
+                    float* f = &a.features[p * static_cast<std::size_t>(a.featureCount)];
+                    for (int d = 0; d < 3; ++d) {
+                        f[d] = a.lab[p * 3 + static_cast<std::size_t>(d)];
+                    }
+                    const Eigen::VectorXd projected = axes.transpose() * c;
+                    for (int i = 0; i < components; ++i) {
+                        f[3 + i] = static_cast<float>(projected(i));
                     }
                 }
-            });
-    }
+            }
+        },
+        [](int, int) {});
     // Each group to unit total variance, so colour and reflectance weigh alike whatever their
     // units. Within a group the space's own metric is kept: CIELAB is perceptually even, and
     // whitening each component would blow the noisiest up to the weight of the main one.

@@ -94,6 +94,56 @@ private:
     std::string where_;
 };
 
+// created_by and the projector's size, the first keys of every capture manifest after its format
+// and version (checkManifestHead); the projector's section is returned for the manifest's own
+// keys.
+template <typename Manifest, typename Parameters>
+JsonFields readManifestHead(const JsonFields& root, Manifest& into, Parameters& parameters) {
+    into.createdBy = root.text("created_by", false);
+    JsonFields projector = root.child("projector");
+    parameters.width = projector.integer("width", 1, 16384);
+    parameters.height = projector.integer("height", 1, 16384);
+    return projector;
+}
+
+// The projector keys every capture manifest has; a manifest adds its own (keys are written
+// sorted).
+template <typename Parameters>
+Json projectorJson(const Parameters& parameters, double latencyMs) {
+    return {{"width", parameters.width}, {"height", parameters.height}, {"latency_ms", latencyMs}};
+}
+
+// The camera keys a scan and a radiometric capture share (ScanCamera and RadiometryCamera name
+// them alike): size and bits, then exposure, gain and source. Two readers, so that a capture
+// can read its own keys in between, in the order its messages have always come.
+template <typename Camera>
+void readCameraFormat(const JsonFields& camera, Camera& into) {
+    into.width = camera.integer("width", 1, 16384);
+    into.height = camera.integer("height", 1, 16384);
+    into.bits = camera.integer("bits", 1, 16);
+    if (into.bits != 8 && into.bits != 10) {
+        camera.fail("bits: " + std::to_string(into.bits) + " (8 or 10)");
+    }
+}
+
+template <typename Camera>
+void readCameraSettings(const JsonFields& camera, Camera& into) {
+    into.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
+    into.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
+    into.source = camera.text("source", false);
+}
+
+// The shared camera keys as JSON; a capture adds its own (the keys are written sorted).
+template <typename Camera>
+Json cameraJson(const Camera& camera) {
+    return {{"width", camera.width},
+            {"height", camera.height},
+            {"bits", camera.bits},
+            {"exposure_us", camera.exposureUs},
+            {"analogue_gain", camera.analogueGain},
+            {"source", camera.source}};
+}
+
 // A file name inside the manifest's folder: no directory part.
 inline bool plainFileName(const std::string& name) {
     return !name.empty() && name != "." && name != ".." && name.find('/') == std::string::npos &&
@@ -102,6 +152,14 @@ inline bool plainFileName(const std::string& name) {
 
 // The manifest's "format" and "version": exactly these, or a ScanManifestError.
 void checkManifestHead(const JsonFields& root, const char* format, int version);
+
+// A manifest's head: format, version, created_by, and its projector and camera sections.
+Json manifestHead(const char* format, int version, const std::string& createdBy,
+                  const Json& projector, const Json& camera);
+
+// A manifest's JSON text parsed, its format and version checked (checkManifestHead).
+Json parseManifestJson(std::string_view text, const std::string& source, const char* format,
+                       int version);
 
 // A manifest's text: `head` indented, then "images" with one image a line (readable, diffable).
 std::string manifestText(const Json& head, const std::vector<ScanImage>& images);

@@ -101,49 +101,29 @@ std::vector<FlatField> radiometrySequence(const RadiometryParameters& p) {
 }
 
 std::string radiometryManifestJson(const RadiometryManifest& m) {
-    const Json json = {
-        {"format", "vpe-radiometry"},
-        {"version", kRadiometryManifestVersion},
-        {"created_by", m.createdBy},
-        {"projector",
-         {{"width", m.fields.width},
-          {"height", m.fields.height},
-          {"levels", m.fields.levels},
-          {"bracket_stops", m.fields.bracketStops},
-          {"latency_ms", m.projectorLatencyMs}}},
-        {"camera",
-         {{"width", m.camera.width},
-          {"height", m.camera.height},
-          {"bits", m.camera.bits},
-          {"channels", m.camera.channels},
-          {"response", responseName(m.camera.response)},
-          {"exposure_us", m.camera.exposureUs},
-          {"analogue_gain", m.camera.analogueGain},
-          {"source", m.camera.source}}},
-    };
-    return detail::manifestText(json, m.images);
+    Json camera = detail::cameraJson(m.camera);
+    camera["channels"] = m.camera.channels;
+    camera["response"] = responseName(m.camera.response);
+    Json projector = detail::projectorJson(m.fields, m.projectorLatencyMs);
+    projector["levels"] = m.fields.levels;
+    projector["bracket_stops"] = m.fields.bracketStops;
+    return detail::manifestText(detail::manifestHead("vpe-radiometry", kRadiometryManifestVersion,
+                                                     m.createdBy, projector, camera),
+                                m.images);
 }
 
 RadiometryManifest parseRadiometryManifest(std::string_view text, const std::string& source) {
-    const Json json = detail::parseJsonText(text, source);
+    const Json json =
+        detail::parseManifestJson(text, source, "vpe-radiometry", kRadiometryManifestVersion);
     const Fields root(json, source, "");
-    detail::checkManifestHead(root, "vpe-radiometry", kRadiometryManifestVersion);
     RadiometryManifest m;
-    m.createdBy = root.text("created_by", false);
-    const Fields projector = root.child("projector");
-    m.fields.width = projector.integer("width", 1, 16384);
-    m.fields.height = projector.integer("height", 1, 16384);
+    const Fields projector = detail::readManifestHead(root, m, m.fields);
     m.fields.levels = projector.integer("levels", 1, 1 << 20);
     m.fields.bracketStops =
         projector.find("bracket_stops") ? projector.integer("bracket_stops", 0, 1 << 20) : 5;
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
-    m.camera.width = camera.integer("width", 1, 16384);
-    m.camera.height = camera.integer("height", 1, 16384);
-    m.camera.bits = camera.integer("bits", 1, 16);
-    if (m.camera.bits != 8 && m.camera.bits != 10) {
-        camera.fail("bits: " + std::to_string(m.camera.bits) + " (8 or 10)");
-    }
+    detail::readCameraFormat(camera, m.camera);
     m.camera.channels = camera.integer("channels", 1, 4);
     if (m.camera.channels != 3) {
         camera.fail("channels: " + std::to_string(m.camera.channels) +
@@ -163,9 +143,7 @@ RadiometryManifest parseRadiometryManifest(std::string_view text, const std::str
         camera.fail("response: '" + response + "' (linear or unknown)");
     }
     m.fields.cameraResponse = m.camera.response;
-    m.camera.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
-    m.camera.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
-    m.camera.source = camera.text("source", false);
+    detail::readCameraSettings(camera, m.camera);
 
     std::vector<FlatField> fields;
     try {

@@ -25,49 +25,25 @@ using Fields = detail::JsonFields;
 }  // namespace
 
 std::string scanManifestJson(const ScanManifest& m) {
-    const Json json = {
-        {"format", "vpe-scan"},
-        {"version", kScanManifestVersion},
-        {"created_by", m.createdBy},
-        {"projector",
-         {{"width", m.patterns.width},
-          {"height", m.patterns.height},
-          {"phase_period", m.patterns.phasePeriod},
-          {"phase_steps", m.patterns.phaseSteps},
-          {"latency_ms", m.projectorLatencyMs}}},
-        {"camera",
-         {{"width", m.camera.width},
-          {"height", m.camera.height},
-          {"bits", m.camera.bits},
-          {"exposure_us", m.camera.exposureUs},
-          {"analogue_gain", m.camera.analogueGain},
-          {"source", m.camera.source}}},
-    };
-    return detail::manifestText(json, m.images);
+    Json projector = detail::projectorJson(m.patterns, m.projectorLatencyMs);
+    projector["phase_period"] = m.patterns.phasePeriod;
+    projector["phase_steps"] = m.patterns.phaseSteps;
+    return detail::manifestText(detail::manifestHead("vpe-scan", kScanManifestVersion, m.createdBy,
+                                                     projector, detail::cameraJson(m.camera)),
+                                m.images);
 }
 
 ScanManifest parseScanManifest(std::string_view text, const std::string& source) {
-    const Json json = detail::parseJsonText(text, source);
+    const Json json = detail::parseManifestJson(text, source, "vpe-scan", kScanManifestVersion);
     const Fields root(json, source, "");
-    detail::checkManifestHead(root, "vpe-scan", kScanManifestVersion);
     ScanManifest m;
-    m.createdBy = root.text("created_by", false);
-    const Fields projector = root.child("projector");
-    m.patterns.width = projector.integer("width", 1, 16384);
-    m.patterns.height = projector.integer("height", 1, 16384);
+    const Fields projector = detail::readManifestHead(root, m, m.patterns);
     m.patterns.phasePeriod = projector.integer("phase_period", 1, 1 << 20);
     m.patterns.phaseSteps = projector.integer("phase_steps", 1, 1 << 20);
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
-    m.camera.width = camera.integer("width", 1, 16384);
-    m.camera.height = camera.integer("height", 1, 16384);
-    m.camera.bits = camera.integer("bits", 1, 16);
-    if (m.camera.bits != 8 && m.camera.bits != 10) {
-        camera.fail("bits: " + std::to_string(m.camera.bits) + " (8 or 10)");
-    }
-    m.camera.exposureUs = camera.number("exposure_us", 0, 0, 1e9);
-    m.camera.analogueGain = camera.number("analogue_gain", 1, 0, 1e3);
-    m.camera.source = camera.text("source", false);
+    detail::readCameraFormat(camera, m.camera);
+    detail::readCameraSettings(camera, m.camera);
 
     std::optional<StructuredLightSequence> sequence;
     try {
@@ -121,6 +97,22 @@ void checkManifestHead(const JsonFields& root, const char* format, int version) 
         root.fail("version " + std::to_string(found) + ": this reader reads version " +
                   std::to_string(version));
     }
+}
+
+Json manifestHead(const char* format, int version, const std::string& createdBy,
+                  const Json& projector, const Json& camera) {
+    return {{"format", format},
+            {"version", version},
+            {"created_by", createdBy},
+            {"projector", projector},
+            {"camera", camera}};
+}
+
+Json parseManifestJson(std::string_view text, const std::string& source, const char* format,
+                       int version) {
+    Json json = parseJsonText(text, source);
+    checkManifestHead(JsonFields(json, source, ""), format, version);
+    return json;
 }
 
 std::string manifestText(const Json& head, const std::vector<ScanImage>& images) {

@@ -61,56 +61,48 @@ double psnr(const vpe::renderer::DirectView& reference, const vpe::renderer::Dir
     return mse > 0 ? 10.0 * std::log10(peak * peak / mse) : 200.0;
 }
 
+// The full bundle against low-rank ones of rank 4 to 16: bytes per texel, variance kept, PSNR.
+void compressionCurve(const vpe::benchmarks::CurveArguments& arguments,
+                      const vpe::benchmarks::CurveWorkFolder& work) {
+    vpe::bake::BakeOptions options = arguments.options;
+    options.thetaBasis = 0;  // θs rendered exactly: this curve measures the texture codes alone
+    options.lowRank = false;
+    const vpe::bake::BakeReport full = vpe::bake::bakeScene(options, work / "full.vpeb");
+    const std::vector<vpe::renderer::DirectView> reference = renderViews(work / "full.vpeb");
+    nlohmann::json rows = nlohmann::json::array();
+    std::printf("%-10s %14s %20s %14s %14s\n", "encoding", "bytes/texel", "variance kept",
+                "PSNR mean", "PSNR min");
+    std::printf("%-10s %14d %20s %14s %14s\n", "full", full.bytesPerTexel, "1", "(reference)", "");
+    for (int rank : {4, 8, 12, 16}) {
+        options.lowRank = true;
+        options.rank = rank;
+        const vpe::bake::BakeReport report = vpe::bake::bakeScene(options, work / "low.vpeb");
+        const std::vector<vpe::renderer::DirectView> views = renderViews(work / "low.vpeb");
+        double sum = 0, lowest = 1e9;
+        for (std::size_t v = 0; v < views.size(); ++v) {
+            const double value = psnr(reference[v], views[v]);
+            sum += value;
+            lowest = std::min(lowest, value);
+        }
+        const double mean = sum / static_cast<double>(views.size());
+        std::printf("%-10s %14d %20.6f %14.2f %14.2f\n", ("rank " + std::to_string(rank)).c_str(),
+                    report.bytesPerTexel, report.explainedVariance, mean, lowest);
+        rows.push_back({{"rank", rank},
+                        {"bytes_per_texel", report.bytesPerTexel},
+                        {"explained_variance", report.explainedVariance},
+                        {"psnr_mean", mean},
+                        {"psnr_min", lowest}});
+    }
+    if (arguments.json) {
+        std::printf("%s\n",
+                    nlohmann::json{{"full_bytes_per_texel", full.bytesPerTexel}, {"curve", rows}}
+                        .dump()
+                        .c_str());
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::optional<vpe::benchmarks::CurveArguments> arguments =
-        vpe::benchmarks::parseCurveArguments(argc, argv);
-    if (!arguments) {
-        return 2;
-    }
-    vpe::bake::BakeOptions options = arguments->options;
-    options.thetaBasis = 0;  // θs rendered exactly: this curve measures the texture codes alone
-    const vpe::benchmarks::CurveWorkFolder work("vpe-compression-");
-    try {
-        options.lowRank = false;
-        const vpe::bake::BakeReport full = vpe::bake::bakeScene(options, work / "full.vpeb");
-        const std::vector<vpe::renderer::DirectView> reference = renderViews(work / "full.vpeb");
-        nlohmann::json rows = nlohmann::json::array();
-        std::printf("%-10s %14s %20s %14s %14s\n", "encoding", "bytes/texel", "variance kept",
-                    "PSNR mean", "PSNR min");
-        std::printf("%-10s %14d %20s %14s %14s\n", "full", full.bytesPerTexel, "1", "(reference)",
-                    "");
-        for (int rank : {4, 8, 12, 16}) {
-            options.lowRank = true;
-            options.rank = rank;
-            const vpe::bake::BakeReport report = vpe::bake::bakeScene(options, work / "low.vpeb");
-            const std::vector<vpe::renderer::DirectView> views = renderViews(work / "low.vpeb");
-            double sum = 0, lowest = 1e9;
-            for (std::size_t v = 0; v < views.size(); ++v) {
-                const double value = psnr(reference[v], views[v]);
-                sum += value;
-                lowest = std::min(lowest, value);
-            }
-            const double mean = sum / static_cast<double>(views.size());
-            std::printf("%-10s %14d %20.6f %14.2f %14.2f\n",
-                        ("rank " + std::to_string(rank)).c_str(), report.bytesPerTexel,
-                        report.explainedVariance, mean, lowest);
-            rows.push_back({{"rank", rank},
-                            {"bytes_per_texel", report.bytesPerTexel},
-                            {"explained_variance", report.explainedVariance},
-                            {"psnr_mean", mean},
-                            {"psnr_min", lowest}});
-        }
-        if (arguments->json) {
-            std::printf("%s\n", nlohmann::json{{"full_bytes_per_texel", full.bytesPerTexel},
-                                               {"curve", rows}}
-                                    .dump()
-                                    .c_str());
-        }
-    } catch (const std::exception& error) {
-        std::fprintf(stderr, "%s\n", error.what());
-        return 2;
-    }
-    return 0;
+    return vpe::benchmarks::runCurve(argc, argv, "vpe-compression-", compressionCurve);
 }

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// The curve benchmarks' arguments and scratch folder.
+// The curve benchmarks' arguments, scratch folder and main.
 #include "curve_texture.h"
 
 #include <cstdio>
+#include <exception>
 #include <string>
 #include <system_error>
 
@@ -41,6 +42,21 @@ CurveWorkFolder::CurveWorkFolder(const std::string& prefix)
 CurveWorkFolder::~CurveWorkFolder() {
     std::error_code ignored;
     std::filesystem::remove_all(path_, ignored);
+}
+
+int runCurve(int argc, char** argv, const std::string& workPrefix, const Curve& curve) {
+    const std::optional<CurveArguments> arguments = parseCurveArguments(argc, argv);
+    if (!arguments) {
+        return 2;
+    }
+    const CurveWorkFolder work(workPrefix);
+    try {
+        curve(*arguments, work);
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "%s\n", error.what());
+        return 2;
+    }
+    return 0;
 }
 
 }  // namespace vpe::benchmarks

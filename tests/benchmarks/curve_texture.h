@@ -5,7 +5,9 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <string>
 
 #include "vpe/bake/scene_baker.h"
 
@@ -32,5 +34,11 @@ public:
 private:
     std::filesystem::path path_;
 };
+
+// A curve program's main: the arguments (exit status 2 with the usage line when they are not
+// that), a work folder named from `workPrefix`, then `curve`; an exception it throws is one line
+// on stderr and exit status 2.
+using Curve = std::function<void(const CurveArguments&, const CurveWorkFolder&)>;
+int runCurve(int argc, char** argv, const std::string& workPrefix, const Curve& curve);
 
 }  // namespace vpe::benchmarks

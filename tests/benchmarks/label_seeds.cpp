@@ -5,26 +5,19 @@
 #include "support/label_seeds.h"
 
 #include <cstdio>
-#include <exception>
 
-#include "vpe/common/input_error.h"
 #include "vpe/segment/label_comparison.h"
+
+#include "tool_errors.h"
 
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: %s LABELS.png\n", argv[0]);
         return 2;
     }
-    try {
+    return vpe::benchmarks::exitStatusOf([&] {
         const vpe::segment::LabelMap map = vpe::segment::readLabelImage(argv[1]);
         std::printf("%s\n",
                     vpe::testing::seedsArgument(vpe::testing::innermostPixels(map)).c_str());
-    } catch (const vpe::common::InputError& error) {
-        std::fprintf(stderr, "%s\n", error.what());
-        return 2;
-    } catch (const std::exception& error) {
-        std::fprintf(stderr, "internal error: %s\n", error.what());
-        return 1;
-    }
-    return 0;
+    });
 }

@@ -10,14 +10,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
+
+#include "tool_errors.h"
 
 namespace {
 
@@ -54,6 +54,106 @@ double pieceSpread(const BandGrid& grid) {
     return spread;
 }
 
+// The layouts, the truth label images in OUT and (with `json`) the report on stdout.
+void writeBandTruth(const std::filesystem::path& multi, const std::filesystem::path& outDir,
+                    bool json) {
+    const std::vector<std::string> sets = materialSets(multi / "Object1");
+    // 1. The layouts, on Object1's finest grid located from all its sets at once.
+    std::vector<std::filesystem::path> reference;
+    for (const std::string& set : sets) {
+        reference.push_back(multi / "Object1" / set / "Dome");
+    }
+    const BandGridOptions fine;
+    const BandGrid fineGrid = locateBandGrid(reference, fine);
+    const BandMergeOptions merge;
+    nlohmann::json report;
+    report["boundary_levels"] = merge.boundaryLevels;
+    report["fine_grid"] = {{"column_lines", positions(fineGrid.columnLines)},
+                           {"row_lines", positions(fineGrid.rowLines)},
+                           {"piece_spread", pieceSpread(fineGrid)}};
+    std::vector<BandTruth> layouts;
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+        const LineContrasts contrasts = measureLineContrasts(reference[s], fineGrid, merge);
+        layouts.push_back(labelBands(fineGrid, contrasts, merge.boundaryLevels));
+        // The closest decisions either way show how clear the threshold is.
+        double highestDropped = 0, lowestBoundary = 1e9;
+        for (const std::vector<double>* lines : {&contrasts.columnLines, &contrasts.rowLines}) {
+            for (double contrast : *lines) {
+                if (contrast < merge.boundaryLevels) {
+                    highestDropped = std::max(highestDropped, contrast);
+                } else {
+                    lowestBoundary = std::min(lowestBoundary, contrast);
+                }
+            }
+        }
+        std::fprintf(stderr,
+                     "%s: %d columns x %d rows = %d materials (lines dropped up to %.0f "
+                     "levels, boundaries from %.0f)\n",
+                     sets[s].c_str(), layouts.back().materialColumns, layouts.back().materialRows,
+                     layouts.back().materials, highestDropped, lowestBoundary);
+        report["layouts"][sets[s]] = {{"columns", layouts.back().materialColumns},
+                                      {"rows", layouts.back().materialRows},
+                                      {"materials", layouts.back().materials},
+                                      {"column_line_contrasts", contrasts.columnLines},
+                                      {"row_line_contrasts", contrasts.rowLines},
+                                      {"highest_dropped", highestDropped},
+                                      {"lowest_boundary", lowestBoundary}};
+    }
+    // 2. Each set's lines for its layout. The sets of one object with as many bands in a
+    // direction share those lines (checked: within 4 px on Object2), so the lines are
+    // located on all of them at once, which outvotes the relief's edges.
+    for (const char* object : {"Object1", "Object2"}) {
+        auto pooled = [&](bool columns, int bands) {
+            std::vector<std::filesystem::path> captures;
+            for (std::size_t s = 0; s < sets.size(); ++s) {
+                if ((columns ? layouts[s].materialColumns : layouts[s].materialRows) == bands) {
+                    captures.push_back(multi / object / sets[s] / "Dome");
+                }
+            }
+            BandGridOptions options;
+            options.columns = columns ? bands : 1;
+            options.rows = columns ? 1 : bands;
+            const BandGrid grid = locateBandGrid(captures, options);
+            return columns ? grid.columnLines : grid.rowLines;
+        };
+        for (std::size_t s = 0; s < sets.size(); ++s) {
+            const std::filesystem::path capture = multi / object / sets[s] / "Dome";
+            BandGrid grid;
+            grid.width = fineGrid.width;
+            grid.height = fineGrid.height;
+            grid.pieceLength = fine.pieceLength;
+            grid.columnLines = pooled(true, layouts[s].materialColumns);
+            grid.rowLines = pooled(false, layouts[s].materialRows);
+            // Every line of this grid is a boundary: keep them all.
+            LineContrasts all;
+            all.columnLines.assign(grid.columnLines.size(), 1.0);
+            all.rowLines.assign(grid.rowLines.size(), 1.0);
+            const BandTruth truth = labelBands(grid, all, 0.5);
+            const std::filesystem::path out = outDir / object / (sets[s] + ".png");
+            vpe::image::writeImage8(out, grid.width, grid.height, 1, truth.labels);
+            std::fprintf(stderr, "%s/%s: %d materials, column lines", object, sets[s].c_str(),
+                         truth.materials);
+            for (double position : positions(grid.columnLines)) {
+                std::fprintf(stderr, " %.0f", position);
+            }
+            std::fprintf(stderr, ", row lines");
+            for (double position : positions(grid.rowLines)) {
+                std::fprintf(stderr, " %.0f", position);
+            }
+            std::fprintf(stderr, "; pieces within %.0f px\n", pieceSpread(grid));
+            report["sets"][std::string(object) + "/" + sets[s]] = {
+                {"materials", truth.materials},
+                {"labels", out.string()},
+                {"column_lines", positions(grid.columnLines)},
+                {"row_lines", positions(grid.rowLines)},
+                {"piece_spread", pieceSpread(grid)}};
+        }
+    }
+    if (json) {
+        std::printf("%s\n", report.dump().c_str());
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -76,109 +176,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: %s MULTI_DIR --out-dir OUT [--json]\n", argv[0]);
         return 2;
     }
-    try {
-        const std::vector<std::string> sets = materialSets(multi / "Object1");
-        // 1. The layouts, on Object1's finest grid located from all its sets at once.
-        std::vector<std::filesystem::path> reference;
-        for (const std::string& set : sets) {
-            reference.push_back(multi / "Object1" / set / "Dome");
-        }
-        const BandGridOptions fine;
-        const BandGrid fineGrid = locateBandGrid(reference, fine);
-        const BandMergeOptions merge;
-        nlohmann::json report;
-        report["boundary_levels"] = merge.boundaryLevels;
-        report["fine_grid"] = {{"column_lines", positions(fineGrid.columnLines)},
-                               {"row_lines", positions(fineGrid.rowLines)},
-                               {"piece_spread", pieceSpread(fineGrid)}};
-        std::vector<BandTruth> layouts;
-        for (std::size_t s = 0; s < sets.size(); ++s) {
-            const LineContrasts contrasts = measureLineContrasts(reference[s], fineGrid, merge);
-            layouts.push_back(labelBands(fineGrid, contrasts, merge.boundaryLevels));
-            // The closest decisions either way show how clear the threshold is.
-            double highestDropped = 0, lowestBoundary = 1e9;
-            for (const std::vector<double>* lines : {&contrasts.columnLines, &contrasts.rowLines}) {
-                for (double contrast : *lines) {
-                    if (contrast < merge.boundaryLevels) {
-                        highestDropped = std::max(highestDropped, contrast);
-                    } else {
-                        lowestBoundary = std::min(lowestBoundary, contrast);
-                    }
-                }
-            }
-            std::fprintf(stderr,
-                         "%s: %d columns x %d rows = %d materials (lines dropped up to %.0f "
-                         "levels, boundaries from %.0f)\n",
-                         sets[s].c_str(), layouts.back().materialColumns,
-                         layouts.back().materialRows, layouts.back().materials, highestDropped,
-                         lowestBoundary);
-            report["layouts"][sets[s]] = {{"columns", layouts.back().materialColumns},
-                                          {"rows", layouts.back().materialRows},
-                                          {"materials", layouts.back().materials},
-                                          {"column_line_contrasts", contrasts.columnLines},
-                                          {"row_line_contrasts", contrasts.rowLines},
-                                          {"highest_dropped", highestDropped},
-                                          {"lowest_boundary", lowestBoundary}};
-        }
-        // 2. Each set's lines for its layout. The sets of one object with as many bands in a
-        // direction share those lines (checked: within 4 px on Object2), so the lines are
-        // located on all of them at once, which outvotes the relief's edges.
-        for (const char* object : {"Object1", "Object2"}) {
-            auto pooled = [&](bool columns, int bands) {
-                std::vector<std::filesystem::path> captures;
-                for (std::size_t s = 0; s < sets.size(); ++s) {
-                    if ((columns ? layouts[s].materialColumns : layouts[s].materialRows) == bands) {
-                        captures.push_back(multi / object / sets[s] / "Dome");
-                    }
-                }
-                BandGridOptions options;
-                options.columns = columns ? bands : 1;
-                options.rows = columns ? 1 : bands;
-                const BandGrid grid = locateBandGrid(captures, options);
-                return columns ? grid.columnLines : grid.rowLines;
-            };
-            for (std::size_t s = 0; s < sets.size(); ++s) {
-                const std::filesystem::path capture = multi / object / sets[s] / "Dome";
-                BandGrid grid;
-                grid.width = fineGrid.width;
-                grid.height = fineGrid.height;
-                grid.pieceLength = fine.pieceLength;
-                grid.columnLines = pooled(true, layouts[s].materialColumns);
-                grid.rowLines = pooled(false, layouts[s].materialRows);
-                // Every line of this grid is a boundary: keep them all.
-                LineContrasts all;
-                all.columnLines.assign(grid.columnLines.size(), 1.0);
-                all.rowLines.assign(grid.rowLines.size(), 1.0);
-                const BandTruth truth = labelBands(grid, all, 0.5);
-                const std::filesystem::path out = outDir / object / (sets[s] + ".png");
-                vpe::image::writeImage8(out, grid.width, grid.height, 1, truth.labels);
-                std::fprintf(stderr, "%s/%s: %d materials, column lines", object, sets[s].c_str(),
-                             truth.materials);
-                for (double position : positions(grid.columnLines)) {
-                    std::fprintf(stderr, " %.0f", position);
-                }
-                std::fprintf(stderr, ", row lines");
-                for (double position : positions(grid.rowLines)) {
-                    std::fprintf(stderr, " %.0f", position);
-                }
-                std::fprintf(stderr, "; pieces within %.0f px\n", pieceSpread(grid));
-                report["sets"][std::string(object) + "/" + sets[s]] = {
-                    {"materials", truth.materials},
-                    {"labels", out.string()},
-                    {"column_lines", positions(grid.columnLines)},
-                    {"row_lines", positions(grid.rowLines)},
-                    {"piece_spread", pieceSpread(grid)}};
-            }
-        }
-        if (json) {
-            std::printf("%s\n", report.dump().c_str());
-        }
-    } catch (const vpe::common::InputError& error) {
-        std::fprintf(stderr, "%s\n", error.what());
-        return 2;
-    } catch (const std::exception& error) {
-        std::fprintf(stderr, "internal error: %s\n", error.what());
-        return 1;
-    }
-    return 0;
+    return vpe::benchmarks::exitStatusOf([&] { writeBandTruth(multi, outDir, json); });
 }

@@ -75,6 +75,9 @@ bool isTextureFetch(spv::Op opcode) {
 // Instructions that cost nothing: data movement the register allocator or the uniform stream
 // absorbs, control flow (its cost is the choice of path), declarations.
 bool isFree(spv::Op opcode) {
+    if (isBlockTerminator(opcode)) {
+        return true;
+    }
     switch (opcode) {
         case spv::OpNop:
         case spv::OpUndef:
@@ -111,15 +114,7 @@ bool isFree(spv::Op opcode) {
         case spv::OpFunctionCall:  // the callee's path is added by the path analysis
         case spv::OpSelectionMerge:
         case spv::OpLoopMerge:
-        case spv::OpBranch:
-        case spv::OpBranchConditional:
-        case spv::OpSwitch:
-        case spv::OpReturn:
-        case spv::OpReturnValue:
-        case spv::OpKill:
-        case spv::OpTerminateInvocation:
         case spv::OpDemoteToHelperInvocation:
-        case spv::OpUnreachable:
         case spv::OpControlBarrier:
         case spv::OpMemoryBarrier:
             return true;

@@ -122,14 +122,10 @@ void SpirvModule::buildFunctions() {
                 blockLabel = instruction.result;
                 blockStart = i + 1;
                 break;
-            case spv::OpBranch:
-            case spv::OpBranchConditional:
-            case spv::OpSwitch:
-            case spv::OpReturn:
-            case spv::OpReturnValue:
-            case spv::OpKill:
-            case spv::OpTerminateInvocation:
-            case spv::OpUnreachable:
+            default:
+                if (!isBlockTerminator(instruction.opcode)) {
+                    break;
+                }
                 if (current == nullptr || blockLabel == 0) {
                     throw std::runtime_error("SPIR-V block terminator outside a block");
                 }
@@ -143,9 +139,23 @@ void SpirvModule::buildFunctions() {
                 }
                 blockLabel = 0;
                 break;
-            default:
-                break;
         }
+    }
+}
+
+bool isBlockTerminator(spv::Op opcode) {
+    switch (opcode) {
+        case spv::OpBranch:
+        case spv::OpBranchConditional:
+        case spv::OpSwitch:
+        case spv::OpReturn:
+        case spv::OpReturnValue:
+        case spv::OpKill:
+        case spv::OpTerminateInvocation:
+        case spv::OpUnreachable:
+            return true;
+        default:
+            return false;
     }
 }
 

@@ -92,6 +92,9 @@ private:
     std::uint32_t glslStd450_ = 0;
 };
 
+// An instruction that ends a block: a branch, a switch, a return, a kill or unreachable.
+bool isBlockTerminator(spv::Op opcode);
+
 // The string literal starting at operands[first] (nul-terminated, four bytes a word).
 std::string literalString(const std::vector<std::uint32_t>& operands, std::size_t first);
 
