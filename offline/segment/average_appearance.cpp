@@ -13,7 +13,6 @@
 #include "vpe/common/principal_axes.h"
 #include "vpe/model/fourier_model_file.h"
 #include "vpe/proto/fourier_brdf.h"
-#include "vpe/proto/luminance.h"
 
 namespace vpe::segment {
 
@@ -113,9 +112,11 @@ void linearRgbToLab(const float* rgb, float* lab) {
     const double r = static_cast<double>(rgb[0]);
     const double g = static_cast<double>(rgb[1]);
     const double b = static_cast<double>(rgb[2]);
-    // sRGB primaries to XYZ, normalized by the D65 white's X and Z.
+    // sRGB primaries to XYZ, normalized by the D65 white's X and Z. Y is the matrix's middle
+    // row at the matrix's precision, not proto::luminance709's rounded Rec. 709 weights: the
+    // three rows belong together, and the labels stay those segment has always given.
     const double x = (0.4124564 * r + 0.3575761 * g + 0.1804375 * b) / 0.95047;
-    const double y = proto::luminance709(r, g, b);
+    const double y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
     const double z = (0.0193339 * r + 0.1191920 * g + 0.9503041 * b) / 1.08883;
     const double fx = labCompand(x), fy = labCompand(y), fz = labCompand(z);
     lab[0] = static_cast<float>(116.0 * fy - 16.0);
