@@ -11,6 +11,8 @@
 
 #include "vpe/proto/pnm_image.h"
 
+#include "manifest_refusal.h"
+
 namespace vpe::proto {
 namespace {
 
@@ -29,19 +31,10 @@ ScanManifest smallManifest() {
 }
 
 std::string errorOf(const std::string& json) {
-    try {
-        parseScanManifest(json, "scan.json");
-    } catch (const ScanManifestError& error) {
-        return error.what();
-    }
-    return "";
+    return testing::refusalOf(parseScanManifest, json, "scan.json");
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    return text.replace(at, from.size(), to);
-}
+using testing::replaced;
 
 TEST(ScanManifest, RoundTripsThroughJson) {
     const ScanManifest m = smallManifest();
