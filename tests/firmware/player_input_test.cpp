@@ -27,6 +27,19 @@ namespace {
 using namespace vpe::firmware::testing;
 using vpe::testing::ReplayScript;
 
+// Asks condition every 20 ms until it holds (true) or bound has passed (false).
+template <typename Condition>
+bool pollUntil(const Condition& condition, std::chrono::milliseconds bound) {
+    constexpr std::chrono::milliseconds kPoll(20);
+    for (std::chrono::milliseconds waited(0); waited < bound; waited += kPoll) {
+        if (condition()) {
+            return true;
+        }
+        std::this_thread::sleep_for(kPoll);
+    }
+    return false;
+}
+
 // replayBoardInputs' knobs and camera (switched on: absent here); no smoothing and no drift,
 // so the final light is exact.
 const std::string kInputs = vpe::testing::replayBoardInputs(true) + R"(
@@ -272,15 +285,9 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
         spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json", "--out",
                frames.string(), "--every", "1000000", "--light-log", ticks.string()});
     ASSERT_GT(pid, 0);
+    // A bound on failure only (30 s): a slow machine waits longer.
     const auto waitUntil = [](const auto& condition) {
-        // A bound on failure only (30 s): a slow machine waits longer.
-        for (int i = 0; i < 1500; ++i) {
-            if (condition()) {
-                return true;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        return false;
+        return pollUntil(condition, std::chrono::seconds(30));
     };
     const auto waitFor = [&](const std::string& needle) {
         return waitUntil([&] { return spawnedErr().find(needle) != std::string::npos; });
@@ -453,13 +460,7 @@ TEST_F(PlayerInputTest, TheLampFollowsTheCameraOfAReloadedBundle) {
                "--replay-loop", "--json", "--out", frames.string(), "--every", "1000000"});
     ASSERT_GT(pid, 0);
     const auto waitUntil = [](const auto& condition) {
-        for (int i = 0; i < 300; ++i) {
-            if (condition()) {
-                return true;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        return false;
+        return pollUntil(condition, std::chrono::seconds(6));
     };
     ASSERT_TRUE(waitUntil([&] { return fs::exists(frames / "frame_00000.ppm"); })) << spawnedErr();
     // The camera moved 0.3 m sideways and calibrated again: the same pixel is another direction.
