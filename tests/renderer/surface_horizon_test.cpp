@@ -31,11 +31,8 @@ protected:
         });
         scene_.mesh = mesh_.view();
         scene_.material = material_.view();
-        proto::PinholeCamera& camera = scene_.projector.camera;
-        camera.width = 64;
-        camera.height = 48;
-        const double focal = 32.0 / std::tan(20.0 * kPi / 180);
-        camera.K = {focal, 0, 31.5, 0, focal, 23.5, 0, 0, 1};
+        scene_.projector.camera =
+            testing::centredPinhole(64, 48, 32.0 / std::tan(20.0 * kPi / 180));
         scene_.projector.response = proto::ResponseFunction::gamma(2.2);
         scene_.projector.peakIrradiance = 4.0;
         scene_.surface.albedo = {0.85, 0.85, 0.85};
