@@ -6,16 +6,14 @@
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
 
+#include "thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
 std::string errorOf(const std::string& text) {
-    try {
-        parseBoardConfig(text, "test.toml");
-    } catch (const BoardConfigError& error) {
-        return error.what();
-    }
-    return "(no error)";
+    return vpe::testing::thrownMessage<BoardConfigError>(
+        [&] { parseBoardConfig(text, "test.toml"); });
 }
 
 TEST(BoardConfigTest, ReadsTheRepositoryBoards) {
