@@ -9,6 +9,7 @@
 #include <csignal>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -110,9 +111,8 @@ TEST_F(PlayerInputTest, ChecksABoardFile) {
 }
 
 TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     ReplayScript script;
     // 10 clicks clockwise and 3 back, bouncing: +14°; then 5 clicks up: +5°.
@@ -180,9 +180,8 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
 // Paced, a tick whose light and preset equal the frame on show draws nothing: no drift, no
 // input, one frame drawn and the rest skipped; a replayed knob turn draws again.
 TEST_F(PlayerInputTest, DrawsNothingWhenNothingChanged) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     std::string paced = kInputs;
     paced.replace(paced.find("rate = 0"), 8, "rate = 200");
@@ -218,9 +217,8 @@ TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
                                  "--replay", file.string()}),
                            needle);
     };
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     refuse("{\"t\": 0, \"type\": \"gpio\", \"line\": 17, \"edge\": \"up\"}\n",
            "bad.jsonl:1: \"edge\": expected \"rising\" or \"falling\"");
@@ -243,9 +241,8 @@ TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
 }
 
 TEST_F(PlayerInputTest, LogsAbsentHardwareOnceAndPlays) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     if (fs::exists("/dev/gpiochip9")) {
         GTEST_SKIP() << "/dev/gpiochip9 exists here";
@@ -268,9 +265,8 @@ TEST_F(PlayerInputTest, LogsAbsentHardwareOnceAndPlays) {
 }
 
 TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board =
         writeFile("paced.toml", "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n");
@@ -411,9 +407,8 @@ TEST_F(PlayerInputTest, MapsTheLampWithTheBundlesCameraOrRefusesTheBoard) {
         "camera.toml:camera.size: the stream's 320x240 (aspect 1.333) is not the camera "
         "calibration's 1920x1080 (aspect 1.778) scaled");
 
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // Start-up opens the display and the bundle first, then refuses the board the same way.
     expectOneLineError(
@@ -440,9 +435,8 @@ TEST_F(PlayerInputTest, MapsTheLampWithTheBundlesCameraOrRefusesTheBoard) {
 }
 
 TEST_F(PlayerInputTest, TheLampFollowsTheCameraOfAReloadedBundle) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = writeFile("camera.toml", kCameraModelBoard);
     const fs::path scene = writeFile("scene-camera.vpeb", bundleWith(installationCamera()));

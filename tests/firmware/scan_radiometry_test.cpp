@@ -9,6 +9,7 @@
 // 10-bit gamma camera and `[scan] radiometry = false` write the scan without it. The runs SKIP
 // without headless EGL.
 #include <cmath>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -69,9 +70,8 @@ renderer::RgbImage levelsOf(const proto::FlatField& field, int width, int height
 }
 
 TEST_F(ScanTest, CapturesTheRadiometryInColourAfterTheScan) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = scanBoard("latency_ms = 0\n");
     const PlayerRun run = play({"--board", board.string(), "--scan", out_.string(), "--json"});
@@ -166,9 +166,8 @@ TEST_F(ScanTest, CapturesTheRadiometryInColourAfterTheScan) {
 }
 
 TEST_F(ScanTest, BracketsTheRampForACameraOfUnknownResponse) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     installation_ = writeScanInstallation(folder_, 8, procam::CameraResponse::kGamma);
     const fs::path board =
@@ -210,9 +209,8 @@ TEST_F(ScanTest, BracketsTheRampForACameraOfUnknownResponse) {
 }
 
 TEST_F(ScanTest, SkipsTheRadiometryOfATenBitGammaCameraInOneLine) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     installation_ = writeScanInstallation(folder_, 10, procam::CameraResponse::kGamma);
     const fs::path board = scanBoard("latency_ms = 0\nphase_period = 64\nphase_steps = 3\n");
@@ -233,9 +231,8 @@ TEST_F(ScanTest, SkipsTheRadiometryOfATenBitGammaCameraInOneLine) {
 }
 
 TEST_F(ScanTest, BoardTurnsTheRadiometryOff) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board =
         scanBoard("latency_ms = 0\nphase_period = 64\nphase_steps = 3\nradiometry = false\n");

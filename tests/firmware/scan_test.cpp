@@ -8,6 +8,7 @@
 // scan_radiometry_test.cpp. The runs SKIP without headless EGL.
 #include <algorithm>
 #include <csignal>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,9 +27,8 @@ namespace {
 using namespace vpe::firmware::testing;
 
 TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // A previous scan in OUT is replaced whole (its stray file goes with it).
     fs::create_directories(out_);
@@ -100,9 +100,8 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
 }
 
 TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     installation_ = writeScanInstallation(folder_, 10);
     // The shortest sequence: a coarse period and three steps.
@@ -119,9 +118,8 @@ TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
 }
 
 TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // The projector takes 300 ms, the board waits 0: the first white and black are captured
     // before they are shown (both black: nothing is lit); the retry waits 350 ms, and so does
@@ -163,9 +161,8 @@ TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
 }
 
 TEST_F(ScanTest, StopsWhenRetriesRunOutAndWritesNothing) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board =
         scanBoard("latency_ms = 0\nretries = 1\nretry_wait_ms = 50\nsimulated_latency_ms = 2000\n");
@@ -184,9 +181,8 @@ TEST_F(ScanTest, StopsWhenRetriesRunOutAndWritesNothing) {
 }
 
 TEST_F(ScanTest, StopsOnSigintAndWritesNothing) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // Black stays up for 2 s before the first pattern: SIGINT arrives during it.
     const fs::path board = scanBoard("settle_ms = 2000\nlatency_ms = 0\n");
@@ -322,9 +318,8 @@ TEST_F(ScanTest, RefusesArgumentsThatPlayABundle) {
 }
 
 TEST_F(ScanTest, RefusesASizeOtherThanTheSimulatedProjector) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = scanBoard("latency_ms = 0\n");
     expectOneLineError(
