@@ -120,10 +120,14 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     t = script.knobTurn(17, 18, t, -3, 0.02, 0.002, 3);
     t = script.knobTurn(22, 23, t, 5, 0.02);
     script.buttonPress(27, t, 0.05);
-    const fs::path knobs = folder_ / "knobs.jsonl";
-    script.write(knobs);
-    PlayerRun run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                          knobs.string(), "--json"});
+    // The player on a script, written to folder_/name first, with its --json report.
+    const auto replay = [&](const ReplayScript& replayed, const std::string& name) {
+        const fs::path file = folder_ / name;
+        replayed.write(file);
+        return play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
+                     file.string(), "--json"});
+    };
+    PlayerRun run = replay(script, "knobs.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     std::string json = jsonOf(run);
     EXPECT_EQ(number(json, "azimuth"), 14.0) << json;
@@ -141,10 +145,7 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     mixed.osc(0.07, "/vpe/light/elevation", "20.5");
     mixed.osc(0.08, "/vpe/light/elevation", "-95");  // below -90: refused
     mixed.osc(0.09, "/vpe/light/colour", "1");       // not an address of proto/OSC.md
-    const fs::path oscOnly = folder_ / "osc.jsonl";
-    mixed.write(oscOnly);
-    run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                oscOnly.string(), "--json"});
+    run = replay(mixed, "osc.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     json = jsonOf(run);
     EXPECT_EQ(number(json, "azimuth"), 30.0) << json;
@@ -165,10 +166,7 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
         camera.cameraLamp(0.05 + frame * 0.01, 160, 120 + frame * 0.0);
     }
     camera.osc(0.3, "/vpe/light/azimuth", "-10");
-    const fs::path cameraFile = folder_ / "camera.jsonl";
-    camera.write(cameraFile);
-    run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                cameraFile.string(), "--json"});
+    run = replay(camera, "camera.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     json = jsonOf(run);
     EXPECT_EQ(number(json, "camera"), 20.0) << json;
