@@ -41,6 +41,10 @@ bool pollUntil(const Condition& condition, std::chrono::milliseconds bound) {
     return false;
 }
 
+// The boards' tail: no idle drift and no pacing, so the light moves by the inputs alone and
+// frames come as fast as they draw.
+const std::string kNoDriftUnpaced = "[idle]\nenabled = false\n[render]\nrate = 0\n";
+
 // replayBoardInputs' knobs and camera (switched on: absent here); no smoothing and no drift,
 // so the final light is exact.
 const std::string kInputs = vpe::testing::replayBoardInputs(true) + R"(
@@ -50,11 +54,7 @@ elevation = [0, 80]
 initial_azimuth = 0
 initial_elevation = 30
 smoothing_s = 0
-[idle]
-enabled = false
-[render]
-rate = 0
-)";
+)" + kNoDriftUnpaced;
 
 std::string jsonOf(const PlayerRun& run) {
     const std::size_t open = run.out.rfind("\n{");
@@ -354,11 +354,7 @@ hold_s = 0.3
 lamp_distance_m = 0.4
 [light]
 smoothing_s = 0
-[idle]
-enabled = false
-[render]
-rate = 0
-)";
+)" + kNoDriftUnpaced;
 
 // Where the lamp at (azimuth, elevation) on the 0.4 m sphere shows in the 320 × 240 stream.
 proto::Vec2d streamPixel(const proto::PinholeCamera& camera, const fs::path& bundle,
