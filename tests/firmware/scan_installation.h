@@ -27,12 +27,15 @@ ScanInstallation writeScanInstallation(
     renderer::procam::CameraResponse response = renderer::procam::CameraResponse::kLinear);
 
 // What a manifest vpe-player --scan wrote of this installation (the scan's or the radiometric
-// capture's) says of its maker and camera: vpe-player, the simulated 320 × 240 8-bit camera of
-// the scene file, and no projector latency (the tests' boards set latency_ms = 0).
-template <typename Manifest>
-void expectWrittenBySimulatedPlayer(const Manifest& manifest,
+// capture's) says of its maker, its camera and its frames: vpe-player, the simulated 320 × 240
+// 8-bit camera of the scene file, frames (the patterns or the flat fields) the projector's
+// 320 × 180, and no projector latency (the tests' boards set latency_ms = 0).
+template <typename Manifest, typename Frames>
+void expectWrittenBySimulatedPlayer(const Manifest& manifest, const Frames& frames,
                                     const ScanInstallation& installation) {
     EXPECT_EQ(manifest.createdBy, "vpe-player");
+    EXPECT_EQ(frames.width, 320);
+    EXPECT_EQ(frames.height, 180);
     EXPECT_EQ(manifest.camera.width, 320);
     EXPECT_EQ(manifest.camera.height, 240);
     EXPECT_EQ(manifest.camera.bits, 8);
