@@ -3,19 +3,28 @@
 // refused with one line naming file:key.
 #include "vpe/firmware/board/board_config.h"
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
+
+#include "thrown_message.h"
 
 namespace vpe::firmware {
 namespace {
 
 std::string errorOf(const std::string& text) {
-    try {
-        parseBoardConfig(text, "test.toml");
-    } catch (const BoardConfigError& error) {
-        return error.what();
+    return vpe::testing::thrownMessage<BoardConfigError>(
+        [&] { parseBoardConfig(text, "test.toml"); });
+}
+
+// Each text refused with exactly its one line.
+void expectRefusals(const std::vector<std::pair<std::string, std::string>>& refusals) {
+    for (const auto& [text, refusal] : refusals) {
+        EXPECT_EQ(errorOf(text), refusal) << text;
     }
-    return "(no error)";
 }
 
 TEST(BoardConfigTest, ReadsTheRepositoryBoards) {
@@ -56,36 +65,40 @@ TEST(BoardConfigTest, RefusesBadFilesWithOneLine) {
     EXPECT_EQ(
         errorOf("[display]\nbackend = \"kms\"\nfoo = 1\n"),
         "test.toml:display.foo: unknown key (known: backend, connector, device, mode, modeset)");
-    EXPECT_EQ(errorOf("[display]\nbackend = 3\n"),
-              "test.toml:display.backend: expected a string, got an integer");
-    EXPECT_EQ(errorOf("[display]\nbackend = \"x11\"\n"),
-              "test.toml:display.backend: expected \"headless\" or \"kms\", got \"x11\"");
-    EXPECT_EQ(errorOf("[display]\nbackend = \"kms\"\nmode = \"1080p\"\n"),
-              "test.toml:display.mode: expected \"WxH@Hz\", \"WxH\" or \"preferred\", got "
-              "\"1080p\"");
-    EXPECT_EQ(errorOf("[render]\nsize = \"160x120\"\n"),
-              "test.toml:display: missing (a [display] table with backend = \"headless\" or "
-              "\"kms\")");
-    EXPECT_EQ(errorOf("[display]\nbackend = \"headless\"\n[render]\nsize = \"160x120@60\"\n"),
-              "test.toml:render.size: expected \"WxH\" or \"projector\", got \"160x120@60\"");
-    EXPECT_EQ(errorOf("[display]\nbackend = \"kms\"\nmodeset = \"fast\"\n"),
-              "test.toml:display.modeset: expected \"auto\" or \"legacy\", got \"fast\"");
-    EXPECT_EQ(errorOf("display = 1\n"), "test.toml:display: expected a table, got an integer");
-    EXPECT_EQ(errorOf("[displays]\n"),
-              "test.toml:displays: unknown key (known: board, bus, camera, display, gpio, idle, "
-              "light, osc, render, scan)");
+    expectRefusals({
+        {"[display]\nbackend = 3\n",
+         "test.toml:display.backend: expected a string, got an integer"},
+        {"[display]\nbackend = \"x11\"\n",
+         "test.toml:display.backend: expected \"headless\" or \"kms\", got \"x11\""},
+        {"[display]\nbackend = \"kms\"\nmode = \"1080p\"\n",
+         "test.toml:display.mode: expected \"WxH@Hz\", \"WxH\" or \"preferred\", got "
+         "\"1080p\""},
+        {"[render]\nsize = \"160x120\"\n",
+         "test.toml:display: missing (a [display] table with backend = \"headless\" or "
+         "\"kms\")"},
+        {"[display]\nbackend = \"headless\"\n[render]\nsize = \"160x120@60\"\n",
+         "test.toml:render.size: expected \"WxH\" or \"projector\", got \"160x120@60\""},
+        {"[display]\nbackend = \"kms\"\nmodeset = \"fast\"\n",
+         "test.toml:display.modeset: expected \"auto\" or \"legacy\", got \"fast\""},
+        {"display = 1\n", "test.toml:display: expected a table, got an integer"},
+        {"[displays]\n",
+         "test.toml:displays: unknown key (known: board, bus, camera, display, gpio, idle, "
+         "light, osc, render, scan)"},
+    });
     const std::string headless = "[display]\nbackend = \"headless\"\n";
-    EXPECT_EQ(errorOf(headless + "[render]\nrate = -1\n"),
-              "test.toml:render.rate: expected frames per second in [0, 1000] (0: unpaced), got "
-              "-1.000000");
-    EXPECT_EQ(errorOf(headless + "[light]\nazimuth = [-200, 10]\n"),
-              "test.toml:light.azimuth: must lie within [-180, 180]");
-    EXPECT_EQ(errorOf(headless + "[light]\nelevation = [40, 10]\n"),
-              "test.toml:light.elevation: low is above high");
-    EXPECT_EQ(errorOf(headless + "[light]\ndistance = [0, 1]\n"),
-              "test.toml:light.distance: must be positive (metres from the object's centre)");
-    EXPECT_EQ(errorOf(headless + "[light]\nsmoothing_s = \"fast\"\n"),
-              "test.toml:light.smoothing_s: expected a number, got a string");
+    expectRefusals({
+        {headless + "[render]\nrate = -1\n",
+         "test.toml:render.rate: expected frames per second in [0, 1000] (0: unpaced), got "
+         "-1.000000"},
+        {headless + "[light]\nazimuth = [-200, 10]\n",
+         "test.toml:light.azimuth: must lie within [-180, 180]"},
+        {headless + "[light]\nelevation = [40, 10]\n",
+         "test.toml:light.elevation: low is above high"},
+        {headless + "[light]\ndistance = [0, 1]\n",
+         "test.toml:light.distance: must be positive (metres from the object's centre)"},
+        {headless + "[light]\nsmoothing_s = \"fast\"\n",
+         "test.toml:light.smoothing_s: expected a number, got a string"},
+    });
     EXPECT_EQ(errorOf(headless + "[light]\ncolour = 1\n")
                   .rfind("test.toml:light.colour: unknown key (known: azimuth, distance,", 0),
               0u);

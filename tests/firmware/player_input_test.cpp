@@ -9,6 +9,7 @@
 #include <csignal>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -27,6 +28,23 @@ namespace {
 using namespace vpe::firmware::testing;
 using vpe::testing::ReplayScript;
 
+// Asks condition every 20 ms until it holds (true) or bound has passed (false).
+template <typename Condition>
+bool pollUntil(const Condition& condition, std::chrono::milliseconds bound) {
+    constexpr std::chrono::milliseconds kPoll(20);
+    for (std::chrono::milliseconds waited(0); waited < bound; waited += kPoll) {
+        if (condition()) {
+            return true;
+        }
+        std::this_thread::sleep_for(kPoll);
+    }
+    return false;
+}
+
+// The boards' tail: no idle drift and no pacing, so the light moves by the inputs alone and
+// frames come as fast as they draw.
+const std::string kNoDriftUnpaced = "[idle]\nenabled = false\n[render]\nrate = 0\n";
+
 // replayBoardInputs' knobs and camera (switched on: absent here); no smoothing and no drift,
 // so the final light is exact.
 const std::string kInputs = vpe::testing::replayBoardInputs(true) + R"(
@@ -36,11 +54,7 @@ elevation = [0, 80]
 initial_azimuth = 0
 initial_elevation = 30
 smoothing_s = 0
-[idle]
-enabled = false
-[render]
-rate = 0
-)";
+)" + kNoDriftUnpaced;
 
 std::string jsonOf(const PlayerRun& run) {
     const std::size_t open = run.out.rfind("\n{");
@@ -97,9 +111,8 @@ TEST_F(PlayerInputTest, ChecksABoardFile) {
 }
 
 TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     ReplayScript script;
     // 10 clicks clockwise and 3 back, bouncing: +14°; then 5 clicks up: +5°.
@@ -107,10 +120,14 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     t = script.knobTurn(17, 18, t, -3, 0.02, 0.002, 3);
     t = script.knobTurn(22, 23, t, 5, 0.02);
     script.buttonPress(27, t, 0.05);
-    const fs::path knobs = folder_ / "knobs.jsonl";
-    script.write(knobs);
-    PlayerRun run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                          knobs.string(), "--json"});
+    // The player on a script, written to folder_/name first, with its --json report.
+    const auto replay = [&](const ReplayScript& replayed, const std::string& name) {
+        const fs::path file = folder_ / name;
+        replayed.write(file);
+        return play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
+                     file.string(), "--json"});
+    };
+    PlayerRun run = replay(script, "knobs.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     std::string json = jsonOf(run);
     EXPECT_EQ(number(json, "azimuth"), 14.0) << json;
@@ -128,10 +145,7 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
     mixed.osc(0.07, "/vpe/light/elevation", "20.5");
     mixed.osc(0.08, "/vpe/light/elevation", "-95");  // below -90: refused
     mixed.osc(0.09, "/vpe/light/colour", "1");       // not an address of proto/OSC.md
-    const fs::path oscOnly = folder_ / "osc.jsonl";
-    mixed.write(oscOnly);
-    run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                oscOnly.string(), "--json"});
+    run = replay(mixed, "osc.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     json = jsonOf(run);
     EXPECT_EQ(number(json, "azimuth"), 30.0) << json;
@@ -152,10 +166,7 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
         camera.cameraLamp(0.05 + frame * 0.01, 160, 120 + frame * 0.0);
     }
     camera.osc(0.3, "/vpe/light/azimuth", "-10");
-    const fs::path cameraFile = folder_ / "camera.jsonl";
-    camera.write(cameraFile);
-    run = play({"--board", board_.string(), "--bundle", bundle_.string(), "--replay",
-                cameraFile.string(), "--json"});
+    run = replay(camera, "camera.jsonl");
     ASSERT_EQ(run.status, 0) << run.err;
     json = jsonOf(run);
     EXPECT_EQ(number(json, "camera"), 20.0) << json;
@@ -167,9 +178,8 @@ TEST_F(PlayerInputTest, ReplaysKnobsOscAndCameraThroughTheDecoders) {
 // Paced, a tick whose light and preset equal the frame on show draws nothing: no drift, no
 // input, one frame drawn and the rest skipped; a replayed knob turn draws again.
 TEST_F(PlayerInputTest, DrawsNothingWhenNothingChanged) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     std::string paced = kInputs;
     paced.replace(paced.find("rate = 0"), 8, "rate = 200");
@@ -205,9 +215,8 @@ TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
                                  "--replay", file.string()}),
                            needle);
     };
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     refuse("{\"t\": 0, \"type\": \"gpio\", \"line\": 17, \"edge\": \"up\"}\n",
            "bad.jsonl:1: \"edge\": expected \"rising\" or \"falling\"");
@@ -230,9 +239,8 @@ TEST_F(PlayerInputTest, RefusesBadReplayFiles) {
 }
 
 TEST_F(PlayerInputTest, LogsAbsentHardwareOnceAndPlays) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     if (fs::exists("/dev/gpiochip9")) {
         GTEST_SKIP() << "/dev/gpiochip9 exists here";
@@ -255,9 +263,8 @@ TEST_F(PlayerInputTest, LogsAbsentHardwareOnceAndPlays) {
 }
 
 TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board =
         writeFile("paced.toml", "[display]\nbackend = \"headless\"\n[render]\nrate = 30\n");
@@ -272,15 +279,9 @@ TEST_F(PlayerInputTest, ReloadsTheBundleAndRefusesABadOne) {
         spawn({"--board", board.string(), "--bundle", bundle_.string(), "--json", "--out",
                frames.string(), "--every", "1000000", "--light-log", ticks.string()});
     ASSERT_GT(pid, 0);
+    // A bound on failure only (30 s): a slow machine waits longer.
     const auto waitUntil = [](const auto& condition) {
-        // A bound on failure only (30 s): a slow machine waits longer.
-        for (int i = 0; i < 1500; ++i) {
-            if (condition()) {
-                return true;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        return false;
+        return pollUntil(condition, std::chrono::seconds(30));
     };
     const auto waitFor = [&](const std::string& needle) {
         return waitUntil([&] { return spawnedErr().find(needle) != std::string::npos; });
@@ -353,11 +354,7 @@ hold_s = 0.3
 lamp_distance_m = 0.4
 [light]
 smoothing_s = 0
-[idle]
-enabled = false
-[render]
-rate = 0
-)";
+)" + kNoDriftUnpaced;
 
 // Where the lamp at (azimuth, elevation) on the 0.4 m sphere shows in the 320 × 240 stream.
 proto::Vec2d streamPixel(const proto::PinholeCamera& camera, const fs::path& bundle,
@@ -404,9 +401,8 @@ TEST_F(PlayerInputTest, MapsTheLampWithTheBundlesCameraOrRefusesTheBoard) {
         "camera.toml:camera.size: the stream's 320x240 (aspect 1.333) is not the camera "
         "calibration's 1920x1080 (aspect 1.778) scaled");
 
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // Start-up opens the display and the bundle first, then refuses the board the same way.
     expectOneLineError(
@@ -433,9 +429,8 @@ TEST_F(PlayerInputTest, MapsTheLampWithTheBundlesCameraOrRefusesTheBoard) {
 }
 
 TEST_F(PlayerInputTest, TheLampFollowsTheCameraOfAReloadedBundle) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = writeFile("camera.toml", kCameraModelBoard);
     const fs::path scene = writeFile("scene-camera.vpeb", bundleWith(installationCamera()));
@@ -453,13 +448,7 @@ TEST_F(PlayerInputTest, TheLampFollowsTheCameraOfAReloadedBundle) {
                "--replay-loop", "--json", "--out", frames.string(), "--every", "1000000"});
     ASSERT_GT(pid, 0);
     const auto waitUntil = [](const auto& condition) {
-        for (int i = 0; i < 300; ++i) {
-            if (condition()) {
-                return true;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        return false;
+        return pollUntil(condition, std::chrono::seconds(6));
     };
     ASSERT_TRUE(waitUntil([&] { return fs::exists(frames / "frame_00000.ppm"); })) << spawnedErr();
     // The camera moved 0.3 m sideways and calibrated again: the same pixel is another direction.

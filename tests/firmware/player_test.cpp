@@ -3,6 +3,7 @@
 // frames with --json and --out; bad arguments, board files, bundles and an absent KMS display
 // end with one line on stderr and exit status 2. The headless run SKIPs without EGL.
 #include <chrono>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -15,9 +16,8 @@ namespace {
 using namespace vpe::firmware::testing;
 
 TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path frames = folder_ / "frames";
     const PlayerRun run =
@@ -59,9 +59,8 @@ TEST_F(PlayerTest, PlaysFiveFramesHeadlessWithJson) {
 // --light-log: one line per frame tick, the presentation time on the wall clock (a frame period
 // ahead of when the frame was begun), so that the nodes of a show can be compared.
 TEST_F(PlayerTest, WritesALightLogLineForEveryFrame) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path log = folder_ / "light.jsonl";
     const auto before = std::chrono::system_clock::now();
@@ -140,9 +139,8 @@ TEST_F(PlayerTest, RefusesMissingAndCorruptBundles) {
 }
 
 TEST_F(PlayerTest, RefusesASizeOtherThanTheProjectors) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     expectOneLineError(
         play({"--board", headless_.string(), "--bundle", bundle_.string(), "--size", "320x240"}),

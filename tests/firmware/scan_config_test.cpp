@@ -5,6 +5,8 @@
 
 #include "vpe/firmware/board/board_config.h"
 
+#include "thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
@@ -15,12 +17,7 @@ BoardConfig parse(const std::string& scan, const std::string& source = "boards/x
 }
 
 std::string refusal(const std::string& scan) {
-    try {
-        parse(scan);
-    } catch (const BoardConfigError& error) {
-        return error.what();
-    }
-    return "";
+    return vpe::testing::thrownMessage<BoardConfigError>([&] { parse(scan); }, "");
 }
 
 TEST(ScanConfigTest, AbsentSectionMeansNoScan) {

@@ -4,6 +4,7 @@
 // coordinates it finds checked against the simulator's truth. Release build only (it links the
 // offline decoder); SKIPs without headless EGL.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "vpe/renderer/procam/procam_simulator.h"
@@ -19,9 +20,8 @@ namespace {
 using namespace vpe::firmware::testing;
 
 TEST_F(ScanTest, OfflineDecoderReadsThePlayersCapture) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = scanBoard("latency_ms = 0\n");
     const PlayerRun run = play({"--board", board.string(), "--scan", out_.string()});

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "vpe/renderer/procam/procam_scene.h"
 
 namespace vpe::firmware::testing {
@@ -23,6 +25,23 @@ struct ScanInstallation {
 ScanInstallation writeScanInstallation(
     const std::filesystem::path& folder, int bits = 8,
     renderer::procam::CameraResponse response = renderer::procam::CameraResponse::kLinear);
+
+// What a manifest vpe-player --scan wrote of this installation (the scan's or the radiometric
+// capture's) says of its maker, its camera and its frames: vpe-player, the simulated 320 × 240
+// 8-bit camera of the scene file, frames (the patterns or the flat fields) the projector's
+// 320 × 180, and no projector latency (the tests' boards set latency_ms = 0).
+template <typename Manifest, typename Frames>
+void expectWrittenBySimulatedPlayer(const Manifest& manifest, const Frames& frames,
+                                    const ScanInstallation& installation) {
+    EXPECT_EQ(manifest.createdBy, "vpe-player");
+    EXPECT_EQ(frames.width, 320);
+    EXPECT_EQ(frames.height, 180);
+    EXPECT_EQ(manifest.camera.width, 320);
+    EXPECT_EQ(manifest.camera.height, 240);
+    EXPECT_EQ(manifest.camera.bits, 8);
+    EXPECT_EQ(manifest.camera.source, "simulated:" + installation.sceneFile.string());
+    EXPECT_EQ(manifest.projectorLatencyMs, 0.0);
+}
 
 // The OBJ's text: a UV sphere of `radius` about (0, radius, 0) on a wall at z = −wallDistance.
 std::string ballAndWallObj(double radius, double wallDistance);

@@ -8,6 +8,7 @@
 // scan_radiometry_test.cpp. The runs SKIP without headless EGL.
 #include <algorithm>
 #include <csignal>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,9 +27,8 @@ namespace {
 using namespace vpe::firmware::testing;
 
 TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // A previous scan in OUT is replaced whole (its stray file goes with it).
     fs::create_directories(out_);
@@ -42,16 +42,9 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
     EXPECT_EQ(run.out.rfind("scan: ", 0), 0u) << run.out;
 
     const proto::ScanManifest manifest = proto::readScanManifest(out_);
-    EXPECT_EQ(manifest.createdBy, "vpe-player");
-    EXPECT_EQ(manifest.patterns.width, 320);
-    EXPECT_EQ(manifest.patterns.height, 180);
+    expectWrittenBySimulatedPlayer(manifest, manifest.patterns, installation_);
     EXPECT_EQ(manifest.patterns.phasePeriod, 32);
     EXPECT_EQ(manifest.patterns.phaseSteps, 8);
-    EXPECT_EQ(manifest.camera.width, 320);
-    EXPECT_EQ(manifest.camera.height, 240);
-    EXPECT_EQ(manifest.camera.bits, 8);
-    EXPECT_EQ(manifest.camera.source, "simulated:" + installation_.sceneFile.string());
-    EXPECT_EQ(manifest.projectorLatencyMs, 0.0);
 
     const proto::StructuredLightSequence sequence(manifest.patterns);
     const std::vector<proto::PatternSpec>& patterns = sequence.patterns();
@@ -105,9 +98,8 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
 }
 
 TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     installation_ = writeScanInstallation(folder_, 10);
     // The shortest sequence: a coarse period and three steps.
@@ -124,9 +116,8 @@ TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
 }
 
 TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // The projector takes 300 ms, the board waits 0: the first white and black are captured
     // before they are shown (both black: nothing is lit); the retry waits 350 ms, and so does
@@ -168,9 +159,8 @@ TEST_F(ScanTest, RetriesStaleCapturesAndKeepsTheLongerWait) {
 }
 
 TEST_F(ScanTest, StopsWhenRetriesRunOutAndWritesNothing) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board =
         scanBoard("latency_ms = 0\nretries = 1\nretry_wait_ms = 50\nsimulated_latency_ms = 2000\n");
@@ -189,9 +179,8 @@ TEST_F(ScanTest, StopsWhenRetriesRunOutAndWritesNothing) {
 }
 
 TEST_F(ScanTest, StopsOnSigintAndWritesNothing) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     // Black stays up for 2 s before the first pattern: SIGINT arrives during it.
     const fs::path board = scanBoard("settle_ms = 2000\nlatency_ms = 0\n");
@@ -327,9 +316,8 @@ TEST_F(ScanTest, RefusesArgumentsThatPlayABundle) {
 }
 
 TEST_F(ScanTest, RefusesASizeOtherThanTheSimulatedProjector) {
-    std::string why;
-    if (!headlessAvailable(why)) {
-        GTEST_SKIP() << "no headless OpenGL ES 3.1: " << why;
+    if (const std::optional<std::string> why = noHeadlessGles()) {
+        GTEST_SKIP() << *why;
     }
     const fs::path board = scanBoard("latency_ms = 0\n");
     expectOneLineError(

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
-// Small bundles built straight from the schema, for the reader's tests and the device build
-// (no offline writer there). Unlike the writer, the builder can be told to lie: every payload
-// reference passes through a hook before it goes into the metadata, so a test can make one
-// misaligned, too short or out of range while the checksum still matches.
+// The reader tests' small bundle — a quad, M = 1 — written by the tests' one bundle builder
+// (tests/support/test_bundle.h; no offline writer in the device build). Unlike the writer, the
+// builder can be told to lie: every payload reference passes through a hook before it goes into
+// the metadata, so a test can make one misaligned, too short or out of range while the checksum
+// still matches.
 #pragma once
 
 #include <array>
@@ -17,15 +18,14 @@
 #include "vpe/proto/bundle_contents.h"
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/bundle_generated.h"
+#include "vpe/proto/bundle_layout.h"
+
+#include "../support/test_bundle.h"
 
 namespace vpe::proto::testing {
 
-struct PayloadRecord {
-    std::uint64_t offset = 0;
-    std::uint64_t size = 0;
-    fb::ElementType type = fb::ElementType::Float32;
-    std::vector<std::uint32_t> shape;
-};
+// A payload's reference as the metadata will hold it (offset, size, type, shape).
+using PayloadRecord = PayloadPlacement;
 
 // Defaults describe a valid bundle: 4 vertices and 2 triangles; M = 1 (C = 12); textures
 // 4 x 2 with region 0 'base' full, region 1 'glaze' low-rank (rank 2), a full composed map and
@@ -80,7 +80,6 @@ private:
     std::filesystem::path path_;
 };
 
-std::filesystem::path writeBytes(const std::filesystem::path& path,
-                                 const std::vector<std::byte>& bytes);
+using vpe::testing::writeBytes;
 
 }  // namespace vpe::proto::testing

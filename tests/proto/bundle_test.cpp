@@ -46,6 +46,12 @@ protected:
     }
     std::filesystem::path path() const { return folder_ / "scene.vpeb"; }
     std::string prefix() const { return path().string() + ": "; }
+    // The message a bundle whose model names the coefficient layout `layout` is refused with.
+    std::string refuseLayout(const std::string& layout) {
+        RawBundleSpec spec;
+        spec.layout = layout;
+        return refuse(buildRawBundle(spec));
+    }
 
     ScratchFolder folder_;
 };
@@ -375,9 +381,7 @@ TEST_F(BundleReader, RefusesAnIndexPastTheVertices) {
 }
 
 TEST_F(BundleReader, RefusesAnUnknownCoefficientLayout) {
-    RawBundleSpec spec;
-    spec.layout = "channel_major";
-    EXPECT_EQ(refuse(buildRawBundle(spec)),
+    EXPECT_EQ(refuseLayout("channel_major"),
               prefix() +
                   "model: coefficient layout 'channel_major', this reader knows "
                   "'fourier_brdf:k_major_rgb'");
@@ -594,9 +598,7 @@ TEST_F(BundleReader, RefusesABadThetaBasis) {
 
 TEST_F(BundleReader, KeepsMessagesOnOneLineWhateverTheFileSays) {
     // Found by the fuzzer: text from the file goes into messages escaped.
-    RawBundleSpec spec;
-    spec.layout = "fourier_\nbrdf\\";
-    EXPECT_EQ(refuse(buildRawBundle(spec)),
+    EXPECT_EQ(refuseLayout("fourier_\nbrdf\\"),
               prefix() +
                   "model: coefficient layout 'fourier_\\x0abrdf\\x5c', this reader knows "
                   "'fourier_brdf:k_major_rgb'");

@@ -7,6 +7,8 @@
 
 #include "vpe/proto/structured_light.h"
 
+#include "manifest_refusal.h"
+
 namespace vpe::proto {
 namespace {
 
@@ -28,19 +30,10 @@ RadiometryManifest smallManifest(CameraResponseKind response = CameraResponseKin
 }
 
 std::string errorOf(const std::string& json) {
-    try {
-        parseRadiometryManifest(json, "radiometry.json");
-    } catch (const ScanManifestError& error) {
-        return error.what();
-    }
-    return "";
+    return testing::refusalOf(parseRadiometryManifest, json, "radiometry.json");
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    return at == std::string::npos ? text : text.replace(at, from.size(), to);
-}
+using testing::replaced;
 
 TEST(RadiometrySequence, BlackWhiteThenEachPrimaryUpTheLadder) {
     const std::vector<FlatField> fields = radiometrySequence({64, 48, 4});

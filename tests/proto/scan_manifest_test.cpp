@@ -6,10 +6,15 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "vpe/proto/pnm_image.h"
+
+#include "manifest_refusal.h"
 
 namespace vpe::proto {
 namespace {
@@ -29,19 +34,17 @@ ScanManifest smallManifest() {
 }
 
 std::string errorOf(const std::string& json) {
-    try {
-        parseScanManifest(json, "scan.json");
-    } catch (const ScanManifestError& error) {
-        return error.what();
-    }
-    return "";
+    return testing::refusalOf(parseScanManifest, json, "scan.json");
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    return text.replace(at, from.size(), to);
+// Each text refused with exactly its one line.
+void expectRefusals(const std::vector<std::pair<std::string, std::string>>& refusals) {
+    for (const auto& [text, refusal] : refusals) {
+        EXPECT_EQ(errorOf(text), refusal) << text;
+    }
 }
+
+using testing::replaced;
 
 TEST(ScanManifest, RoundTripsThroughJson) {
     const ScanManifest m = smallManifest();
@@ -59,26 +62,26 @@ TEST(ScanManifest, RoundTripsThroughJson) {
 
 TEST(ScanManifest, RefusesEachMalformedManifestNamingTheKey) {
     const std::string good = scanManifestJson(smallManifest());
-    EXPECT_EQ(errorOf(good), "");
-    EXPECT_EQ(errorOf("{"),
-              "scan.json: not JSON (parse error at line 1, column 2: syntax error "
-              "while parsing object key - unexpected end of input; expected string "
-              "literal)");
-    // A number beyond a double's range (found by the fuzzer).
-    EXPECT_EQ(errorOf(replaced(good, "\"latency_ms\": 120", "\"latency_ms\": 1e30848")),
-              "scan.json: not JSON (number overflow parsing '1e30848')");
-    EXPECT_EQ(errorOf(replaced(good, "\"vpe-scan\"", "\"other\"")),
-              "scan.json: format: expected \"vpe-scan\"");
-    EXPECT_EQ(errorOf(replaced(good, "\"version\": 1", "\"version\": 2")),
-              "scan.json: version 2: this reader reads version 1");
-    EXPECT_EQ(errorOf(replaced(good, "\"bits\": 10", "\"bits\": 12")),
-              "scan.json: camera: bits: 12 (8 or 10)");
-    EXPECT_EQ(errorOf(replaced(good, "\"phase_period\": 8", "\"phase_period\": 12")),
-              "scan.json: projector: phase period 12 is not a power of two in 8..1024");
-    EXPECT_EQ(errorOf(replaced(good, "\"file\":\"0-white.pgm\"", "\"file\":\"../white.pgm\"")),
-              "scan.json: images[0]: file: '../white.pgm' is not a file name inside the folder");
-    EXPECT_EQ(errorOf(replaced(good, "\"pattern\":\"black\"", "\"pattern\":\"white\"")),
-              "scan.json: images[1]: pattern 'white', expected 'black' (the sequence's order)");
+    expectRefusals({
+        {good, ""},
+        {"{",
+         "scan.json: not JSON (parse error at line 1, column 2: syntax error "
+         "while parsing object key - unexpected end of input; expected string "
+         "literal)"},
+        // A number beyond a double's range (found by the fuzzer).
+        {replaced(good, "\"latency_ms\": 120", "\"latency_ms\": 1e30848"),
+         "scan.json: not JSON (number overflow parsing '1e30848')"},
+        {replaced(good, "\"vpe-scan\"", "\"other\""), "scan.json: format: expected \"vpe-scan\""},
+        {replaced(good, "\"version\": 1", "\"version\": 2"),
+         "scan.json: version 2: this reader reads version 1"},
+        {replaced(good, "\"bits\": 10", "\"bits\": 12"), "scan.json: camera: bits: 12 (8 or 10)"},
+        {replaced(good, "\"phase_period\": 8", "\"phase_period\": 12"),
+         "scan.json: projector: phase period 12 is not a power of two in 8..1024"},
+        {replaced(good, "\"file\":\"0-white.pgm\"", "\"file\":\"../white.pgm\""),
+         "scan.json: images[0]: file: '../white.pgm' is not a file name inside the folder"},
+        {replaced(good, "\"pattern\":\"black\"", "\"pattern\":\"white\""),
+         "scan.json: images[1]: pattern 'white', expected 'black' (the sequence's order)"},
+    });
     // A missing image names the first missing pattern; an extra one is refused.
     const std::string last = ",\n    {\"file\":\"27-phase-y-s2.pgm\",\"pattern\":\"phase-y-s2\"}";
     const std::string shorter = replaced(good, last, "");

@@ -98,12 +98,18 @@ void main() {
     return words;
 }
 
-TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
+// The test bundle's vase traced from its projector (any light) into a geometry buffer.
+struct TracedVase {
     MappedTestBundle bundle;
-    const BundleScene scene(bundle.view(), "");
-    const RenderScene any = scene.scene({}, scene.bundleViewer());
-    const ProjectorPixels pixels(any.mesh, any.projector);
-    const gles::GeometryBuffer geometry(pixels, 2);
+    BundleScene scene{bundle.view(), ""};
+    RenderScene any = scene.scene({}, scene.bundleViewer());
+    ProjectorPixels pixels{any.mesh, any.projector};
+    gles::GeometryBuffer geometry{pixels, 2};
+};
+
+TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
+    const TracedVase vase;
+    const gles::GeometryBuffer& geometry = vase.geometry;
     const int w = geometry.width(), h = geometry.height();
     const auto g0 = readTexels(geometry.geometry0().get(), w, h, "sampler2D");
     const auto g1 = readTexels(geometry.geometry1().get(), w, h, "usampler2D");
@@ -111,7 +117,7 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
     std::size_t covered = 0;
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
-            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
+            const std::optional<ProjectorPixel> traced = vase.pixels.trace(x, y);
             covered += traced ? 1 : 0;
             const gles::PackedPixel packed = gles::packProjectorPixel(traced);
             const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
@@ -135,13 +141,10 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
 // geometric normal's x, y, within half-float rounding; 1/S and the geometric normal's z are the
 // material's (tested with the material pass).
 TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
-    MappedTestBundle bundle;
-    const BundleScene scene(bundle.view(), "");
-    const RenderScene any = scene.scene({}, scene.bundleViewer());
-    const ProjectorPixels pixels(any.mesh, any.projector);
-    const gles::GeometryBuffer geometry(pixels, 2);
+    const TracedVase vase;
+    const gles::GeometryBuffer& geometry = vase.geometry;
     const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
-    const Vec3d eye = scene.bundleViewer();
+    const Vec3d eye = vase.scene.bundleViewer();
     const std::array<float, 3> viewer{static_cast<float>(eye.x), static_cast<float>(eye.y),
                                       static_cast<float>(eye.z)};
     gles::ShadingGeometryPass pass(geometry, tiles, viewer);
@@ -157,7 +160,7 @@ TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
                                        static_cast<std::size_t>(x));
-            const std::optional<ProjectorPixel> traced = pixels.trace(x, y);
+            const std::optional<ProjectorPixel> traced = vase.pixels.trace(x, y);
             const float alpha = std::bit_cast<float>(position[i + 3]);
             if (!traced) {
                 ASSERT_EQ(alpha, 0.0f) << x << "," << y;
@@ -226,12 +229,7 @@ double bilinear(const std::vector<float>& texels, int width, int height, int str
 
 // What the material pass reads: the test bundle's projector pixels traced, its θs maps (every
 // harmonic, as a bundle without a basis) and presets uploaded.
-struct MaterialPassInputs {
-    MappedTestBundle bundle;
-    BundleScene scene{bundle.view(), ""};
-    RenderScene any = scene.scene({}, scene.bundleViewer());
-    ProjectorPixels pixels{any.mesh, any.projector};
-    gles::GeometryBuffer geometry{pixels, 2};
+struct MaterialPassInputs : TracedVase {
     proto::ThetaBasis basis = proto::ThetaBasis::full(bundle.view().model().harmonics);
     gles::ThetaTextures textures{bundle.view(), basis, 256, 4096};
     gles::TileCover tiles{geometry.width(), geometry.height(), geometry.coveredTiles()};

@@ -22,46 +22,46 @@ bool oneLine(const std::string& text) {
     return !text.empty() && text.find('\n') == std::string::npos;
 }
 
+// The message of the GraphicsError that action throws; a failure (noThrow) and "" when it
+// throws none.
+template <typename Action>
+std::string graphicsErrorOf(Action&& action,
+                            const std::string& noThrow = "expected GraphicsError") {
+    try {
+        action();
+    } catch (const GraphicsError& error) {
+        return error.what();
+    }
+    ADD_FAILURE() << noThrow;
+    return "";
+}
+
 class GlesPlatformTest : public GlesTest {};
 
 // These run whether or not EGL works here: the platform must fail cleanly, never crash.
 TEST(GlesPlatformErrors, MissingClientExtensionIsAClearError) {
     gles::HeadlessEglOptions options;
     options.extraClientExtensions = {"EGL_VPE_no_such_extension"};
-    try {
-        gles::createHeadlessEglPlatform(options);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        const std::string message = error.what();
-        EXPECT_TRUE(oneLine(message)) << message;
-        EXPECT_EQ(message.rfind("EGL: ", 0), 0u) << message;
-        EXPECT_NE(message.find("is missing"), std::string::npos) << message;
-    }
+    const std::string message = graphicsErrorOf([&] { gles::createHeadlessEglPlatform(options); });
+    EXPECT_TRUE(oneLine(message)) << message;
+    EXPECT_EQ(message.rfind("EGL: ", 0), 0u) << message;
+    EXPECT_NE(message.find("is missing"), std::string::npos) << message;
 }
 
 TEST_F(GlesPlatformTest, MissingDisplayExtensionIsAClearError) {
     gles::HeadlessEglOptions options;
     options.extraDisplayExtensions = {"EGL_VPE_no_such_extension"};
-    try {
-        gles::createHeadlessEglPlatform(options);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        EXPECT_STREQ(error.what(), "EGL: display extension EGL_VPE_no_such_extension is missing");
-    }
+    const std::string message = graphicsErrorOf([&] { gles::createHeadlessEglPlatform(options); });
+    EXPECT_EQ(message, "EGL: display extension EGL_VPE_no_such_extension is missing");
 }
 
 TEST_F(GlesPlatformTest, UnavailableContextVersionIsAClearError) {
     gles::HeadlessEglOptions options;
     options.majorVersion = 9;
     options.minorVersion = 9;
-    try {
-        gles::createHeadlessEglPlatform(options);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        const std::string message = error.what();
-        EXPECT_TRUE(oneLine(message)) << message;
-        EXPECT_EQ(message.rfind("EGL: cannot create an OpenGL ES 9.9 context: ", 0), 0u) << message;
-    }
+    const std::string message = graphicsErrorOf([&] { gles::createHeadlessEglPlatform(options); });
+    EXPECT_TRUE(oneLine(message)) << message;
+    EXPECT_EQ(message.rfind("EGL: cannot create an OpenGL ES 9.9 context: ", 0), 0u) << message;
     platform()->makeCurrent();
 }
 
@@ -75,29 +75,25 @@ TEST_F(GlesPlatformTest, BrokenShaderNamesTheShaderAndTheLogsFirstLine) {
     const std::string source =
         "#version 310 es\nprecision highp float;\nout vec4 colour;\n"
         "void main() {\n    colour = vpe_undefined_function(1.0);\n}\n";
-    try {
-        gles::compileShader(GL_FRAGMENT_SHADER, "broken.frag", source);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        const std::string message = error.what();
-        EXPECT_TRUE(oneLine(message)) << message;
-        EXPECT_EQ(message.rfind("shader 'broken.frag' does not compile: ", 0), 0u) << message;
-        EXPECT_NE(message.find("vpe_undefined_function"), std::string::npos) << message;
-    }
+    const std::string message =
+        graphicsErrorOf([&] { gles::compileShader(GL_FRAGMENT_SHADER, "broken.frag", source); });
+    EXPECT_TRUE(oneLine(message)) << message;
+    EXPECT_EQ(message.rfind("shader 'broken.frag' does not compile: ", 0), 0u) << message;
+    EXPECT_NE(message.find("vpe_undefined_function"), std::string::npos) << message;
 }
 
 TEST_F(GlesPlatformTest, ShaderBeyondEs31IsRefused) {
     // Nothing beyond ES 3.1, even where the driver offers 3.2.
-    try {
-        gles::compileShader(GL_FRAGMENT_SHADER, "es32.frag",
-                            "#version 320 es\nprecision highp float;\nout vec4 c;\n"
-                            "void main() { c = vec4(1.0); }\n");
-        FAIL() << "a 3.1 context compiled a #version 320 es shader";
-    } catch (const GraphicsError& error) {
-        EXPECT_STREQ(error.what(),
-                     "shader 'es32.frag' must start with '#version 310 es' (OpenGL ES 3.1 at "
-                     "most), not '#version 320 es'");
-    }
+    const std::string message = graphicsErrorOf(
+        [&] {
+            gles::compileShader(GL_FRAGMENT_SHADER, "es32.frag",
+                                "#version 320 es\nprecision highp float;\nout vec4 c;\n"
+                                "void main() { c = vec4(1.0); }\n");
+        },
+        "a 3.1 context compiled a #version 320 es shader");
+    EXPECT_EQ(message,
+              "shader 'es32.frag' must start with '#version 310 es' (OpenGL ES 3.1 at "
+              "most), not '#version 320 es'");
 }
 
 TEST_F(GlesPlatformTest, OversizeTexturesAreRefused) {
@@ -106,40 +102,27 @@ TEST_F(GlesPlatformTest, OversizeTexturesAreRefused) {
     options.maxTextureSize = 200;
     EXPECT_NO_THROW(gles::GlesFrameRenderer(bundle.view(), options));
     options.maxTextureSize = 16;
-    try {
-        gles::GlesFrameRenderer renderer(bundle.view(), options);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        const std::string message = error.what();
-        EXPECT_TRUE(oneLine(message)) << message;
-        EXPECT_NE(message.find("is larger than the texture limit 16"), std::string::npos)
-            << message;
-    }
+    const std::string message =
+        graphicsErrorOf([&] { gles::GlesFrameRenderer renderer(bundle.view(), options); });
+    EXPECT_TRUE(oneLine(message)) << message;
+    EXPECT_NE(message.find("is larger than the texture limit 16"), std::string::npos) << message;
     GlesBundleSpec spec;  // textures larger than the projector
     spec.textureWidth = 64;
     spec.projectorWidth = 40;
     spec.projectorHeight = 30;
     MappedTestBundle wide(spec);
     options.maxTextureSize = 48;
-    try {
-        gles::GlesFrameRenderer renderer(wide.view(), options);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        const std::string message = error.what();
-        EXPECT_TRUE(oneLine(message)) << message;
-        EXPECT_NE(message.find("textures 64x24 are larger than the limit 48"), std::string::npos)
-            << message;
-    }
+    const std::string wideMessage =
+        graphicsErrorOf([&] { gles::GlesFrameRenderer renderer(wide.view(), options); });
+    EXPECT_TRUE(oneLine(wideMessage)) << wideMessage;
+    EXPECT_NE(wideMessage.find("textures 64x24 are larger than the limit 48"), std::string::npos)
+        << wideMessage;
 }
 
 TEST_F(GlesPlatformTest, OversizeRenderTargetIsRefused) {
-    try {
-        platform()->createRenderTarget(1 << 20, 16);
-        FAIL() << "expected GraphicsError";
-    } catch (const GraphicsError& error) {
-        EXPECT_NE(std::string(error.what()).find("GL_MAX_RENDERBUFFER_SIZE"), std::string::npos)
-            << error.what();
-    }
+    const std::string message =
+        graphicsErrorOf([&] { platform()->createRenderTarget(1 << 20, 16); });
+    EXPECT_NE(message.find("GL_MAX_RENDERBUFFER_SIZE"), std::string::npos) << message;
 }
 
 TEST_F(GlesPlatformTest, TargetOfAnotherSizeIsRefused) {

@@ -1,14 +1,11 @@
 // SPDX-License-Identifier: MIT
-// The GLES tests' bundle builder.
+// The GLES tests' vase, through the tests' one bundle builder (tests/support/test_bundle.h).
 #include "gles_test_bundle.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include <unistd.h>
@@ -19,6 +16,7 @@
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 
+#include "../support/test_bundle.h"
 #include "test_scenes.h"
 
 namespace vpe::renderer::testing {
@@ -27,17 +25,28 @@ namespace fb = proto::fb;
 
 namespace {
 
-struct Planned {
-    fb::ElementType type;
-    std::vector<std::uint32_t> shape;
-    std::vector<std::byte> bytes;
-};
+using vpe::testing::testPayload;
+using vpe::testing::TestPayload;
 
-template <typename T>
-Planned plan(fb::ElementType type, std::vector<std::uint32_t> shape, const std::vector<T>& values) {
-    Planned p{type, std::move(shape), std::vector<std::byte>(values.size() * sizeof(T))};
-    std::memcpy(p.bytes.data(), values.data(), p.bytes.size());
-    return p;
+// Calls visit(x, y, t) for each texel of a w × h texture, t = y · w + x.
+template <typename Visit>
+void forEachTexel(int w, int h, Visit&& visit) {
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            visit(x, y,
+                  static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                      static_cast<std::size_t>(x));
+        }
+    }
+}
+
+proto::ProjectorCalibration calibrationOf(const proto::PinholeCamera& camera) {
+    return {static_cast<std::uint32_t>(camera.width),
+            static_cast<std::uint32_t>(camera.height),
+            camera.K,
+            camera.distortion,
+            camera.R,
+            camera.T};
 }
 
 }  // namespace
@@ -73,17 +82,13 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
         return 0.12 / k * std::cos(3.0 * u * k + 2.0 * v + ch);
     };
     std::vector<std::uint16_t> full(static_cast<std::size_t>(groups) * texels * 4, 0);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                  static_cast<std::size_t>(x);
-            for (int i = 0; i < c; ++i) {
-                full[(static_cast<std::size_t>(i / 4) * texels + t) * 4 +
-                     static_cast<std::size_t>(i % 4)] =
-                    proto::floatToHalf(static_cast<float>(base(x, y, i / 3, i % 3)));
-            }
+    forEachTexel(w, h, [&](int x, int y, std::size_t t) {
+        for (int i = 0; i < c; ++i) {
+            full[(static_cast<std::size_t>(i / 4) * texels + t) * 4 +
+                 static_cast<std::size_t>(i % 4)] =
+                proto::floatToHalf(static_cast<float>(base(x, y, i / 3, i % 3)));
         }
-    }
+    });
     // Region 1: low rank, μ + Σ w_r B_r.
     const int rank = spec.lowRank;
     std::vector<float> mean(static_cast<std::size_t>(c)), basis(static_cast<std::size_t>(rank * c));
@@ -99,61 +104,50 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
     }
     const int rankLayers = (rank + 3) / 4;
     std::vector<std::uint16_t> codes(static_cast<std::size_t>(rankLayers) * texels * 4, 0);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                  static_cast<std::size_t>(x);
-            for (int r = 0; r < rank; ++r) {
-                const double value = std::cos(0.3 * x * (r + 1) - 0.4 * y + r);
-                codes[(static_cast<std::size_t>(r / 4) * texels + t) * 4 +
-                      static_cast<std::size_t>(r % 4)] =
-                    proto::floatToHalf(static_cast<float>(value));
-            }
+    forEachTexel(w, h, [&](int x, int y, std::size_t t) {
+        for (int r = 0; r < rank; ++r) {
+            const double value = std::cos(0.3 * x * (r + 1) - 0.4 * y + r);
+            codes[(static_cast<std::size_t>(r / 4) * texels + t) * 4 +
+                  static_cast<std::size_t>(r % 4)] = proto::floatToHalf(static_cast<float>(value));
         }
-    }
+    });
     std::vector<std::uint8_t> stripes(2 * texels);
     std::vector<std::uint16_t> radial(2 * texels);
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                  static_cast<std::size_t>(x);
-            const auto a =
-                static_cast<std::uint8_t>(std::lround(127.5 + 127.5 * std::sin(0.5 * x)));
-            stripes[t] = a;
-            stripes[texels + t] = static_cast<std::uint8_t>(255 - a);
-            const double d = std::hypot(x - 0.5 * w, y - 0.5 * h) / (0.5 * w);
-            const float alpha = static_cast<float>(std::clamp(1.0 - d, 0.0, 1.0));
-            radial[t] = proto::floatToHalf(alpha);
-            radial[texels + t] = proto::floatToHalf(1.0f - alpha);
-        }
-    }
+    forEachTexel(w, h, [&](int x, int y, std::size_t t) {
+        const auto a = static_cast<std::uint8_t>(std::lround(127.5 + 127.5 * std::sin(0.5 * x)));
+        stripes[t] = a;
+        stripes[texels + t] = static_cast<std::uint8_t>(255 - a);
+        const double d = std::hypot(x - 0.5 * w, y - 0.5 * h) / (0.5 * w);
+        const float alpha = static_cast<float>(std::clamp(1.0 - d, 0.0, 1.0));
+        radial[t] = proto::floatToHalf(alpha);
+        radial[texels + t] = proto::floatToHalf(1.0f - alpha);
+    });
 
-    std::vector<Planned> payloads;
-    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 3}, positions));
-    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 3}, normals));
-    payloads.push_back(plan(fb::ElementType::Float32, {vertices, 2}, uvs));
-    payloads.push_back(plan(fb::ElementType::UInt32, {triangles, 3}, vase.indices));
+    std::vector<TestPayload> payloads;
+    payloads.push_back(
+        testPayload("positions", fb::ElementType::Float32, {vertices, 3}, positions));
+    payloads.push_back(testPayload("normals", fb::ElementType::Float32, {vertices, 3}, normals));
+    payloads.push_back(testPayload("uvs", fb::ElementType::Float32, {vertices, 2}, uvs));
+    payloads.push_back(
+        testPayload("indices", fb::ElementType::UInt32, {triangles, 3}, vase.indices));
     const auto uw = static_cast<std::uint32_t>(w), uh = static_cast<std::uint32_t>(h);
-    payloads.push_back(
-        plan(fb::ElementType::Float16, {static_cast<std::uint32_t>(groups), uh, uw, 4}, full));
-    payloads.push_back(
-        plan(fb::ElementType::Float16, {static_cast<std::uint32_t>(rankLayers), uh, uw, 4}, codes));
-    payloads.push_back(plan(fb::ElementType::UInt8, {2, uh, uw}, stripes));
-    payloads.push_back(plan(fb::ElementType::Float16, {2, uh, uw}, radial));
+    payloads.push_back(testPayload("region 0", fb::ElementType::Float16,
+                                   {static_cast<std::uint32_t>(groups), uh, uw, 4}, full));
+    payloads.push_back(testPayload("region 1", fb::ElementType::Float16,
+                                   {static_cast<std::uint32_t>(rankLayers), uh, uw, 4}, codes));
+    payloads.push_back(testPayload("preset 0", fb::ElementType::UInt8, {2, uh, uw}, stripes));
+    payloads.push_back(testPayload("preset 1", fb::ElementType::Float16, {2, uh, uw}, radial));
     if (spec.relief) {
         // Bumps across the texture: the detail normal's x and y, |(x, y)| ≤ 0.5.
         std::vector<std::uint16_t> detail(2 * texels);
-        for (int y = 0; y < h; ++y) {
-            for (int x = 0; x < w; ++x) {
-                const std::size_t t = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                                      static_cast<std::size_t>(x);
-                detail[2 * t] =
-                    proto::floatToHalf(static_cast<float>(0.35 * std::sin(0.9 * x + 0.4 * y)));
-                detail[2 * t + 1] =
-                    proto::floatToHalf(static_cast<float>(0.35 * std::cos(0.7 * y - 0.5 * x)));
-            }
-        }
-        payloads.push_back(plan(fb::ElementType::Float16, {uh, uw, 2}, detail));
+        forEachTexel(w, h, [&](int x, int y, std::size_t t) {
+            detail[2 * t] =
+                proto::floatToHalf(static_cast<float>(0.35 * std::sin(0.9 * x + 0.4 * y)));
+            detail[2 * t + 1] =
+                proto::floatToHalf(static_cast<float>(0.35 * std::cos(0.7 * y - 0.5 * x)));
+        });
+        payloads.push_back(
+            testPayload("region 0 detail", fb::ElementType::Float16, {uh, uw, 2}, detail));
     }
 
     if (spec.measuredLight) {
@@ -175,8 +169,9 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
                 }
             }
         }
-        payloads.push_back(plan(fb::ElementType::Float16, {ph, pw, 4}, irradiance));
-        payloads.push_back(plan(fb::ElementType::Float16, {ph, pw, 4}, floor));
+        payloads.push_back(
+            testPayload("irradiance", fb::ElementType::Float16, {ph, pw, 4}, irradiance));
+        payloads.push_back(testPayload("floor", fb::ElementType::Float16, {ph, pw, 4}, floor));
     }
 
     proto::PinholeCamera camera = proto::cameraLookingAt(
@@ -185,90 +180,58 @@ std::vector<std::byte> buildGlesTestBundle(const GlesBundleSpec& spec) {
         camera.distortion = spec.distortionCoefficients;
     }
 
-    proto::BundleLayout layout;
-    std::vector<std::span<const std::byte>> payloadBytes;
-    for (const Planned& p : payloads) {
-        layout.add(p.type, p.shape);
-        payloadBytes.emplace_back(p.bytes);
-    }
-    const std::vector<std::uint8_t> meta =
-        layout.settle([&](const std::vector<proto::PayloadPlacement>& placed) {
-            flatbuffers::FlatBufferBuilder b;
-            const auto ref = [&](std::size_t i) { return proto::payloadReference(b, placed[i]); };
-            const auto mesh = fb::CreateMesh(b, ref(0), ref(1), ref(2), ref(3));
-            const fb::Mat3d intrinsics(flatbuffers::make_span(camera.K));
-            const fb::Mat3d rotation(flatbuffers::make_span(camera.R));
-            const fb::Distortion distortion(camera.distortion[0], camera.distortion[1],
-                                            camera.distortion[2], camera.distortion[3],
-                                            camera.distortion[4]);
-            const fb::Vec3d translation(camera.T[0], camera.T[1], camera.T[2]);
-            const auto projector =
-                fb::CreateProjector(b, static_cast<std::uint32_t>(spec.projectorWidth),
-                                    static_cast<std::uint32_t>(spec.projectorHeight), &intrinsics,
-                                    &distortion, &rotation, &translation);
-            flatbuffers::Offset<void> response;
-            fb::ProjectorResponse kind = fb::ProjectorResponse::GammaResponse;
-            if (spec.curveResponse) {
-                kind = fb::ProjectorResponse::CurveResponse;
-                const std::vector<float> red{0.02f, 0.1f, 0.3f, 0.6f, 1.0f};
-                const std::vector<float> green{0.0f, 0.2f, 0.45f, 0.7f, 0.9f, 1.1f};
-                const std::vector<float> blue{0.01f, 0.5f, 1.0f};
-                response = fb::CreateCurveResponseDirect(b, &red, &green, &blue).Union();
-            } else {
-                const fb::Rgb gamma(2.2f, 2.3f, 2.4f);
-                response = fb::CreateGammaResponse(b, &gamma).Union();
-            }
-            const fb::Vec3f viewer(0.3f, 0.2f, 0.6f);
-            const fb::Rgb albedo(0.85f, 0.8f, 0.75f);
-            const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
-            const auto settings =
-                fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response, 0.8f, 1.0f);
-            const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
-                                                     3.14, "fourier_brdf:k_major_rgb");
-            const auto detail = spec.relief ? ref(8) : flatbuffers::Offset<fb::Payload>();
-            const auto fullMap =
-                fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
-                                         fb::CreateFullCoefficients(b, ref(4)).Union(), detail);
-            const auto lowRankMap = fb::CreateCoefficientMap(
-                b, fb::CoefficientEncoding::LowRankCoefficients,
-                fb::CreateLowRankCoefficientsDirect(b, static_cast<std::uint16_t>(rank), &mean,
-                                                    &basis, ref(5))
-                    .Union());
-            std::vector<flatbuffers::Offset<fb::Region>> regions{
-                fb::CreateRegionDirect(b, "base", fullMap),
-                fb::CreateRegionDirect(b, "glaze", lowRankMap)};
-            std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
-                fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
-                fb::CreateWeightPresetDirect(b, "radial", ref(7))};
-            const auto textures =
-                fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
-            flatbuffers::Offset<fb::Projector> installationCamera;
-            if (spec.camera) {
-                const proto::PinholeCamera& cam = *spec.camera;
-                const fb::Mat3d cameraK(flatbuffers::make_span(cam.K));
-                const fb::Mat3d cameraR(flatbuffers::make_span(cam.R));
-                const fb::Distortion cameraKc(cam.distortion[0], cam.distortion[1],
-                                              cam.distortion[2], cam.distortion[3],
-                                              cam.distortion[4]);
-                const fb::Vec3d cameraT(cam.T[0], cam.T[1], cam.T[2]);
-                installationCamera = fb::CreateProjector(b, static_cast<std::uint32_t>(cam.width),
-                                                         static_cast<std::uint32_t>(cam.height),
-                                                         &cameraK, &cameraKc, &cameraR, &cameraT);
-            }
-            flatbuffers::Offset<fb::Radiometry> radiometry;
-            if (spec.measuredLight) {
-                const std::size_t first = placed.size() - 2;
-                const std::array<double, 9> mixing{1,     0.076, 0.011, 0.068, 1,
-                                                   0.057, 0.011, 0.097, 1};
-                const fb::Mat3d x(flatbuffers::make_span(mixing));
-                radiometry = fb::CreateRadiometry(b, &x, ref(first), ref(first + 1));
-            }
-            fb::FinishBundleBuffer(b, fb::CreateBundle(b, mesh, projector, settings, model,
-                                                       textures, installationCamera, radiometry));
-            return std::vector<std::uint8_t>(b.GetBufferPointer(),
-                                             b.GetBufferPointer() + b.GetSize());
-        });
-    return proto::assembleBundle(layout, meta, payloadBytes);
+    const auto bundleTable = [&](flatbuffers::FlatBufferBuilder& b,
+                                 const std::vector<proto::PayloadPlacement>& placed) {
+        const auto ref = [&](std::size_t i) { return proto::payloadReference(b, placed[i]); };
+        const auto mesh = fb::CreateMesh(b, ref(0), ref(1), ref(2), ref(3));
+        const auto projector = vpe::testing::projectorTable(b, calibrationOf(camera));
+        const std::array<std::vector<float>, 3> curve{{{0.02f, 0.1f, 0.3f, 0.6f, 1.0f},
+                                                       {0.0f, 0.2f, 0.45f, 0.7f, 0.9f, 1.1f},
+                                                       {0.01f, 0.5f, 1.0f}}};
+        const vpe::testing::ResponseTable response =
+            vpe::testing::responseTable(b, spec.curveResponse ? &curve : nullptr);
+        const fb::Vec3f viewer(0.3f, 0.2f, 0.6f);
+        const fb::Rgb albedo(0.85f, 0.8f, 0.75f);
+        const fb::Rgb ambient(0.01f, 0.02f, 0.03f);
+        const auto settings = fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, response.kind,
+                                                       response.table, 0.8f, 1.0f);
+        const auto model = fb::CreateModelDirect(b, static_cast<std::uint16_t>(spec.harmonics),
+                                                 3.14, "fourier_brdf:k_major_rgb");
+        const auto detail = spec.relief ? ref(8) : flatbuffers::Offset<fb::Payload>();
+        const auto fullMap =
+            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::FullCoefficients,
+                                     fb::CreateFullCoefficients(b, ref(4)).Union(), detail);
+        const auto lowRankMap =
+            fb::CreateCoefficientMap(b, fb::CoefficientEncoding::LowRankCoefficients,
+                                     fb::CreateLowRankCoefficientsDirect(
+                                         b, static_cast<std::uint16_t>(rank), &mean, &basis, ref(5))
+                                         .Union());
+        std::vector<flatbuffers::Offset<fb::Region>> regions{
+            fb::CreateRegionDirect(b, "base", fullMap),
+            fb::CreateRegionDirect(b, "glaze", lowRankMap)};
+        std::vector<flatbuffers::Offset<fb::WeightPreset>> presets{
+            fb::CreateWeightPresetDirect(b, "stripes", ref(6)),
+            fb::CreateWeightPresetDirect(b, "radial", ref(7))};
+        const auto textures =
+            fb::CreateTexturesDirect(b, uw, uh, &regions, 0, &presets, spec.wrapU);
+        flatbuffers::Offset<fb::Projector> installationCamera;
+        if (spec.camera) {
+            installationCamera = vpe::testing::projectorTable(b, calibrationOf(*spec.camera));
+        }
+        flatbuffers::Offset<fb::Radiometry> radiometry;
+        if (spec.measuredLight) {
+            const std::size_t first = placed.size() - 2;
+            const std::array<double, 9> mixing{1, 0.076, 0.011, 0.068, 1, 0.057, 0.011, 0.097, 1};
+            const fb::Mat3d x(flatbuffers::make_span(mixing));
+            radiometry = fb::CreateRadiometry(b, &x, ref(first), ref(first + 1));
+        }
+        return fb::CreateBundle(b, mesh, projector, settings, model, textures, installationCamera,
+                                radiometry);
+    };
+    vpe::testing::TestBundleSpec bundle;
+    bundle.payloads = std::move(payloads);
+    bundle.bundleTable = bundleTable;
+    return vpe::testing::buildTestBundle(bundle);
 }
 
 std::filesystem::path MappedTestBundle::write(const GlesBundleSpec& spec) {
@@ -279,14 +242,7 @@ std::filesystem::path MappedTestBundle::write(const GlesBundleSpec& spec) {
         throw std::runtime_error("cannot create a temporary bundle");
     }
     ::close(fd);
-    const std::vector<std::byte> bytes = buildGlesTestBundle(spec);
-    std::ofstream stream(pattern, std::ios::binary | std::ios::trunc);
-    stream.write(reinterpret_cast<const char*>(bytes.data()),
-                 static_cast<std::streamsize>(bytes.size()));
-    if (!stream) {
-        throw std::runtime_error("cannot write " + pattern);
-    }
-    return pattern;
+    return vpe::testing::writeBytes(pattern, buildGlesTestBundle(spec));
 }
 
 MappedTestBundle::MappedTestBundle(const GlesBundleSpec& spec)

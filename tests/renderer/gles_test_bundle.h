@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-// A small but complete device bundle for the GLES renderer's tests, built straight from the
-// schema (no offline writer: the device-only build runs these tests too): a vase seen by a
-// 160 × 120 projector with lens distortion, M = 3, two regions ('base' full, 'glaze' low-rank),
-// presets 'stripes' (8-bit) and 'radial' (half floats), a gamma or a sampled response;
-// optionally with textures that wrap in u and the seam u = 0 | 1 turned to the projector, and
-// optionally a relief on 'base', and optionally the installation's camera.
+// A small but complete device bundle for the GLES renderer's tests, written by the tests' one
+// bundle builder (tests/support/test_bundle.h; no offline writer: the device-only build runs
+// these tests too): a vase seen by a 160 × 120 projector with lens distortion, M = 3, two
+// regions ('base' full, 'glaze' low-rank), presets 'stripes' (8-bit) and 'radial' (half
+// floats), a gamma or a sampled response; optionally with textures that wrap in u and the seam
+// u = 0 | 1 turned to the projector, and optionally a relief on 'base', and optionally the
+// installation's camera.
 #pragma once
 
 #include <array>

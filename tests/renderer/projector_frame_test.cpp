@@ -35,12 +35,9 @@ protected:
         });
         scene_.mesh = mesh_.view();
         scene_.material = material_.view();
-        proto::PinholeCamera& camera = scene_.projector.camera;
-        camera.width = 160;
-        camera.height = 120;
-        const double focal = 60.0 / std::tan(15.0 * kPi / 180);
-        camera.K = {focal, 0, 79.5, 0, focal, 59.5, 0, 0, 1};
-        camera.distortion = {-0.1, 0.02, 0.001, -0.001, 0.0};
+        scene_.projector.camera =
+            testing::centredPinhole(160, 120, 60.0 / std::tan(15.0 * kPi / 180));
+        scene_.projector.camera.distortion = {-0.1, 0.02, 0.001, -0.001, 0.0};
         scene_.projector.response = proto::ResponseFunction::gamma(kGamma);
         scene_.projector.peakIrradiance = kPeak;
         scene_.surface.albedo = {kAlbedo, kAlbedo, kAlbedo};

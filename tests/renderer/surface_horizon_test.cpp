@@ -31,15 +31,18 @@ protected:
         });
         scene_.mesh = mesh_.view();
         scene_.material = material_.view();
-        proto::PinholeCamera& camera = scene_.projector.camera;
-        camera.width = 64;
-        camera.height = 48;
-        const double focal = 32.0 / std::tan(20.0 * kPi / 180);
-        camera.K = {focal, 0, 31.5, 0, focal, 23.5, 0, 0, 1};
+        scene_.projector.camera =
+            testing::centredPinhole(64, 48, 32.0 / std::tan(20.0 * kPi / 180));
         scene_.projector.response = proto::ResponseFunction::gamma(2.2);
         scene_.projector.peakIrradiance = 4.0;
         scene_.surface.albedo = {0.85, 0.85, 0.85};
         scene_.viewer = {0.1, 0.1, 0.0};  // in front
+    }
+
+    // brightest() with the light moved to `position`.
+    double brightestLitFrom(const Vec3d& position) {
+        scene_.light.position = position;
+        return brightest();
     }
 
     // The largest target radiance of any covered pixel.
@@ -77,16 +80,13 @@ TEST(HorizonFactor, IsZeroBelowOneAboveAndSmoothBetween) {
 }
 
 TEST_F(HorizonScene, ALightInFrontLightsThePlane) {
-    scene_.light.position = {0.0, 0.0, 0.0};
-    EXPECT_GT(brightest(), 0.5);
+    EXPECT_GT(brightestLitFrom({0.0, 0.0, 0.0}), 0.5);
 }
 
 TEST_F(HorizonScene, ALightBehindThePlaneGivesNoLight) {
-    scene_.light.position = {0.0, 0.1, 2.0};
-    EXPECT_EQ(brightest(), 0.0);
+    EXPECT_EQ(brightestLitFrom({0.0, 0.1, 2.0}), 0.0);
     // Just below the horizon of every point, still nothing.
-    scene_.light.position = {0.0, 0.0, 1.0001};
-    EXPECT_EQ(brightest(), 0.0);
+    EXPECT_EQ(brightestLitFrom({0.0, 0.0, 1.0001}), 0.0);
 }
 
 TEST_F(HorizonScene, AViewerBehindThePlaneSeesNoLight) {
@@ -102,11 +102,9 @@ TEST_F(HorizonScene, ShadingNormalsLeaningOverTheHorizonLeakNoLight) {
                        static_cast<float>(-std::cos(80 * kPi / 180))};
     std::fill(mesh_.normals.begin(), mesh_.normals.end(), tilted);
     scene_.mesh = mesh_.view();
-    scene_.light.position = {5.0, 0.0, 1.3};
-    EXPECT_EQ(brightest(), 0.0);
+    EXPECT_EQ(brightestLitFrom({5.0, 0.0, 1.3}), 0.0);
     // The same light in front of the plane lights it.
-    scene_.light.position = {5.0, 0.0, 0.7};
-    EXPECT_GT(brightest(), 0.1);
+    EXPECT_GT(brightestLitFrom({5.0, 0.0, 0.7}), 0.1);
 }
 
 TEST_F(HorizonScene, TheDirectViewHasTheSameHorizon) {

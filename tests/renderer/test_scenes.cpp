@@ -63,6 +63,14 @@ double vaseRadius(double y) {
     return 0.05 + 0.015 * std::sin(2 * kPi * y / kVaseHeight) + 0.01 * y / kVaseHeight;
 }
 
+proto::PinholeCamera centredPinhole(int width, int height, double focal) {
+    proto::PinholeCamera camera;
+    camera.width = width;
+    camera.height = height;
+    camera.K = {focal, 0, 0.5 * (width - 1), 0, focal, 0.5 * (height - 1), 0, 0, 1};
+    return camera;
+}
+
 OwnedMesh makeVaseMesh(int segments, int rings) {
     OwnedMesh mesh;
     for (int j = 0; j <= rings; ++j) {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "vpe/proto/pinhole_camera.h"
 #include "vpe/renderer/material_textures.h"
 #include "vpe/renderer/render_mesh.h"
 
@@ -24,6 +25,10 @@ struct OwnedMesh {
 // (0, 0, −1) (facing a projector at the origin looking along +z); u = (x + halfSize) /
 // (2·halfSize), v = (y + halfSize) / (2·halfSize).
 OwnedMesh makePlaneMesh(double depth, double halfSize, int cells);
+
+// A width × height pinhole at the origin looking along +z (R = I, T = 0, no distortion), focal
+// length `focal` pixels, its principal point at the image's centre: the one those planes face.
+proto::PinholeCamera centredPinhole(int width, int height, double focal);
 
 // A vase-like surface of revolution about the y axis: radius r(y) = 0.05 + 0.015·sin(2π·y /
 // 0.15) + 0.01·y/0.15 for y ∈ [0, 0.15] m, open at both ends; `segments` around, `rings`

@@ -5,6 +5,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
@@ -41,6 +44,13 @@ protected:
                        : what;
         }
         return "(no error)";
+    }
+
+    // Each text refused with exactly its one line.
+    void expectRefusals(const std::vector<std::pair<std::string, std::string>>& refusals) const {
+        for (const auto& [text, refusal] : refusals) {
+            EXPECT_EQ(errorOf(text), refusal) << text;
+        }
     }
 
     fs::path folder_;
@@ -89,42 +99,43 @@ TEST_F(BusConfigTest, ReadsEveryKey) {
 
 TEST_F(BusConfigTest, RefusesBadValuesWithOneLine) {
     const std::string show = "[bus]\nshow = \"s\"\n";
+    // A password file with an empty first line; a certificate without its key.
+    std::ofstream(folder_ / "empty") << "\n";
+    std::ofstream(folder_ / "node.crt") << "x";
     EXPECT_EQ(errorOf("[bus]\nbroker = \"x\"\n").substr(0, 36),
               "board.toml:bus.broker: unknown key (");
-    EXPECT_EQ(errorOf("[bus]\n"),
-              "board.toml:bus.show: missing (the show's name: its nodes share the topic "
-              "vpe/<show>/light)");
-    EXPECT_EQ(errorOf("[bus]\nshow = \"a/b\"\n"),
-              "board.toml:bus.show: expected 1 to 64 letters, digits, '-' or '_' (the topic "
-              "vpe/<show>/light), got \"a/b\"");
-    EXPECT_EQ(errorOf(show + "host = \"broker.local\"\n"),
-              "board.toml:bus.host: expected the broker's numeric IPv4 or IPv6 address "
-              "(\"192.168.1.10\", \"127.0.0.1\", \"::1\"), got \"broker.local\"");
-    EXPECT_EQ(errorOf(show + "port = 0\n"), "board.toml:bus.port: expected 1..65535, got 0");
-    EXPECT_EQ(errorOf(show + "role = \"boss\"\n"),
-              "board.toml:bus.role: expected \"player\" or \"controller\", got \"boss\"");
-    EXPECT_EQ(errorOf(show + "password = \"p\"\n"),
-              "board.toml:bus.password: a password needs bus.username");
-    EXPECT_EQ(errorOf(show + "username = \"u\"\npassword = \"p\"\npassword_file = \"f\"\n"),
-              "board.toml:bus.password_file: give the password or the password file, not both");
-    EXPECT_EQ(errorOf(show + "username = \"u\"\npassword_file = \"nowhere\"\n"),
-              "board.toml:bus.password_file: " + (folder_ / "nowhere").string() +
-                  ": cannot read (No such file or directory)");
-    std::ofstream(folder_ / "empty") << "\n";
-    EXPECT_EQ(errorOf(show + "username = \"u\"\npassword_file = \"empty\"\n"),
-              "board.toml:bus.password_file: " + (folder_ / "empty").string() +
-                  ": the first line (the password) is empty");
-    EXPECT_EQ(errorOf(show + "cafile = \"ca.crt\"\n"),
-              "board.toml:bus.cafile: " + (folder_ / "ca.crt").string() + ": no such file");
-    std::ofstream(folder_ / "node.crt") << "x";
-    EXPECT_EQ(errorOf(show + "certfile = \"node.crt\"\n"),
-              "board.toml:bus.keyfile: missing: a client certificate needs both bus.certfile "
-              "and bus.keyfile");
-    EXPECT_EQ(errorOf(show + "client_id = \"a b\"\n"),
-              "board.toml:bus.client_id: expected 1 to 64 letters, digits, '-', '_' or '.', got "
-              "\"a b\"");
-    EXPECT_EQ(errorOf(show + "enabled = 1\n"),
-              "board.toml:bus.enabled: expected a boolean, got an integer");
+    expectRefusals({
+        {"[bus]\n",
+         "board.toml:bus.show: missing (the show's name: its nodes share the topic "
+         "vpe/<show>/light)"},
+        {"[bus]\nshow = \"a/b\"\n",
+         "board.toml:bus.show: expected 1 to 64 letters, digits, '-' or '_' (the topic "
+         "vpe/<show>/light), got \"a/b\""},
+        {show + "host = \"broker.local\"\n",
+         "board.toml:bus.host: expected the broker's numeric IPv4 or IPv6 address "
+         "(\"192.168.1.10\", \"127.0.0.1\", \"::1\"), got \"broker.local\""},
+        {show + "port = 0\n", "board.toml:bus.port: expected 1..65535, got 0"},
+        {show + "role = \"boss\"\n",
+         "board.toml:bus.role: expected \"player\" or \"controller\", got \"boss\""},
+        {show + "password = \"p\"\n", "board.toml:bus.password: a password needs bus.username"},
+        {show + "username = \"u\"\npassword = \"p\"\npassword_file = \"f\"\n",
+         "board.toml:bus.password_file: give the password or the password file, not both"},
+        {show + "username = \"u\"\npassword_file = \"nowhere\"\n",
+         "board.toml:bus.password_file: " + (folder_ / "nowhere").string() +
+             ": cannot read (No such file or directory)"},
+        {show + "username = \"u\"\npassword_file = \"empty\"\n",
+         "board.toml:bus.password_file: " + (folder_ / "empty").string() +
+             ": the first line (the password) is empty"},
+        {show + "cafile = \"ca.crt\"\n",
+         "board.toml:bus.cafile: " + (folder_ / "ca.crt").string() + ": no such file"},
+        {show + "certfile = \"node.crt\"\n",
+         "board.toml:bus.keyfile: missing: a client certificate needs both bus.certfile "
+         "and bus.keyfile"},
+        {show + "client_id = \"a b\"\n",
+         "board.toml:bus.client_id: expected 1 to 64 letters, digits, '-', '_' or '.', got "
+         "\"a b\""},
+        {show + "enabled = 1\n", "board.toml:bus.enabled: expected a boolean, got an integer"},
+    });
 }
 
 }  // namespace

@@ -174,13 +174,7 @@ protected:
 };
 
 TEST_F(InstallBusTest, CommandsProgressAndTheAcl) {
-    BusConfig config;
-    config.enabled = true;
-    config.port = broker_->port();
-    config.username = kPlayer.name;
-    config.password = kPlayer.password;
-    config.show = "test";
-    config.clientId = "node-a";
+    const BusConfig config = broker_->clientConfig(kPlayer, BusRole::kPlayer, "node-a");
     std::vector<std::string> lines;
     LightLimits limits;
     limits.distanceM = std::pair{0.3, 1.5};

@@ -18,6 +18,7 @@
 
 #include "vpe/firmware/loop/show_clock.h"
 
+#include "bus_test_limits.h"
 #include "mosquitto_broker.h"
 
 namespace vpe::firmware::bus {
@@ -29,11 +30,7 @@ using namespace testing;
 constexpr std::int64_t kMs = 1'000'000;
 
 LightLimits limits() {
-    LightLimits l;
-    l.azimuthDeg = {-100, 100};
-    l.elevationDeg = {5, 80};
-    l.distanceM = std::pair{0.3, 1.5};
-    return l;
+    return testing::busTestLimits();
 }
 
 // A node's bus and what it logged and received.
@@ -95,15 +92,7 @@ protected:
     }
 
     BusConfig config(const BrokerUser& user, BusRole role, const std::string& id) const {
-        BusConfig c;
-        c.enabled = true;
-        c.port = broker_->port();
-        c.username = user.name;
-        c.password = user.password;
-        c.show = "test";
-        c.role = role;
-        c.clientId = id;
-        return c;
+        return broker_->clientConfig(user, role, id);
     }
 
     static SharedLight someState() {

@@ -6,15 +6,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "bus_test_limits.h"
+
 namespace vpe::firmware::bus {
 namespace {
 
 LightLimits limits() {
-    LightLimits l;
-    l.azimuthDeg = {-100, 100};
-    l.elevationDeg = {5, 80};
-    l.distanceM = std::pair{0.3, 1.5};
-    return l;
+    return testing::busTestLimits();
 }
 
 LightMessage sample() {

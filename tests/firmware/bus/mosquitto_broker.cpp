@@ -132,6 +132,19 @@ void MosquittoBroker::stop(int signal) {
     process_.wait(std::chrono::milliseconds(5000));
 }
 
+BusConfig MosquittoBroker::clientConfig(const BrokerUser& user, BusRole role,
+                                        const std::string& clientId) const {
+    BusConfig c;
+    c.enabled = true;
+    c.port = port_;
+    c.username = user.name;
+    c.password = user.password;
+    c.show = "test";
+    c.role = role;
+    c.clientId = clientId;
+    return c;
+}
+
 std::string MosquittoBroker::log() const {
     return readAll(folder_ / "mosquitto.log");
 }

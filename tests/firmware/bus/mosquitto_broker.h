@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "vpe/firmware/bus/bus_config.h"
+
 #include "child_process.h"
 
 namespace vpe::firmware::bus::testing {
@@ -53,6 +55,8 @@ public:
     bool running() { return process_.running(); }
 
     int port() const { return port_; }
+    // A node's [bus] section for this broker: enabled, as user, in the show "test".
+    BusConfig clientConfig(const BrokerUser& user, BusRole role, const std::string& clientId) const;
     const std::filesystem::path& folder() const { return folder_; }
     std::string log() const;
 

@@ -46,6 +46,15 @@ void print(const char* what, const BounceTally& tally, double ms) {
         ms);
 }
 
+// Seed, quadrature steps per detent and intended transitions; the chatter as by default.
+BouncyTurnsOptions bouncyTurns(std::uint64_t seed, int stepsPerDetent, std::int64_t transitions) {
+    BouncyTurnsOptions options;
+    options.seed = seed;
+    options.stepsPerDetent = stepsPerDetent;
+    options.transitions = transitions;
+    return options;
+}
+
 BounceTally runTimed(const char* what, const BouncyTurnsOptions& options,
                      const testing::DecodeFn& decode) {
     const auto start = std::chrono::steady_clock::now();
@@ -69,22 +78,16 @@ void expectExact(const BounceTally& tally, std::int64_t transitions) {
 
 TEST(BounceTest, AMillionBouncyTransitionsLoseAndInventNoDetent) {
     QuadratureDecoder decoder(4);
-    BouncyTurnsOptions options;
-    options.seed = 20240607;
-    options.stepsPerDetent = 4;
-    options.transitions = 1'000'000;
-    const BounceTally tally = runTimed("4 steps/detent", options, decoderUnderTest(decoder));
+    const BounceTally tally =
+        runTimed("4 steps/detent", bouncyTurns(20240607, 4, 1'000'000), decoderUnderTest(decoder));
     expectExact(tally, 1'000'000);
     EXPECT_EQ(decoder.detents(), decoder.transitions() / 4);
 }
 
 TEST(BounceTest, HalfCycleEncodersAreImmuneToo) {
     QuadratureDecoder decoder(2);
-    BouncyTurnsOptions options;
-    options.seed = 7;
-    options.stepsPerDetent = 2;
-    options.transitions = 1'000'000;
-    expectExact(runTimed("2 steps/detent", options, decoderUnderTest(decoder)), 1'000'000);
+    expectExact(runTimed("2 steps/detent", bouncyTurns(7, 2, 1'000'000), decoderUnderTest(decoder)),
+                1'000'000);
 }
 
 // At one step per detent every transition is a detent: chatter shows as +1/−1 pairs that
@@ -92,11 +95,8 @@ TEST(BounceTest, HalfCycleEncodersAreImmuneToo) {
 // documented reason to use 2 or 4 steps per detent.
 TEST(BounceTest, OneStepPerDetentCancelsChatterButReportsIt) {
     QuadratureDecoder decoder(1);
-    BouncyTurnsOptions options;
-    options.seed = 11;
-    options.stepsPerDetent = 1;
-    options.transitions = 100'000;
-    const BounceTally tally = runTimed("1 step/detent", options, decoderUnderTest(decoder));
+    const BounceTally tally =
+        runTimed("1 step/detent", bouncyTurns(11, 1, 100'000), decoderUnderTest(decoder));
     EXPECT_EQ(tally.lost, 0);
     EXPECT_EQ(tally.positionMismatches, 0);
     EXPECT_GT(tally.phantom, 0);

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 // parseKnobsConfig: a full [gpio] section, defaults, and one-line errors naming
 // file:gpio.encoder[i].key for every kind of bad value.
+#include <string>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "vpe/firmware/board/board_config.h"
@@ -24,6 +28,13 @@ std::string errorOf(const std::string& text) {
         return message;
     }
     return "(no error)";
+}
+
+// Each text refused with exactly its one line.
+void expectRefusals(const std::vector<std::pair<std::string, std::string>>& refusals) {
+    for (const auto& [text, refusal] : refusals) {
+        EXPECT_EQ(errorOf(text), refusal) << text;
+    }
 }
 
 const char* const kEncoder = "[[gpio.encoder]]\na = 17\nb = 27\naxis = \"azimuth\"\nstep = 2\n";
@@ -139,94 +150,101 @@ TEST(KnobsConfigTest, TheRepositoryBoardsSectionsParse) {
 
 TEST(KnobsConfigTest, RefusesBadSectionsWithOneLine) {
     const std::string e = kEncoder;
-    EXPECT_EQ(errorOf("[gpio]\npins = 3\n"),
-              "board.toml:gpio.pins: unknown key (known: button, chip, consumer, enabled, "
-              "encoder)");
-    EXPECT_EQ(errorOf("[gpio]\nenabled = 1\n"),
-              "board.toml:gpio.enabled: expected a boolean, got an integer");
-    EXPECT_EQ(errorOf("[gpio]\nenabled = true\n"),
-              "board.toml:gpio.enabled: is true but no [[gpio.encoder]] or [[gpio.button]] is "
-              "given");
-    EXPECT_EQ(errorOf("[gpio]\nchip = \"\"\n"),
-              "board.toml:gpio.chip: is empty (a chip such as \"gpiochip0\" or a path)");
-    EXPECT_EQ(errorOf("[gpio]\nconsumer = \"a-label-far-too-long-for-the-kernel\"\n"),
-              "board.toml:gpio.consumer: expected 1 to 31 characters, got 35");
-    EXPECT_EQ(errorOf("[gpio]\nencoder = 3\n"),
-              "board.toml:gpio.encoder: expected an array of tables ([[gpio.encoder]]), got an "
-              "integer");
+    expectRefusals({
+        {"[gpio]\npins = 3\n",
+         "board.toml:gpio.pins: unknown key (known: button, chip, consumer, enabled, "
+         "encoder)"},
+        {"[gpio]\nenabled = 1\n", "board.toml:gpio.enabled: expected a boolean, got an integer"},
+        {"[gpio]\nenabled = true\n",
+         "board.toml:gpio.enabled: is true but no [[gpio.encoder]] or [[gpio.button]] is "
+         "given"},
+        {"[gpio]\nchip = \"\"\n",
+         "board.toml:gpio.chip: is empty (a chip such as \"gpiochip0\" or a path)"},
+        {"[gpio]\nconsumer = \"a-label-far-too-long-for-the-kernel\"\n",
+         "board.toml:gpio.consumer: expected 1 to 31 characters, got 35"},
+        {"[gpio]\nencoder = 3\n",
+         "board.toml:gpio.encoder: expected an array of tables ([[gpio.encoder]]), got an "
+         "integer"},
+    });
 
     // Encoders: the index names which one.
-    EXPECT_EQ(errorOf(e + "[[gpio.encoder]]\na = 5\nb = 6\naxis = \"roll\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[1].axis: expected \"azimuth\", \"elevation\" or "
-              "\"distance\", got \"roll\"");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 6\nstep = 1\n"),
-              "board.toml:gpio.encoder[0].axis: missing (\"azimuth\", \"elevation\" or "
-              "\"distance\")");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\nstep = 0\n"),
-              "board.toml:gpio.encoder[0].step: expected degrees per detent above 0 and at most "
-              "180, got 0");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 6\naxis = \"distance\"\nstep = -0.1\n"),
-              "board.toml:gpio.encoder[0].step: expected metres per detent above 0 and at most "
-              "10, got -0.1");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\n"),
-              "board.toml:gpio.encoder[0].step: missing (degrees per detent, e.g. 2)");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\nstep = \"2\"\n"),
-              "board.toml:gpio.encoder[0].step: expected a number, got a string");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\nb = 6\naxis = \"azimuth\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[0].a: missing (a line offset on the chip, e.g. 17 for "
-              "GPIO17)");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = -1\nb = 6\naxis = \"azimuth\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[0].a: expected a line offset from 0 to 65535, got -1");
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 1.5\nb = 6\naxis = \"azimuth\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[0].a: expected an integer, got a number");
-    EXPECT_EQ(errorOf(e + "steps_per_detent = 3\n"),
-              "board.toml:gpio.encoder[0].steps_per_detent: expected 1, 2 or 4 (quadrature "
-              "transitions per click; KY-040: 4), got 3");
-    EXPECT_EQ(errorOf(e + "reverse = \"yes\"\n"),
-              "board.toml:gpio.encoder[0].reverse: expected a boolean, got a string");
-    EXPECT_EQ(errorOf(e + "speed = 2\n"),
-              "board.toml:gpio.encoder[0].speed: unknown key (known: a, acceleration, axis, b, "
-              "fast_ms, max_factor, reverse, slow_ms, step, steps_per_detent)");
-    EXPECT_EQ(errorOf(e + "acceleration = { slow_ms = 20, fast_ms = 40 }\n"),
-              "board.toml:gpio.encoder[0].acceleration.fast_ms: must be below slow_ms (20), got "
-              "40");
-    EXPECT_EQ(errorOf(e + "acceleration = { max_factor = 0.5 }\n"),
-              "board.toml:gpio.encoder[0].acceleration.max_factor: expected a factor from 1 to "
-              "100, got 0.5");
-    EXPECT_EQ(errorOf(e + "acceleration = { gain = 2 }\n"),
-              "board.toml:gpio.encoder[0].acceleration.gain: unknown key (known: fast_ms, "
-              "max_factor, slow_ms)");
-    EXPECT_EQ(errorOf(e + "acceleration = 2\n"),
-              "board.toml:gpio.encoder[0].acceleration: expected a table, got an integer");
-    EXPECT_EQ(errorOf(e + "max_factor = 2\nacceleration = { slow_ms = 90 }\n"),
-              "board.toml:gpio.encoder[0].acceleration: given twice (as a table and as "
-              "slow_ms/fast_ms/max_factor keys)");
-    EXPECT_EQ(errorOf(e + "slow_ms = -5\n"),
-              "board.toml:gpio.encoder[0].slow_ms: expected milliseconds from 0 to 10000, got -5");
+    expectRefusals({
+        {e + "[[gpio.encoder]]\na = 5\nb = 6\naxis = \"roll\"\nstep = 1\n",
+         "board.toml:gpio.encoder[1].axis: expected \"azimuth\", \"elevation\" or "
+         "\"distance\", got \"roll\""},
+        {"[[gpio.encoder]]\na = 5\nb = 6\nstep = 1\n",
+         "board.toml:gpio.encoder[0].axis: missing (\"azimuth\", \"elevation\" or "
+         "\"distance\")"},
+        {"[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\nstep = 0\n",
+         "board.toml:gpio.encoder[0].step: expected degrees per detent above 0 and at most "
+         "180, got 0"},
+        {"[[gpio.encoder]]\na = 5\nb = 6\naxis = \"distance\"\nstep = -0.1\n",
+         "board.toml:gpio.encoder[0].step: expected metres per detent above 0 and at most "
+         "10, got -0.1"},
+        {"[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\n",
+         "board.toml:gpio.encoder[0].step: missing (degrees per detent, e.g. 2)"},
+        {"[[gpio.encoder]]\na = 5\nb = 6\naxis = \"azimuth\"\nstep = \"2\"\n",
+         "board.toml:gpio.encoder[0].step: expected a number, got a string"},
+        {"[[gpio.encoder]]\nb = 6\naxis = \"azimuth\"\nstep = 1\n",
+         "board.toml:gpio.encoder[0].a: missing (a line offset on the chip, e.g. 17 for "
+         "GPIO17)"},
+        {"[[gpio.encoder]]\na = -1\nb = 6\naxis = \"azimuth\"\nstep = 1\n",
+         "board.toml:gpio.encoder[0].a: expected a line offset from 0 to 65535, got -1"},
+        {"[[gpio.encoder]]\na = 1.5\nb = 6\naxis = \"azimuth\"\nstep = 1\n",
+         "board.toml:gpio.encoder[0].a: expected an integer, got a number"},
+        {e + "steps_per_detent = 3\n",
+         "board.toml:gpio.encoder[0].steps_per_detent: expected 1, 2 or 4 (quadrature "
+         "transitions per click; KY-040: 4), got 3"},
+        {e + "reverse = \"yes\"\n",
+         "board.toml:gpio.encoder[0].reverse: expected a boolean, got a string"},
+        {e + "speed = 2\n",
+         "board.toml:gpio.encoder[0].speed: unknown key (known: a, acceleration, axis, b, "
+         "fast_ms, max_factor, reverse, slow_ms, step, steps_per_detent)"},
+        {e + "acceleration = { slow_ms = 20, fast_ms = 40 }\n",
+         "board.toml:gpio.encoder[0].acceleration.fast_ms: must be below slow_ms (20), got "
+         "40"},
+        {e + "acceleration = { max_factor = 0.5 }\n",
+         "board.toml:gpio.encoder[0].acceleration.max_factor: expected a factor from 1 to "
+         "100, got 0.5"},
+        {e + "acceleration = { gain = 2 }\n",
+         "board.toml:gpio.encoder[0].acceleration.gain: unknown key (known: fast_ms, "
+         "max_factor, slow_ms)"},
+        {e + "acceleration = 2\n",
+         "board.toml:gpio.encoder[0].acceleration: expected a table, got an integer"},
+        {e + "max_factor = 2\nacceleration = { slow_ms = 90 }\n",
+         "board.toml:gpio.encoder[0].acceleration: given twice (as a table and as "
+         "slow_ms/fast_ms/max_factor keys)"},
+        {e + "slow_ms = -5\n",
+         "board.toml:gpio.encoder[0].slow_ms: expected milliseconds from 0 to 10000, got -5"},
+    });
 
     // Lines used twice, anywhere in the section.
-    EXPECT_EQ(errorOf("[[gpio.encoder]]\na = 5\nb = 5\naxis = \"azimuth\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[0].b: line 5 is already used by gpio.encoder[0].a");
-    EXPECT_EQ(errorOf(e + "[[gpio.encoder]]\na = 4\nb = 17\naxis = \"elevation\"\nstep = 1\n"),
-              "board.toml:gpio.encoder[1].b: line 17 is already used by gpio.encoder[0].a");
-    EXPECT_EQ(errorOf(e + "[[gpio.button]]\nline = 27\naction = \"reset\"\n"),
-              "board.toml:gpio.button[0].line: line 27 is already used by gpio.encoder[0].b");
+    expectRefusals({
+        {"[[gpio.encoder]]\na = 5\nb = 5\naxis = \"azimuth\"\nstep = 1\n",
+         "board.toml:gpio.encoder[0].b: line 5 is already used by gpio.encoder[0].a"},
+        {e + "[[gpio.encoder]]\na = 4\nb = 17\naxis = \"elevation\"\nstep = 1\n",
+         "board.toml:gpio.encoder[1].b: line 17 is already used by gpio.encoder[0].a"},
+        {e + "[[gpio.button]]\nline = 27\naction = \"reset\"\n",
+         "board.toml:gpio.button[0].line: line 27 is already used by gpio.encoder[0].b"},
+    });
 
     // Buttons.
-    EXPECT_EQ(errorOf("[[gpio.button]]\nline = 22\naction = \"next\"\n"),
-              "board.toml:gpio.button[0].action: expected \"next-preset\", \"previous-preset\" "
-              "or \"reset\", got \"next\"");
-    EXPECT_EQ(errorOf("[[gpio.button]]\nline = 22\n"),
-              "board.toml:gpio.button[0].action: missing (\"next-preset\", \"previous-preset\" "
-              "or \"reset\")");
-    EXPECT_EQ(errorOf("[[gpio.button]]\nline = 22\naction = \"reset\"\ndebounce_ms = -1\n"),
-              "board.toml:gpio.button[0].debounce_ms: expected milliseconds from 0 to 1000, got "
-              "-1");
-    EXPECT_EQ(errorOf("[[gpio.button]]\nline = 22\naction = \"reset\"\nactive_low = 0\n"),
-              "board.toml:gpio.button[0].active_low: expected a boolean, got an integer");
-    EXPECT_EQ(errorOf("[[gpio.button]]\npin = 22\naction = \"reset\"\n"),
-              "board.toml:gpio.button[0].pin: unknown key (known: action, active_low, "
-              "debounce_ms, line)");
+    expectRefusals({
+        {"[[gpio.button]]\nline = 22\naction = \"next\"\n",
+         "board.toml:gpio.button[0].action: expected \"next-preset\", \"previous-preset\" "
+         "or \"reset\", got \"next\""},
+        {"[[gpio.button]]\nline = 22\n",
+         "board.toml:gpio.button[0].action: missing (\"next-preset\", \"previous-preset\" "
+         "or \"reset\")"},
+        {"[[gpio.button]]\nline = 22\naction = \"reset\"\ndebounce_ms = -1\n",
+         "board.toml:gpio.button[0].debounce_ms: expected milliseconds from 0 to 1000, got "
+         "-1"},
+        {"[[gpio.button]]\nline = 22\naction = \"reset\"\nactive_low = 0\n",
+         "board.toml:gpio.button[0].active_low: expected a boolean, got an integer"},
+        {"[[gpio.button]]\npin = 22\naction = \"reset\"\n",
+         "board.toml:gpio.button[0].pin: unknown key (known: action, active_low, "
+         "debounce_ms, line)"},
+    });
 }
 
 }  // namespace

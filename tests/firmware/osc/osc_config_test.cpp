@@ -7,6 +7,8 @@
 
 #include "vpe/firmware/board/board_config.h"
 
+#include "../../support/thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
@@ -16,12 +18,7 @@ OscConfig parse(const std::string& text) {
 }
 
 std::string errorOf(const std::string& text) {
-    try {
-        parse(text);
-    } catch (const BoardConfigError& error) {
-        return error.what();
-    }
-    return "(no error)";
+    return vpe::testing::thrownMessage<BoardConfigError>([&] { parse(text); });
 }
 
 TEST(OscConfigTest, DefaultsToLoopbackPort9000) {

@@ -25,6 +25,15 @@ std::vector<std::pair<double, double>> samplePositions() {
     return positions;
 }
 
+// A 3 px lamp at (x, y) added to scene: tracker finds it within half a pixel.
+void expectFindsLamp(BrightBlobTracker& tracker, SyntheticLampFrame& scene, double x, double y) {
+    scene.lamp = SyntheticSpot{x, y, 3.0, 255.0};
+    const std::optional<Blob> blob = tracker.find(scene.render().view());
+    ASSERT_TRUE(blob.has_value()) << "no blob at (" << x << ", " << y << ")";
+    EXPECT_NEAR(blob->x, x, 0.5);
+    EXPECT_NEAR(blob->y, y, 0.5);
+}
+
 double worstError(double noise, double radius, double peak, std::uint32_t seedBase) {
     BrightBlobTracker tracker(BlobTrackerConfig{});
     double worst = 0.0;
@@ -96,11 +105,7 @@ TEST(BrightBlobTrackerTest, GlintsBelowMinAreaAreIgnored) {
                     .find(scene.render().view())
                     .has_value());
 
-    scene.lamp = SyntheticSpot{160.3, 120.6, 3.0, 255.0};
-    const std::optional<Blob> blob = tracker.find(scene.render().view());
-    ASSERT_TRUE(blob.has_value());
-    EXPECT_NEAR(blob->x, 160.3, 0.5);
-    EXPECT_NEAR(blob->y, 120.6, 0.5);
+    expectFindsLamp(tracker, scene, 160.3, 120.6);
 }
 
 TEST(BrightBlobTrackerTest, DimDistractorsBelowTheLevelAreIgnored) {
@@ -109,11 +114,7 @@ TEST(BrightBlobTrackerTest, DimDistractorsBelowTheLevelAreIgnored) {
     scene.distractors = {{80.0, 100.0, 25.0, 150.0}, {250.0, 180.0, 40.0, 120.0}};
     BrightBlobTracker tracker(BlobTrackerConfig{});
     EXPECT_FALSE(tracker.find(scene.render().view()).has_value());
-    scene.lamp = SyntheticSpot{200.25, 50.75, 3.0, 255.0};
-    const std::optional<Blob> blob = tracker.find(scene.render().view());
-    ASSERT_TRUE(blob.has_value());
-    EXPECT_NEAR(blob->x, 200.25, 0.5);
-    EXPECT_NEAR(blob->y, 50.75, 0.5);
+    expectFindsLamp(tracker, scene, 200.25, 50.75);
 }
 
 TEST(BrightBlobTrackerTest, BlobsAboveMaxAreaAreRefused) {
@@ -129,11 +130,7 @@ TEST(BrightBlobTrackerTest, BlobsAboveMaxAreaAreRefused) {
 
     // A window (too large) and the lamp: the lamp, though the window has more light.
     scene.distractors = {{160.0, 120.0, 30.0, 400.0}};
-    scene.lamp = SyntheticSpot{30.0, 200.0, 3.0, 255.0};
-    const std::optional<Blob> blob = tracker.find(scene.render().view());
-    ASSERT_TRUE(blob.has_value());
-    EXPECT_NEAR(blob->x, 30.0, 0.5);
-    EXPECT_NEAR(blob->y, 200.0, 0.5);
+    expectFindsLamp(tracker, scene, 30.0, 200.0);
 }
 
 TEST(BrightBlobTrackerTest, DarkAndBlackFramesHaveNoBlob) {

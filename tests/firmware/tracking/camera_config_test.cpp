@@ -10,6 +10,8 @@
 
 #include "vpe/firmware/board/board_config.h"
 
+#include "../../support/thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
@@ -19,12 +21,7 @@ CameraConfig parse(const std::string& text) {
 }
 
 std::string errorOf(const std::string& text) {
-    try {
-        parse(text);
-    } catch (const BoardConfigError& error) {
-        return error.what();
-    }
-    return "(no error)";
+    return vpe::testing::thrownMessage<BoardConfigError>([&] { parse(text); });
 }
 
 const char* const kCalibration =

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../../support/thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
@@ -34,12 +36,7 @@ std::vector<CalibrationPoint> pointsOn(LightDirection (*map)(double, double),
 }
 
 std::string errorOf(const std::vector<CalibrationPoint>& points) {
-    try {
-        LampCalibration::fit(points);
-    } catch (const CalibrationError& error) {
-        return error.what();
-    }
-    return "(no error)";
+    return vpe::testing::thrownMessage<CalibrationError>([&] { LampCalibration::fit(points); });
 }
 
 void expectRecovers(const LampCalibration& calibration, LightDirection (*map)(double, double),

@@ -9,16 +9,13 @@
 
 #include <gtest/gtest.h>
 
+#include "../../support/thrown_message.h"
+
 namespace vpe::firmware {
 namespace {
 
 std::string errorOf(const SyntheticLampFrame& scene) {
-    try {
-        scene.render();
-    } catch (const std::invalid_argument& error) {
-        return error.what();
-    }
-    return "(no error)";
+    return vpe::testing::thrownMessage<std::invalid_argument>([&] { scene.render(); });
 }
 
 TEST(SyntheticLampFrameTest, IsAPureFunctionOfItsSeed) {
