@@ -318,12 +318,8 @@ fit::BandFitSettings bandFitSettings(const FitOptions& options, const FitReport&
 
 model::ModelInfo fittedModelInfo(const capture::Capture& capture, const FitOptions& options,
                                  const FitReport& report) {
-    model::ModelInfo info;
-    info.width = report.width;
-    info.height = report.height;
-    info.harmonics = report.harmonics;
-    info.lambda = report.lambda;
-    info.samples = report.images;
+    model::ModelInfo info = model::fourierModelInfo(report.width, report.height, report.harmonics,
+                                                    report.lambda, report.images);
     info.capture = capture.source.string();
     info.variant = options.variant == ModelVariant::kExtended ? "extended" : "paper";
     info.calibration = report.calibration;

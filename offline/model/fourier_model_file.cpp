@@ -166,6 +166,16 @@ const char* storageName(ModelStorage storage) {
     return storage == ModelStorage::kHalf ? "half" : "float";
 }
 
+ModelInfo fourierModelInfo(int width, int height, int harmonics, double lambda, int samples) {
+    ModelInfo info;
+    info.width = width;
+    info.height = height;
+    info.harmonics = harmonics;
+    info.lambda = lambda;
+    info.samples = samples;
+    return info;
+}
+
 std::string coefficientName(int index) {
     if (index == proto::kLambertIndex) {
         return "kd";

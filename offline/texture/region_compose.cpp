@@ -67,12 +67,8 @@ ComposeReport composeRegionMaps(const std::vector<std::filesystem::path>& region
     report.regions = regions;
     report.meanWeight.assign(static_cast<std::size_t>(regions), 0.0);
 
-    model::ModelInfo info;
-    info.width = first.width;
-    info.height = first.height;
-    info.harmonics = first.harmonics;
-    info.lambda = first.lambda;
-    info.samples = first.samples;
+    model::ModelInfo info = model::fourierModelInfo(first.width, first.height, first.harmonics,
+                                                    first.lambda, first.samples);
     // A synthesized texture is material only: the extended model's light transport and
     // capture geometry belong to the captured object, so the composite is the paper variant.
     info.variant = "paper";

@@ -35,12 +35,7 @@ constexpr int kHarmonics = 2;
 // unevenly, as on item1 (where the picture from +z under a directional light, sRGB, was
 // 10–12 dB from the model's own predictions).
 model::ModelInfo calibratedInfo() {
-    model::ModelInfo info;
-    info.width = kWidth;
-    info.height = kHeight;
-    info.harmonics = kHarmonics;
-    info.lambda = 0.5;
-    info.samples = 48;
+    model::ModelInfo info = model::fourierModelInfo(kWidth, kHeight, kHarmonics, 0.5, 48);
     info.variant = "extended";
     info.capture = "/captures/door/dirs.lp";
     info.calibration.fieldOfViewDegrees = 30;

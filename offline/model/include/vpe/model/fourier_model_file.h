@@ -58,6 +58,11 @@ struct ModelInfo {
     int coefficientCount() const;              // per colour channel
 };
 
+// The header of a Fourier BRDF model of this grid and expansion (M = harmonics, λ = lambda),
+// fitted on `samples` images: what every writer of a model states first; the caller adds
+// the rest it knows.
+ModelInfo fourierModelInfo(int width, int height, int harmonics, double lambda, int samples);
+
 // "kd", "a0", "a1", "b1", ..., in coefficient order.
 std::string coefficientName(int index);
 // A model's coefficient layer names: the Fourier BRDF's above, or an RTI basis's "c00" ….
