@@ -52,4 +52,18 @@ bake::WeightPreset stripesPreset(int size) {
     return preset;
 }
 
+void usePaperModel(bake::BundleContents& contents, int size) {
+    contents.model.harmonics = 10;
+    contents.model.lambda = 3.14;
+    contents.textureWidth = contents.textureHeight = size;
+}
+
+bake::BundleRegion lowRankRegion(int index, int rank) {
+    bake::BundleRegion region;
+    region.name = index == 0 ? "clay" : "glaze";
+    region.coefficients.encoding = proto::CoefficientEncoding::kLowRank;
+    region.coefficients.rank = rank;
+    return region;
+}
+
 }  // namespace vpe::benchmarks

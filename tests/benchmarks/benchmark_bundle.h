@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Pieces of the synthetic bundles the bundle-load and GLES frame benchmarks write: a flat
-// grid mesh, the 1080p projector facing it, and a two-region stripes preset.
+// grid mesh, the 1080p projector facing it, the paper's model in two low-rank regions, and a
+// two-region stripes preset.
 #pragma once
 
 #include "vpe/bake/bundle_writer.h"
@@ -13,6 +14,13 @@ bake::BundleMesh planeMesh(int cells, float width, float height, float normalZ);
 
 // 1920 × 1080, f = 2000 px, looking down the z axis from 1.5 m.
 proto::ProjectorCalibration benchmarkProjector();
+
+// The paper's model (M = 10, λ = 3.14) on a size × size texture.
+void usePaperModel(bake::BundleContents& contents, int size);
+
+// Region `index` of the benchmarks' two ("clay", "glaze"), low-rank of `rank`; its mean, basis
+// and weights are the caller's to fill.
+bake::BundleRegion lowRankRegion(int index, int rank);
 
 // Two regions' weights: horizontal stripes and their complement, size × size texels.
 bake::WeightPreset stripesPreset(int size);

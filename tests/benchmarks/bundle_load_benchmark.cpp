@@ -30,18 +30,13 @@ BundleContents benchmarkContents(int size, int rank) {
     c.mesh = vpe::benchmarks::planeMesh(64, 0.2f, -0.2f, 1.0f);
     c.projector = vpe::benchmarks::benchmarkProjector();
     c.settings.viewerPosition = {0.0f, 0.2f, 1.5f};
-    c.model.harmonics = 10;
-    c.model.lambda = 3.14;
-    c.textureWidth = c.textureHeight = size;
+    vpe::benchmarks::usePaperModel(c, size);
     const auto values = static_cast<std::size_t>(c.model.coefficientsPerTexel());
     const auto r = static_cast<std::size_t>(rank);
     const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
     for (int region = 0; region < 2; ++region) {
-        vpe::bake::BundleRegion entry;
-        entry.name = region == 0 ? "clay" : "glaze";
+        vpe::bake::BundleRegion entry = vpe::benchmarks::lowRankRegion(region, rank);
         vpe::bake::CoefficientMapData& map = entry.coefficients;
-        map.encoding = vpe::proto::CoefficientEncoding::kLowRank;
-        map.rank = rank;
         map.mean.assign(values, 0.1f);
         map.basis.resize(r * values);
         for (std::size_t i = 0; i < map.basis.size(); ++i) {

@@ -56,17 +56,12 @@ vpe::bake::BundleContents contents(int size) {
     c.projector = vpe::benchmarks::benchmarkProjector();
     c.settings.viewerPosition = {0.0f, 0.2f, -1.5f};
     c.settings.peakIrradiance = 2.0f;
-    c.model.harmonics = 10;
-    c.model.lambda = 3.14;
-    c.textureWidth = c.textureHeight = size;
+    vpe::benchmarks::usePaperModel(c, size);
     const auto values = static_cast<std::size_t>(c.model.coefficientsPerTexel());
     const std::size_t texels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
     for (int region = 0; region < 2; ++region) {
-        vpe::bake::BundleRegion entry;
-        entry.name = region == 0 ? "clay" : "glaze";
+        vpe::bake::BundleRegion entry = vpe::benchmarks::lowRankRegion(region, kRank);
         vpe::bake::CoefficientMapData& map = entry.coefficients;
-        map.encoding = vpe::proto::CoefficientEncoding::kLowRank;
-        map.rank = kRank;
         map.mean.resize(values);
         for (std::size_t i = 0; i < values; ++i) {
             map.mean[i] = i < 3 ? 0.4f : 0.05f / static_cast<float>(i / 3);
