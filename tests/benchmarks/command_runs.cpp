@@ -67,15 +67,6 @@ CommandRun runCommand(const std::vector<std::string>& arguments) {
     return run;
 }
 
-double median(std::vector<double> values) {
-    if (values.empty()) {
-        return 0;
-    }
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 double bytesOnDisk(const std::string& path) {
     if (std::filesystem::is_directory(path)) {
         double total = 0;

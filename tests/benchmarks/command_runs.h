@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../support/median.h"
+
 namespace vpe::benchmarks {
 
 struct CommandRun {
@@ -20,7 +22,7 @@ struct CommandRun {
 // std::runtime_error when it cannot start, fails, or prints no JSON report.
 CommandRun runCommand(const std::vector<std::string>& arguments);
 
-double median(std::vector<double> values);
+using testing::median;  // tests/support/median.h
 
 // Bytes of a file, or of every file under a folder.
 double bytesOnDisk(const std::string& path);

@@ -17,11 +17,13 @@
 #include <string>
 #include <vector>
 
+#include "../../support/median.h"
 #include "light_log_agreement.h"
 
 namespace {
 
 using namespace vpe::firmware::bus::testing;
+using vpe::testing::median;
 
 constexpr double kFrameMs = 1000.0 / 60.0;
 
@@ -30,15 +32,6 @@ constexpr double kFrameMs = 1000.0 / 60.0;
               << " (usage: agreement|latency|settle|gaps [--reference LOG] [--from-us T] "
                  "[--to-us T] [--max-lag-ms M] LOG...)\n";
     std::exit(2);
-}
-
-double median(std::vector<double> values) {
-    if (values.empty()) {
-        return 0;
-    }
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace
