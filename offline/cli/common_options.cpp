@@ -17,6 +17,13 @@ void addHeldOutOption(CLI::App* command, int& heldOut, const std::string& descri
     command->add_option("--held-out", heldOut, description)->check(CLI::Range(2, 1000));
 }
 
+void addChoiceOption(CLI::App* command, const std::string& name, std::string& value,
+                     const std::string& description, const std::vector<std::string>& choices) {
+    command->add_option(name, value, description)
+        ->check(CLI::IsMember(choices))
+        ->capture_default_str();
+}
+
 void addMeshScaleOption(CLI::App* command, double& metresPerUnit) {
     command
         ->add_option("--mesh-scale", metresPerUnit, "Metres per mesh unit (0.001 for millimetres)")

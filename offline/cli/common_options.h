@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -17,6 +18,10 @@ void addJsonFlag(CLI::App* command, bool& json);
 // --held-out N: the RTI benchmarks' every N-th light (N from 2); `description` says what the
 // command does with those lights.
 void addHeldOutOption(CLI::App* command, int& heldOut, const std::string& description);
+
+// An option whose value is one of `choices` (its default shown in --help).
+void addChoiceOption(CLI::App* command, const std::string& name, std::string& value,
+                     const std::string& description, const std::vector<std::string>& choices);
 
 // --mesh-scale: metres per unit of the screen object's mesh file.
 void addMeshScaleOption(CLI::App* command, double& metresPerUnit);

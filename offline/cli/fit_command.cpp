@@ -240,11 +240,9 @@ void addFitCommand(CLI::App& app, Action& action) {
     command->add_option("--normals", args->normals,
                         "Normal map to use instead of the capture's own or photometric stereo");
     addThreadsOption(command, args->threads);
-    command
-        ->add_option("--precision", args->precision,
-                     "auto (exact when λ < 1e-3), fast (float sums) or exact (double sums)")
-        ->check(CLI::IsMember({"auto", "fast", "exact"}))
-        ->capture_default_str();
+    addChoiceOption(command, "--precision", args->precision,
+                    "auto (exact when λ < 1e-3), fast (float sums) or exact (double sums)",
+                    {"auto", "fast", "exact"});
     command
         ->add_option("--model", args->model,
                      "paper: eq. 16-19 under the capture's stated geometry; extended: also "
@@ -263,20 +261,16 @@ void addFitCommand(CLI::App& app, Action& action) {
                      "Leave every N-th light out (positions N-1, 2N-1, ... of the capture): the "
                      "RTI benchmarks' protocol; score them with vpe eval --held-out N");
     addStorageOption(command, args->storage, "half");
-    command
-        ->add_option("--relief", args->relief,
-                     "detail: fit the per-pixel normals and write the relief as a detail normal "
-                     "map; coefficients: fit the macro shape's normals, the coefficients absorb "
-                     "the relief (docs/transfer-fidelity.md)")
-        ->check(CLI::IsMember({"detail", "coefficients"}))
-        ->capture_default_str();
-    command
-        ->add_option("--response", args->response,
-                     "extended model, 8-bit images of unstated encoding: auto calibrates the "
-                     "camera's response (a power law, by held-out validation; many RTI cameras "
-                     "store radiance nearly linearly); srgb keeps the sRGB decoding")
-        ->check(CLI::IsMember({"auto", "srgb"}))
-        ->capture_default_str();
+    addChoiceOption(command, "--relief", args->relief,
+                    "detail: fit the per-pixel normals and write the relief as a detail normal "
+                    "map; coefficients: fit the macro shape's normals, the coefficients absorb "
+                    "the relief (docs/transfer-fidelity.md)",
+                    {"detail", "coefficients"});
+    addChoiceOption(command, "--response", args->response,
+                    "extended model, 8-bit images of unstated encoding: auto calibrates the "
+                    "camera's response (a power law, by held-out validation; many RTI cameras "
+                    "store radiance nearly linearly); srgb keeps the sRGB decoding",
+                    {"auto", "srgb"});
     command->add_option("--macro-sigma", args->macroSigma,
                         "σ (pixels) of the regression window giving the macro shape (0: 1/8 of the "
                         "larger side)");

@@ -188,8 +188,7 @@ void addQuiltQualityCommand(CLI::App& app, Action& action) {
         ->required();
     command
         ->add_option("--quilt", args->quilt,
-                     "Folder vpe quilt wrote (region<k>.exr, "
-                     "positions.exr)")
+                     "Folder vpe quilt wrote (region<k>.exr, positions.exr)")
         ->required();
     addThreadsOption(command, args->threads);
     addJsonFlag(command, args->json);
