@@ -203,15 +203,15 @@ std::array<float, 3> LightRig::position() const {
 }
 
 SharedLight LightRig::shared() const {
-    SharedLight state;
-    state.from = from_;
-    state.target = target_;
-    state.moveStartNs = moveStartNs_;
-    state.driftAtNs = driftAtNs_;
-    state.preset = preset_;
-    state.revisionNs = revisionNs_;
-    state.steeredBy = steeredBy_;
-    return state;
+    // Every field named: a field added to SharedLight and not given here fails the build
+    // (-Wmissing-field-initializers), so the bus never carries a default by mistake.
+    return SharedLight{.from = from_,
+                       .target = target_,
+                       .moveStartNs = moveStartNs_,
+                       .driftAtNs = driftAtNs_,
+                       .preset = preset_,
+                       .revisionNs = revisionNs_,
+                       .steeredBy = steeredBy_};
 }
 
 void LightRig::rebase(const LightSphere& sphere, int presetCount) {

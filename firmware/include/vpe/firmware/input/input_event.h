@@ -16,9 +16,7 @@ namespace vpe::firmware {
 
 // A relative move on the light's sphere (knobs): degrees, metres.
 struct TurnLight {
-    double azimuthDeg = 0;
-    double elevationDeg = 0;
-    double distanceM = 0;
+    double azimuthDeg = 0, elevationDeg = 0, distanceM = 0;
 };
 
 // An absolute aim on the sphere (camera, OSC); unset fields keep their value.

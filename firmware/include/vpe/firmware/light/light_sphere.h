@@ -11,10 +11,9 @@
 
 namespace vpe::firmware {
 
+// Where the light stands on its sphere about the object: degrees, metres.
 struct SphericalPosition {
-    double azimuthDeg = 0;
-    double elevationDeg = 0;
-    double distanceM = 1;
+    double azimuthDeg = 0, elevationDeg = 0, distanceM = 1;
 };
 
 class LightSphere {
