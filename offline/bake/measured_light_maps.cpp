@@ -9,7 +9,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/quantile.h"
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/projector_pixels.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 
 namespace vpe::bake {
 

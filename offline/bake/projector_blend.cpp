@@ -12,9 +12,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/parallel_rows.h"
-#include "vpe/renderer/projector_pixels.h"
-#include "vpe/renderer/ray_caster.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
+#include "vpe/renderer/cpu/ray_caster.h"
 
 namespace vpe::bake {
 

@@ -10,10 +10,10 @@
 #include "vpe/common/quantile.h"
 #include "vpe/image/image_metrics.h"
 #include "vpe/registration/mesh_registration.h"
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/ray_caster.h"
 #include "vpe/renderer/procam/procam_simulator.h"
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/ray_caster.h"
 
 namespace vpe::procam {
 

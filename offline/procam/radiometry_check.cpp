@@ -6,9 +6,9 @@
 #include <cmath>
 
 #include "vpe/common/input_error.h"
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 #include "vpe/renderer/procam/procam_simulator.h"
-#include "vpe/renderer/projector_frame.h"
 
 namespace vpe::procam {
 

@@ -15,9 +15,9 @@
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/luminance.h"
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 #include "vpe/transfer/synthetic_truth.h"
 #include "vpe/transfer/transfer_fidelity.h"
 

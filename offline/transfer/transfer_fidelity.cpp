@@ -15,11 +15,11 @@
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/detail_normal.h"
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/parallel_rows.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 #include "vpe/transfer/synthetic_truth.h"
 
 namespace vpe::transfer {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The Lambertian screen: forward radiance and its inverse, per channel.
-#include "vpe/renderer/lambertian_screen.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
 
 #include <algorithm>
 #include <cmath>

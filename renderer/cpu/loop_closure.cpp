@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/renderer/loop_closure.h"
+#include "vpe/renderer/cpu/loop_closure.h"
 
 #include <algorithm>
 #include <cmath>

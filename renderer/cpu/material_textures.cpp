@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Bilinear sampling of the region maps (clamped to the edge, or wrapping in u) and the Fourier
 // BRDF per channel.
-#include "vpe/renderer/material_textures.h"
+#include "vpe/renderer/cpu/material_textures.h"
 
 #include <algorithm>
 #include <cmath>

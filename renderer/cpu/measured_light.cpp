@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The compensation from measured light (see the header).
-#include "vpe/renderer/measured_light.h"
+#include "vpe/renderer/cpu/measured_light.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // forEachRow: a shared row counter and std::thread.
-#include "vpe/renderer/parallel_rows.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
 
 #include <algorithm>
 #include <atomic>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // renderProjectorFrame: for every projector pixel's traced surface (ProjectorPixels), aim for
 // the material's radiance, invert the Lambertian screen and the projector's response.
-#include "vpe/renderer/projector_frame.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "vpe/renderer/lambertian_screen.h"
-#include "vpe/renderer/parallel_rows.h"
-#include "vpe/renderer/projector_pixels.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 
 #include "target_radiance.h"
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // ProjectorPixels: one exact ray per projector pixel (see the header).
-#include "vpe/renderer/projector_pixels.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include "vpe/renderer/lambertian_screen.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
 
 namespace vpe::renderer {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // RayCaster: a median-split BVH over the mesh's triangles, Möller–Trumbore in double.
-#include "vpe/renderer/ray_caster.h"
+#include "vpe/renderer/cpu/ray_caster.h"
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // checkRenderMesh.
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // checkRenderScene: the checks every render call makes before touching a pixel.
-#include "vpe/renderer/render_scene.h"
+#include "vpe/renderer/cpu/render_scene.h"
 
 #include <cmath>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // surfacePoint: interpolation at a ray hit, and the side of the surface the ray came from.
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 #include <cmath>
 

@@ -5,8 +5,8 @@
 
 #include <array>
 
-#include "vpe/renderer/render_scene.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/render_scene.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 namespace vpe::renderer {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // thetaMaterialMap: a region's coefficients projected onto the θs basis.
-#include "vpe/renderer/theta_material.h"
+#include "vpe/renderer/cpu/theta_material.h"
 
 #include "vpe/proto/half_float.h"
-#include "vpe/renderer/parallel_rows.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
 
 namespace vpe::renderer {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // VirtualLight::irradianceAt.
-#include "vpe/renderer/virtual_light.h"
+#include "vpe/renderer/cpu/virtual_light.h"
 
 #include "vector_math.h"
 

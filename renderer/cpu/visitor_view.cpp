@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: MIT
 // simulateVisitorView and renderDirectView: ray cast every viewer pixel, then light the white
 // object with the projector pattern, or shade it with the material.
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "vpe/renderer/lambertian_screen.h"
-#include "vpe/renderer/parallel_rows.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 #include "target_radiance.h"
 #include "vector_math.h"

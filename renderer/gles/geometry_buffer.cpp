@@ -11,10 +11,10 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/proto/detail_normal.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
 #include "vpe/renderer/gles/shading_glsl.h"
 #include "vpe/renderer/gles/texture_formats.h"
 #include "vpe/renderer/gles/tile_cover.h"
-#include "vpe/renderer/parallel_rows.h"
 
 namespace vpe::renderer::gles {
 

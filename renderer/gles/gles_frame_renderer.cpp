@@ -14,7 +14,9 @@
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/theta_basis.h"
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/measured_light.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/renderer/gles/geometry_buffer.h"
 #include "vpe/renderer/gles/material_pass.h"
 #include "vpe/renderer/gles/relief_pass.h"
@@ -24,8 +26,6 @@
 #include "vpe/renderer/gles/theta_textures.h"
 #include "vpe/renderer/gles/tile_cover.h"
 #include "vpe/renderer/gles/weight_pass.h"
-#include "vpe/renderer/measured_light.h"
-#include "vpe/renderer/projector_pixels.h"
 
 namespace vpe::renderer::gles {
 

@@ -11,7 +11,7 @@
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
-#include "vpe/renderer/measured_light.h"
+#include "vpe/renderer/cpu/measured_light.h"
 
 namespace vpe::renderer::gles {
 

@@ -4,10 +4,10 @@
 
 #include <GLES3/gl31.h>
 
+#include "vpe/renderer/cpu/theta_material.h"
 #include "vpe/renderer/gles/graphics_platform.h"
 #include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/texture_formats.h"
-#include "vpe/renderer/theta_material.h"
 
 namespace vpe::renderer::gles {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "vpe/renderer/parallel_rows.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
 
 #include "vector_math.h"
 

@@ -9,8 +9,8 @@
 #include <functional>
 #include <vector>
 
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 #include "projector_light.h"
 

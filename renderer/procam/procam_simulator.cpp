@@ -9,9 +9,9 @@
 #include <limits>
 #include <stdexcept>
 
-#include "vpe/renderer/parallel_rows.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 #include "interreflection.h"
 #include "projector_light.h"

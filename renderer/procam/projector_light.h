@@ -6,7 +6,7 @@
 #include <array>
 #include <vector>
 
-#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/cpu/image_buffers.h"
 #include "vpe/renderer/procam/procam_scene.h"
 
 namespace vpe::renderer::procam {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "vpe/renderer/parallel_rows.h"
+#include "vpe/renderer/cpu/parallel_rows.h"
 
 namespace vpe::renderer::procam {
 

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/cpu/image_buffers.h"
 #include "vpe/renderer/procam/procam_simulator.h"
 
 namespace vpe::renderer::procam {

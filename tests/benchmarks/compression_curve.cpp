@@ -15,8 +15,8 @@
 
 #include "vpe/bake/scene_baker.h"
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 #include "curve_texture.h"
 

@@ -32,7 +32,7 @@
 
 #include "vpe/bake/bundle_writer.h"
 #include "vpe/bake/theta_basis_fit.h"
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <ctime>
 
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 #include "test_scenes.h"
 

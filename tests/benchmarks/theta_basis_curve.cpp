@@ -20,8 +20,8 @@
 #include "vpe/bake/scene_baker.h"
 #include "vpe/bake/theta_basis_fit.h"
 #include "vpe/proto/theta_basis.h"
-#include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/projector_frame.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 
 #include "curve_texture.h"
 #include "support/reference_lights.h"

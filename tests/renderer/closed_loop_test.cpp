@@ -10,11 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "vpe/proto/surface_horizon.h"
-#include "vpe/renderer/lambertian_screen.h"
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 #include "test_scenes.h"
 

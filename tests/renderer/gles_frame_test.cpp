@@ -19,9 +19,9 @@
 
 #include <gtest/gtest.h>
 
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
-#include "vpe/renderer/projector_frame.h"
 
 #include "failure_image.h"
 #include "gles_test_bundle.h"

@@ -23,11 +23,11 @@
 #include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
 #include "vpe/proto/theta_basis.h"
+#include "vpe/renderer/cpu/material_textures.h"
+#include "vpe/renderer/cpu/measured_light.h"
 #include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/material_codes.h"
 #include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/material_textures.h"
-#include "vpe/renderer/measured_light.h"
 
 #include "gles_test_platform.h"
 

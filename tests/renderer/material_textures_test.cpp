@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Material sampling: the UV convention, bilinear blending of maps and regions, and the
 // evaluator against proto's definition.
-#include "vpe/renderer/material_textures.h"
+#include "vpe/renderer/cpu/material_textures.h"
 
 #include <cmath>
 

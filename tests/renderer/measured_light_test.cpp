@@ -2,7 +2,7 @@
 // The compensation from measured light: the inverse of C = D + F · X · g(level) where the
 // projector can give the target, a smooth roll-off where it cannot, and a gain limit that
 // keeps a pixel below the knee.
-#include "vpe/renderer/measured_light.h"
+#include "vpe/renderer/cpu/measured_light.h"
 
 #include <cmath>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // renderProjectorFrame on a plane facing the projector, where every level is known in closed
 // form; clipping, the gain helper, threads.
-#include "vpe/renderer/projector_frame.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 #include "test_scenes.h"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // RayCaster: agrees with testing every triangle, has no cracks, interpolates hits.
-#include "vpe/renderer/ray_caster.h"
+#include "vpe/renderer/cpu/ray_caster.h"
 
 #include <cmath>
 #include <optional>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 #include "test_scenes.h"
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/material_textures.h"
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/material_textures.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::renderer::testing {
 

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <optional>
 
-#include "vpe/renderer/bundle_scene.h"
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/projector_pixels.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 
 namespace vpe::testing {
 

@@ -2,10 +2,10 @@
 // measureGpuFidelity: GPU frames against the exact CPU reference (see the header).
 #include "support/gpu_fidelity.h"
 
-#include "vpe/renderer/bundle_scene.h"
+#include "vpe/renderer/cpu/bundle_scene.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/projector_pixels.h"
 
 #include "support/reference_lights.h"
 

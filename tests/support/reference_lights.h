@@ -8,8 +8,8 @@
 #include <span>
 
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/projector_frame.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/projector_frame.h"
 
 namespace vpe::testing {
 

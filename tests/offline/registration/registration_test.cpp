@@ -8,7 +8,7 @@
 
 #include "vpe/registration/mesh_registration.h"
 #include "vpe/registration/surface_mesh.h"
-#include "vpe/renderer/projector_pixels.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/scene/procedural_vase.h"
 
 #include "offline/scene/scene_test_support.h"

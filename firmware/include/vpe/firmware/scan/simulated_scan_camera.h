@@ -16,7 +16,7 @@
 #include <memory>
 
 #include "vpe/firmware/scan/scan_camera.h"
-#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/cpu/image_buffers.h"
 #include "vpe/renderer/procam/procam_simulator.h"
 #include "vpe/renderer/procam/scene_file.h"
 

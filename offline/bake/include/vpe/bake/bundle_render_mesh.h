@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "vpe/bake/bundle_writer.h"
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::bake {
 

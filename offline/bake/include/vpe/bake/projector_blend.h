@@ -8,9 +8,9 @@
 
 #include <vector>
 
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/projector_model.h"
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/projector_model.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::bake {
 

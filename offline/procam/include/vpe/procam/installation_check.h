@@ -11,9 +11,9 @@
 
 #include "vpe/image/image_metrics.h"
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/vector_types.h"
 #include "vpe/renderer/procam/procam_scene.h"
-#include "vpe/renderer/vector_types.h"
 
 namespace vpe::procam {
 

@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "vpe/renderer/material_textures.h"
-#include "vpe/renderer/surface_point.h"
-#include "vpe/renderer/virtual_light.h"
+#include "vpe/renderer/cpu/material_textures.h"
+#include "vpe/renderer/cpu/surface_point.h"
+#include "vpe/renderer/cpu/virtual_light.h"
 
 namespace vpe::transfer {
 

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/render_scene.h"
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/render_scene.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::transfer {
 

@@ -30,8 +30,8 @@
 #include <optional>
 #include <vector>
 
+#include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/projector_pixels.h"
 
 namespace vpe::renderer::gles {
 

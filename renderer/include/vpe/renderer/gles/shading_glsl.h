@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "vpe/proto/bundle_contents.h"
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::renderer::gles {
 

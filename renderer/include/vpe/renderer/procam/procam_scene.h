@@ -13,7 +13,7 @@
 
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/response_function.h"
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::renderer::procam {
 

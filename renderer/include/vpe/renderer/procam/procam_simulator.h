@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "vpe/proto/luminance.h"
-#include "vpe/renderer/image_buffers.h"
+#include "vpe/renderer/cpu/image_buffers.h"
 #include "vpe/renderer/procam/procam_scene.h"
 
 namespace vpe::renderer::procam {

@@ -8,7 +8,7 @@
 #include <span>
 #include <string>
 
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::renderer {
 

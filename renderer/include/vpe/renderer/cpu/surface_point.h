@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::renderer {
 

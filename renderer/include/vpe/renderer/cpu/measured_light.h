@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "vpe/proto/response_function.h"
-#include "vpe/renderer/lambertian_screen.h"
+#include "vpe/renderer/cpu/lambertian_screen.h"
 
 namespace vpe::renderer {
 

@@ -4,7 +4,7 @@
 
 #include <array>
 
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::renderer {
 

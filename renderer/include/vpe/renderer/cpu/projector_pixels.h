@@ -10,10 +10,10 @@
 #include <memory>
 #include <optional>
 
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/projector_model.h"
-#include "vpe/renderer/ray_caster.h"
-#include "vpe/renderer/surface_point.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/projector_model.h"
+#include "vpe/renderer/cpu/ray_caster.h"
+#include "vpe/renderer/cpu/surface_point.h"
 
 namespace vpe::renderer {
 

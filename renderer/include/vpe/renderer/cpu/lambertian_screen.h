@@ -5,9 +5,9 @@
 
 #include <array>
 
-#include "vpe/renderer/projector_model.h"
-#include "vpe/renderer/screen_surface.h"
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/projector_model.h"
+#include "vpe/renderer/cpu/screen_surface.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::renderer {
 

@@ -6,9 +6,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/projector_pixels.h"
-#include "vpe/renderer/render_scene.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/projector_pixels.h"
+#include "vpe/renderer/cpu/render_scene.h"
 
 namespace vpe::renderer {
 

@@ -5,13 +5,13 @@
 
 #include <memory>
 
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/material_textures.h"
-#include "vpe/renderer/measured_light.h"
-#include "vpe/renderer/projector_model.h"
-#include "vpe/renderer/render_mesh.h"
-#include "vpe/renderer/screen_surface.h"
-#include "vpe/renderer/virtual_light.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/material_textures.h"
+#include "vpe/renderer/cpu/measured_light.h"
+#include "vpe/renderer/cpu/projector_model.h"
+#include "vpe/renderer/cpu/render_mesh.h"
+#include "vpe/renderer/cpu/screen_surface.h"
+#include "vpe/renderer/cpu/virtual_light.h"
 
 namespace vpe::renderer {
 

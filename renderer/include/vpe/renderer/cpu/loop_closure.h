@@ -7,8 +7,8 @@
 
 #include <cstddef>
 
-#include "vpe/renderer/projector_frame.h"
-#include "vpe/renderer/visitor_view.h"
+#include "vpe/renderer/cpu/projector_frame.h"
+#include "vpe/renderer/cpu/visitor_view.h"
 
 namespace vpe::renderer {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "vpe/proto/fourier_brdf.h"
-#include "vpe/renderer/surface_point.h"
-#include "vpe/renderer/vector_types.h"
+#include "vpe/renderer/cpu/surface_point.h"
+#include "vpe/renderer/cpu/vector_types.h"
 
 namespace vpe::renderer {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "vpe/proto/pinhole_camera.h"
-#include "vpe/renderer/image_buffers.h"
-#include "vpe/renderer/render_scene.h"
+#include "vpe/renderer/cpu/image_buffers.h"
+#include "vpe/renderer/cpu/render_scene.h"
 
 namespace vpe::renderer {
 

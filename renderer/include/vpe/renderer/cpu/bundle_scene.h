@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/render_scene.h"
+#include "vpe/renderer/cpu/render_scene.h"
 
 namespace vpe::renderer {
 

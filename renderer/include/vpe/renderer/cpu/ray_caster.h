@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-#include "vpe/renderer/render_mesh.h"
+#include "vpe/renderer/cpu/render_mesh.h"
 
 namespace vpe::renderer {
 
