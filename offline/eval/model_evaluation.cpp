@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 
 #include "vpe/capture/geometry_calibration.h"
 #include "vpe/capture/image_band_reader.h"
@@ -56,7 +55,10 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
     }
     std::vector<double> squaredError(static_cast<std::size_t>(imageCount), 0.0);
     std::size_t scored = 0;
-    std::mutex mergeMutex;
+    // Each row's squared errors in place, added up in row order after the band: the sums do
+    // not depend on which thread finished first (parallel_for.h), so neither does the report.
+    std::vector<double> rowError;
+    std::vector<std::size_t> rowScored;
 
     const int bandRows = reader.rowsForBudget(std::size_t{128} << 20);
     capture::SampleBand band;
@@ -66,13 +68,14 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
         const int bandHeight = std::min(bandRows, height - rowBegin);
         reader.readBand(rowBegin, bandHeight, nullptr, band);
         model.readRows(rowBegin, bandHeight, rows);
+        rowError.assign(static_cast<std::size_t>(bandHeight) * imageCount, 0.0);
+        rowScored.assign(static_cast<std::size_t>(bandHeight), 0);
         common::parallelFor(
             static_cast<std::size_t>(bandHeight), 1, options.threads,
             [&](std::size_t begin, std::size_t end) {
-                std::vector<double> localError(static_cast<std::size_t>(imageCount), 0.0);
-                std::size_t localScored = 0;
+                double* error = nullptr;
                 auto score = [&](int s, int y, int x, int c, double p8, double t8) {
-                    localError[static_cast<std::size_t>(s)] += (p8 - t8) * (p8 - t8);
+                    error[s] += (p8 - t8) * (p8 - t8);
                     if (!predictions.empty()) {
                         predictions[static_cast<std::size_t>(s)]
                                    [(static_cast<std::size_t>(y) * width + x) * 3 + c] =
@@ -82,12 +85,13 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
                 for (std::size_t r = begin; r < end; ++r) {
                     const int row = static_cast<int>(r);
                     const int y = rowBegin + row;
+                    error = rowError.data() + r * static_cast<std::size_t>(imageCount);
                     for (int x = 0; x < width; ++x) {
                         const std::size_t p = rows.pixel(row, x);
                         if (!rows.valid[p]) {
                             continue;
                         }
-                        ++localScored;
+                        ++rowScored[r];
                         for (int s = 0; s < imageCount; ++s) {
                             const std::array<double, 3> predicted =
                                 predictor.predict(rows, row, x, y, s);
@@ -99,13 +103,14 @@ EvaluationReport evaluateModel(const std::filesystem::path& modelPath,
                         }
                     }
                 }
-                std::lock_guard lock(mergeMutex);
-                for (int s = 0; s < imageCount; ++s) {
-                    squaredError[static_cast<std::size_t>(s)] +=
-                        localError[static_cast<std::size_t>(s)];
-                }
-                scored += localScored;
             });
+        for (int row = 0; row < bandHeight; ++row) {
+            for (int s = 0; s < imageCount; ++s) {
+                squaredError[static_cast<std::size_t>(s)] +=
+                    rowError[static_cast<std::size_t>(row) * imageCount + s];
+            }
+            scored += rowScored[static_cast<std::size_t>(row)];
+        }
         progress.advance(static_cast<std::size_t>(bandHeight));
     }
     progress.finish();
