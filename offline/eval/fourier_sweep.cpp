@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <mutex>
 #include <sstream>
 
 #include "vpe/capture/image_band_reader.h"
@@ -218,7 +217,6 @@ SweepResult runSweep(const capture::Capture& train, const capture::Capture& test
     const int lambdaCount = static_cast<int>(options.lambdas.size());
     ErrorTable total(lambdaCount, options.maxHarmonics, inputs.testCount);
     std::size_t scored = 0;
-    std::mutex mergeMutex;
     const int bandRows = std::min(trainReader.rowsForBudget(std::size_t{96} << 20),
                                   testReader.rowsForBudget(std::size_t{32} << 20));
     const int chunksPerRow = (width + fit::kLanes - 1) / fit::kLanes;
@@ -228,22 +226,28 @@ SweepResult runSweep(const capture::Capture& train, const capture::Capture& test
         const int rows = std::min(bandRows, height - rowBegin);
         trainReader.readBand(rowBegin, rows, nullptr, trainBand);
         testReader.readBand(rowBegin, rows, nullptr, testBand);
-        common::parallelFor(
-            static_cast<std::size_t>(rows) * chunksPerRow, 2, options.threads,
-            [&](std::size_t begin, std::size_t end) {
-                ErrorTable local(lambdaCount, options.maxHarmonics, inputs.testCount);
-                std::size_t localScored = 0;
-                ChunkScratch scratch;
-                for (std::size_t index = begin; index < end; ++index) {
-                    localScored += scoreChunk(inputs, trainBand, testBand, rowBegin,
-                                              static_cast<int>(index / chunksPerRow),
-                                              static_cast<int>(index % chunksPerRow) * fit::kLanes,
-                                              scratch, local);
-                }
-                std::lock_guard lock(mergeMutex);
-                total.add(local);
-                scored += localScored;
-            });
+        // A table a row, added up in row order after the band: the sums do not depend on which
+        // thread finished first (parallel_for.h), so neither does the sweep.
+        std::vector<ErrorTable> rowErrors(
+            static_cast<std::size_t>(rows),
+            ErrorTable(lambdaCount, options.maxHarmonics, inputs.testCount));
+        std::vector<std::size_t> rowScored(static_cast<std::size_t>(rows), 0);
+        common::parallelFor(static_cast<std::size_t>(rows), 1, options.threads,
+                            [&](std::size_t begin, std::size_t end) {
+                                ChunkScratch scratch;
+                                for (std::size_t row = begin; row < end; ++row) {
+                                    for (int chunk = 0; chunk < chunksPerRow; ++chunk) {
+                                        rowScored[row] +=
+                                            scoreChunk(inputs, trainBand, testBand, rowBegin,
+                                                       static_cast<int>(row), chunk * fit::kLanes,
+                                                       scratch, rowErrors[row]);
+                                    }
+                                }
+                            });
+        for (int row = 0; row < rows; ++row) {
+            total.add(rowErrors[static_cast<std::size_t>(row)]);
+            scored += rowScored[static_cast<std::size_t>(row)];
+        }
         progress.advance(static_cast<std::size_t>(rows));
     }
     progress.finish();
