@@ -13,11 +13,11 @@
 
 namespace {
 
-bool isUnit(const vpe::Vec3d& v) {
+bool isUnit(const vpe::proto::Vec3d& v) {
     return std::fabs(std::sqrt(vpe::proto::dot(v, v)) - 1.0) < 1e-12;
 }
 
-bool isFinite(const vpe::Vec3d& v) {
+bool isFinite(const vpe::proto::Vec3d& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
