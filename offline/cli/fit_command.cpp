@@ -52,7 +52,7 @@ nlohmann::json lightIntensitiesJson(const fit::FitReport& report) {
     return {{"blocked", blocked},
             {"lowest", lowest},
             {"heldout_image_rms", report.lightIntensityRms},
-            {"heldout_image_rms_as_stated", report.transportImageRms}};
+            {"heldout_image_rms_as_stated", report.lightIntensityStatedRms}};
 }
 
 // What `vpe fit` does once its options are parsed.

@@ -277,7 +277,7 @@ capture::Capture searchUnstated(const capture::Capture& capture, const normals::
     report.calibration.lightDistance = found.calibration.lightDistance;
     report.calibration.lightIntensities = found.calibration.lightIntensities;
     report.lightIntensityRms = found.lightIntensityRms;
-    report.transportImageRms = found.transportImageRms;
+    report.lightIntensityStatedRms = found.lightIntensityStatedRms;
     report.calibratedRms = found.rms;
     report.uncalibratedRms = found.baselineRms;
     report.harmonics = found.harmonics;

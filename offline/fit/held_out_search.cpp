@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include <Eigen/Dense>
@@ -428,6 +429,19 @@ Accumulator fitEveryChunkExtended(const HeldOutValidator::Samples& samples,
     });
 }
 
+// The errors at the lights of `fold` of the extended fit on the grid's other lights.
+HeldOutErrors transportFoldErrors(const HeldOutValidator::Samples& samples,
+                                  const normals::NormalMap& normals, const Hypothesis& hypothesis,
+                                  const fit::ExtendedFitSettings& settings, unsigned threads,
+                                  int holdOutEvery, int fold) {
+    return fitEveryChunkExtended(
+        samples, normals, hypothesis, gridBand(samples, *hypothesis.values, holdOutEvery, fold),
+        settings, threads, HeldOutErrors(samples.images),
+        [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
+            errors.add(samples, hypothesis, holdOutEvery, fold, chunk, lane, pixel);
+        });
+}
+
 }  // namespace
 
 HeldOutScore HeldOutValidator::scoreWithTransport(const capture::GeometryCalibration& calibration,
@@ -440,13 +454,22 @@ HeldOutScore HeldOutValidator::scoreWithTransport(const capture::GeometryCalibra
     HeldOutErrors heldOut(samples.images);
     for (int fold = folds == HeldOutFolds::kEvery ? 0 : holdOutEvery_ - 1; fold < holdOutEvery_;
          ++fold) {
-        heldOut.merge(fitEveryChunkExtended(
-            samples, normals_, hypothesis,
-            gridBand(samples, *hypothesis.values, holdOutEvery_, fold), settings, threads_,
-            HeldOutErrors(samples.images),
-            [&](HeldOutErrors& errors, int chunk, int lane, const FittedPixel& pixel) {
-                errors.add(samples, hypothesis, holdOutEvery_, fold, chunk, lane, pixel);
-            }));
+        heldOut.merge(transportFoldErrors(samples, normals_, hypothesis, settings, threads_,
+                                          holdOutEvery_, fold));
+    }
+    return {heldOut.rms(), heldOut.imageMeanRms()};
+}
+
+HeldOutScore HeldOutValidator::scoreWithTransportByFold(
+    const std::vector<capture::GeometryCalibration>& byFold,
+    const fit::ExtendedFitSettings& settings) const {
+    const Samples& samples = *samples_;
+    HeldOutErrors heldOut(samples.images);
+    for (int fold = 0; fold < holdOutEvery_ && fold < static_cast<int>(byFold.size()); ++fold) {
+        const Hypothesis hypothesis(capture_, samples, byFold[static_cast<std::size_t>(fold)],
+                                    normals_.width, normals_.height);
+        heldOut.merge(transportFoldErrors(samples, normals_, hypothesis, settings, threads_,
+                                          holdOutEvery_, fold));
     }
     return {heldOut.rms(), heldOut.imageMeanRms()};
 }
@@ -520,11 +543,11 @@ HeldOutScore HeldOutValidator::scoreRtiBasis(const model::RtiBasis& basis,
 
 std::vector<double> HeldOutValidator::lightGains(const capture::GeometryCalibration& calibration,
                                                  const fit::ExtendedFitSettings& settings,
-                                                 bool holdOut) const {
+                                                 int heldOutFold) const {
     const Samples& samples = *samples_;
     const Hypothesis hypothesis(capture_, samples, calibration, normals_.width, normals_.height);
     const capture::SampleBand training =
-        gridBand(samples, *hypothesis.values, holdOutEvery_, holdOut ? holdOutEvery_ - 1 : -1);
+        gridBand(samples, *hypothesis.values, holdOutEvery_, heldOutFold);
     const LightGainSums sums = fitEveryChunkExtended(
         samples, normals_, hypothesis, training, settings, threads_, LightGainSums(samples.images),
         [&](LightGainSums& gains, int chunk, int lane, const FittedPixel& pixel) {
@@ -539,9 +562,9 @@ std::vector<double> HeldOutValidator::lightGains(const capture::GeometryCalibrat
 
 namespace {
 
-// `calibration` with the intensities of the lights the fit uses (all, or those outside the
-// held-out fold) estimated from the grid. The fit and the gains alternate: T and the BRDF
-// first explain what they can, and what stays common to every pixel under one light is that
+// `calibration` with the intensities of the lights the fit uses (all when heldOutFold < 0,
+// else those outside that fold) estimated from the grid. The fit and the gains alternate: T and the
+// BRDF first explain what they can, and what stays common to every pixel under one light is that
 // light's. The median light keeps intensity 1, so the BRDF keeps its units.
 // Only blocked lights, below kBlockedBelow of the median, keep their own intensity; the
 // others count as 1. The lamps' own differences (±5% on realrti-dev's domes) are real for
@@ -556,7 +579,7 @@ capture::GeometryCalibration calibrateLightIntensities(const HeldOutValidator& v
                                                        const capture::Capture& capture,
                                                        capture::GeometryCalibration calibration,
                                                        const fit::ExtendedFitSettings& settings,
-                                                       int holdOutEvery, bool holdOut) {
+                                                       int holdOutEvery, int heldOutFold) {
     constexpr int kRounds = 2;
     constexpr double kLowest = 1e-3;  // a light that shows nothing keeps a little
     constexpr double kBlockedBelow = 0.9;
@@ -564,7 +587,7 @@ capture::GeometryCalibration calibrateLightIntensities(const HeldOutValidator& v
     auto table = [&] {
         std::vector<capture::LightIntensity> entries;
         for (std::size_t s = 0; s < capture.images.size(); ++s) {
-            if (!holdOut || static_cast<int>(s) % holdOutEvery != holdOutEvery - 1) {
+            if (static_cast<int>(s) % holdOutEvery != heldOutFold) {
                 entries.push_back({proto::normalized(capture.images[s].light), intensity[s]});
             }
         }
@@ -574,7 +597,8 @@ capture::GeometryCalibration calibrateLightIntensities(const HeldOutValidator& v
     greySettings.colourTransport = false;
     for (int round = 0; round < kRounds; ++round) {
         calibration.lightIntensities = table();
-        const std::vector<double> gains = validator.lightGains(calibration, greySettings, holdOut);
+        const std::vector<double> gains =
+            validator.lightGains(calibration, greySettings, heldOutFold);
         std::vector<double> used;
         for (std::size_t s = 0; s < intensity.size(); ++s) {
             if (gains[s] > 0) {
@@ -634,6 +658,8 @@ private:
     // chosen on every fold, item5 (whose test lights lie below all its training lights) took
     // M = 6, λ = 0.03 and lost 3 dB.
     HeldOutFolds folds_;
+    // The extended fit as chosen over every fold, when the blocked-light stage scored it.
+    std::optional<HeldOutScore> everyFold_;
 };
 
 HeldOutSearch::HeldOutSearch(const capture::Capture& capture, const normals::NormalMap& normals,
@@ -849,30 +875,47 @@ void HeldOutSearch::searchTransportRidge() {
     }
 }
 
-// The blocked lights, under T's ridge: calibrated on the training fold and kept, calibrated
-// again on every light, when they predict the held-out fold better.
+// The blocked lights, under T's ridge: on every fold a table calibrated on the other three
+// quarters of the lights predicts that fold, and the tables are kept, calibrated again on
+// every light, when they predict the folds better than the lights as stated. Judged on one
+// fold, the choice followed the draw: realrti-dev item7 (rotation r2 of the protocol) kept
+// no table, its fold's per-image RMS 9.3 against 4.9 as stated, where the table gained
+// 2.5 dB on the capture's test lights; a held-out light beside the blocked ones takes their
+// intensity in part (lightIntensityAt), and one fold holds few such lights.
 void HeldOutSearch::searchLightIntensities() {
     fit::ExtendedFitSettings settings = extendedSettings();
     settings.transportRidge = result_.transportRidge;
-    const capture::GeometryCalibration heldOut = calibrateLightIntensities(
-        validator_, capture_, result_.calibration, settings, options_.holdOutEvery, true);
     auto anyBlocked = [](const std::vector<capture::LightIntensity>& table) {
         return std::any_of(table.begin(), table.end(), [](const capture::LightIntensity& entry) {
             return entry.intensity < 1;
         });
     };
+    std::vector<capture::GeometryCalibration> byFold;
+    bool blocked = false;
+    for (int fold = 0; fold < options_.holdOutEvery; ++fold) {
+        byFold.push_back(calibrateLightIntensities(validator_, capture_, result_.calibration,
+                                                   settings, options_.holdOutEvery, fold));
+        blocked = blocked || anyBlocked(byFold.back().lightIntensities);
+    }
     // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
     // calibrates are the dark ones, which pooling over all samples barely counts.
-    result_.lightIntensityRms = anyBlocked(heldOut.lightIntensities)
-                                    ? validator_.scoreWithTransport(heldOut, settings).imageMean
-                                    : result_.transportImageRms;
-    if (result_.lightIntensityRms < result_.transportImageRms) {
+    const HeldOutScore stated =
+        validator_.scoreWithTransport(result_.calibration, settings, HeldOutFolds::kEvery);
+    const HeldOutScore withTables =
+        blocked ? validator_.scoreWithTransportByFold(byFold, settings) : stated;
+    result_.lightIntensityStatedRms = stated.imageMean;
+    result_.lightIntensityRms = withTables.imageMean;
+    everyFold_ = stated;
+    if (withTables.imageMean < stated.imageMean) {
         std::vector<capture::LightIntensity> table =
             calibrateLightIntensities(validator_, capture_, result_.calibration, settings,
-                                      options_.holdOutEvery, false)
+                                      options_.holdOutEvery, -1)
                 .lightIntensities;
         if (anyBlocked(table)) {  // else the lights as stated, as the model file says
             result_.calibration.lightIntensities = std::move(table);
+            // Each fold's lights judged under a table that did not see them: the table
+            // calibrated on every light would know the held-out lights' own intensities.
+            everyFold_ = withTables;
         }
     }
 }
@@ -883,8 +926,11 @@ void HeldOutSearch::searchLightIntensities() {
 void HeldOutSearch::compareClassicBases() {
     fit::ExtendedFitSettings settings = extendedSettings();
     settings.transportRidge = result_.transportRidge;
+    // Scored already by the blocked-light stage.
     result_.extendedEveryFold =
-        validator_.scoreWithTransport(result_.calibration, settings, HeldOutFolds::kEvery);
+        everyFold_
+            ? *everyFold_
+            : validator_.scoreWithTransport(result_.calibration, settings, HeldOutFolds::kEvery);
     for (const char* name : {"ptm6", "hsh9", "hsh16"}) {
         const model::RtiBasis basis = *model::RtiBasis::parse(name);
         if (basis.terms <= trainingLights() - trainingLights() / options_.holdOutEvery) {

@@ -436,10 +436,15 @@ TEST(ExtendedModel, HeldOutSearchFindsBlockedLights) {
     const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
     fit::HeldOutSearchOptions search = transportSearch();
     search.calibrateLightIntensities = true;
+    search.compareClassicBases = true;
     const fit::HeldOutSearchResult found = fit::searchHeldOut(capture, normals, search);
-    // Measured: per-image held-out RMS 3.92 levels as stated, 1.51 with the blocked lights.
-    EXPECT_LT(found.lightIntensityRms, 0.45 * found.transportImageRms)
-        << found.lightIntensityRms << " against " << found.transportImageRms;
+    // Against the classic bases, each fold judged under the table calibrated without it: the
+    // table of every light knows the held-out lights' own intensities.
+    EXPECT_EQ(found.extendedEveryFold.imageMean, found.lightIntensityRms);
+    // Measured over every fold: per-image held-out RMS 3.79 levels as stated, 1.88 with the
+    // blocked lights calibrated on the other folds.
+    EXPECT_LT(found.lightIntensityRms, 0.55 * found.lightIntensityStatedRms)
+        << found.lightIntensityRms << " against " << found.lightIntensityStatedRms;
     const auto& table = found.calibration.lightIntensities;
     ASSERT_EQ(table.size(), capture.images.size());
     int blockedCount = 0;

@@ -108,11 +108,11 @@ struct FitReport {
     // Where the search's time went (calibrationSeconds): the response search per round, the
     // normals estimated again under a calibrated response, the unstated search's stages.
     std::vector<SearchStageTime> searchStageSeconds;
-    // Blocked lights (HeldOutSearchResult::lightIntensityRms): the held-out per-image RMS of
-    // the extended fit with and without them (0: not tried); calibration.lightIntensities
-    // holds them when they predicted better.
+    // Blocked lights (HeldOutSearchResult::lightIntensityRms): the held-out per-image RMS over
+    // every fold of the extended fit with and without them (0: not tried);
+    // calibration.lightIntensities holds them when they predicted better.
     double lightIntensityRms = 0;
-    double transportImageRms = 0;
+    double lightIntensityStatedRms = 0;
     // Photometric-stereo normals refined by the extended fit: its normal search's first tilt
     // (0: the normals as estimated or given).
     double normalSearchDegrees = 0;

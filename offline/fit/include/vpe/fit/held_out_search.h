@@ -51,11 +51,17 @@ public:
     // values, no ridge; rti_band_fitter.h) and scored the same way: what the extended model
     // is measured against on the capture's own training lights.
     HeldOutScore scoreRtiBasis(const model::RtiBasis& basis, HeldOutFolds folds) const;
+    // The same over every fold, fold k fitted and predicted under byFold[k] (one calibration
+    // per fold, holdOutEvery of them): what each fold gives when something is calibrated on
+    // the other folds' lights alone.
+    HeldOutScore scoreWithTransportByFold(const std::vector<capture::GeometryCalibration>& byFold,
+                                          const fit::ExtendedFitSettings& settings) const;
     // Each light's gain under that extended fit: the factor Σ ŷ y / Σ ŷ² by which the grid's
     // observations y exceed the model's predictions ŷ, for the lights the fit used (all
-    // lights, or the three quarters the scores train on when `holdOut`); 0 for the others.
+    // lights when heldOutFold < 0, else all but that fold's: positions heldOutFold,
+    // heldOutFold + holdOutEvery, …); 0 for the others.
     std::vector<double> lightGains(const capture::GeometryCalibration& calibration,
-                                   const fit::ExtendedFitSettings& settings, bool holdOut) const;
+                                   const fit::ExtendedFitSettings& settings, int heldOutFold) const;
 
     struct Samples;  // the decoded pixel grid (defined in the .cpp)
 
@@ -132,9 +138,10 @@ struct HeldOutSearchResult {
     double transportImageRms = 0;  // the same fit's per-image geometric mean (HeldOutScore)
     std::vector<TransportRidgeTrial> transportTrials;
     // Only with calibrateLightIntensities: the per-image held-out RMS (HeldOutScore::imageMean)
-    // of the extended fit with the intensities calibrated on the other lights, adopted when
-    // below transportImageRms.
+    // over every fold of the extended fit with the intensities calibrated on the other folds'
+    // lights, adopted when below lightIntensityStatedRms, the same with the lights as stated.
     double lightIntensityRms = 0;
+    double lightIntensityStatedRms = 0;
     // Only with compareClassicBases: the extended model as chosen and the classic bases, each
     // over every fold (the extended one's scores 0 when not compared).
     HeldOutScore extendedEveryFold;
