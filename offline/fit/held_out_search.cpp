@@ -890,33 +890,33 @@ void HeldOutSearch::searchLightIntensities() {
             return entry.intensity < 1;
         });
     };
-    std::vector<capture::GeometryCalibration> byFold;
-    bool blocked = false;
-    for (int fold = 0; fold < options_.holdOutEvery; ++fold) {
-        byFold.push_back(calibrateLightIntensities(validator_, capture_, result_.calibration,
-                                                   settings, options_.holdOutEvery, fold));
-        blocked = blocked || anyBlocked(byFold.back().lightIntensities);
-    }
     // Judged by the images' mean PSNR, as vpe eval reports it: the lights this
     // calibrates are the dark ones, which pooling over all samples barely counts.
     const HeldOutScore stated =
         validator_.scoreWithTransport(result_.calibration, settings, HeldOutFolds::kEvery);
-    const HeldOutScore withTables =
-        blocked ? validator_.scoreWithTransportByFold(byFold, settings) : stated;
     result_.lightIntensityStatedRms = stated.imageMean;
-    result_.lightIntensityRms = withTables.imageMean;
+    result_.lightIntensityRms = stated.imageMean;
     everyFold_ = stated;
+    // The table of every light first: when it blocks none, there is nothing to judge.
+    std::vector<capture::LightIntensity> table =
+        calibrateLightIntensities(validator_, capture_, result_.calibration, settings,
+                                  options_.holdOutEvery, -1)
+            .lightIntensities;
+    if (!anyBlocked(table)) {
+        return;  // the lights as stated, as the model file says
+    }
+    std::vector<capture::GeometryCalibration> byFold;
+    for (int fold = 0; fold < options_.holdOutEvery; ++fold) {
+        byFold.push_back(calibrateLightIntensities(validator_, capture_, result_.calibration,
+                                                   settings, options_.holdOutEvery, fold));
+    }
+    const HeldOutScore withTables = validator_.scoreWithTransportByFold(byFold, settings);
+    result_.lightIntensityRms = withTables.imageMean;
     if (withTables.imageMean < stated.imageMean) {
-        std::vector<capture::LightIntensity> table =
-            calibrateLightIntensities(validator_, capture_, result_.calibration, settings,
-                                      options_.holdOutEvery, -1)
-                .lightIntensities;
-        if (anyBlocked(table)) {  // else the lights as stated, as the model file says
-            result_.calibration.lightIntensities = std::move(table);
-            // Each fold's lights judged under a table that did not see them: the table
-            // calibrated on every light would know the held-out lights' own intensities.
-            everyFold_ = withTables;
-        }
+        result_.calibration.lightIntensities = std::move(table);
+        // Each fold's lights judged under a table that did not see them: the table of every
+        // light knows the held-out lights' own intensities.
+        everyFold_ = withTables;
     }
 }
 
