@@ -654,9 +654,9 @@ private:
     // on realrti-dev item7 one fold's choice moved with the fold (γ 1.7 and 13.75°, or sRGB,
     // or 50° with a misfired exposure in the fold), and every fold's held γ 1.4 on all three
     // rotations of the protocol, +0.3 dB on each. How far the model may be trusted between and
-    // beyond the lights (M, λ, T's ridge, the blocked lights) stays judged on the one fold:
-    // chosen on every fold, item5 (whose test lights lie below all its training lights) took
-    // M = 6, λ = 0.03 and lost 3 dB.
+    // beyond the lights (M, λ, T's ridge) stays judged on the one fold: chosen on every fold,
+    // item5 (whose test lights lie below all its training lights) took M = 6, λ = 0.03 and
+    // lost 3 dB. The blocked lights are judged on every fold (searchLightIntensities).
     HeldOutFolds folds_;
     // The extended fit as chosen over every fold, when the blocked-light stage scored it.
     std::optional<HeldOutScore> everyFold_;
