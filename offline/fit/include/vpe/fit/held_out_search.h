@@ -134,8 +134,7 @@ struct HeldOutSearchResult {
     std::vector<HeldOutTrial> trials;
     // Only with selectTransportRidge (else the fit's default and no trials).
     double transportRidge = fit::ExtendedFitSettings{}.transportRidge;
-    double transportRms = 0;       // held-out RMS of the extended fit with that ridge
-    double transportImageRms = 0;  // the same fit's per-image geometric mean (HeldOutScore)
+    double transportRms = 0;  // held-out RMS of the extended fit with that ridge
     std::vector<TransportRidgeTrial> transportTrials;
     // Only with calibrateLightIntensities: the per-image held-out RMS (HeldOutScore::imageMean)
     // over every fold of the extended fit with the intensities calibrated on the other folds'
