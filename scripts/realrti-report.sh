@@ -219,3 +219,22 @@ done
 mkdir -p "$(dirname "$report")"
 mv "$work/report.md" "$report"
 echo "wrote $report" >&2
+# The headline figures as one JSON object on stdout: per rotation the extended and HSH-16
+# means, the item-rotations below HSH-16, the closest one, and the fit-time ratios.
+awk '
+    { r = $2; n[r]++; ext[r] += $7; hsh[r] += $5; margin = $7 - $5
+      if (margin < 0) below++
+      if (!seen++ || margin < closest) { closest = margin; at = $1 " " $2 }
+      ratio[++k] = $9 / $8 }
+    END {
+        for (i = 1; i <= k; i++) for (j = i + 1; j <= k; j++)
+            if (ratio[j] < ratio[i]) { t = ratio[i]; ratio[i] = ratio[j]; ratio[j] = t }
+        median = k % 2 ? ratio[(k + 1) / 2] : (ratio[k / 2] + ratio[k / 2 + 1]) / 2
+        printf "{\"extended_mean\": {\"r0\": %.2f, \"r1\": %.2f, \"r2\": %.2f}, ",
+            ext["r0"] / n["r0"], ext["r1"] / n["r1"], ext["r2"] / n["r2"]
+        printf "\"hsh16_mean\": {\"r0\": %.2f, \"r1\": %.2f, \"r2\": %.2f}, ",
+            hsh["r0"] / n["r0"], hsh["r1"] / n["r1"], hsh["r2"] / n["r2"]
+        printf "\"below_hsh16\": %d, \"of\": %d, \"closest\": \"%s\", \"closest_db\": %.2f, ",
+            below, k, at, closest
+        printf "\"fit_ratio\": {\"min\": %.1f, \"median\": %.1f, \"max\": %.1f}}\n",
+            ratio[1], median, ratio[k] }' "$rotation_rows"

@@ -73,3 +73,8 @@ done
 mkdir -p "$(dirname "$report")"
 mv "$work/report.md" "$report"
 echo "wrote $report" >&2
+# The headline figures as one JSON object on stdout: the means over every set.
+awk '{ n++; paper += $2; extended += $3; normals += $8 }
+    END { printf "{\"sets\": %d, \"paper_psnr\": %.2f, \"extended_psnr\": %.2f, ", n, paper / n,
+                 extended / n
+          printf "\"normals_error_deg\": %.2f}\n", normals / n }' "$rows"
