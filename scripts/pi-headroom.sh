@@ -216,12 +216,11 @@ EOF
     for scene in "${scenes[@]}"; do timing "$scene"; done
     cat <<'EOF'
 
-On llvmpipe every full-screen texel fetch costs 8–16 ms at 1080p on two cores whatever the
-format (an empty pass 2 ms; `vpe_gles_frame_benchmark`'s floor is that fetch cost alone), so a
-frame is bound by its number of per-pixel fetches, not its arithmetic: the static frame is
-within 1.5× of its floor, and no design with the two fetches the geometry and the material
-need per pixel can reach 16.7 ms here. The Pi's GPU fetches through its TMU in hardware; the
-counts above are what matter there.
+On llvmpipe a frame is bound by its number of per-pixel texel fetches, not by its arithmetic:
+the pass-through floor, which does nothing but the fetches, is most of every frame above (the
+ratio column), and a frame's time depends on how busy the two cores are (rerun on an idle
+machine). The Pi's GPU fetches through its TMU in hardware; the counts above, not these times,
+are what matter there.
 EOF
     unpaced=demo-output/synthetic-bizen/player/unpaced.json
     if [[ -f "$unpaced" ]]; then
