@@ -81,8 +81,8 @@ cmake --build --preset asan -j "$jobs"
 # here, error paths being where sanitizers find the most. The other slow tests (~330 s in the
 # release build, ~3x that under ASan) ran in the release build above: CI allows 90 minutes.
 # The installation's refusals are left to the release build too: each first simulates a whole
-# scan (290 s of the 520 s these refusals took under ASan), and the scan's, registration's
-# and bake's refusals run here on their own.
+# scan, the longest of these refusals by far, and the scan's, registration's and bake's
+# refusals run here on their own.
 ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -LE '^slow$'
 ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -L '^slow$' -R 'BadInput|Refuse' \
     -E '^Install[.]'
