@@ -13,11 +13,15 @@
 #             within a frame at 60 Hz, a show riding out faults within seconds, a page seeing
 #             a node within 2 s): it needs the device's own speed, so the arm64 run under
 #             qemu-user, 10-50x slower than a Pi, leaves it out (scripts/test.sh says so)
+#   heavy     a second or more in release that AddressSanitizer multiplies 4-80x: large
+#             numeric fits, or many small decodes each of which OpenImageIO gives a 64 MiB
+#             scratch buffer that ASan poisons. The sanitizer run leaves it out (test.sh);
+#             smaller tests take the same code paths there
 #
 #   vpe_discover_tests(TARGET
 #       [GPU]                  every test of TARGET draws (else: those matching GPU_MATCHING)
 #       [GPU_MATCHING regex] [SLOW_MATCHING regex] [DATA_MATCHING regex]
-#       [REALTIME_MATCHING regex]
+#       [REALTIME_MATCHING regex] [HEAVY_MATCHING regex]
 #       [PROPERTIES ...])      passed on to gtest_discover_tests
 #
 # Regexes match the full test name (Suite.Test). Tests of real captures are named
@@ -28,7 +32,7 @@
 include(GoogleTest)
 
 function(vpe_discover_tests target)
-    cmake_parse_arguments(PARSE_ARGV 1 arg "GPU" "GPU_MATCHING;SLOW_MATCHING;DATA_MATCHING;REALTIME_MATCHING"
+    cmake_parse_arguments(PARSE_ARGV 1 arg "GPU" "GPU_MATCHING;SLOW_MATCHING;DATA_MATCHING;REALTIME_MATCHING;HEAVY_MATCHING"
                           "PROPERTIES")
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60 PROPERTIES ${arg_PROPERTIES})
 
@@ -58,6 +62,9 @@ function(vpe_discover_tests target)
         "    endif()\n"
         "    if(NOT \"${arg_REALTIME_MATCHING}\" STREQUAL \"\" AND test MATCHES \"${arg_REALTIME_MATCHING}\")\n"
         "        list(APPEND labels realtime)\n"
+        "    endif()\n"
+        "    if(NOT \"${arg_HEAVY_MATCHING}\" STREQUAL \"\" AND test MATCHES \"${arg_HEAVY_MATCHING}\")\n"
+        "        list(APPEND labels heavy)\n"
         "    endif()\n"
         "    set_tests_properties(\"\${test}\" PROPERTIES LABELS \"\${labels}\")\n"
         "endforeach()\n")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Runs every test: the suite in a release build, again under AddressSanitizer +
-# UndefinedBehaviorSanitizer (all but the long pipelines), the libFuzzer targets briefly
+# UndefinedBehaviorSanitizer (all but the long pipelines and the heavy tests), the libFuzzer targets briefly
 # (clang), the device-only build (no offline dependency) with its own tests, and the same
 # device build cross-compiled for arm64 (a Raspberry Pi) with its tests under qemu-aarch64.
 # Installs missing packages. This is what CI runs; each stage's time is printed.
@@ -83,7 +83,9 @@ cmake --build --preset asan -j "$jobs"
 # The installation's refusals are left to the release build too: each first simulates a whole
 # scan, the longest of these refusals by far, and the scan's, registration's and bake's
 # refusals run here on their own.
-ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -LE '^slow$'
+# The tests labelled heavy (cmake/VpeTests.cmake) ran in the release build too: ASan made
+# each of them minutes long, and smaller tests take their code paths here.
+ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -LE '^(slow|heavy)$'
 ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -L '^slow$' -R 'BadInput|Refuse' \
     -E '^Install[.]'
 
