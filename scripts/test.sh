@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Runs every test: the suite in a release build, again under AddressSanitizer +
-# UndefinedBehaviorSanitizer (all but the long pipelines and the heavy tests), the libFuzzer targets briefly
-# (clang), the device-only build (no offline dependency) with its own tests, and the same
-# device build cross-compiled for arm64 (a Raspberry Pi) with its tests under qemu-aarch64.
+# UndefinedBehaviorSanitizer (all but the long pipelines and the heavy tests), the libFuzzer
+# targets briefly (clang), the device's package (amd64) through a real kernel in a VM, and the
+# device-only build (no offline dependency) cross-compiled for arm64 (a Raspberry Pi) with its
+# tests under qemu-aarch64.
 # Installs missing packages. This is what CI runs; each stage's time is printed.
 #   scripts/test.sh --quick   a developer's loop: the release build and its tests labelled
 #                             unit, gpu or data (not slow; see cmake/VpeTests.cmake), no
@@ -94,21 +95,20 @@ configure fuzz
 cmake --build --preset fuzz -j "$jobs" --target vpe_fuzzers
 ctest --test-dir build/fuzz --output-on-failure
 
-step "device-only build and its tests (proto, renderer, firmware; no offline dependencies)"
-configure device
-cmake --build --preset device -j "$jobs"
-audit_headers device
-check_labels device
-ctest --test-dir build/device --output-on-failure -j "$jobs"
-
 step "the device's Debian package (amd64) and its KMS path against a real kernel in a VM"
-# cpack: vpe-player_<version>_amd64.deb (docs/device-package.md); its contents checked, then
-# Debian's kernel in qemu (TCG) with a virtio-gpu drives the packaged player (docs/kms-vm.md).
-rm -f build/device/vpe-player_*.deb
-(cd build/device && cpack >/dev/null)
-scripts/package-check.sh --contents-only amd64 build/device/vpe-player_*_amd64.deb
+# The device-only build without its tests (preset device-package): the release build above ran
+# the device's tests, and the arm64 build below runs them again without any offline
+# dependency. cpack: vpe-player_<version>_amd64.deb (docs/device-package.md); its contents
+# checked, then Debian's kernel in qemu (TCG) with a virtio-gpu drives the packaged player
+# (docs/kms-vm.md).
+configure device-package
+cmake --build --preset device-package -j "$jobs"
+audit_headers device-package
+rm -f build/device-package/vpe-player_*.deb
+(cd build/device-package && cpack >/dev/null)
+scripts/package-check.sh --contents-only amd64 build/device-package/vpe-player_*_amd64.deb
 vm_work=$(mktemp -d /tmp/vpe-kms-vm.XXXXXX)  # kept for a look when the check fails
-scripts/kms-vm-check.sh "$vm_work" build/device/vpe-player_*_amd64.deb
+scripts/kms-vm-check.sh "$vm_work" build/device-package/vpe-player_*_amd64.deb
 debian_root_remove "$vm_work/root"
 rm -rf --one-file-system "$vm_work"
 
