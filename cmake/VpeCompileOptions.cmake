@@ -20,8 +20,13 @@ function(vpe_set_compile_options target)
 endfunction()
 
 if(VPE_SANITIZE)
-    add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer
-                        -fno-sanitize-recover=undefined)
+    # Without UBSan's null and alignment checks, which GCC places at every reference binding
+    # and were a third of this build's compile time (extended_chunk_fit.cpp: 26 s → 17 s, two
+    # jobs): ASan reports a null dereference itself (SEGV on address 0, with the stack), and
+    # the fuzz build below keeps both checks on the parsers of file and packet bytes, where a
+    # misaligned read would come from.
+    add_compile_options(-fsanitize=address,undefined -fno-sanitize=null,alignment
+                        -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
     add_link_options(-fsanitize=address,undefined)
 endif()
 
