@@ -94,6 +94,32 @@ TEST(FourierBrdf, EvaluatorIsTheBasisDottedWithTheCoefficients) {
     }
 }
 
+// The three-channel form shares the recurrence and must give each channel's value exactly,
+// bit for bit: the extended fit compares training errors of near-equal tilts with it.
+TEST(FourierBrdf, RgbEvaluatorEqualsEachChannelExactly) {
+    constexpr int kStride = 32;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> coefficient(-1.0f, 1.0f);
+    std::uniform_real_distribution<double> cosine(-1.2, 1.2);
+    for (int harmonics : {0, 1, 6, 10, 15}) {
+        float c[3][kStride];
+        for (auto& channel : c) {
+            for (float& value : channel) {
+                value = coefficient(random);
+            }
+        }
+        for (int trial = 0; trial < 50; ++trial) {
+            const double cd = cosine(random), cs = cosine(random);
+            double rgb[3];
+            evaluateFourierBrdfRgb(&c[0][0], kStride, harmonics, cd, cs, rgb);
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(rgb[k], evaluateFourierBrdf(c[k], harmonics, cd, cs))
+                    << "M = " << harmonics << ", channel " << k;
+            }
+        }
+    }
+}
+
 TEST(FourierBrdf, LambertTermIsClampedBelowTheHorizon) {
     std::vector<double> c(coefficientCount(0), 0.0);
     c[kLambertIndex] = 2.0;

@@ -115,6 +115,30 @@ inline T evaluateFourierBrdf(const Coefficient* coefficients, int harmonics, T c
            T(coefficients[kConstantIndex]) * T(kConstantBasis) + specular;
 }
 
+// Evaluates the three colour channels at one angle pair, sharing the recurrence (most of a
+// channel's cost): out[c] is exactly evaluateFourierBrdf(coefficients + c · channelStride, …),
+// the same operations in the same order. The extended fit predicts every channel of every
+// sample several times per texel.
+template <typename T, typename Coefficient>
+inline void evaluateFourierBrdfRgb(const Coefficient* coefficients, int channelStride,
+                                   int harmonics, T cosThetaD, T cosThetaS, T (&out)[3]) {
+    const Coefficient* channel[3] = {coefficients, coefficients + channelStride,
+                                     coefficients + 2 * channelStride};
+    HarmonicRecurrence<T> harmonic(cosThetaS);
+    T specular[3] = {T(0), T(0), T(0)};
+    for (int m = 1; m <= harmonics; ++m, harmonic.next()) {
+        for (int c = 0; c < 3; ++c) {
+            specular[c] = specular[c] + T(channel[c][cosineIndex(m)]) * harmonic.cosine() +
+                          T(channel[c][sineIndex(m)]) * harmonic.sine();
+        }
+    }
+    const T lambert = lambertBasis(cosThetaD);
+    for (int c = 0; c < 3; ++c) {
+        out[c] = T(channel[c][kLambertIndex]) * lambert +
+                 T(channel[c][kConstantIndex]) * T(kConstantBasis) + specular[c];
+    }
+}
+
 // The direct form with one trigonometric call per harmonic: slow, for tests only.
 inline double evaluateFourierBrdfDirect(const double* coefficients, int harmonics, double thetaD,
                                         double thetaS) {
