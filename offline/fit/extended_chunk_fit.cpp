@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "vpe/proto/detail_normal.h"
+#include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/luminance.h"
 
 namespace vpe::fit {
@@ -26,11 +27,13 @@ double luminance(float r, float g, float b) {
 }
 
 using TransportMatrix = Eigen::Matrix<double, model::kTransportTerms, model::kTransportTerms>;
+constexpr int kTransportPairs = ExtendedLightTable::kTransportPairs;
 using TransportVector = Eigen::Matrix<double, model::kTransportTerms, 1>;
 
 // One sample of a texel's T fit: T(l)·P ≈ L with weight w.
 struct TransportSample {
     const double* basis;  // T's basis at the sample's light, model::kTransportTerms
+    const double* outer;  // its outer product h hᵀ, packed (ExtendedLightTable)
     double weight, predicted, observed;
 };
 
@@ -42,29 +45,44 @@ struct TransportEquations {
     double meanWeight = 0;  // of w P², the scale the ridges are relative to
 
     explicit TransportEquations(const std::vector<TransportSample>& samples) {
-        // a = Σ w P² h hᵀ as one product RᵀR of the rows √(w P²)·h: a blocked matrix product
-        // where one rank-1 update a sample took twice the arithmetic at a fraction of its speed.
-        thread_local Eigen::Matrix<double, Eigen::Dynamic, model::kTransportTerms> rows;
-        rows.resize(static_cast<Eigen::Index>(samples.size()), model::kTransportTerms);
+        // a = Σ w P² h hᵀ from each light's h hᵀ, packed and computed once per capture: one
+        // multiply-add per distinct entry and sample, in one contiguous loop. A product RᵀR
+        // of the rows √(w P²)·h (Eigen's blocked GEMM) spent most of its time packing a
+        // 40 × 16 matrix; this is 136 multiply-adds a sample against 256 and the packing.
+        double packed[kTransportPairs] = {};
         double weightSum = 0;
-        for (std::size_t i = 0; i < samples.size(); ++i) {
-            const TransportSample& sample = samples[i];
+        for (const TransportSample& sample : samples) {
             const Eigen::Map<const TransportVector> h(sample.basis);
             const double wp = sample.weight * sample.predicted;
             const double w = wp * sample.predicted;
-            rows.row(static_cast<Eigen::Index>(i)) = std::sqrt(std::max(w, 0.0)) * h.transpose();
+            const double used = std::max(w, 0.0);
+            for (int k = 0; k < kTransportPairs; ++k) {
+                packed[k] += used * sample.outer[k];
+            }
             b.noalias() += (wp * sample.observed) * h;
             weightSum += w;
         }
-        a.noalias() = rows.transpose() * rows;
+        for (int row = 0, k = 0; row < model::kTransportTerms; ++row) {
+            for (int column = row; column < model::kTransportTerms; ++column, ++k) {
+                a(row, column) = packed[k];
+                a(column, row) = packed[k];
+            }
+        }
         meanWeight = samples.empty() ? 0.0 : weightSum / static_cast<double>(samples.size());
     }
     bool solvable() const { return meanWeight > 0; }
     // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖²; not finite when it fails.
+    // Cholesky: with a ridge the matrix is positive definite, and LLT is a third of LDLT's
+    // time at this size (no pivoting); LDLT only where it fails (no ridge, degenerate lights).
     TransportVector solve(double ridge, const TransportVector& prior) const {
         TransportMatrix regularized = a;
         regularized.diagonal().array() += ridge * meanWeight;
-        return regularized.ldlt().solve(b + ridge * meanWeight * prior);
+        const TransportVector right = b + ridge * meanWeight * prior;
+        const Eigen::LLT<TransportMatrix> cholesky(regularized);
+        if (cholesky.info() == Eigen::Success) {
+            return cholesky.solve(right);
+        }
+        return regularized.ldlt().solve(right);
     }
 };
 
@@ -147,10 +165,19 @@ void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, 
 
 ExtendedLightTable::ExtendedLightTable(const capture::Capture& capture) {
     transportBasis.reserve(capture.images.size());
+    transportOuter.reserve(capture.images.size());
     for (const capture::CaptureImage& image : capture.images) {
         std::array<double, model::kTransportTerms> basis;
         model::lightTransportBasis(model::transportDirection(capture, image), basis.data());
         transportBasis.push_back(basis);
+        std::array<double, kTransportPairs> outer;
+        for (int row = 0, k = 0; row < model::kTransportTerms; ++row) {
+            for (int column = row; column < model::kTransportTerms; ++column, ++k) {
+                outer[static_cast<std::size_t>(k)] =
+                    basis[static_cast<std::size_t>(row)] * basis[static_cast<std::size_t>(column)];
+            }
+        }
+        transportOuter.push_back(outer);
     }
 }
 
@@ -219,8 +246,9 @@ private:
     // weight of its luminance T fit.
     std::vector<float> centreTransport_, centreChannelTransport_;
     double centreLuminanceWeight_[kLanes] = {};
-    std::vector<float> robust_;      // shadow down-weighting of the BRDF fit
-    std::vector<double> predicted_;  // the BRDF's luminance prediction of one lane's samples
+    std::vector<float> robust_;         // shadow down-weighting of the BRDF fit
+    std::vector<double> predicted_;     // the BRDF's luminance prediction of one lane's samples
+    std::vector<double> predictedRgb_;  // per sample, channel and lane (predictLane)
     std::vector<double> magnitudes_;
     std::vector<TransportSample> fitted_;  // the samples of the T fit under way
 };
@@ -293,6 +321,7 @@ void ExtendedChunkFit::readObservations(const capture::Capture& capture,
     cosD_.resize(laneBlock_);
     cosS_.resize(laneBlock_);
     irradiance_.resize(laneBlock_);
+    predictedRgb_.resize(laneBlock_ * 3);
     lightDirections_.resize(laneBlock_);
     for (int s = 0; s < samples_; ++s) {
         const capture::CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
@@ -333,15 +362,17 @@ double ExtendedChunkFit::observedLuminance(int s, int lane) const {
     return luminance(values_[base], values_[base + kLanes], values_[base + 2 * kLanes]);
 }
 
-// The BRDF's luminance prediction of every sample of a lane, in image units.
+// The BRDF's prediction of every sample of a lane, in image units: per channel (for the
+// colour T fit that follows) and its luminance.
 void ExtendedChunkFit::predictLane(int lane) {
     for (int s = 0; s < samples_; ++s) {
         const std::size_t i = at(s, lane);
         double rgb[3];
+        proto::evaluateFourierBrdfRgb(&out_->brdf.coefficients[lane][0][0], kMaxCoefficients,
+                                      settings_->harmonics, cosD_[i], cosS_[i], rgb);
         for (int c = 0; c < 3; ++c) {
-            rgb[c] = irradiance_[i] * proto::evaluateFourierBrdf(out_->brdf.coefficients[lane][c],
-                                                                 settings_->harmonics, cosD_[i],
-                                                                 cosS_[i]);
+            rgb[c] = irradiance_[i] * rgb[c];
+            predictedRgb_[valueAt(s, c, lane)] = rgb[c];
         }
         predicted_[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
     }
@@ -359,7 +390,8 @@ void ExtendedChunkFit::gatherSamples(int lane, int channel, Predict predict) {
         const double observed = channel < 0
                                     ? observedLuminance(s, lane)
                                     : static_cast<double>(values_[valueAt(s, channel, lane)]);
-        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(), weights_[i],
+        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(),
+                           table_->transportOuter[static_cast<std::size_t>(s)].data(), weights_[i],
                            predict(s, i), observed});
     }
 }
@@ -405,10 +437,8 @@ void ExtendedChunkFit::fitColourTransport(int lane) {
     }
     TransportVector colour[model::kTransportChannels] = {grey, grey, grey};
     for (int c = 0; c < model::kTransportChannels; ++c) {
-        gatherSamples(lane, c, [&](int, std::size_t i) {
-            return irradiance_[i] * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                               settings_->harmonics, cosD_[i],
-                                                               cosS_[i]);
+        gatherSamples(lane, c, [&](int s, std::size_t) {
+            return predictedRgb_[valueAt(s, c, lane)];  // by predictLane, under this f
         });
         const TransportEquations equations(fitted_);
         if (!equations.solvable()) {
@@ -584,6 +614,9 @@ double ExtendedChunkFit::trainingError(int lane) const {
             continue;
         }
         const double* basis = table_->transportBasis[static_cast<std::size_t>(s)].data();
+        double brdf[3];
+        proto::evaluateFourierBrdfRgb(&out.brdf.coefficients[lane][0][0], kMaxCoefficients,
+                                      settings_->harmonics, cosD_[i], cosS_[i], brdf);
         for (int c = 0; c < 3; ++c) {
             double t = 0;
             for (int k = 0; k < model::kTransportTerms; ++k) {
@@ -591,9 +624,7 @@ double ExtendedChunkFit::trainingError(int lane) const {
                      basis[k];
             }
             const double shading = std::clamp(t, 0.0, 4.0) * irradiance_[i];
-            const double model =
-                shading * proto::evaluateFourierBrdf(out.brdf.coefficients[lane][c],
-                                                     settings_->harmonics, cosD_[i], cosS_[i]);
+            const double model = shading * brdf[c];
             const double observed = static_cast<double>(values_[valueAt(s, c, lane)]);
             if (!(saturated_[i] && model >= observed)) {
                 error += static_cast<double>(weights_[i]) * (observed - model) * (observed - model);

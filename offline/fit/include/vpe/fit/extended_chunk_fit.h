@@ -14,6 +14,7 @@
 // only while the model predicts less than the clipped value (a lower bound).
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "vpe/capture/capture.h"
@@ -57,7 +58,11 @@ struct ExtendedChunkSolution {
 
 // Light data shared by all chunks of a capture.
 struct ExtendedLightTable {
+    // The distinct entries of a symmetric kTransportTerms² matrix, row by row (upper triangle).
+    static constexpr int kTransportPairs =
+        model::kTransportTerms * (model::kTransportTerms + 1) / 2;
     std::vector<std::array<double, model::kTransportTerms>> transportBasis;  // per sample
+    std::vector<std::array<double, kTransportPairs>> transportOuter;         // h hᵀ, per sample
     explicit ExtendedLightTable(const capture::Capture& capture);
 };
 
