@@ -64,13 +64,28 @@ public:
                                    const fit::ExtendedFitSettings& settings, int heldOutFold) const;
 
     struct Samples;  // the decoded pixel grid (defined in the .cpp)
+    // The grid's normals as the extended fit's normal search refined them on one training set
+    // (the lights outside heldOutFold; all for −1) under one rig (field of view, light
+    // distance, response) and T's ridge: refined by the first extended fit of that set,
+    // reused by the hypotheses after it (refinedNormals in the .cpp).
+    struct RefinedNormals {
+        int heldOutFold = 0;
+        capture::GeometryCalibration rig;
+        double transportRidge = 0;
+        bool filled = false;
+        std::vector<float> xyz;  // per grid sample, 3 each
+    };
 
 private:
+    RefinedNormals& refinedNormals(const capture::GeometryCalibration& calibration,
+                                   double transportRidge, int heldOutFold) const;
+
     const capture::Capture& capture_;
     const normals::NormalMap& normals_;
     int holdOutEvery_;
     unsigned threads_;
     std::unique_ptr<Samples> samples_;
+    mutable std::vector<std::unique_ptr<RefinedNormals>> refinedNormals_;
 };
 
 struct HeldOutSearchOptions {
