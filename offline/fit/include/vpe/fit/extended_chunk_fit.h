@@ -77,10 +77,11 @@ void fitChunkExtended(const capture::Capture& capture, const ExtendedLightTable&
 // The same fit, then (with settings.normalSearchDegrees > 0) each lane's normal refined: a
 // photometric-stereo normal is a Lambertian estimate that drops the darkest samples, and raking
 // lights, where the model is most sensitive to the tilt, are among them. Every tilt of the
-// pattern is a full extended fit of the chunk under the ridges the first fit chose (choosing a
-// texel's ridge is most of a T fit's cost; a tilt of a few degrees does not move it); a lane
-// keeps the normal, BRDF and T of the lowest training error. `geometry`'s normals are replaced
-// by the chosen ones.
+// pattern is tried from the first fit, under the ridges it chose (choosing a texel's ridge is
+// most of a T fit's cost; a tilt of a few degrees does not move it): T's luminance and f once,
+// T's colour carried from the first fit except in the last step; a lane keeps the normal,
+// BRDF and T of the lowest training error, fitted whole once more. `geometry`'s normals are
+// replaced by the chosen ones.
 void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
                                      const ExtendedLightTable& table, ChunkGeometry& geometry,
                                      const bool (&laneValid)[kLanes], const KernelLightSet& lights,
