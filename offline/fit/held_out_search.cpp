@@ -475,7 +475,7 @@ HeldOutErrors transportFoldErrors(const HeldOutValidator::Samples& samples,
 
 }  // namespace
 
-// The normal search is most of an extended fit's time (13 tilts, each a T and an f fit), and
+// The normal search is most of an extended fit's time (12 tilts, each a T and an f fit), and
 // the blocked-light stage fits the grid some eighteen times (the tables of every light and of
 // every fold, each in two rounds, and their scores). The normals are the surface's, and a
 // light's intensity barely moves them: each training set's are refined once, by its first
