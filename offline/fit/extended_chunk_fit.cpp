@@ -30,6 +30,17 @@ using TransportMatrix = Eigen::Matrix<double, model::kTransportTerms, model::kTr
 constexpr int kTransportPairs = ExtendedLightTable::kTransportPairs;
 using TransportVector = Eigen::Matrix<double, model::kTransportTerms, 1>;
 
+// Calls visit(row, column, k) for each distinct entry of a symmetric kTransportTerms² matrix,
+// k its index in the packed layout (the upper triangle, row by row).
+template <typename Visit>
+void forEachTransportPair(Visit visit) {
+    for (int row = 0, k = 0; row < model::kTransportTerms; ++row) {
+        for (int column = row; column < model::kTransportTerms; ++column, ++k) {
+            visit(row, column, k);
+        }
+    }
+}
+
 // One sample of a texel's T fit: T(l)·P ≈ L with weight w.
 struct TransportSample {
     const double* basis;  // T's basis at the sample's light, model::kTransportTerms
@@ -62,12 +73,10 @@ struct TransportEquations {
             b.noalias() += (wp * sample.observed) * h;
             weightSum += w;
         }
-        for (int row = 0, k = 0; row < model::kTransportTerms; ++row) {
-            for (int column = row; column < model::kTransportTerms; ++column, ++k) {
-                a(row, column) = packed[k];
-                a(column, row) = packed[k];
-            }
-        }
+        forEachTransportPair([&](int row, int column, int k) {
+            a(row, column) = packed[k];
+            a(column, row) = packed[k];
+        });
         meanWeight = samples.empty() ? 0.0 : weightSum / static_cast<double>(samples.size());
     }
     bool solvable() const { return meanWeight > 0; }
@@ -171,12 +180,10 @@ ExtendedLightTable::ExtendedLightTable(const capture::Capture& capture) {
         model::lightTransportBasis(model::transportDirection(capture, image), basis.data());
         transportBasis.push_back(basis);
         std::array<double, kTransportPairs> outer;
-        for (int row = 0, k = 0; row < model::kTransportTerms; ++row) {
-            for (int column = row; column < model::kTransportTerms; ++column, ++k) {
-                outer[static_cast<std::size_t>(k)] =
-                    basis[static_cast<std::size_t>(row)] * basis[static_cast<std::size_t>(column)];
-            }
-        }
+        forEachTransportPair([&](int row, int column, int k) {
+            outer[static_cast<std::size_t>(k)] =
+                basis[static_cast<std::size_t>(row)] * basis[static_cast<std::size_t>(column)];
+        });
         transportOuter.push_back(outer);
     }
 }
