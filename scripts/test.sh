@@ -31,6 +31,18 @@ scripts/install-deps.sh --test
 [[ $quick -eq 1 ]] || scripts/install-deps.sh --arm64
 
 jobs=$(nproc)
+
+# The arm64 root (scripts/arm64-sysroot.sh, about 200 s: mostly downloading and unpacking
+# packages) is made in the background while the builds below run, instead of first in the
+# arm64 stage. Its own process group, so that a failing run stops it.
+sysroot_pid=""
+if [[ $quick -eq 0 ]]; then
+    sysroot_log=$(mktemp /tmp/vpe-arm64-sysroot.XXXXXX)
+    setsid scripts/arm64-sysroot.sh >"$sysroot_log" 2>&1 &
+    sysroot_pid=$!
+    trap '[[ -n $sysroot_pid ]] && kill -- -"$sysroot_pid" 2>/dev/null; true' EXIT
+fi
+
 started=$SECONDS
 stage_start=$SECONDS
 step() {
@@ -115,8 +127,17 @@ debian_root_remove "$vm_work/root"
 rm -rf --one-file-system "$vm_work"
 
 step "arm64: the device build cross-compiled for a Raspberry Pi, its tests under qemu-aarch64"
-# Against a Debian 12 arm64 root holding only the device's packages (scripts/arm64-sysroot.sh).
-scripts/arm64-sysroot.sh
+# Against a Debian 12 arm64 root holding only the device's packages (scripts/arm64-sysroot.sh),
+# made in the background since the start.
+sysroot_status=0
+wait "$sysroot_pid" || sysroot_status=$?
+sysroot_pid=""
+cat "$sysroot_log" >&2
+rm -f "$sysroot_log"
+if [[ $sysroot_status -ne 0 ]]; then
+    echo "test.sh: scripts/arm64-sysroot.sh failed (exit $sysroot_status; its output above)" >&2
+    exit 1
+fi
 configure device-arm64 --sysroot build/arm64-root
 cmake --build --preset device-arm64 -j "$jobs"
 audit_headers device-arm64 --sysroot build/arm64-root
