@@ -62,7 +62,7 @@ std::string thetaBasisText(const bake::BakeReport& report) {
 
 namespace {
 
-struct Arguments {
+struct BakeArguments {
     bake::BakeOptions options;
     std::string texture, quilt, mesh, projectorSize, out;
     std::vector<std::string> projectors, scans, radiometry;
@@ -76,10 +76,10 @@ struct Arguments {
     bool json = false;
 };
 
-void runShow(const Arguments& args, const bake::BakeOptions& options);
+void runShow(const BakeArguments& args, const bake::BakeOptions& options);
 
 // What `vpe bake` does once its options are parsed.
-void runBake(const Arguments& args) {
+void runBake(const BakeArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     bake::BakeOptions options = args.options;
     options.texture = args.texture;
@@ -261,7 +261,7 @@ std::vector<std::uint8_t> sharePicture(const renderer::FloatImage& share) {
 
 // `vpe bake` with several projectors: one bundle each in the folder --out, with the share maps
 // and the surface's reach as pictures and show.json.
-void runShow(const Arguments& args, const bake::BakeOptions& options) {
+void runShow(const BakeArguments& args, const bake::BakeOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     if (!args.projectors.empty() && !args.scans.empty()) {
         throw common::InputError(
@@ -335,7 +335,7 @@ void runShow(const Arguments& args, const bake::BakeOptions& options) {
 }  // namespace
 
 void addBakeCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<BakeArguments>();
     CLI::App* command = app.add_subcommand(
         "bake", "Combine texture, screen mesh and projector calibration into a device bundle");
     command->add_option("--texture", args->texture, "One composed texture (model file, .exr)");

@@ -24,7 +24,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Arguments {
+struct CalibrateArguments {
     std::vector<std::string> poses;
     std::string board, out, truth;
     int threads = 0;
@@ -121,7 +121,7 @@ void writePoseSheet(const std::vector<calibrate::BoardPose>& poses,
     image::writeContactSheet(path, tiles, 4, 400);
 }
 
-void runCalibrate(const Arguments& args) {
+void runCalibrate(const CalibrateArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const calibrate::BoardSpec board = calibrate::parseBoardSpec(args.board);
     std::vector<calibrate::BoardPose> poses;
@@ -198,7 +198,7 @@ void runCalibrate(const Arguments& args) {
 }  // namespace
 
 void addCalibrateCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<CalibrateArguments>();
     CLI::App* command = app.add_subcommand(
         "calibrate",
         "Calibrate a projector and a camera from checkerboard poses under structured light");

@@ -20,7 +20,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct ComposeArguments {
     std::string dir;
     std::string out;
     std::string weights;
@@ -30,7 +30,7 @@ struct Arguments {
 };
 
 // What `vpe compose` does once its options are parsed.
-void runCompose(const Arguments& args) {
+void runCompose(const ComposeArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     // The spec first: its mistakes are cheaper to report than a folder's.
     const std::vector<texture::WeightSource> sources = texture::parseWeightSpec(args.weights);
@@ -102,7 +102,7 @@ void runCompose(const Arguments& args) {
 }  // namespace
 
 void addComposeCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<ComposeArguments>();
     CLI::App* command = app.add_subcommand(
         "compose", "Blend the region maps of vpe quilt with weight maps into one model (eq. 20)");
     command->add_option("DIR", args->dir, "Folder with region0.exr, region1.exr, ... (vpe quilt)")

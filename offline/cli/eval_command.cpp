@@ -16,7 +16,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct EvalArguments {
     std::string model;
     std::string capture;
     std::string predictions;
@@ -26,7 +26,7 @@ struct Arguments {
 };
 
 // What `vpe eval` does once its options are parsed.
-void runEval(const Arguments& args) {
+void runEval(const EvalArguments& args) {
     eval::EvaluationOptions options;
     options.threads = common::resolveThreadCount(args.threads);
     if (!args.predictions.empty()) {
@@ -68,7 +68,7 @@ void runEval(const Arguments& args) {
 }  // namespace
 
 void addEvalCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<EvalArguments>();
     CLI::App* command = app.add_subcommand(
         "eval", "Predict every image of a capture from a model and report RMS and PSNR");
     command->add_option("MODEL", args->model, "Model file written by vpe fit")->required();

@@ -16,7 +16,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct ExportRelightArguments {
     std::string model;
     std::string capture;
     std::string out;
@@ -30,7 +30,7 @@ struct Arguments {
 };
 
 // What `vpe export-relight` does once its options are parsed.
-void runExportRelight(const Arguments& args) {
+void runExportRelight(const ExportRelightArguments& args) {
     relight_web::RelightWebOptions options;
     options.resolution = args.resolution;
     options.planes = args.planes;
@@ -101,7 +101,7 @@ void runExportRelight(const Arguments& args) {
 }  // namespace
 
 void addExportRelightCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<ExportRelightArguments>();
     CLI::App* command = app.add_subcommand(
         "export-relight",
         "Export a model as a Relight web RTI (info.json + plane_N.jpg, bilinear light grid, "

@@ -20,7 +20,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct FitArguments {
     std::string capture;
     std::string out;
     int harmonics = proto::kDefaultHarmonics;
@@ -56,7 +56,7 @@ nlohmann::json lightIntensitiesJson(const fit::FitReport& report) {
 }
 
 // What `vpe fit` does once its options are parsed.
-void runFit(const Arguments& args) {
+void runFit(const FitArguments& args) {
     fit::FitOptions options;
     options.harmonics = args.harmonics;
     options.lambda = args.lambda;
@@ -220,7 +220,7 @@ void runFit(const Arguments& args) {
 }  // namespace
 
 void addFitCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<FitArguments>();
     CLI::App* command = app.add_subcommand(
         "fit", "Fit a per-pixel Fourier BRDF to a capture and write the model (OpenEXR)");
     command

@@ -260,13 +260,13 @@ void printInfo(const std::string& path, const proto::BundleView& bundle) {
 
 namespace {
 
-struct Arguments {
+struct InfoArguments {
     std::string bundle;
     bool json = false;
 };
 
 // What `vpe info` does once its options are parsed.
-void runInfo(const Arguments& args) {
+void runInfo(const InfoArguments& args) {
     try {
         const proto::BundleFile bundle = proto::BundleFile::open(args.bundle);
         if (args.json) {
@@ -282,7 +282,7 @@ void runInfo(const Arguments& args) {
 }  // namespace
 
 void addInfoCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<InfoArguments>();
     CLI::App* command = app.add_subcommand(
         "info", "Show what a device bundle holds, after the device's own checks");
     command->add_option("BUNDLE", args->bundle, "Bundle file (.vpeb)")->required();

@@ -16,7 +16,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct NormalsArguments {
     std::string capture;
     std::string out;
     std::string truth;
@@ -25,7 +25,7 @@ struct Arguments {
 };
 
 // What `vpe normals` does once its options are parsed.
-void runNormals(const Arguments& args) {
+void runNormals(const NormalsArguments& args) {
     const capture::Capture capture = capture::openCapture(args.capture);
     normals::PhotometricStereoOptions options;
     options.threads = common::resolveThreadCount(args.threads);
@@ -64,7 +64,7 @@ void runNormals(const Arguments& args) {
 }  // namespace
 
 void addNormalsCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<NormalsArguments>();
     CLI::App* command = app.add_subcommand(
         "normals", "Estimate normals by robust photometric stereo; compare with a reference");
     command->add_option("CAPTURE", args->capture, "Capture (its own normal map is not used)")

@@ -23,14 +23,14 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct ProjectorRingArguments {
     int count = 3;
     double distance = 0.6, elevation = 15, fov = 30, azimuth = 0;
     std::string size = "1920x1080", target = "0,0.075,0", out;
     bool json = false;
 };
 
-void runProjectorRing(const Arguments& args) {
+void runProjectorRing(const ProjectorRingArguments& args) {
     if (args.count < 1 || args.count > 32) {
         throw common::InputError("--count: expected 1 to 32 projectors");
     }
@@ -74,7 +74,7 @@ void runProjectorRing(const Arguments& args) {
 }  // namespace
 
 void addProjectorRingCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<ProjectorRingArguments>();
     CLI::App* command = app.add_subcommand(
         "projector-ring",
         "Calibration files for projectors evenly around the object, to rehearse a show");

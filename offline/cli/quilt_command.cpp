@@ -21,7 +21,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct QuiltArguments {
     std::string model;
     std::string labels;
     std::string size;
@@ -41,7 +41,7 @@ struct Arguments {
 };
 
 // What `vpe quilt` does once its options are parsed.
-void runQuilt(const Arguments& args) {
+void runQuilt(const QuiltArguments& args) {
     quilt::QuiltTextureOptions options;
     options.model = args.model;
     options.labels = args.labels;
@@ -121,7 +121,7 @@ void runQuilt(const Arguments& args) {
 }  // namespace
 
 void addQuiltCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<QuiltArguments>();
     CLI::App* command = app.add_subcommand(
         "quilt", "Image Quilting of a model's coefficient maps, one texture per region");
     command->add_option("MODEL", args->model, "Model file written by vpe fit")->required();

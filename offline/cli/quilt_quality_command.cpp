@@ -112,7 +112,7 @@ void printRegion(const quilt::RegionQuality& q) {
 
 namespace {
 
-struct Arguments {
+struct QuiltQualityArguments {
     std::string model;
     std::string labels;
     std::string quilt;
@@ -121,7 +121,7 @@ struct Arguments {
 };
 
 // What `vpe quilt-quality` does once its options are parsed.
-void runQuiltQuality(const Arguments& args) {
+void runQuiltQuality(const QuiltQualityArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const model::CoefficientImage source = model::readCoefficientImage(args.model);
     const std::vector<std::uint8_t> labels =
@@ -178,7 +178,7 @@ void runQuiltQuality(const Arguments& args) {
 }  // namespace
 
 void addQuiltQualityCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<QuiltQualityArguments>();
     CLI::App* command = app.add_subcommand(
         "quilt-quality",
         "Measure a quilting result: region correctness, distribution and spectrum match, seams, "

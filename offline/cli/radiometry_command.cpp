@@ -20,13 +20,13 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct RadiometryArguments {
     std::string capture, scan, out;
     int threads = 0;
     bool json = false;
 };
 
-void runRadiometry(const Arguments& args) {
+void runRadiometry(const RadiometryArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     // A scan folder holding the capture in radiometry/, or the capture's own folder.
     std::filesystem::path capture = args.capture;
@@ -98,7 +98,7 @@ void runRadiometry(const Arguments& args) {
 }  // namespace
 
 void addRadiometryCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<RadiometryArguments>();
     CLI::App* command = app.add_subcommand(
         "radiometry",
         "Measure the projector's light on the object from flat fields: per projector pixel the "

@@ -20,7 +20,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct RelightArguments {
     std::string model;
     std::string out;
     std::vector<double> light{0.5, 0.5, 0.707};
@@ -109,7 +109,7 @@ std::string describe(const model::ModelInfo& info, bool asCaptured) {
 }
 
 // What `vpe relight` does once its options are parsed.
-void runRelight(const Arguments& args) {
+void runRelight(const RelightArguments& args) {
     const proto::Vec3d light{args.light[0], args.light[1], args.light[2]};
     const double length = std::sqrt(proto::dot(light, light));
     if (!(length > 1e-9) || !std::isfinite(length)) {
@@ -138,7 +138,7 @@ void runRelight(const Arguments& args) {
 }  // namespace
 
 void addRelightCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<RelightArguments>();
     CLI::App* command = app.add_subcommand(
         "relight",
         "Render a model or texture under one light: as the capture's camera recorded it "

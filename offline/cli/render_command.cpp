@@ -90,7 +90,7 @@ proto::Vec3d meshCentre(const proto::MeshView& mesh) {
 
 namespace {
 
-struct Arguments {
+struct RenderArguments {
     std::vector<std::string> bundles;
     std::string bundle, out, simulate, direct, exr, weights, gain;
     std::string light, viewer, viewSize = "480x360";
@@ -118,7 +118,7 @@ proto::BundleFile openBundle(const std::string& path) {
 }
 
 // Where the visitor stands: --viewer, or the bundle's viewer.
-proto::Vec3d viewerOf(const Arguments& args, const renderer::BundleScene& bundleScene) {
+proto::Vec3d viewerOf(const RenderArguments& args, const renderer::BundleScene& bundleScene) {
     if (args.viewer.empty()) {
         return bundleScene.bundleViewer();
     }
@@ -128,7 +128,7 @@ proto::Vec3d viewerOf(const Arguments& args, const renderer::BundleScene& bundle
 
 // The virtual light at --light, of --intensity in every channel.
 template <typename Position>
-renderer::VirtualLight virtualLightOf(const Arguments& args, const Position& light) {
+renderer::VirtualLight virtualLightOf(const RenderArguments& args, const Position& light) {
     renderer::VirtualLight virtualLight;
     virtualLight.position = {light.x, light.y, light.z};
     virtualLight.intensity = {args.intensity, args.intensity, args.intensity};
@@ -137,7 +137,7 @@ renderer::VirtualLight virtualLightOf(const Arguments& args, const Position& lig
 
 // `vpe render` with the bundles of a show (vpe bake with several projectors): a frame per
 // projector into the folder --out, and the visitor's view of their combined light.
-void runRenderShow(const Arguments& args) {
+void runRenderShow(const RenderArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const auto light = scene::parsePosition(args.light, "--light");
     const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
@@ -266,7 +266,7 @@ void runRenderShow(const Arguments& args) {
 }
 
 // What `vpe render` does once its options are parsed.
-void runRender(const Arguments& args) {
+void runRender(const RenderArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const auto light = scene::parsePosition(args.light, "--light");
     const SizeArgument viewSize = parseSizeArgument(args.viewSize, "--view-size", 8192);
@@ -351,7 +351,7 @@ void runRender(const Arguments& args) {
 }  // namespace
 
 void addRenderCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<RenderArguments>();
     CLI::App* command = app.add_subcommand(
         "render",
         "Render a bundle on the CPU: the projector frame, and previews of what a visitor sees");

@@ -22,14 +22,14 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct ScanArguments {
     std::string capture, calibration, out, truth;
     double minCoverage = 0.5;
     int threads = 0;
     bool json = false;
 };
 
-void runScan(const Arguments& args) {
+void runScan(const ScanArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     scan::ProcamRig rig;
     rig.projector = scene::readProjectorCalibration(args.calibration);
@@ -146,7 +146,7 @@ void runScan(const Arguments& args) {
 }  // namespace
 
 void addScanCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<ScanArguments>();
     CLI::App* command = app.add_subcommand(
         "scan",
         "Decode a structured-light capture and triangulate the surface each projector "

@@ -74,7 +74,7 @@ int parseClusters(const std::string& text) {
 
 namespace {
 
-struct Arguments {
+struct SegmentArguments {
     std::string model;
     std::string out;
     std::string seeds;
@@ -89,7 +89,7 @@ struct Arguments {
 };
 
 // What `vpe segment` does once its options are parsed.
-void runSegment(const Arguments& args) {
+void runSegment(const SegmentArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     if (args.seeds.empty() == args.autoClusters.empty()) {
         throw common::InputError("segment: give either --seeds x,y[;x,y...] or --auto K|auto");
@@ -189,7 +189,7 @@ void runSegment(const Arguments& args) {
 }  // namespace
 
 void addSegmentCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<SegmentArguments>();
     CLI::App* command = app.add_subcommand(
         "segment", "Split a model into reflectance regions: label image and overlay");
     command->add_option("MODEL", args->model, "Model file (.exr) from vpe fit")->required();

@@ -19,7 +19,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct ShowCheckArguments {
     transfer::ShowCheckOptions options;
     std::string capture, out, viewSize = "480x360";
     std::vector<std::string> bundles;
@@ -27,7 +27,7 @@ struct Arguments {
     bool json = false;
 };
 
-void runShowCheck(const Arguments& args) {
+void runShowCheck(const ShowCheckArguments& args) {
     transfer::ShowCheckOptions options = args.options;
     options.capture = args.capture;
     options.bundles.assign(args.bundles.begin(), args.bundles.end());
@@ -83,7 +83,7 @@ void runShowCheck(const Arguments& args) {
 }  // namespace
 
 void addShowCheckCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<ShowCheckArguments>();
     CLI::App* command = app.add_subcommand(
         "show-check",
         "What visitors around the object see of a show of several projectors, against the true "

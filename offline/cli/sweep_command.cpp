@@ -16,7 +16,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct SweepArguments {
     std::string train;
     std::string test;
     std::string out;
@@ -28,7 +28,7 @@ struct Arguments {
 };
 
 // What `vpe sweep` does once its options are parsed.
-void runSweep(const Arguments& args) {
+void runSweep(const SweepArguments& args) {
     eval::SweepOptions options;
     options.maxHarmonics = args.maxHarmonics;
     options.lambdas = args.lambdas;
@@ -75,7 +75,7 @@ void runSweep(const Arguments& args) {
 }  // namespace
 
 void addSweepCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<SweepArguments>();
     CLI::App* command = app.add_subcommand(
         "sweep", "The paper's Fig. 6: held-out RMS for M = 1..15 and several λ (CSV + SVG)");
     command->add_option("TRAIN", args->train, "Capture to fit")->required();

@@ -15,7 +15,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct SynthArguments {
     std::string out;
     int size = 128;
     std::uint64_t seed = 1;
@@ -30,7 +30,7 @@ struct Arguments {
 };
 
 // What `vpe synth` does once its options are parsed.
-void runSynth(const Arguments& args) {
+void runSynth(const SynthArguments& args) {
     synth::SynthOptions options;
     options.out = args.out;
     options.size = args.size;
@@ -69,7 +69,7 @@ void runSynth(const Arguments& args) {
 }  // namespace
 
 void addSynthCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<SynthArguments>();
     CLI::App* command = app.add_subcommand(
         "synth", "Render the built-in synthetic Bizen capture (train, held-out test, truth)");
     command->add_option("--out", args->out, "Folder to write (train/, test/, truth/)")->required();

@@ -39,7 +39,7 @@ namespace {
 
 namespace sim = renderer::procam;
 
-struct Arguments {
+struct SynthProcamArguments {
     std::string out, scene, show, check, checkLight, baseline;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
     int poses = 15;
@@ -75,7 +75,7 @@ nlohmann::json poseJson(const sim::RigidPose& pose) {
     return {{"R", pose.R}, {"t", pose.t}};
 }
 
-void runGallery(const Arguments& args) {
+void runGallery(const SynthProcamArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     procam::GalleryOptions options;
     const SizeArgument projector = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
@@ -215,7 +215,7 @@ image::SheetTile linearTile(std::string label, const renderer::RgbImage& image, 
 
 // --check-light: how closely a bundle's compensation gives its target on the true installation,
 // as the camera sees it (and a --baseline bundle's, e.g. today's assumed radiometry, beside it).
-void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
+void runLightCheck(const SynthProcamArguments& args, const renderer::procam::SceneFile& file) {
     const auto start = std::chrono::steady_clock::now();
     procam::RadiometryCheckOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
@@ -294,7 +294,7 @@ void runLightCheck(const Arguments& args, const renderer::procam::SceneFile& fil
 
 // --check: a bundle measured on the installation against its truth, with a contact sheet of what
 // a visitor sees.
-void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
+void runCheck(const SynthProcamArguments& args, const renderer::procam::SceneFile& file) {
     const auto start = std::chrono::steady_clock::now();
     proto::BundleFile bundle = [&] {
         try {
@@ -370,7 +370,7 @@ void runCheck(const Arguments& args, const renderer::procam::SceneFile& file) {
     }
 }
 
-void runScene(const Arguments& args) {
+void runScene(const SynthProcamArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     renderer::procam::SceneFile file;
     try {
@@ -468,7 +468,7 @@ void runScene(const Arguments& args) {
 }  // namespace
 
 void addSynthProcamCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<SynthProcamArguments>();
     CLI::App* command = app.add_subcommand(
         "synth-procam",
         "Simulate a projector–camera installation: calibration and scan captures with the truth");

@@ -21,7 +21,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct TransferArguments {
     std::string capture, bundle, out, views, viewSize = "480x360";
     double fov = 20.0;
     int threads = 0;
@@ -30,7 +30,7 @@ struct Arguments {
 };
 
 // What `vpe transfer` does once its options are parsed.
-void runTransfer(const Arguments& args) {
+void runTransfer(const TransferArguments& args) {
     transfer::TransferOptions options;
     options.capture = args.capture;
     options.bundle = args.bundle;
@@ -93,7 +93,7 @@ void runTransfer(const Arguments& args) {
 }  // namespace
 
 void addTransferCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<TransferArguments>();
     CLI::App* command = app.add_subcommand(
         "transfer",
         "Transfer fidelity: a synthetic capture's true material against the pipeline's "

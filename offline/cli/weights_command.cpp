@@ -16,7 +16,7 @@ namespace vpe::cli {
 
 namespace {
 
-struct Arguments {
+struct WeightsArguments {
     std::string weights;
     std::string size;
     std::string out;
@@ -25,7 +25,7 @@ struct Arguments {
 };
 
 // What `vpe weights` does once its options are parsed.
-void runWeights(const Arguments& args) {
+void runWeights(const WeightsArguments& args) {
     const std::vector<texture::WeightSource> sources =
         texture::parseWeightSpec(args.weights, "SPEC");
     const SizeArgument size = parseSizeArgument(args.size, "--size");
@@ -60,7 +60,7 @@ void runWeights(const Arguments& args) {
 }  // namespace
 
 void addWeightsCommand(CLI::App& app, Action& action) {
-    auto args = std::make_shared<Arguments>();
+    auto args = std::make_shared<WeightsArguments>();
     CLI::App* command = app.add_subcommand(
         "weights", "Draw a weight spec's normalized maps (as vpe compose --weights-out would)");
     command->add_option("SPEC", args->weights, texture::kWeightSpecSynopsis)->required();
