@@ -31,6 +31,8 @@ debian_root_sources "$work"
 [[ -e "$root" ]] && debian_root_remove "$root"
 building="$root.building"
 [[ -e "$building" ]] && debian_root_remove "$building"
+# test.sh starts this before anything is built, so on a fresh clone build/ does not exist yet.
+mkdir -p "$(dirname "$root")"
 echo "arm64-sysroot: building a Debian 12 arm64 root in $root (${#packages[@]} packages)" >&2
 start=$(date +%s)
 # essential: dpkg and its database (the dependency audit asks it who owns a header), no apt.
