@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 
+#include "vpe/fit/simd_pack.h"
 #include "vpe/proto/detail_normal.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/luminance.h"
@@ -44,41 +45,18 @@ void forEachTransportPair(Visit visit) {
 // One sample of a texel's T fit: T(l)·P ≈ L with weight w.
 struct TransportSample {
     const double* basis;  // T's basis at the sample's light, model::kTransportTerms
-    const double* outer;  // its outer product h hᵀ, packed (ExtendedLightTable)
     double weight, predicted, observed;
 };
 
-// The normal equations of Σ w (y − T(l) P)² over `samples`, and their eigendecomposition, which
-// makes every ridge's solution and leave-one-out error cheap (texelTransportRidge).
+// The normal equations of Σ w (y − T(l) P)² over a lane's samples, and their
+// eigendecomposition, which makes every ridge's solution and leave-one-out error cheap
+// (texelTransportRidge). Built for every lane and channel of a chunk at once
+// (ExtendedChunkFit::buildTransportEquations).
 struct TransportEquations {
     TransportMatrix a = TransportMatrix::Zero();
     TransportVector b = TransportVector::Zero();
     double meanWeight = 0;  // of w P², the scale the ridges are relative to
 
-    explicit TransportEquations(const std::vector<TransportSample>& samples) {
-        // a = Σ w P² h hᵀ from each light's h hᵀ, packed and computed once per capture: one
-        // multiply-add per distinct entry and sample, in one contiguous loop. A product RᵀR
-        // of the rows √(w P²)·h (Eigen's blocked GEMM) spent most of its time packing a
-        // 40 × 16 matrix; this is 136 multiply-adds a sample against 256 and the packing.
-        double packed[kTransportPairs] = {};
-        double weightSum = 0;
-        for (const TransportSample& sample : samples) {
-            const Eigen::Map<const TransportVector> h(sample.basis);
-            const double wp = sample.weight * sample.predicted;
-            const double w = wp * sample.predicted;
-            const double used = std::max(w, 0.0);
-            for (int k = 0; k < kTransportPairs; ++k) {
-                packed[k] += used * sample.outer[k];
-            }
-            b.noalias() += (wp * sample.observed) * h;
-            weightSum += w;
-        }
-        forEachTransportPair([&](int row, int column, int k) {
-            a(row, column) = packed[k];
-            a(column, row) = packed[k];
-        });
-        meanWeight = samples.empty() ? 0.0 : weightSum / static_cast<double>(samples.size());
-    }
     bool solvable() const { return meanWeight > 0; }
     // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖²; not finite when it fails.
     // Cholesky: with a ridge the matrix is positive definite, and LLT is a third of LDLT's
@@ -159,6 +137,20 @@ double texelTransportRidge(const TransportEquations& equations,
     return chosen;
 }
 
+using DoublePack = simd::Pack<double, kLanes>;  // one value of every lane of a chunk
+
+// A chunk's BRDF coefficients, each across the lanes: [channel][coefficient].
+using LaneCoefficients = DoublePack[kChannels][kMaxCoefficients];
+void laneCoefficients(const ChunkSolution& brdf, LaneCoefficients& out) {
+    for (int c = 0; c < kChannels; ++c) {
+        for (int k = 0; k < kMaxCoefficients; ++k) {
+            for (int lane = 0; lane < kLanes; ++lane) {
+                out[c][k].v[lane] = static_cast<double>(brdf.coefficients[lane][c][k]);
+            }
+        }
+    }
+}
+
 // T of every sample from its coefficients, at least 0 and at most 4 (the fit's own bound).
 void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, int samples,
                      float* out, std::size_t stride) {
@@ -222,9 +214,9 @@ private:
                           const capture::SampleBand& band, int row, int x0);
     void setGreyTransport(int lane, const double* coefficients);
     double observedLuminance(int s, int lane) const;
-    void predictLane(int lane);
-    template <typename Predict>
-    void gatherSamples(int lane, int channel, Predict predict);
+    void predictLanes();
+    void gatherLuminanceSamples(int lane);
+    void buildTransportEquations(const bool (&lanes)[kLanes], bool colour);
     bool fitTransport(int lane);
     void carryCentreTint(int lane, const ExtendedChunkSolution& centre);
     void fitColourTransport(int lane);
@@ -232,7 +224,7 @@ private:
     void fitBrdf(const ChunkGeometry& geometry, const KernelLightSet& lights,
                  NormalEquationSums& sums);
     void keepPlainFit(const ChunkSolution& firstRound);
-    double trainingError(int lane) const;
+    void trainingErrors();
 
     // The chunk under way (set by fit).
     const ExtendedLightTable* table_ = nullptr;
@@ -256,10 +248,15 @@ private:
     std::vector<float> centreTransport_, centreChannelTransport_;
     double centreLuminanceWeight_[kLanes] = {};
     std::vector<float> robust_;         // shadow down-weighting of the BRDF fit
-    std::vector<double> predicted_;     // the BRDF's luminance prediction of one lane's samples
-    std::vector<double> predictedRgb_;  // per sample, channel and lane (predictLane)
+    std::vector<double> predicted_;     // the BRDF's luminance prediction, per sample and lane
+    std::vector<double> predictedRgb_;  // per sample, channel and lane (predictLanes)
     std::vector<double> magnitudes_;
-    std::vector<TransportSample> fitted_;  // the samples of the T fit under way
+    std::vector<TransportSample> fitted_;  // the samples of a texel's ridge choice
+    // T's normal equations per lane: luminance, then R, G, B (buildTransportEquations), and the
+    // products they are made by.
+    std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>> equations_ =
+        std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>>(kLanes);
+    Eigen::MatrixXd sampleWeights_, sampleRights_, pairSums_, rightSums_;
 };
 
 void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightTable& table,
@@ -281,7 +278,7 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
         out.transportRidge[lane] = laneRidges ? laneRidges[lane] : settings.transportRidge;
     }
     robust_.assign(laneBlock_, 1.0f);
-    predicted_.assign(static_cast<std::size_t>(samples_), 0.0);
+    predicted_.assign(laneBlock_, 0.0);
     magnitudes_.clear();
 
     auto sums = std::make_unique<NormalEquationSums>();
@@ -296,11 +293,18 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
             break;
         }
         // Round 0's BRDF still carries the shadows, so T waits for the reweighted fit.
+        bool active[kLanes];
         for (int lane = 0; lane < kLanes; ++lane) {
-            if (!laneValid[lane] || !out.brdf.valid[lane]) {
+            active[lane] = laneValid[lane] && out.brdf.valid[lane];
+        }
+        predictLanes();
+        if (round >= 1) {
+            buildTransportEquations(active, settings.colourTransport);
+        }
+        for (int lane = 0; lane < kLanes; ++lane) {
+            if (!active[lane]) {
                 continue;
             }
-            predictLane(lane);
             if (round >= 1) {
                 fitTransport(lane);
                 if (settings.colourTransport && luminanceWeight_[lane] > 0) {
@@ -311,9 +315,7 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
         }
     }
     keepPlainFit(*firstRound);
-    for (int lane = 0; lane < kLanes; ++lane) {
-        out.trainingError[lane] = out.brdf.valid[lane] ? trainingError(lane) : 0.0;
-    }
+    trainingErrors();
 }
 
 void ExtendedChunkFit::readObservations(const capture::Capture& capture,
@@ -371,37 +373,113 @@ double ExtendedChunkFit::observedLuminance(int s, int lane) const {
     return luminance(values_[base], values_[base + kLanes], values_[base + 2 * kLanes]);
 }
 
-// The BRDF's prediction of every sample of a lane, in image units: per channel (for the
-// colour T fit that follows) and its luminance.
-void ExtendedChunkFit::predictLane(int lane) {
+// The BRDF's prediction of every sample of every lane, in image units: per channel (for the
+// colour T fit that follows) and its luminance. The lanes are evaluated side by side, each in
+// its own lane of a vector (the same operations, in the same order, as one lane alone); a
+// lane without a fit yet predicts values nobody reads.
+void ExtendedChunkFit::predictLanes() {
+    LaneCoefficients coefficients;
+    laneCoefficients(out_->brdf, coefficients);
     for (int s = 0; s < samples_; ++s) {
-        const std::size_t i = at(s, lane);
-        double rgb[3];
-        proto::evaluateFourierBrdfRgb(&out_->brdf.coefficients[lane][0][0], kMaxCoefficients,
-                                      settings_->harmonics, cosD_[i], cosS_[i], rgb);
+        const std::size_t i = at(s, 0);
+        DoublePack rgb[3];
+        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, settings_->harmonics,
+                                      DoublePack::load(&cosD_[i]), DoublePack::load(&cosS_[i]),
+                                      rgb);
+        const DoublePack irradiance = DoublePack::load(&irradiance_[i]);
         for (int c = 0; c < 3; ++c) {
-            rgb[c] = irradiance_[i] * rgb[c];
-            predictedRgb_[valueAt(s, c, lane)] = rgb[c];
+            rgb[c] = irradiance * rgb[c];
+            rgb[c].store(&predictedRgb_[valueAt(s, c, 0)]);
         }
-        predicted_[static_cast<std::size_t>(s)] = luminance(rgb[0], rgb[1], rgb[2]);
+        (DoublePack(kLuminance709[0]) * rgb[0] + DoublePack(kLuminance709[1]) * rgb[1] +
+         DoublePack(kLuminance709[2]) * rgb[2])
+            .store(&predicted_[i]);
     }
 }
 
-// The lane's usable samples (`channel` < 0: luminance), with the prediction P of `predict`.
-template <typename Predict>
-void ExtendedChunkFit::gatherSamples(int lane, int channel, Predict predict) {
+// The lane's usable samples for its luminance T fit, under the predictions of predictLanes.
+void ExtendedChunkFit::gatherLuminanceSamples(int lane) {
     fitted_.clear();
     for (int s = 0; s < samples_; ++s) {
         const std::size_t i = at(s, lane);
         if (weights_[i] <= 0 || censored_[i]) {
             continue;
         }
-        const double observed = channel < 0
-                                    ? observedLuminance(s, lane)
-                                    : static_cast<double>(values_[valueAt(s, channel, lane)]);
-        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(),
-                           table_->transportOuter[static_cast<std::size_t>(s)].data(), weights_[i],
-                           predict(s, i), observed});
+        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(), weights_[i],
+                           predicted_[i], observedLuminance(s, lane)});
+    }
+}
+
+// T's normal equations of the `lanes`, from the predictions of predictLanes: luminance and,
+// with `colour`, each colour channel, over each lane's usable samples. Every lane's and
+// channel's a = Σ w P² h hᵀ is one column of a single product, the capture's packed h hᵀ
+// (ExtendedLightTable; pairs × samples) times the samples' w P² (samples × lanes and
+// channels), b likewise from h and w P y: each lane's own loop over its samples spent its
+// time loading and storing its 136 sums, where the product keeps them in registers.
+void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool colour) {
+    const int channels = colour ? 1 + model::kTransportChannels : 1;
+    int columns = 0;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        columns += lanes[lane] ? channels : 0;
+    }
+    if (columns == 0) {
+        return;
+    }
+    sampleWeights_.setZero(samples_, columns);
+    sampleRights_.setZero(samples_, columns);
+    double meanWeights[kLanes][1 + model::kTransportChannels] = {};
+    for (int lane = 0, column = 0; lane < kLanes; ++lane) {
+        if (!lanes[lane]) {
+            continue;
+        }
+        for (int channel = 0; channel < channels; ++channel, ++column) {
+            double weightSum = 0;
+            int used = 0;
+            for (int s = 0; s < samples_; ++s) {
+                const std::size_t i = at(s, lane);
+                if (weights_[i] <= 0 || censored_[i]) {
+                    continue;
+                }
+                const double predicted =
+                    channel == 0 ? predicted_[i] : predictedRgb_[valueAt(s, channel - 1, lane)];
+                const double observed =
+                    channel == 0 ? observedLuminance(s, lane)
+                                 : static_cast<double>(values_[valueAt(s, channel - 1, lane)]);
+                const double wp = static_cast<double>(weights_[i]) * predicted;
+                sampleWeights_(s, column) = std::max(wp * predicted, 0.0);
+                sampleRights_(s, column) = wp * observed;
+                weightSum += wp * predicted;
+                ++used;
+            }
+            meanWeights[lane][channel] = used > 0 ? weightSum / used : 0.0;
+        }
+    }
+    static_assert(sizeof(std::array<double, kTransportPairs>) == kTransportPairs * sizeof(double));
+    if (samples_ == 0) {  // every lane unsolvable (meanWeight 0)
+        pairSums_.setZero(kTransportPairs, columns);
+        rightSums_.setZero(model::kTransportTerms, columns);
+    } else {
+        const Eigen::Map<const Eigen::Matrix<double, kTransportPairs, Eigen::Dynamic>> outer(
+            table_->transportOuter.front().data(), kTransportPairs, samples_);
+        const Eigen::Map<const Eigen::Matrix<double, model::kTransportTerms, Eigen::Dynamic>> basis(
+            table_->transportBasis.front().data(), model::kTransportTerms, samples_);
+        pairSums_.noalias() = outer * sampleWeights_;
+        rightSums_.noalias() = basis * sampleRights_;
+    }
+    for (int lane = 0, column = 0; lane < kLanes; ++lane) {
+        if (!lanes[lane]) {
+            continue;
+        }
+        for (int channel = 0; channel < channels; ++channel, ++column) {
+            TransportEquations& equations =
+                equations_[static_cast<std::size_t>(lane)][static_cast<std::size_t>(channel)];
+            forEachTransportPair([&](int row, int col, int k) {
+                equations.a(row, col) = pairSums_(k, column);
+                equations.a(col, row) = pairSums_(k, column);
+            });
+            equations.b = rightSums_.col(column);
+            equations.meanWeight = meanWeights[lane][channel];
+        }
     }
 }
 
@@ -409,16 +487,15 @@ void ExtendedChunkFit::gatherSamples(int lane, int channel, Predict predict) {
 // (texelTransportRidge). Every channel takes it.
 bool ExtendedChunkFit::fitTransport(int lane) {
     const Eigen::Map<const TransportVector> one(identity_);
-    gatherSamples(lane, -1,
-                  [&](int s, std::size_t) { return predicted_[static_cast<std::size_t>(s)]; });
-    const TransportEquations equations(fitted_);
+    const TransportEquations& equations = equations_[static_cast<std::size_t>(lane)][0];
     if (!equations.solvable()) {
         return false;
     }
-    const double ridge = laneRidges_              ? laneRidges_[lane]
-                         : settings_->texelRidges ? texelTransportRidge(equations, fitted_, one,
-                                                                        settings_->transportRidge)
-                                                  : settings_->transportRidge;
+    double ridge = laneRidges_ ? laneRidges_[lane] : settings_->transportRidge;
+    if (!laneRidges_ && settings_->texelRidges) {
+        gatherLuminanceSamples(lane);
+        ridge = texelTransportRidge(equations, fitted_, one, settings_->transportRidge);
+    }
     out_->transportRidge[lane] = ridge;
     const TransportVector t = equations.solve(ridge, one);
     if (!t.allFinite()) {
@@ -476,10 +553,7 @@ void ExtendedChunkFit::fitColourTransport(int lane) {
     }
     TransportVector colour[model::kTransportChannels] = {grey, grey, grey};
     for (int c = 0; c < model::kTransportChannels; ++c) {
-        gatherSamples(lane, c, [&](int s, std::size_t) {
-            return predictedRgb_[valueAt(s, c, lane)];  // by predictLane, under this f
-        });
-        const TransportEquations equations(fitted_);
+        const TransportEquations& equations = equations_[static_cast<std::size_t>(lane)][1 + c];
         if (!equations.solvable()) {
             continue;  // the channel keeps the luminance T
         }
@@ -515,8 +589,7 @@ void ExtendedChunkFit::updateShadowWeights(int lane) {
     double mean = 0;
     for (int s = 0; s < samples_; ++s) {
         const std::size_t i = at(s, lane);
-        const double model =
-            static_cast<double>(transport_[i]) * predicted_[static_cast<std::size_t>(s)];
+        const double model = static_cast<double>(transport_[i]) * predicted_[i];
         const double observed = observedLuminance(s, lane);
         censored_[i] = saturated_[i] && model >= observed;
         if (weights_[i] > 0 && !censored_[i]) {
@@ -535,8 +608,8 @@ void ExtendedChunkFit::updateShadowWeights(int lane) {
     const double cutoff = settings_->shadowCutoff * scale;
     for (int s = 0; s < samples_; ++s) {
         const std::size_t i = at(s, lane);
-        const double r = observedLuminance(s, lane) - static_cast<double>(transport_[i]) *
-                                                          predicted_[static_cast<std::size_t>(s)];
+        const double r =
+            observedLuminance(s, lane) - static_cast<double>(transport_[i]) * predicted_[i];
         const double u = r / cutoff;
         robust_[i] =
             r >= 0 ? 1.0f : (u > -1 ? static_cast<float>((1 - u * u) * (1 - u * u)) : 0.0f);
@@ -604,11 +677,16 @@ void ExtendedChunkFit::tryTilt(const ChunkGeometry& candidate, const KernelLight
             cosS_[i] = angles.cosThetaS;
         }
     }
+    bool active[kLanes];
     for (int lane = 0; lane < kLanes; ++lane) {
-        if (!out.brdf.valid[lane]) {
+        active[lane] = out.brdf.valid[lane];
+    }
+    predictLanes();
+    buildTransportEquations(active, refitColour && settings_->colourTransport);
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!active[lane]) {
             continue;
         }
-        predictLane(lane);
         if (!fitTransport(lane) || !settings_->colourTransport) {
             continue;
         }
@@ -620,9 +698,7 @@ void ExtendedChunkFit::tryTilt(const ChunkGeometry& candidate, const KernelLight
     }
     auto sums = std::make_unique<NormalEquationSums>();
     fitBrdf(candidate, lights, *sums);
-    for (int lane = 0; lane < kLanes; ++lane) {
-        out.trainingError[lane] = out.brdf.valid[lane] ? trainingError(lane) : 0.0;
-    }
+    trainingErrors();
 }
 
 // A texel whose transport leaves too few samples (nearly always in shadow) keeps the
@@ -647,35 +723,43 @@ void ExtendedChunkFit::keepPlainFit(const ChunkSolution& firstRound) {
     }
 }
 
-// The final model's squared error on the lane's training samples, all three channels,
-// each under its own T.
-double ExtendedChunkFit::trainingError(int lane) const {
-    const ExtendedChunkSolution& out = *out_;
-    double error = 0;
+// The final model's squared error on each valid lane's training samples, all three channels,
+// each under its own T as the last BRDF fit took it (channelTransport_, which every T fit and
+// fallback keeps in step with the coefficients); every lane at once, as predictLanes.
+void ExtendedChunkFit::trainingErrors() {
+    ExtendedChunkSolution& out = *out_;
+    LaneCoefficients coefficients;
+    laneCoefficients(out.brdf, coefficients);
+    const DoublePack zero(0.0);
+    DoublePack error(0.0);
     for (int s = 0; s < samples_; ++s) {
-        const std::size_t i = at(s, lane);
-        if (weights_[i] <= 0) {
-            continue;
+        const std::size_t i = at(s, 0);
+        DoublePack brdf[3];
+        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, settings_->harmonics,
+                                      DoublePack::load(&cosD_[i]), DoublePack::load(&cosS_[i]),
+                                      brdf);
+        const DoublePack irradiance = DoublePack::load(&irradiance_[i]);
+        DoublePack weight, saturated;
+        for (int lane = 0; lane < kLanes; ++lane) {
+            weight.v[lane] = static_cast<double>(weights_[i + lane]);
+            saturated.v[lane] = saturated_[i + lane] ? 1.0 : 0.0;
         }
-        const double* basis = table_->transportBasis[static_cast<std::size_t>(s)].data();
-        double brdf[3];
-        proto::evaluateFourierBrdfRgb(&out.brdf.coefficients[lane][0][0], kMaxCoefficients,
-                                      settings_->harmonics, cosD_[i], cosS_[i], brdf);
         for (int c = 0; c < 3; ++c) {
-            double t = 0;
-            for (int k = 0; k < model::kTransportTerms; ++k) {
-                t += static_cast<double>(out.transport[lane][c * model::kTransportTerms + k]) *
-                     basis[k];
+            DoublePack transport, observed;
+            for (int lane = 0; lane < kLanes; ++lane) {
+                transport.v[lane] = static_cast<double>(channelTransport_[valueAt(s, c, lane)]);
+                observed.v[lane] = static_cast<double>(values_[valueAt(s, c, lane)]);
             }
-            const double shading = std::clamp(t, 0.0, 4.0) * irradiance_[i];
-            const double model = shading * brdf[c];
-            const double observed = static_cast<double>(values_[valueAt(s, c, lane)]);
-            if (!(saturated_[i] && model >= observed)) {
-                error += static_cast<double>(weights_[i]) * (observed - model) * (observed - model);
-            }
+            const DoublePack model = transport * irradiance * brdf[c];
+            const DoublePack difference = observed - model;
+            // Unused: no weight, or clipped where the model already reaches the clipped value.
+            const auto unused = (weight.v <= 0.0) | ((saturated.v > 0.0) & (model.v >= observed.v));
+            error = error + DoublePack(unused ? zero.v : (weight * difference * difference).v);
         }
     }
-    return error;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        out.trainingError[lane] = out.brdf.valid[lane] ? error[lane] : 0.0;
+    }
 }
 
 // The thread's fit: its buffers hold every sample of every lane and are kept from one chunk
