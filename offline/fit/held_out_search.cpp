@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -33,6 +34,13 @@ struct HeldOutValidator::Samples {
     std::vector<float> values;            // [chunk][image][channel][lane]
     std::vector<float> weights;           // [chunk][image][lane]
     std::vector<std::uint8_t> saturated;  // [chunk][image][lane]: a channel at full scale
+    // The values' distinct numbers, and each value's index among them; both empty when there
+    // are more than an index holds. 8-bit codes decode to at most 256 numbers, so what every
+    // hypothesis computes from a value (its response's recoding, the metric's encoding, each a
+    // pow() a value) is computed once per number and looked up: the same result, without the
+    // pow() that was a tenth of an extended fit's time.
+    std::vector<float> distinct;
+    std::vector<std::uint16_t> distinctIndex;  // per value
     int chunks() const { return static_cast<int>((x.size() + fit::kLanes - 1) / fit::kLanes); }
     std::size_t valueIndex(int chunk, int image, int channel, int lane) const {
         return ((static_cast<std::size_t>(chunk) * images + image) * 3 + channel) * fit::kLanes +
@@ -44,6 +52,25 @@ struct HeldOutValidator::Samples {
 };
 
 namespace {
+
+// Fills samples.distinct and samples.distinctIndex (Samples) when the values hold few enough
+// distinct numbers.
+void indexDistinctValues(HeldOutValidator::Samples& samples) {
+    std::vector<float> distinct = samples.values;
+    std::sort(distinct.begin(), distinct.end());
+    distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
+    if (distinct.size() > std::numeric_limits<std::uint16_t>::max() ||
+        std::any_of(distinct.begin(), distinct.end(), [](float v) { return std::isnan(v); })) {
+        return;
+    }
+    samples.distinctIndex.resize(samples.values.size());
+    for (std::size_t i = 0; i < samples.values.size(); ++i) {
+        samples.distinctIndex[i] = static_cast<std::uint16_t>(
+            std::lower_bound(distinct.begin(), distinct.end(), samples.values[i]) -
+            distinct.begin());
+    }
+    samples.distinct = std::move(distinct);
+}
 
 std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
                                                          const normals::NormalMap& normals,
@@ -98,6 +125,7 @@ std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture&
             }
         }
     }
+    indexDistinctValues(samples);
     return owned;
 }
 
@@ -128,6 +156,9 @@ struct Hypothesis {
     fit::KernelLightSet lightSet;
     std::vector<float> recoded;  // empty: the samples' own values
     const std::vector<float>* values;
+    // The metric's encoding of each of the samples' distinct numbers as this hypothesis decodes
+    // them (Samples::distinct; empty with it).
+    std::vector<double> encodedDistinct;
 
     Hypothesis(const capture::Capture& capture, const HeldOutValidator::Samples& samples,
                const capture::GeometryCalibration& calibration, int width, int height)
@@ -137,16 +168,35 @@ struct Hypothesis {
           lights(fit::kernelLights(calibrated)),
           lightSet(fit::kernelLightSet(calibrated, lights)),
           values(&samples.values) {
-        if (calibrated.encoding != capture.encoding || calibrated.gamma != capture.gamma) {
-            const capture::TransferFunction stated = capture::storedTransfer(capture, true);
-            const capture::TransferFunction response = capture::storedTransfer(calibrated, true);
+        const bool recode =
+            calibrated.encoding != capture.encoding || calibrated.gamma != capture.gamma;
+        const capture::TransferFunction stated = capture::storedTransfer(capture, true);
+        const capture::TransferFunction response = capture::storedTransfer(calibrated, true);
+        const auto recodedValue = [&](float value) {
+            return static_cast<float>(response.decode(stated.encode(static_cast<double>(value))));
+        };
+        std::vector<float> recodedDistinct(samples.distinct.size());
+        encodedDistinct.resize(samples.distinct.size());
+        for (std::size_t d = 0; d < samples.distinct.size(); ++d) {
+            recodedDistinct[d] = recode ? recodedValue(samples.distinct[d]) : samples.distinct[d];
+            encodedDistinct[d] =
+                metric.encode(std::clamp(static_cast<double>(recodedDistinct[d]), 0.0, 1.0));
+        }
+        if (recode) {
             recoded.resize(samples.values.size());
             for (std::size_t i = 0; i < recoded.size(); ++i) {
-                recoded[i] = static_cast<float>(
-                    response.decode(stated.encode(static_cast<double>(samples.values[i]))));
+                recoded[i] = samples.distinctIndex.empty()
+                                 ? recodedValue(samples.values[i])
+                                 : recodedDistinct[samples.distinctIndex[i]];
             }
             values = &recoded;
         }
+    }
+    // The metric's encoding of sample i's value, clamped to [0, 1].
+    double encodedObserved(const HeldOutValidator::Samples& samples, std::size_t i) const {
+        return samples.distinctIndex.empty()
+                   ? metric.encode(std::clamp(static_cast<double>((*values)[i]), 0.0, 1.0))
+                   : encodedDistinct[samples.distinctIndex[i]];
     }
     Hypothesis(const Hypothesis&) = delete;  // lightSet points into lights
     Hypothesis& operator=(const Hypothesis&) = delete;
@@ -219,10 +269,10 @@ struct HeldOutErrors {
             }
             const std::array<double, 3> predicted = pixel.predict(s);
             for (int k = 0; k < 3; ++k) {
-                const double observed = (*hypothesis.values)[samples.valueIndex(chunk, s, k, lane)];
-                const double e = hypothesis.metric.encode(
-                                     std::clamp(predicted[static_cast<std::size_t>(k)], 0.0, 1.0)) -
-                                 hypothesis.metric.encode(std::clamp(observed, 0.0, 1.0));
+                const double e =
+                    hypothesis.metric.encode(
+                        std::clamp(predicted[static_cast<std::size_t>(k)], 0.0, 1.0)) -
+                    hypothesis.encodedObserved(samples, samples.valueIndex(chunk, s, k, lane));
                 imageSquared[static_cast<std::size_t>(s)] += e * e;
                 imageCount[static_cast<std::size_t>(s)] += 1;
             }
