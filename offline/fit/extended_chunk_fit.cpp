@@ -140,13 +140,148 @@ double texelTransportRidge(const TransportEquations& equations,
 using DoublePack = simd::Pack<double, kLanes>;  // one value of every lane of a chunk
 
 // A chunk's BRDF coefficients, each across the lanes: [channel][coefficient].
+// Kept inside the kernels: a pack in memory that another function made may be aligned for the
+// plain x86-64 build (16 bytes) where a kernel clone's AVX-512 loads expect 64.
 using LaneCoefficients = DoublePack[kChannels][kMaxCoefficients];
-void laneCoefficients(const ChunkSolution& brdf, LaneCoefficients& out) {
+[[gnu::always_inline]] inline void laneCoefficients(const ChunkSolution& brdf,
+                                                    LaneCoefficients& out) {
     for (int c = 0; c < kChannels; ++c) {
         for (int k = 0; k < kMaxCoefficients; ++k) {
             for (int lane = 0; lane < kLanes; ++lane) {
                 out[c][k].v[lane] = static_cast<double>(brdf.coefficients[lane][c][k]);
             }
+        }
+    }
+}
+
+// A chunk's samples as the lane kernels below read them: per sample, every lane side by side.
+struct LaneSamples {
+    int count = 0;
+    const double* cosD = nullptr;        // [sample][lane]
+    const double* cosS = nullptr;        // [sample][lane]
+    const double* irradiance = nullptr;  // [sample][lane]
+};
+
+// Every lane's BRDF prediction of every sample, in image units: per channel, [sample][channel]
+// [lane], and its luminance, [sample][lane]. Each lane in its own lane of a vector, with the
+// same operations in the same order as one lane alone.
+VPE_KERNEL_CLONES
+void predictEveryLane(const ChunkSolution& brdf, int harmonics, const LaneSamples& samples,
+                      double* rgbOut, double* luminanceOut) {
+    LaneCoefficients coefficients;
+    laneCoefficients(brdf, coefficients);
+    for (int s = 0; s < samples.count; ++s) {
+        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
+        DoublePack rgb[3];
+        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
+                                      DoublePack::load(samples.cosD + i),
+                                      DoublePack::load(samples.cosS + i), rgb);
+        const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
+        for (int c = 0; c < 3; ++c) {
+            rgb[c] = irradiance * rgb[c];
+            rgb[c].store(rgbOut + (static_cast<std::size_t>(s) * 3 + c) * kLanes);
+        }
+        (DoublePack(kLuminance709[0]) * rgb[0] + DoublePack(kLuminance709[1]) * rgb[1] +
+         DoublePack(kLuminance709[2]) * rgb[2])
+            .store(luminanceOut + i);
+    }
+}
+
+// What a chunk's training samples are, for the error below: per sample and lane (weights,
+// saturation) or per sample, channel and lane (values, each channel's T).
+struct LaneObservations {
+    const float* weights = nullptr;
+    const std::uint8_t* saturated = nullptr;
+    const float* values = nullptr;
+    const float* transport = nullptr;
+};
+
+// Every lane's Σ w (y − T_c E f_c)² over its samples and channels: samples without weight, and
+// clipped ones the model already reaches, count zero.
+VPE_KERNEL_CLONES
+void everyLaneError(const ChunkSolution& brdf, int harmonics, const LaneSamples& samples,
+                    const LaneObservations& observed, double (&error)[kLanes]) {
+    LaneCoefficients coefficients;
+    laneCoefficients(brdf, coefficients);
+    const DoublePack zero(0.0);
+    DoublePack sum(0.0);
+    for (int s = 0; s < samples.count; ++s) {
+        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
+        DoublePack predicted[3];
+        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
+                                      DoublePack::load(samples.cosD + i),
+                                      DoublePack::load(samples.cosS + i), predicted);
+        const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
+        DoublePack weight, saturated;
+        for (int lane = 0; lane < kLanes; ++lane) {
+            weight.v[lane] = static_cast<double>(observed.weights[i + lane]);
+            saturated.v[lane] = observed.saturated[i + lane] ? 1.0 : 0.0;
+        }
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t v = (static_cast<std::size_t>(s) * 3 + c) * kLanes;
+            DoublePack transport, value;
+            for (int lane = 0; lane < kLanes; ++lane) {
+                transport.v[lane] = static_cast<double>(observed.transport[v + lane]);
+                value.v[lane] = static_cast<double>(observed.values[v + lane]);
+            }
+            const DoublePack model = transport * irradiance * predicted[c];
+            const DoublePack difference = value - model;
+            const auto unused = (weight.v <= 0.0) | ((saturated.v > 0.0) & (model.v >= value.v));
+            sum = sum + DoublePack(unused ? zero.v : (weight * difference * difference).v);
+        }
+    }
+    for (int lane = 0; lane < kLanes; ++lane) {
+        error[lane] = sum[lane];
+    }
+}
+
+// T's normal equations of every lane at once: for each channel c, a's distinct entries
+// pairs[c][k] = Σ_s u[s][c] (h hᵀ)_k(s) and b's rights[c][t] = Σ_s v[s][c] h_t(s), u = w P² and
+// v = w P y lane by lane ([sample][channel][lane]), h and h hᵀ each light's
+// (ExtendedLightTable). The lanes sit side by side in a vector and four entries are summed at
+// once, so every sum stays in a register: a lane's own loop over its samples spent its time
+// loading and storing its 136 sums, and a matrix product (Eigen's) its time packing them.
+//
+// sumFourEntries: entries `entry` … entry + 3 of every lane's Σ_s weight[s][channel] row_s
+// (rows of `rowLength` values, one per sample). Always inlined, so that it takes the kernel
+// clone's instruction set.
+[[gnu::always_inline]] inline void sumFourEntries(const double* rows, int rowLength,
+                                                  const double* weights, int samples, int channels,
+                                                  int channel, int entry, double* out) {
+    DoublePack sum[4] = {DoublePack(0.0), DoublePack(0.0), DoublePack(0.0), DoublePack(0.0)};
+    for (int s = 0; s < samples; ++s) {
+        const DoublePack weight =
+            DoublePack::load(weights + (static_cast<std::size_t>(s) * channels + channel) * kLanes);
+        const double* row = rows + static_cast<std::size_t>(s) * rowLength + entry;
+        for (int e = 0; e < 4; ++e) {
+            sum[e] = sum[e] + weight * DoublePack(row[e]);
+        }
+    }
+    for (int e = 0; e < 4; ++e) {
+        sum[e].store(out + static_cast<std::size_t>(entry + e) * kLanes);
+    }
+}
+
+VPE_KERNEL_CLONES
+void sumTransportEquations(const ExtendedLightTable& table, int samples, int channels,
+                           const double* u, const double* v, double* pairs, double* rights) {
+    static_assert(kTransportPairs % 4 == 0 && model::kTransportTerms % 4 == 0);
+    static_assert(sizeof(std::array<double, kTransportPairs>) == kTransportPairs * sizeof(double));
+    if (samples == 0) {
+        std::fill_n(pairs, channels * kTransportPairs * kLanes, 0.0);
+        std::fill_n(rights, channels * model::kTransportTerms * kLanes, 0.0);
+        return;
+    }
+    const double* outer = table.transportOuter.front().data();  // [sample][pair], contiguous
+    const double* basis = table.transportBasis.front().data();  // [sample][term]
+    for (int c = 0; c < channels; ++c) {
+        for (int k = 0; k < kTransportPairs; k += 4) {
+            sumFourEntries(outer, kTransportPairs, u, samples, channels, c, k,
+                           pairs + static_cast<std::size_t>(c) * kTransportPairs * kLanes);
+        }
+        for (int t = 0; t < model::kTransportTerms; t += 4) {
+            sumFourEntries(basis, model::kTransportTerms, v, samples, channels, c, t,
+                           rights + static_cast<std::size_t>(c) * model::kTransportTerms * kLanes);
         }
     }
 }
@@ -214,6 +349,9 @@ private:
                           const capture::SampleBand& band, int row, int x0);
     void setGreyTransport(int lane, const double* coefficients);
     double observedLuminance(int s, int lane) const;
+    LaneSamples laneSamples() const {
+        return {samples_, cosD_.data(), cosS_.data(), irradiance_.data()};
+    }
     void predictLanes();
     void gatherLuminanceSamples(int lane);
     void buildTransportEquations(const bool (&lanes)[kLanes], bool colour);
@@ -256,7 +394,8 @@ private:
     // products they are made by.
     std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>> equations_ =
         std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>>(kLanes);
-    Eigen::MatrixXd sampleWeights_, sampleRights_, pairSums_, rightSums_;
+    std::vector<double> sampleWeights_, sampleRights_;  // [sample][channel][lane]
+    std::vector<double> pairSums_, rightSums_;          // [channel][pair or term][lane]
 };
 
 void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightTable& table,
@@ -374,27 +513,11 @@ double ExtendedChunkFit::observedLuminance(int s, int lane) const {
 }
 
 // The BRDF's prediction of every sample of every lane, in image units: per channel (for the
-// colour T fit that follows) and its luminance. The lanes are evaluated side by side, each in
-// its own lane of a vector (the same operations, in the same order, as one lane alone); a
-// lane without a fit yet predicts values nobody reads.
+// colour T fit that follows) and its luminance. A lane without a fit yet predicts values nobody
+// reads.
 void ExtendedChunkFit::predictLanes() {
-    LaneCoefficients coefficients;
-    laneCoefficients(out_->brdf, coefficients);
-    for (int s = 0; s < samples_; ++s) {
-        const std::size_t i = at(s, 0);
-        DoublePack rgb[3];
-        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, settings_->harmonics,
-                                      DoublePack::load(&cosD_[i]), DoublePack::load(&cosS_[i]),
-                                      rgb);
-        const DoublePack irradiance = DoublePack::load(&irradiance_[i]);
-        for (int c = 0; c < 3; ++c) {
-            rgb[c] = irradiance * rgb[c];
-            rgb[c].store(&predictedRgb_[valueAt(s, c, 0)]);
-        }
-        (DoublePack(kLuminance709[0]) * rgb[0] + DoublePack(kLuminance709[1]) * rgb[1] +
-         DoublePack(kLuminance709[2]) * rgb[2])
-            .store(&predicted_[i]);
-    }
+    predictEveryLane(out_->brdf, settings_->harmonics, laneSamples(), predictedRgb_.data(),
+                     predicted_.data());
 }
 
 // The lane's usable samples for its luminance T fit, under the predictions of predictLanes.
@@ -411,28 +534,18 @@ void ExtendedChunkFit::gatherLuminanceSamples(int lane) {
 }
 
 // T's normal equations of the `lanes`, from the predictions of predictLanes: luminance and,
-// with `colour`, each colour channel, over each lane's usable samples. Every lane's and
-// channel's a = Σ w P² h hᵀ is one column of a single product, the capture's packed h hᵀ
-// (ExtendedLightTable; pairs × samples) times the samples' w P² (samples × lanes and
-// channels), b likewise from h and w P y: each lane's own loop over its samples spent its
-// time loading and storing its 136 sums, where the product keeps them in registers.
+// with `colour`, each colour channel, over each lane's usable samples (the others weigh 0).
 void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool colour) {
     const int channels = colour ? 1 + model::kTransportChannels : 1;
-    int columns = 0;
-    for (int lane = 0; lane < kLanes; ++lane) {
-        columns += lanes[lane] ? channels : 0;
-    }
-    if (columns == 0) {
-        return;
-    }
-    sampleWeights_.setZero(samples_, columns);
-    sampleRights_.setZero(samples_, columns);
+    const std::size_t perSample = static_cast<std::size_t>(channels) * kLanes;
+    sampleWeights_.assign(static_cast<std::size_t>(samples_) * perSample, 0.0);
+    sampleRights_.assign(sampleWeights_.size(), 0.0);
     double meanWeights[kLanes][1 + model::kTransportChannels] = {};
-    for (int lane = 0, column = 0; lane < kLanes; ++lane) {
+    for (int lane = 0; lane < kLanes; ++lane) {
         if (!lanes[lane]) {
             continue;
         }
-        for (int channel = 0; channel < channels; ++channel, ++column) {
+        for (int channel = 0; channel < channels; ++channel) {
             double weightSum = 0;
             int used = 0;
             for (int s = 0; s < samples_; ++s) {
@@ -446,38 +559,39 @@ void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool
                     channel == 0 ? observedLuminance(s, lane)
                                  : static_cast<double>(values_[valueAt(s, channel - 1, lane)]);
                 const double wp = static_cast<double>(weights_[i]) * predicted;
-                sampleWeights_(s, column) = std::max(wp * predicted, 0.0);
-                sampleRights_(s, column) = wp * observed;
+                const std::size_t u = static_cast<std::size_t>(s) * perSample +
+                                      static_cast<std::size_t>(channel) * kLanes + lane;
+                sampleWeights_[u] = std::max(wp * predicted, 0.0);
+                sampleRights_[u] = wp * observed;
                 weightSum += wp * predicted;
                 ++used;
             }
             meanWeights[lane][channel] = used > 0 ? weightSum / used : 0.0;
         }
     }
-    static_assert(sizeof(std::array<double, kTransportPairs>) == kTransportPairs * sizeof(double));
-    if (samples_ == 0) {  // every lane unsolvable (meanWeight 0)
-        pairSums_.setZero(kTransportPairs, columns);
-        rightSums_.setZero(model::kTransportTerms, columns);
-    } else {
-        const Eigen::Map<const Eigen::Matrix<double, kTransportPairs, Eigen::Dynamic>> outer(
-            table_->transportOuter.front().data(), kTransportPairs, samples_);
-        const Eigen::Map<const Eigen::Matrix<double, model::kTransportTerms, Eigen::Dynamic>> basis(
-            table_->transportBasis.front().data(), model::kTransportTerms, samples_);
-        pairSums_.noalias() = outer * sampleWeights_;
-        rightSums_.noalias() = basis * sampleRights_;
-    }
-    for (int lane = 0, column = 0; lane < kLanes; ++lane) {
+    pairSums_.resize(static_cast<std::size_t>(channels) * kTransportPairs * kLanes);
+    rightSums_.resize(static_cast<std::size_t>(channels) * model::kTransportTerms * kLanes);
+    sumTransportEquations(*table_, samples_, channels, sampleWeights_.data(), sampleRights_.data(),
+                          pairSums_.data(), rightSums_.data());
+    for (int lane = 0; lane < kLanes; ++lane) {
         if (!lanes[lane]) {
             continue;
         }
-        for (int channel = 0; channel < channels; ++channel, ++column) {
+        for (int channel = 0; channel < channels; ++channel) {
             TransportEquations& equations =
                 equations_[static_cast<std::size_t>(lane)][static_cast<std::size_t>(channel)];
-            forEachTransportPair([&](int row, int col, int k) {
-                equations.a(row, col) = pairSums_(k, column);
-                equations.a(col, row) = pairSums_(k, column);
+            // Entry `entry` of this lane's and channel's sums.
+            const auto sum = [&](const std::vector<double>& sums, int entries, int entry) {
+                return sums[static_cast<std::size_t>(channel * entries + entry) * kLanes +
+                            static_cast<std::size_t>(lane)];
+            };
+            forEachTransportPair([&](int row, int column, int k) {
+                equations.a(row, column) = sum(pairSums_, kTransportPairs, k);
+                equations.a(column, row) = sum(pairSums_, kTransportPairs, k);
             });
-            equations.b = rightSums_.col(column);
+            for (int t = 0; t < model::kTransportTerms; ++t) {
+                equations.b[t] = sum(rightSums_, model::kTransportTerms, t);
+            }
             equations.meanWeight = meanWeights[lane][channel];
         }
     }
@@ -725,38 +839,13 @@ void ExtendedChunkFit::keepPlainFit(const ChunkSolution& firstRound) {
 
 // The final model's squared error on each valid lane's training samples, all three channels,
 // each under its own T as the last BRDF fit took it (channelTransport_, which every T fit and
-// fallback keeps in step with the coefficients); every lane at once, as predictLanes.
+// fallback keeps in step with the coefficients).
 void ExtendedChunkFit::trainingErrors() {
     ExtendedChunkSolution& out = *out_;
-    LaneCoefficients coefficients;
-    laneCoefficients(out.brdf, coefficients);
-    const DoublePack zero(0.0);
-    DoublePack error(0.0);
-    for (int s = 0; s < samples_; ++s) {
-        const std::size_t i = at(s, 0);
-        DoublePack brdf[3];
-        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, settings_->harmonics,
-                                      DoublePack::load(&cosD_[i]), DoublePack::load(&cosS_[i]),
-                                      brdf);
-        const DoublePack irradiance = DoublePack::load(&irradiance_[i]);
-        DoublePack weight, saturated;
-        for (int lane = 0; lane < kLanes; ++lane) {
-            weight.v[lane] = static_cast<double>(weights_[i + lane]);
-            saturated.v[lane] = saturated_[i + lane] ? 1.0 : 0.0;
-        }
-        for (int c = 0; c < 3; ++c) {
-            DoublePack transport, observed;
-            for (int lane = 0; lane < kLanes; ++lane) {
-                transport.v[lane] = static_cast<double>(channelTransport_[valueAt(s, c, lane)]);
-                observed.v[lane] = static_cast<double>(values_[valueAt(s, c, lane)]);
-            }
-            const DoublePack model = transport * irradiance * brdf[c];
-            const DoublePack difference = observed - model;
-            // Unused: no weight, or clipped where the model already reaches the clipped value.
-            const auto unused = (weight.v <= 0.0) | ((saturated.v > 0.0) & (model.v >= observed.v));
-            error = error + DoublePack(unused ? zero.v : (weight * difference * difference).v);
-        }
-    }
+    double error[kLanes];
+    everyLaneError(out.brdf, settings_->harmonics, laneSamples(),
+                   {weights_.data(), saturated_.data(), values_.data(), channelTransport_.data()},
+                   error);
     for (int lane = 0; lane < kLanes; ++lane) {
         out.trainingError[lane] = out.brdf.valid[lane] ? error[lane] : 0.0;
     }

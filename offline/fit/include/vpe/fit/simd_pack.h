@@ -7,6 +7,16 @@
 #include <cmath>
 #include <cstring>
 
+// A hot loop over packs is compiled for several x86-64 levels and picked at run time, so one
+// binary uses AVX-512 where it exists and still runs on any x86-64.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define VPE_KERNEL_CLONES \
+    __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define VPE_KERNEL_CLONES
+#endif
+
 namespace vpe::simd {
 
 // GCC ignores vector_size on a dependent type, so each lane shape is spelled out once.
