@@ -162,6 +162,16 @@ struct LaneSamples {
     const double* irradiance = nullptr;  // [sample][lane]
 };
 
+// f of sample s for every lane, per channel; inlined into each kernel clone.
+[[gnu::always_inline]] inline void evaluateLanes(const LaneCoefficients& coefficients,
+                                                 int harmonics, const LaneSamples& samples, int s,
+                                                 DoublePack (&rgb)[3]) {
+    const std::size_t i = static_cast<std::size_t>(s) * kLanes;
+    proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
+                                  DoublePack::load(samples.cosD + i),
+                                  DoublePack::load(samples.cosS + i), rgb);
+}
+
 // Every lane's BRDF prediction of every sample, in image units: per channel, [sample][channel]
 // [lane], and its luminance, [sample][lane]. Each lane in its own lane of a vector, with the
 // same operations in the same order as one lane alone.
@@ -173,9 +183,7 @@ void predictEveryLane(const ChunkSolution& brdf, int harmonics, const LaneSample
     for (int s = 0; s < samples.count; ++s) {
         const std::size_t i = static_cast<std::size_t>(s) * kLanes;
         DoublePack rgb[3];
-        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
-                                      DoublePack::load(samples.cosD + i),
-                                      DoublePack::load(samples.cosS + i), rgb);
+        evaluateLanes(coefficients, harmonics, samples, s, rgb);
         const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
         for (int c = 0; c < 3; ++c) {
             rgb[c] = irradiance * rgb[c];
@@ -208,9 +216,7 @@ void everyLaneError(const ChunkSolution& brdf, int harmonics, const LaneSamples&
     for (int s = 0; s < samples.count; ++s) {
         const std::size_t i = static_cast<std::size_t>(s) * kLanes;
         DoublePack predicted[3];
-        proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
-                                      DoublePack::load(samples.cosD + i),
-                                      DoublePack::load(samples.cosS + i), predicted);
+        evaluateLanes(coefficients, harmonics, samples, s, predicted);
         const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
         DoublePack weight, saturated;
         for (int lane = 0; lane < kLanes; ++lane) {
