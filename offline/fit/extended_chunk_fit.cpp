@@ -355,6 +355,9 @@ private:
                           const capture::SampleBand& band, int row, int x0);
     void setGreyTransport(int lane, const double* coefficients);
     double observedLuminance(int s, int lane) const;
+    // Whether sample index i (at()) counts in T's fit and the shadow scale: it has a weight and
+    // is not censored.
+    bool usable(std::size_t i) const { return weights_[i] > 0 && !censored_[i]; }
     LaneSamples laneSamples() const {
         return {samples_, cosD_.data(), cosS_.data(), irradiance_.data()};
     }
@@ -531,7 +534,7 @@ void ExtendedChunkFit::gatherLuminanceSamples(int lane) {
     fitted_.clear();
     for (int s = 0; s < samples_; ++s) {
         const std::size_t i = at(s, lane);
-        if (weights_[i] <= 0 || censored_[i]) {
+        if (!usable(i)) {
             continue;
         }
         fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(), weights_[i],
@@ -556,7 +559,7 @@ void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool
             int used = 0;
             for (int s = 0; s < samples_; ++s) {
                 const std::size_t i = at(s, lane);
-                if (weights_[i] <= 0 || censored_[i]) {
+                if (!usable(i)) {
                     continue;
                 }
                 const double predicted =
@@ -712,7 +715,7 @@ void ExtendedChunkFit::updateShadowWeights(int lane) {
         const double model = static_cast<double>(transport_[i]) * predicted_[i];
         const double observed = observedLuminance(s, lane);
         censored_[i] = saturated_[i] && model >= observed;
-        if (weights_[i] > 0 && !censored_[i]) {
+        if (usable(i)) {
             magnitudes_.push_back(std::fabs(observed - model));
             mean += observed;
         }
