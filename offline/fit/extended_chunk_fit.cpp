@@ -3,9 +3,12 @@
 #include "vpe/fit/extended_chunk_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <initializer_list>
 #include <memory>
 #include <numbers>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -42,16 +45,9 @@ void forEachTransportPair(Visit visit) {
     }
 }
 
-// One sample of a texel's T fit: T(l)·P ≈ L with weight w.
-struct TransportSample {
-    const double* basis;  // T's basis at the sample's light, model::kTransportTerms
-    double weight, predicted, observed;
-};
-
-// The normal equations of Σ w (y − T(l) P)² over a lane's samples, and their
-// eigendecomposition, which makes every ridge's solution and leave-one-out error cheap
-// (texelTransportRidge). Built for every lane and channel of a chunk at once
-// (ExtendedChunkFit::buildTransportEquations).
+// The normal equations of Σ w (y − T(l) P)² over a lane's samples, as one lane's matrix: where
+// the lanes' Cholesky (solveTransportLanes) fails. Built from the sums of every lane and
+// channel of a chunk (ExtendedChunkFit::buildTransportEquations).
 struct TransportEquations {
     TransportMatrix a = TransportMatrix::Zero();
     TransportVector b = TransportVector::Zero();
@@ -72,70 +68,6 @@ struct TransportEquations {
         return regularized.ldlt().solve(right);
     }
 };
-
-// T's ridge for one texel, relative to its mean sample weight: the search's `ridge`, or a
-// weaker one (0.3, 0.1, 0.03 or 0.01 of it, none below the weakest the search tries) where
-// the texel's own lights call for it. They call when the ridge fit's leave-one-light-out
-// error (PRESS, in closed form: residual / (1 − leverage)) falls by at least a fifth, about
-// one standard error of a PRESS over some forty lights; on flat texels a weaker ridge only
-// fits noise. On realrti-dev item7 (clay relief) the veins are such texels: the light falls
-// off their flanks faster than the search's ridge lets T draw (+0.3 dB on held-out lights).
-// With a = V Λ Vᵀ once, ridge ρ's solution is V (Λ + ρ)⁻¹ Vᵀ (b + ρ t₁) and a sample's
-// leverage w P² Σ_k (Vᵀh)_k² / (λ_k + ρ): each candidate costs a few operations a sample where
-// an inverse and a 16 × 16 product a sample took.
-double texelTransportRidge(const TransportEquations& equations,
-                           const std::vector<TransportSample>& samples,
-                           const TransportVector& prior, double ridge) {
-    constexpr double kWeakest = 0.01;
-    constexpr double kRequiredGain = 0.8;
-    const Eigen::SelfAdjointEigenSolver<TransportMatrix> eigen(equations.a);
-    if (eigen.info() != Eigen::Success) {
-        return ridge;
-    }
-    const TransportMatrix& v = eigen.eigenvectors();
-    const TransportVector& lambda = eigen.eigenvalues();
-    const TransportVector projectedB = v.transpose() * equations.b;
-    const TransportVector projectedPrior = v.transpose() * prior;
-    // Each sample's basis in the eigenvectors' frame, and its weight w P².
-    thread_local Eigen::Matrix<double, model::kTransportTerms, Eigen::Dynamic> projected;
-    projected.resize(model::kTransportTerms, static_cast<Eigen::Index>(samples.size()));
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-        projected.col(static_cast<Eigen::Index>(i)).noalias() =
-            v.transpose() * Eigen::Map<const TransportVector>(samples[i].basis);
-    }
-    double chosen = ridge, best = 0;
-    for (double factor : {1.0, 0.3, 0.1, 0.03, 0.01}) {
-        const double candidate = ridge * factor;
-        if (factor < 1 && candidate < kWeakest * (1 - 1e-9)) {
-            break;
-        }
-        const double pull = candidate * equations.meanWeight;
-        const TransportVector inverse = (lambda.array() + pull).inverse().matrix();
-        const TransportVector y =
-            inverse.cwiseProduct(projectedB + pull * projectedPrior);  // t in V's frame
-        if (!y.allFinite()) {
-            continue;
-        }
-        double press = 0;
-        for (std::size_t i = 0; i < samples.size(); ++i) {
-            const TransportSample& sample = samples[i];
-            const auto z = projected.col(static_cast<Eigen::Index>(i));
-            const double leverage =
-                sample.weight * sample.predicted * sample.predicted * z.cwiseAbs2().dot(inverse);
-            const double residual =
-                (sample.observed - sample.predicted * z.dot(y)) / std::max(1e-3, 1 - leverage);
-            press += sample.weight * residual * residual;
-        }
-        if (factor < 1) {
-            press /= kRequiredGain;
-        }
-        if (factor == 1 || press < best) {
-            best = press;
-            chosen = candidate;
-        }
-    }
-    return chosen;
-}
 
 using DoublePack = simd::Pack<double, kLanes>;  // one value of every lane of a chunk
 
@@ -292,14 +224,177 @@ void sumTransportEquations(const ExtendedLightTable& table, int samples, int cha
     }
 }
 
-// T of every sample from its coefficients, at least 0 and at most 4 (the fit's own bound).
-void sampleTransport(const ExtendedLightTable& table, const TransportVector& t, int samples,
-                     float* out, std::size_t stride) {
+// Where entry (row, column) of a symmetric T matrix sits in the packed layout
+// (forEachTransportPair), either way round.
+constexpr int transportPair(int row, int column) {
+    if (row > column) {
+        std::swap(row, column);
+    }
+    return row * model::kTransportTerms - row * (row - 1) / 2 + (column - row);
+}
+
+// Every lane's Cholesky factor of A + pull I at once, A the packed sums of
+// sumTransportEquations ([pair][lane]): L(i, j), i ≥ j, at transportPair(j, i), and 1 / L(j, j).
+// A lane whose pivot is not positive (no ridge, degenerate lights) gets a negative `positive`.
+// Always inlined, so that it takes the kernel clone's instruction set.
+struct LaneCholesky {
+    DoublePack lower[kTransportPairs];
+    DoublePack inverseDiagonal[model::kTransportTerms];
+    DoublePack positive;
+};
+[[gnu::always_inline]] inline void factorLanes(const double* pairs, const DoublePack& pull,
+                                               LaneCholesky& out) {
+    constexpr int n = model::kTransportTerms;
+    const auto at = [pairs](int entry) {
+        return DoublePack::load(pairs + static_cast<std::size_t>(entry) * kLanes);
+    };
+    out.positive = DoublePack(1.0);
+    for (int j = 0; j < n; ++j) {
+        DoublePack pivot = at(transportPair(j, j)) + pull;
+        for (int k = 0; k < j; ++k) {
+            const DoublePack l = out.lower[transportPair(k, j)];
+            pivot = pivot - l * l;
+        }
+        out.positive = DoublePack(pivot.v > 0.0 ? out.positive.v : DoublePack(-1.0).v);
+        const DoublePack diagonal = sqrt(pivot);
+        out.lower[transportPair(j, j)] = diagonal;
+        out.inverseDiagonal[j] = DoublePack(1.0) / diagonal;
+        for (int i = j + 1; i < n; ++i) {
+            DoublePack entry = at(transportPair(j, i));
+            for (int k = 0; k < j; ++k) {
+                entry = entry - out.lower[transportPair(k, i)] * out.lower[transportPair(k, j)];
+            }
+            out.lower[transportPair(j, i)] = entry * out.inverseDiagonal[j];
+        }
+    }
+}
+
+// L x = y in place.
+[[gnu::always_inline]] inline void forwardLanes(const LaneCholesky& factor,
+                                                DoublePack (&x)[model::kTransportTerms]) {
+    for (int i = 0; i < model::kTransportTerms; ++i) {
+        DoublePack y = x[i];
+        for (int k = 0; k < i; ++k) {
+            y = y - factor.lower[transportPair(k, i)] * x[k];
+        }
+        x[i] = y * factor.inverseDiagonal[i];
+    }
+}
+
+// (A + pull I) t = b + pull · prior, from L: L y = right, then Lᵀ t = y.
+[[gnu::always_inline]] inline void solveLanes(const LaneCholesky& factor, const double* rights,
+                                              const DoublePack& pull, const double* prior,
+                                              DoublePack (&t)[model::kTransportTerms]) {
+    constexpr int n = model::kTransportTerms;
+    for (int i = 0; i < n; ++i) {
+        t[i] = DoublePack::load(rights + static_cast<std::size_t>(i) * kLanes) +
+               pull * DoublePack::load(prior + static_cast<std::size_t>(i) * kLanes);
+    }
+    forwardLanes(factor, t);
+    for (int i = n - 1; i >= 0; --i) {
+        DoublePack y = t[i];
+        for (int k = i + 1; k < n; ++k) {
+            y = y - factor.lower[transportPair(i, k)] * t[k];
+        }
+        t[i] = y * factor.inverseDiagonal[i];
+    }
+}
+
+// Every lane's ridge solve at once: (A + pull I) t = b + pull · prior by Cholesky, A and b the
+// packed sums of sumTransportEquations ([pair][lane], [term][lane]), pull and prior per lane
+// ([lane], [term][lane]), t out as [term][lane]. The lanes side by side in a vector: sixteen
+// 16 × 16 solves one after the other (Eigen's LLT) were a sixth of the extended fit's time.
+// `solved[lane]` is false where a pivot is not positive, which the caller solves again by
+// LDLT as TransportEquations::solve does.
+VPE_KERNEL_CLONES
+void solveTransportLanes(const double* pairs, const double* rights, const double* pull,
+                         const double* prior, double* t, bool (&solved)[kLanes]) {
+    const DoublePack ridge = DoublePack::load(pull);
+    LaneCholesky factor;
+    factorLanes(pairs, ridge, factor);
+    DoublePack x[model::kTransportTerms];
+    solveLanes(factor, rights, ridge, prior, x);
+    for (int i = 0; i < model::kTransportTerms; ++i) {
+        x[i].store(t + static_cast<std::size_t>(i) * kLanes);
+    }
+    for (int lane = 0; lane < kLanes; ++lane) {
+        solved[lane] = factor.positive[lane] > 0;
+    }
+}
+
+// The luminance samples of a chunk's T fit as the ridge choice reads them, [sample][lane]:
+// weight w (0 for a sample the fit does not use), the BRDF's prediction P and the observation L.
+struct LanePressSamples {
+    int count = 0;
+    const double* weight = nullptr;
+    const double* predicted = nullptr;
+    const double* observed = nullptr;
+};
+
+// Every lane's leave-one-light-out error (PRESS) of the ridge fit (A + pull I) t = b + pull ·
+// prior, in closed form: Σ w ((L − P hᵀt) / (1 − w P² hᵀ(A + pull I)⁻¹h))², the leverage's
+// quadratic form ‖L⁻¹h‖² by one forward substitution per sample, the lanes side by side.
+// Per lane: press, and whether it holds (Cholesky succeeded, t finite).
+VPE_KERNEL_CLONES
+void transportPressLanes(const ExtendedLightTable& table, const double* pairs, const double* rights,
+                         const double* pull, const double* prior, const LanePressSamples& samples,
+                         double (&press)[kLanes], bool (&valid)[kLanes]) {
+    constexpr int n = model::kTransportTerms;
+    const DoublePack ridge = DoublePack::load(pull);
+    LaneCholesky factor;
+    factorLanes(pairs, ridge, factor);
+    DoublePack t[n];
+    solveLanes(factor, rights, ridge, prior, t);
+    DoublePack sum(0.0);
+    for (int s = 0; s < samples.count; ++s) {
+        const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
+        DoublePack z[n];
+        DoublePack fitted(0.0);
+        for (int k = 0; k < n; ++k) {
+            z[k] = DoublePack(h[k]);
+            fitted = fitted + t[k] * DoublePack(h[k]);
+        }
+        forwardLanes(factor, z);
+        DoublePack quadratic(0.0);
+        for (int k = 0; k < n; ++k) {
+            quadratic = quadratic + z[k] * z[k];
+        }
+        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
+        const DoublePack weight = DoublePack::load(samples.weight + i);
+        const DoublePack predicted = DoublePack::load(samples.predicted + i);
+        const DoublePack leverage = weight * predicted * predicted * quadratic;
+        const DoublePack residual = (DoublePack::load(samples.observed + i) - predicted * fitted) /
+                                    fmax(DoublePack(1e-3), DoublePack(1.0) - leverage);
+        sum =
+            sum + DoublePack(weight.v > 0.0 ? (weight * residual * residual).v : DoublePack(0.0).v);
+    }
+    for (int lane = 0; lane < kLanes; ++lane) {
+        bool finite = factor.positive[lane] > 0;
+        for (int k = 0; k < n; ++k) {
+            finite = finite && std::isfinite(t[k][lane]);
+        }
+        valid[lane] = finite;
+        press[lane] = sum[lane];
+    }
+}
+
+// T of every sample for every lane from its coefficients ([term][lane]), at least 0 and at most
+// 4 (the fit's own bound): out[s · kLanes + lane].
+VPE_KERNEL_CLONES
+void sampleTransportLanes(const ExtendedLightTable& table, const double* t, int samples,
+                          float* out) {
     for (int s = 0; s < samples; ++s) {
-        const Eigen::Map<const TransportVector> h(
-            table.transportBasis[static_cast<std::size_t>(s)].data());
-        out[static_cast<std::size_t>(s) * stride] =
-            static_cast<float>(std::clamp(t.dot(h), 0.0, 4.0));
+        const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
+        DoublePack sum(0.0);
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            sum =
+                sum + DoublePack::load(t + static_cast<std::size_t>(k) * kLanes) * DoublePack(h[k]);
+        }
+        const DoublePack bounded = fmin(fmax(sum, DoublePack(0.0)), DoublePack(4.0));
+        for (int lane = 0; lane < kLanes; ++lane) {
+            out[static_cast<std::size_t>(s) * kLanes + static_cast<std::size_t>(lane)] =
+                static_cast<float>(bounded[lane]);
+        }
     }
 }
 
@@ -362,11 +457,27 @@ private:
         return {samples_, cosD_.data(), cosS_.data(), irradiance_.data()};
     }
     void predictLanes();
-    void gatherLuminanceSamples(int lane);
+    void chooseTexelRidges(const bool (&lanes)[kLanes], double (&ridges)[kLanes]);
     void buildTransportEquations(const bool (&lanes)[kLanes], bool colour);
-    bool fitTransport(int lane);
-    void carryCentreTint(int lane, const ExtendedChunkSolution& centre);
-    void fitColourTransport(int lane);
+    // T's coefficients of every lane of a chunk: [term][lane].
+    using LaneTransport = std::array<double, model::kTransportTerms * kLanes>;
+    static std::size_t transportIndex(int term, int lane) {
+        return static_cast<std::size_t>(term) * kLanes + static_cast<std::size_t>(lane);
+    }
+    // A lane's equations of `channel` (0 luminance, 1 + c colour) as a matrix, from the sums
+    // buildTransportEquations made: for the texel's ridge and where Cholesky fails.
+    TransportEquations transportEquations(int lane, int channel) const;
+    // Channel `channel`'s ridge solves of the `lanes` (TransportEquations::solve, every lane at
+    // once); `finite` says which lanes have a solution.
+    void solveTransport(int channel, const bool (&lanes)[kLanes], const double (&ridges)[kLanes],
+                        const LaneTransport& prior, LaneTransport& t, bool (&finite)[kLanes]) const;
+    // T of every sample of the `lanes` into out[s · stride + lane], for each (out, stride)
+    // given.
+    void sampleLanes(const LaneTransport& t, const bool (&lanes)[kLanes],
+                     std::initializer_list<std::pair<float*, std::size_t>> outputs);
+    void fitTransport(const bool (&active)[kLanes], bool (&fitted)[kLanes]);
+    void carryCentreTint(const bool (&lanes)[kLanes], const ExtendedChunkSolution& centre);
+    void fitColourTransport(const bool (&lanes)[kLanes]);
     void updateShadowWeights(int lane);
     void fitBrdf(const ChunkGeometry& geometry, const KernelLightSet& lights,
                  NormalEquationSums& sums);
@@ -398,11 +509,13 @@ private:
     std::vector<double> predicted_;     // the BRDF's luminance prediction, per sample and lane
     std::vector<double> predictedRgb_;  // per sample, channel and lane (predictLanes)
     std::vector<double> magnitudes_;
-    std::vector<TransportSample> fitted_;  // the samples of a texel's ridge choice
-    // T's normal equations per lane: luminance, then R, G, B (buildTransportEquations), and the
-    // products they are made by.
-    std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>> equations_ =
-        std::vector<std::array<TransportEquations, 1 + model::kTransportChannels>>(kLanes);
+    // The luminance samples of the texels' ridge choice, [sample][lane] (chooseTexelRidges).
+    std::vector<double> pressWeights_, pressPredicted_, pressObserved_;
+    // T's normal equations of every lane (buildTransportEquations): the mean weight of
+    // luminance, then R, G, B ([channel][lane]; 0 where not built), and the products they are
+    // made by.
+    double meanWeights_[1 + model::kTransportChannels][kLanes] = {};
+    std::vector<float> sampled_;                        // sampleLanes' T of every sample and lane
     std::vector<double> sampleWeights_, sampleRights_;  // [sample][channel][lane]
     std::vector<double> pairSums_, rightSums_;          // [channel][pair or term][lane]
 };
@@ -448,18 +561,20 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
         predictLanes();
         if (round >= 1) {
             buildTransportEquations(active, settings.colourTransport);
+            bool fitted[kLanes];
+            fitTransport(active, fitted);
+            if (settings.colourTransport) {
+                bool colour[kLanes];
+                for (int lane = 0; lane < kLanes; ++lane) {
+                    colour[lane] = active[lane] && luminanceWeight_[lane] > 0;
+                }
+                fitColourTransport(colour);
+            }
         }
         for (int lane = 0; lane < kLanes; ++lane) {
-            if (!active[lane]) {
-                continue;
+            if (active[lane]) {
+                updateShadowWeights(lane);
             }
-            if (round >= 1) {
-                fitTransport(lane);
-                if (settings.colourTransport && luminanceWeight_[lane] > 0) {
-                    fitColourTransport(lane);
-                }
-            }
-            updateShadowWeights(lane);
         }
     }
     keepPlainFit(*firstRound);
@@ -529,16 +644,66 @@ void ExtendedChunkFit::predictLanes() {
                      predicted_.data());
 }
 
-// The lane's usable samples for its luminance T fit, under the predictions of predictLanes.
-void ExtendedChunkFit::gatherLuminanceSamples(int lane) {
-    fitted_.clear();
+// Each texel's T ridge, relative to its mean sample weight: the search's, or a weaker one
+// (0.3, 0.1, 0.03 or 0.01 of it, none below the weakest the search tries) where the texel's own
+// lights call for it. They call when the ridge fit's leave-one-light-out error (PRESS, in
+// closed form: residual / (1 − leverage); transportPressLanes) falls by at least a fifth,
+// about one standard error of a PRESS over some forty lights; on flat texels a weaker ridge
+// only fits noise. On realrti-dev item7 (clay relief) the veins are such texels: the light
+// falls off their flanks faster than the search's ridge lets T draw (+0.3 dB on held-out
+// lights). Every lane at once under the predictions of predictLanes: a Cholesky factor per
+// candidate and a forward substitution per sample, where each lane's eigendecomposition,
+// its samples projected on the eigenvectors, and their PRESS one lane after the other were a
+// fifth of the extended fit's time.
+void ExtendedChunkFit::chooseTexelRidges(const bool (&lanes)[kLanes], double (&ridges)[kLanes]) {
+    constexpr double kWeakest = 0.01;
+    constexpr double kRequiredGain = 0.8;
+    pressWeights_.assign(laneBlock_, 0.0);
+    pressPredicted_.assign(laneBlock_, 0.0);
+    pressObserved_.assign(laneBlock_, 0.0);
     for (int s = 0; s < samples_; ++s) {
-        const std::size_t i = at(s, lane);
-        if (!usable(i)) {
-            continue;
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const std::size_t i = at(s, lane);
+            if (lanes[lane] && usable(i)) {
+                pressWeights_[i] = static_cast<double>(weights_[i]);
+                pressPredicted_[i] = predicted_[i];
+                pressObserved_[i] = observedLuminance(s, lane);
+            }
         }
-        fitted_.push_back({table_->transportBasis[static_cast<std::size_t>(s)].data(), weights_[i],
-                           predicted_[i], observedLuminance(s, lane)});
+    }
+    const LanePressSamples samples{samples_, pressWeights_.data(), pressPredicted_.data(),
+                                   pressObserved_.data()};
+    LaneTransport prior;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            prior[transportIndex(k, lane)] = identity_[k];
+        }
+    }
+    const double ridge = settings_->transportRidge;
+    double best[kLanes] = {};
+    for (double factor : {1.0, 0.3, 0.1, 0.03, 0.01}) {
+        const double candidate = ridge * factor;
+        if (factor < 1 && candidate < kWeakest * (1 - 1e-9)) {
+            break;
+        }
+        double pull[kLanes];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            pull[lane] = lanes[lane] ? candidate * meanWeights_[0][lane] : 1.0;
+        }
+        double press[kLanes];
+        bool valid[kLanes];
+        transportPressLanes(*table_, pairSums_.data(), rightSums_.data(), pull, prior.data(),
+                            samples, press, valid);
+        for (int lane = 0; lane < kLanes; ++lane) {
+            if (!lanes[lane] || !valid[lane]) {
+                continue;
+            }
+            const double score = factor < 1 ? press[lane] / kRequiredGain : press[lane];
+            if (factor == 1 || score < best[lane]) {
+                best[lane] = score;
+                ridges[lane] = candidate;
+            }
+        }
     }
 }
 
@@ -582,83 +747,162 @@ void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool
     rightSums_.resize(static_cast<std::size_t>(channels) * model::kTransportTerms * kLanes);
     sumTransportEquations(*table_, samples_, channels, sampleWeights_.data(), sampleRights_.data(),
                           pairSums_.data(), rightSums_.data());
+    for (int channel = 0; channel < 1 + model::kTransportChannels; ++channel) {
+        for (int lane = 0; lane < kLanes; ++lane) {
+            meanWeights_[channel][lane] =
+                lanes[lane] && channel < channels ? meanWeights[lane][channel] : 0.0;
+        }
+    }
+}
+
+TransportEquations ExtendedChunkFit::transportEquations(int lane, int channel) const {
+    TransportEquations equations;
+    // Entry `entry` of this lane's and channel's sums.
+    const auto sum = [&](const std::vector<double>& sums, int entries, int entry) {
+        return sums[static_cast<std::size_t>(channel * entries + entry) * kLanes +
+                    static_cast<std::size_t>(lane)];
+    };
+    forEachTransportPair([&](int row, int column, int k) {
+        equations.a(row, column) = sum(pairSums_, kTransportPairs, k);
+        equations.a(column, row) = sum(pairSums_, kTransportPairs, k);
+    });
+    for (int t = 0; t < model::kTransportTerms; ++t) {
+        equations.b[t] = sum(rightSums_, model::kTransportTerms, t);
+    }
+    equations.meanWeight = meanWeights_[channel][lane];
+    return equations;
+}
+
+void ExtendedChunkFit::solveTransport(int channel, const bool (&lanes)[kLanes],
+                                      const double (&ridges)[kLanes], const LaneTransport& prior,
+                                      LaneTransport& t, bool (&finite)[kLanes]) const {
+    double pull[kLanes];
     for (int lane = 0; lane < kLanes; ++lane) {
+        pull[lane] = lanes[lane] ? ridges[lane] * meanWeights_[channel][lane] : 1.0;
+    }
+    bool solved[kLanes];
+    solveTransportLanes(
+        &pairSums_[static_cast<std::size_t>(channel) * kTransportPairs * kLanes],
+        &rightSums_[static_cast<std::size_t>(channel) * model::kTransportTerms * kLanes], pull,
+        prior.data(), t.data(), solved);
+    for (int lane = 0; lane < kLanes; ++lane) {
+        finite[lane] = false;
         if (!lanes[lane]) {
             continue;
         }
-        for (int channel = 0; channel < channels; ++channel) {
-            TransportEquations& equations =
-                equations_[static_cast<std::size_t>(lane)][static_cast<std::size_t>(channel)];
-            // Entry `entry` of this lane's and channel's sums.
-            const auto sum = [&](const std::vector<double>& sums, int entries, int entry) {
-                return sums[static_cast<std::size_t>(channel * entries + entry) * kLanes +
-                            static_cast<std::size_t>(lane)];
-            };
-            forEachTransportPair([&](int row, int column, int k) {
-                equations.a(row, column) = sum(pairSums_, kTransportPairs, k);
-                equations.a(column, row) = sum(pairSums_, kTransportPairs, k);
-            });
-            for (int t = 0; t < model::kTransportTerms; ++t) {
-                equations.b[t] = sum(rightSums_, model::kTransportTerms, t);
+        if (!solved[lane]) {
+            TransportVector right;
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                right[k] = prior[transportIndex(k, lane)];
             }
-            equations.meanWeight = meanWeights[lane][channel];
+            const TransportVector x = transportEquations(lane, channel).solve(ridges[lane], right);
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                t[transportIndex(k, lane)] = x[k];
+            }
+        }
+        finite[lane] = true;
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            finite[lane] = finite[lane] && std::isfinite(t[transportIndex(k, lane)]);
+        }
+    }
+}
+
+void ExtendedChunkFit::sampleLanes(const LaneTransport& t, const bool (&lanes)[kLanes],
+                                   std::initializer_list<std::pair<float*, std::size_t>> outputs) {
+    sampled_.resize(laneBlock_);
+    sampleTransportLanes(*table_, t.data(), samples_, sampled_.data());
+    for (const auto& [out, stride] : outputs) {
+        for (int s = 0; s < samples_; ++s) {
+            for (int lane = 0; lane < kLanes; ++lane) {
+                if (lanes[lane]) {
+                    out[static_cast<std::size_t>(s) * stride + static_cast<std::size_t>(lane)] =
+                        sampled_[at(s, lane)];
+                }
+            }
         }
     }
 }
 
 // T given f, on luminance: min Σ w (L − T(l) P)² + ρ ‖t − t₁‖², ρ the texel's own
-// (texelTransportRidge). Every channel takes it.
-bool ExtendedChunkFit::fitTransport(int lane) {
-    const Eigen::Map<const TransportVector> one(identity_);
-    const TransportEquations& equations = equations_[static_cast<std::size_t>(lane)][0];
-    if (!equations.solvable()) {
-        return false;
+// (chooseTexelRidges). Every channel takes it.
+void ExtendedChunkFit::fitTransport(const bool (&active)[kLanes], bool (&fitted)[kLanes]) {
+    bool lanes[kLanes];
+    double ridges[kLanes] = {};
+    LaneTransport prior;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            prior[transportIndex(k, lane)] = identity_[k];
+        }
+        lanes[lane] = active[lane] && meanWeights_[0][lane] > 0;
+        ridges[lane] = laneRidges_ ? laneRidges_[lane] : settings_->transportRidge;
     }
-    double ridge = laneRidges_ ? laneRidges_[lane] : settings_->transportRidge;
     if (!laneRidges_ && settings_->texelRidges) {
-        gatherLuminanceSamples(lane);
-        ridge = texelTransportRidge(equations, fitted_, one, settings_->transportRidge);
+        chooseTexelRidges(lanes, ridges);
     }
-    out_->transportRidge[lane] = ridge;
-    const TransportVector t = equations.solve(ridge, one);
-    if (!t.allFinite()) {
-        return false;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (lanes[lane]) {
+            out_->transportRidge[lane] = ridges[lane];
+        }
     }
-    setGreyTransport(lane, t.data());
-    luminanceWeight_[lane] = equations.meanWeight;
-    sampleTransport(*table_, t, samples_, &transport_[lane], kLanes);
-    for (int c = 0; c < 3; ++c) {
-        sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
+    LaneTransport t;
+    solveTransport(0, lanes, ridges, prior, t, fitted);
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!fitted[lane]) {
+            continue;
+        }
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            const auto value = static_cast<float>(t[transportIndex(k, lane)]);
+            for (int c = 0; c < model::kTransportChannels; ++c) {
+                out_->transport[lane][c * model::kTransportTerms + k] = value;
+            }
+        }
+        luminanceWeight_[lane] = meanWeights_[0][lane];
     }
-    return true;
+    // Every channel's T is the luminance T until a colour fit or tint follows.
+    sampleLanes(t, fitted,
+                {{transport_.data(), kLanes},
+                 {&channelTransport_[0], 3 * kLanes},
+                 {&channelTransport_[kLanes], 3 * kLanes},
+                 {&channelTransport_[2 * kLanes], 3 * kLanes}});
 }
 
 // A tilt's colour: the luminance T just fitted, each channel offset from it as the centre's
 // was (the offsets keep the luminance: the centre's channels sum to its T). A tilt of a few
 // degrees moves the shading, not the tint of light off the clay or across a lamp's beam, and
 // the three colour fits were most of a tilt's time.
-void ExtendedChunkFit::carryCentreTint(int lane, const ExtendedChunkSolution& centre) {
+void ExtendedChunkFit::carryCentreTint(const bool (&lanes)[kLanes],
+                                       const ExtendedChunkSolution& centre) {
     ExtendedChunkSolution& out = *out_;
-    TransportVector grey, centreGrey = TransportVector::Zero();
-    for (int k = 0; k < model::kTransportTerms; ++k) {
-        grey[k] = static_cast<double>(out.transport[lane][k]);
-    }
-    for (int c = 0; c < model::kTransportChannels; ++c) {
+    LaneTransport channel[model::kTransportChannels];
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!lanes[lane]) {
+            continue;
+        }
+        TransportVector grey, centreGrey = TransportVector::Zero();
         for (int k = 0; k < model::kTransportTerms; ++k) {
-            centreGrey[k] +=
-                kLuminance709[c] *
-                static_cast<double>(centre.transport[lane][c * model::kTransportTerms + k]);
+            grey[k] = static_cast<double>(out.transport[lane][k]);
+        }
+        for (int c = 0; c < model::kTransportChannels; ++c) {
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                centreGrey[k] +=
+                    kLuminance709[c] *
+                    static_cast<double>(centre.transport[lane][c * model::kTransportTerms + k]);
+            }
+        }
+        for (int c = 0; c < model::kTransportChannels; ++c) {
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                const double t =
+                    grey[k] +
+                    static_cast<double>(centre.transport[lane][c * model::kTransportTerms + k]) -
+                    centreGrey[k];
+                out.transport[lane][c * model::kTransportTerms + k] = static_cast<float>(t);
+                channel[c][transportIndex(k, lane)] = t;
+            }
         }
     }
     for (int c = 0; c < model::kTransportChannels; ++c) {
-        TransportVector t;
-        for (int k = 0; k < model::kTransportTerms; ++k) {
-            t[k] = grey[k] +
-                   static_cast<double>(centre.transport[lane][c * model::kTransportTerms + k]) -
-                   centreGrey[k];
-            out.transport[lane][c * model::kTransportTerms + k] = static_cast<float>(t[k]);
-        }
-        sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
+        sampleLanes(channel[c], lanes,
+                    {{&channelTransport_[static_cast<std::size_t>(c) * kLanes], 3 * kLanes}});
     }
 }
 
@@ -668,38 +912,59 @@ void ExtendedChunkFit::carryCentreTint(int lane, const ExtendedChunkSolution& ce
 // colour (light off the clay, a lamp's tint across its beam: on realrti-dev item7 the
 // photographs under high lights are 3–5% bluer than a grey T draws them). Letting the
 // channels change T's luminance as well cost the canvas (item5) 0.7 dB.
-void ExtendedChunkFit::fitColourTransport(int lane) {
+void ExtendedChunkFit::fitColourTransport(const bool (&lanes)[kLanes]) {
     ExtendedChunkSolution& out = *out_;
-    TransportVector grey;
-    for (int k = 0; k < model::kTransportTerms; ++k) {
-        grey[k] = static_cast<double>(out.transport[lane][k]);
-    }
-    TransportVector colour[model::kTransportChannels] = {grey, grey, grey};
-    for (int c = 0; c < model::kTransportChannels; ++c) {
-        const TransportEquations& equations = equations_[static_cast<std::size_t>(lane)][1 + c];
-        if (!equations.solvable()) {
-            continue;  // the channel keeps the luminance T
+    LaneTransport grey;
+    for (int lane = 0; lane < kLanes; ++lane) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            grey[transportIndex(k, lane)] = static_cast<double>(out.transport[lane][k]);
         }
+    }
+    LaneTransport colour[model::kTransportChannels];
+    for (int c = 0; c < model::kTransportChannels; ++c) {
         // The luminance fit's ridge, in its units: a channel with little light of its own
         // (a dark background's red) stays grey, where a pull relative to its own faint
         // samples let quantization noise through, and the shift below carried it into the
         // other channels (SynthRTI Multi/Object1/material2: 45.8 → 24.0 dB).
-        const TransportVector t = equations.solve(
-            settings_->transportRidge * luminanceWeight_[lane] / equations.meanWeight, grey);
-        if (t.allFinite()) {
-            colour[c] = t;
+        bool solvable[kLanes];
+        double ridges[kLanes] = {};
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const double meanWeight = meanWeights_[1 + c][lane];
+            solvable[lane] = lanes[lane] && meanWeight > 0;
+            if (solvable[lane]) {
+                ridges[lane] = settings_->transportRidge * luminanceWeight_[lane] / meanWeight;
+            }
+        }
+        bool solved[kLanes];
+        solveTransport(1 + c, solvable, ridges, grey, colour[c], solved);
+        for (int lane = 0; lane < kLanes; ++lane) {
+            if (!solved[lane]) {  // the channel keeps the luminance T
+                for (int k = 0; k < model::kTransportTerms; ++k) {
+                    colour[c][transportIndex(k, lane)] = grey[transportIndex(k, lane)];
+                }
+            }
         }
     }
     // Only the colour: the channels shift together until their luminance is T's again.
-    const TransportVector shift =
-        grey - (kLuminance709[0] * colour[0] + kLuminance709[1] * colour[1] +
-                kLuminance709[2] * colour[2]);
-    for (int c = 0; c < model::kTransportChannels; ++c) {
-        const TransportVector t = colour[c] + shift;
-        for (int k = 0; k < model::kTransportTerms; ++k) {
-            out.transport[lane][c * model::kTransportTerms + k] = static_cast<float>(t[k]);
+    for (int lane = 0; lane < kLanes; ++lane) {
+        if (!lanes[lane]) {
+            continue;
         }
-        sampleTransport(*table_, t, samples_, &channelTransport_[c * kLanes + lane], 3 * kLanes);
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            const std::size_t i = transportIndex(k, lane);
+            const double shift =
+                grey[i] - (kLuminance709[0] * colour[0][i] + kLuminance709[1] * colour[1][i] +
+                           kLuminance709[2] * colour[2][i]);
+            for (int c = 0; c < model::kTransportChannels; ++c) {
+                colour[c][i] += shift;
+                out.transport[lane][c * model::kTransportTerms + k] =
+                    static_cast<float>(colour[c][i]);
+            }
+        }
+    }
+    for (int c = 0; c < model::kTransportChannels; ++c) {
+        sampleLanes(colour[c], lanes,
+                    {{&channelTransport_[static_cast<std::size_t>(c) * kLanes], 3 * kLanes}});
     }
 }
 
@@ -806,17 +1071,18 @@ void ExtendedChunkFit::tryTilt(const ChunkGeometry& candidate, const KernelLight
     }
     predictLanes();
     buildTransportEquations(active, refitColour && settings_->colourTransport);
-    for (int lane = 0; lane < kLanes; ++lane) {
-        if (!active[lane]) {
-            continue;
+    bool fitted[kLanes];
+    fitTransport(active, fitted);
+    if (settings_->colourTransport) {
+        bool colour[kLanes];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            colour[lane] = fitted[lane] && (refitColour ? luminanceWeight_[lane] > 0
+                                                        : centreLuminanceWeight_[lane] > 0);
         }
-        if (!fitTransport(lane) || !settings_->colourTransport) {
-            continue;
-        }
-        if (refitColour && luminanceWeight_[lane] > 0) {
-            fitColourTransport(lane);
-        } else if (!refitColour && centreLuminanceWeight_[lane] > 0) {
-            carryCentreTint(lane, centre);
+        if (refitColour) {
+            fitColourTransport(colour);
+        } else {
+            carryCentreTint(colour, centre);
         }
     }
     auto sums = std::make_unique<NormalEquationSums>();
