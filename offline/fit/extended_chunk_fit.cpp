@@ -69,18 +69,29 @@ struct TransportEquations {
     }
 };
 
-using DoublePack = simd::Pack<double, kLanes>;  // one value of every lane of a chunk
+// The lane kernels below take a chunk's lanes eight at a time, half a chunk: eight doubles
+// are one AVX-512 register, where a vector of all sixteen made GCC keep every value of a
+// kernel's loop on the stack. `half` picks lanes half · 8 … half · 8 + 7.
+constexpr int kPackLanes = kLanes / 2;
+constexpr int kHalves = kLanes / kPackLanes;
+using DoublePack = simd::Pack<double, kPackLanes>;
 
-// A chunk's BRDF coefficients, each across the lanes: [channel][coefficient].
+// Where half `half` of entry `entry` of a [entry][lane] array starts.
+constexpr std::size_t halfAt(std::size_t entry, int half) {
+    return entry * kLanes + static_cast<std::size_t>(half) * kPackLanes;
+}
+
+// Half a chunk's BRDF coefficients, each across the lanes: [channel][coefficient].
 // Kept inside the kernels: a pack in memory that another function made may be aligned for the
 // plain x86-64 build (16 bytes) where a kernel clone's AVX-512 loads expect 64.
 using LaneCoefficients = DoublePack[kChannels][kMaxCoefficients];
-[[gnu::always_inline]] inline void laneCoefficients(const ChunkSolution& brdf,
+[[gnu::always_inline]] inline void laneCoefficients(const ChunkSolution& brdf, int half,
                                                     LaneCoefficients& out) {
     for (int c = 0; c < kChannels; ++c) {
         for (int k = 0; k < kMaxCoefficients; ++k) {
-            for (int lane = 0; lane < kLanes; ++lane) {
-                out[c][k].v[lane] = static_cast<double>(brdf.coefficients[lane][c][k]);
+            for (int lane = 0; lane < kPackLanes; ++lane) {
+                out[c][k].v[lane] =
+                    static_cast<double>(brdf.coefficients[half * kPackLanes + lane][c][k]);
             }
         }
     }
@@ -94,11 +105,11 @@ struct LaneSamples {
     const double* irradiance = nullptr;  // [sample][lane]
 };
 
-// f of sample s for every lane, per channel; inlined into each kernel clone.
+// f of sample s for half a chunk's lanes, per channel; inlined into each kernel clone.
 [[gnu::always_inline]] inline void evaluateLanes(const LaneCoefficients& coefficients,
                                                  int harmonics, const LaneSamples& samples, int s,
-                                                 DoublePack (&rgb)[3]) {
-    const std::size_t i = static_cast<std::size_t>(s) * kLanes;
+                                                 int half, DoublePack (&rgb)[3]) {
+    const std::size_t i = halfAt(static_cast<std::size_t>(s), half);
     proto::evaluateFourierBrdfRgb(&coefficients[0][0], kMaxCoefficients, harmonics,
                                   DoublePack::load(samples.cosD + i),
                                   DoublePack::load(samples.cosS + i), rgb);
@@ -110,20 +121,22 @@ struct LaneSamples {
 VPE_KERNEL_CLONES
 void predictEveryLane(const ChunkSolution& brdf, int harmonics, const LaneSamples& samples,
                       double* rgbOut, double* luminanceOut) {
-    LaneCoefficients coefficients;
-    laneCoefficients(brdf, coefficients);
-    for (int s = 0; s < samples.count; ++s) {
-        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
-        DoublePack rgb[3];
-        evaluateLanes(coefficients, harmonics, samples, s, rgb);
-        const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
-        for (int c = 0; c < 3; ++c) {
-            rgb[c] = irradiance * rgb[c];
-            rgb[c].store(rgbOut + (static_cast<std::size_t>(s) * 3 + c) * kLanes);
+    for (int half = 0; half < kHalves; ++half) {
+        LaneCoefficients coefficients;
+        laneCoefficients(brdf, half, coefficients);
+        for (int s = 0; s < samples.count; ++s) {
+            const std::size_t i = halfAt(static_cast<std::size_t>(s), half);
+            DoublePack rgb[3];
+            evaluateLanes(coefficients, harmonics, samples, s, half, rgb);
+            const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
+            for (int c = 0; c < 3; ++c) {
+                rgb[c] = irradiance * rgb[c];
+                rgb[c].store(rgbOut + halfAt(static_cast<std::size_t>(s) * 3 + c, half));
+            }
+            (DoublePack(kLuminance709[0]) * rgb[0] + DoublePack(kLuminance709[1]) * rgb[1] +
+             DoublePack(kLuminance709[2]) * rgb[2])
+                .store(luminanceOut + i);
         }
-        (DoublePack(kLuminance709[0]) * rgb[0] + DoublePack(kLuminance709[1]) * rgb[1] +
-         DoublePack(kLuminance709[2]) * rgb[2])
-            .store(luminanceOut + i);
     }
 }
 
@@ -141,69 +154,76 @@ struct LaneObservations {
 VPE_KERNEL_CLONES
 void everyLaneError(const ChunkSolution& brdf, int harmonics, const LaneSamples& samples,
                     const LaneObservations& observed, double (&error)[kLanes]) {
-    LaneCoefficients coefficients;
-    laneCoefficients(brdf, coefficients);
     const DoublePack zero(0.0);
-    DoublePack sum(0.0);
-    for (int s = 0; s < samples.count; ++s) {
-        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
-        DoublePack predicted[3];
-        evaluateLanes(coefficients, harmonics, samples, s, predicted);
-        const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
-        DoublePack weight, saturated;
-        for (int lane = 0; lane < kLanes; ++lane) {
-            weight.v[lane] = static_cast<double>(observed.weights[i + lane]);
-            saturated.v[lane] = observed.saturated[i + lane] ? 1.0 : 0.0;
-        }
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t v = (static_cast<std::size_t>(s) * 3 + c) * kLanes;
-            DoublePack transport, value;
-            for (int lane = 0; lane < kLanes; ++lane) {
-                transport.v[lane] = static_cast<double>(observed.transport[v + lane]);
-                value.v[lane] = static_cast<double>(observed.values[v + lane]);
+    for (int half = 0; half < kHalves; ++half) {
+        LaneCoefficients coefficients;
+        laneCoefficients(brdf, half, coefficients);
+        DoublePack sum(0.0);
+        for (int s = 0; s < samples.count; ++s) {
+            const std::size_t i = halfAt(static_cast<std::size_t>(s), half);
+            DoublePack predicted[3];
+            evaluateLanes(coefficients, harmonics, samples, s, half, predicted);
+            const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
+            DoublePack weight, saturated;
+            for (int lane = 0; lane < kPackLanes; ++lane) {
+                weight.v[lane] = static_cast<double>(observed.weights[i + lane]);
+                saturated.v[lane] = observed.saturated[i + lane] ? 1.0 : 0.0;
             }
-            const DoublePack model = transport * irradiance * predicted[c];
-            const DoublePack difference = value - model;
-            const auto unused = (weight.v <= 0.0) | ((saturated.v > 0.0) & (model.v >= value.v));
-            sum = sum + DoublePack(unused ? zero.v : (weight * difference * difference).v);
+            for (int c = 0; c < 3; ++c) {
+                const std::size_t v = halfAt(static_cast<std::size_t>(s) * 3 + c, half);
+                DoublePack transport, value;
+                for (int lane = 0; lane < kPackLanes; ++lane) {
+                    transport.v[lane] = static_cast<double>(observed.transport[v + lane]);
+                    value.v[lane] = static_cast<double>(observed.values[v + lane]);
+                }
+                const DoublePack model = transport * irradiance * predicted[c];
+                const DoublePack difference = value - model;
+                const auto unused =
+                    (weight.v <= 0.0) | ((saturated.v > 0.0) & (model.v >= value.v));
+                sum = sum + DoublePack(unused ? zero.v : (weight * difference * difference).v);
+            }
         }
-    }
-    for (int lane = 0; lane < kLanes; ++lane) {
-        error[lane] = sum[lane];
+        for (int lane = 0; lane < kPackLanes; ++lane) {
+            error[half * kPackLanes + lane] = sum[lane];
+        }
     }
 }
 
 // T's normal equations of every lane at once: for each channel c, a's distinct entries
 // pairs[c][k] = Σ_s u[s][c] (h hᵀ)_k(s) and b's rights[c][t] = Σ_s v[s][c] h_t(s), u = w P² and
 // v = w P y lane by lane ([sample][channel][lane]), h and h hᵀ each light's
-// (ExtendedLightTable). The lanes sit side by side in a vector and four entries are summed at
+// (ExtendedLightTable). Eight lanes sit side by side in a vector and eight entries are summed at
 // once, so every sum stays in a register: a lane's own loop over its samples spent its time
 // loading and storing its 136 sums, and a matrix product (Eigen's) its time packing them.
 //
-// sumFourEntries: entries `entry` … entry + 3 of every lane's Σ_s weight[s][channel] row_s
-// (rows of `rowLength` values, one per sample). Always inlined, so that it takes the kernel
-// clone's instruction set.
-[[gnu::always_inline]] inline void sumFourEntries(const double* rows, int rowLength,
-                                                  const double* weights, int samples, int channels,
-                                                  int channel, int entry, double* out) {
-    DoublePack sum[4] = {DoublePack(0.0), DoublePack(0.0), DoublePack(0.0), DoublePack(0.0)};
+// sumEightEntries: entries `entry` … entry + 7 of half `half` of the lanes' Σ_s weight[s]
+// [channel] row_s (rows of `rowLength` values, one per sample). Always inlined, so that it
+// takes the kernel clone's instruction set.
+[[gnu::always_inline]] inline void sumEightEntries(const double* rows, int rowLength,
+                                                   const double* weights, int samples, int channels,
+                                                   int channel, int half, int entry, double* out) {
+    constexpr int kEntries = 8;
+    DoublePack sum[kEntries];
+    for (int e = 0; e < kEntries; ++e) {
+        sum[e] = DoublePack(0.0);
+    }
     for (int s = 0; s < samples; ++s) {
-        const DoublePack weight =
-            DoublePack::load(weights + (static_cast<std::size_t>(s) * channels + channel) * kLanes);
+        const DoublePack weight = DoublePack::load(
+            weights + halfAt(static_cast<std::size_t>(s) * channels + channel, half));
         const double* row = rows + static_cast<std::size_t>(s) * rowLength + entry;
-        for (int e = 0; e < 4; ++e) {
+        for (int e = 0; e < kEntries; ++e) {
             sum[e] = sum[e] + weight * DoublePack(row[e]);
         }
     }
-    for (int e = 0; e < 4; ++e) {
-        sum[e].store(out + static_cast<std::size_t>(entry + e) * kLanes);
+    for (int e = 0; e < kEntries; ++e) {
+        sum[e].store(out + halfAt(static_cast<std::size_t>(entry + e), half));
     }
 }
 
 VPE_KERNEL_CLONES
 void sumTransportEquations(const ExtendedLightTable& table, int samples, int channels,
                            const double* u, const double* v, double* pairs, double* rights) {
-    static_assert(kTransportPairs % 4 == 0 && model::kTransportTerms % 4 == 0);
+    static_assert(kTransportPairs % 8 == 0 && model::kTransportTerms % 8 == 0);
     static_assert(sizeof(std::array<double, kTransportPairs>) == kTransportPairs * sizeof(double));
     if (samples == 0) {
         std::fill_n(pairs, channels * kTransportPairs * kLanes, 0.0);
@@ -213,13 +233,16 @@ void sumTransportEquations(const ExtendedLightTable& table, int samples, int cha
     const double* outer = table.transportOuter.front().data();  // [sample][pair], contiguous
     const double* basis = table.transportBasis.front().data();  // [sample][term]
     for (int c = 0; c < channels; ++c) {
-        for (int k = 0; k < kTransportPairs; k += 4) {
-            sumFourEntries(outer, kTransportPairs, u, samples, channels, c, k,
-                           pairs + static_cast<std::size_t>(c) * kTransportPairs * kLanes);
-        }
-        for (int t = 0; t < model::kTransportTerms; t += 4) {
-            sumFourEntries(basis, model::kTransportTerms, v, samples, channels, c, t,
-                           rights + static_cast<std::size_t>(c) * model::kTransportTerms * kLanes);
+        for (int half = 0; half < kHalves; ++half) {
+            for (int k = 0; k < kTransportPairs; k += 8) {
+                sumEightEntries(outer, kTransportPairs, u, samples, channels, c, half, k,
+                                pairs + static_cast<std::size_t>(c) * kTransportPairs * kLanes);
+            }
+            for (int t = 0; t < model::kTransportTerms; t += 8) {
+                sumEightEntries(
+                    basis, model::kTransportTerms, v, samples, channels, c, half, t,
+                    rights + static_cast<std::size_t>(c) * model::kTransportTerms * kLanes);
+            }
         }
     }
 }
@@ -242,11 +265,11 @@ struct LaneCholesky {
     DoublePack inverseDiagonal[model::kTransportTerms];
     DoublePack positive;
 };
-[[gnu::always_inline]] inline void factorLanes(const double* pairs, const DoublePack& pull,
-                                               LaneCholesky& out) {
+[[gnu::always_inline]] inline void factorLanes(const double* pairs, int half,
+                                               const DoublePack& pull, LaneCholesky& out) {
     constexpr int n = model::kTransportTerms;
-    const auto at = [pairs](int entry) {
-        return DoublePack::load(pairs + static_cast<std::size_t>(entry) * kLanes);
+    const auto at = [pairs, half](int entry) {
+        return DoublePack::load(pairs + halfAt(static_cast<std::size_t>(entry), half));
     };
     out.positive = DoublePack(1.0);
     for (int j = 0; j < n; ++j) {
@@ -283,12 +306,12 @@ struct LaneCholesky {
 
 // (A + pull I) t = b + pull · prior, from L: L y = right, then Lᵀ t = y.
 [[gnu::always_inline]] inline void solveLanes(const LaneCholesky& factor, const double* rights,
-                                              const DoublePack& pull, const double* prior,
+                                              int half, const DoublePack& pull, const double* prior,
                                               DoublePack (&t)[model::kTransportTerms]) {
     constexpr int n = model::kTransportTerms;
     for (int i = 0; i < n; ++i) {
-        t[i] = DoublePack::load(rights + static_cast<std::size_t>(i) * kLanes) +
-               pull * DoublePack::load(prior + static_cast<std::size_t>(i) * kLanes);
+        t[i] = DoublePack::load(rights + halfAt(static_cast<std::size_t>(i), half)) +
+               pull * DoublePack::load(prior + halfAt(static_cast<std::size_t>(i), half));
     }
     forwardLanes(factor, t);
     for (int i = n - 1; i >= 0; --i) {
@@ -309,16 +332,18 @@ struct LaneCholesky {
 VPE_KERNEL_CLONES
 void solveTransportLanes(const double* pairs, const double* rights, const double* pull,
                          const double* prior, double* t, bool (&solved)[kLanes]) {
-    const DoublePack ridge = DoublePack::load(pull);
-    LaneCholesky factor;
-    factorLanes(pairs, ridge, factor);
-    DoublePack x[model::kTransportTerms];
-    solveLanes(factor, rights, ridge, prior, x);
-    for (int i = 0; i < model::kTransportTerms; ++i) {
-        x[i].store(t + static_cast<std::size_t>(i) * kLanes);
-    }
-    for (int lane = 0; lane < kLanes; ++lane) {
-        solved[lane] = factor.positive[lane] > 0;
+    for (int half = 0; half < kHalves; ++half) {
+        const DoublePack ridge = DoublePack::load(pull + half * kPackLanes);
+        LaneCholesky factor;
+        factorLanes(pairs, half, ridge, factor);
+        DoublePack x[model::kTransportTerms];
+        solveLanes(factor, rights, half, ridge, prior, x);
+        for (int i = 0; i < model::kTransportTerms; ++i) {
+            x[i].store(t + halfAt(static_cast<std::size_t>(i), half));
+        }
+        for (int lane = 0; lane < kPackLanes; ++lane) {
+            solved[half * kPackLanes + lane] = factor.positive[lane] > 0;
+        }
     }
 }
 
@@ -340,41 +365,44 @@ void transportPressLanes(const ExtendedLightTable& table, const double* pairs, c
                          const double* pull, const double* prior, const LanePressSamples& samples,
                          double (&press)[kLanes], bool (&valid)[kLanes]) {
     constexpr int n = model::kTransportTerms;
-    const DoublePack ridge = DoublePack::load(pull);
-    LaneCholesky factor;
-    factorLanes(pairs, ridge, factor);
-    DoublePack t[n];
-    solveLanes(factor, rights, ridge, prior, t);
-    DoublePack sum(0.0);
-    for (int s = 0; s < samples.count; ++s) {
-        const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
-        DoublePack z[n];
-        DoublePack fitted(0.0);
-        for (int k = 0; k < n; ++k) {
-            z[k] = DoublePack(h[k]);
-            fitted = fitted + t[k] * DoublePack(h[k]);
+    for (int half = 0; half < kHalves; ++half) {
+        const DoublePack ridge = DoublePack::load(pull + half * kPackLanes);
+        LaneCholesky factor;
+        factorLanes(pairs, half, ridge, factor);
+        DoublePack t[n];
+        solveLanes(factor, rights, half, ridge, prior, t);
+        DoublePack sum(0.0);
+        for (int s = 0; s < samples.count; ++s) {
+            const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
+            DoublePack z[n];
+            DoublePack fitted(0.0);
+            for (int k = 0; k < n; ++k) {
+                z[k] = DoublePack(h[k]);
+                fitted = fitted + t[k] * DoublePack(h[k]);
+            }
+            forwardLanes(factor, z);
+            DoublePack quadratic(0.0);
+            for (int k = 0; k < n; ++k) {
+                quadratic = quadratic + z[k] * z[k];
+            }
+            const std::size_t i = halfAt(static_cast<std::size_t>(s), half);
+            const DoublePack weight = DoublePack::load(samples.weight + i);
+            const DoublePack predicted = DoublePack::load(samples.predicted + i);
+            const DoublePack leverage = weight * predicted * predicted * quadratic;
+            const DoublePack residual =
+                (DoublePack::load(samples.observed + i) - predicted * fitted) /
+                fmax(DoublePack(1e-3), DoublePack(1.0) - leverage);
+            sum = sum +
+                  DoublePack(weight.v > 0.0 ? (weight * residual * residual).v : DoublePack(0.0).v);
         }
-        forwardLanes(factor, z);
-        DoublePack quadratic(0.0);
-        for (int k = 0; k < n; ++k) {
-            quadratic = quadratic + z[k] * z[k];
+        for (int lane = 0; lane < kPackLanes; ++lane) {
+            bool finite = factor.positive[lane] > 0;
+            for (int k = 0; k < n; ++k) {
+                finite = finite && std::isfinite(t[k][lane]);
+            }
+            valid[half * kPackLanes + lane] = finite;
+            press[half * kPackLanes + lane] = sum[lane];
         }
-        const std::size_t i = static_cast<std::size_t>(s) * kLanes;
-        const DoublePack weight = DoublePack::load(samples.weight + i);
-        const DoublePack predicted = DoublePack::load(samples.predicted + i);
-        const DoublePack leverage = weight * predicted * predicted * quadratic;
-        const DoublePack residual = (DoublePack::load(samples.observed + i) - predicted * fitted) /
-                                    fmax(DoublePack(1e-3), DoublePack(1.0) - leverage);
-        sum =
-            sum + DoublePack(weight.v > 0.0 ? (weight * residual * residual).v : DoublePack(0.0).v);
-    }
-    for (int lane = 0; lane < kLanes; ++lane) {
-        bool finite = factor.positive[lane] > 0;
-        for (int k = 0; k < n; ++k) {
-            finite = finite && std::isfinite(t[k][lane]);
-        }
-        valid[lane] = finite;
-        press[lane] = sum[lane];
     }
 }
 
@@ -385,15 +413,17 @@ void sampleTransportLanes(const ExtendedLightTable& table, const double* t, int 
                           float* out) {
     for (int s = 0; s < samples; ++s) {
         const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
-        DoublePack sum(0.0);
-        for (int k = 0; k < model::kTransportTerms; ++k) {
-            sum =
-                sum + DoublePack::load(t + static_cast<std::size_t>(k) * kLanes) * DoublePack(h[k]);
-        }
-        const DoublePack bounded = fmin(fmax(sum, DoublePack(0.0)), DoublePack(4.0));
-        for (int lane = 0; lane < kLanes; ++lane) {
-            out[static_cast<std::size_t>(s) * kLanes + static_cast<std::size_t>(lane)] =
-                static_cast<float>(bounded[lane]);
+        for (int half = 0; half < kHalves; ++half) {
+            DoublePack sum(0.0);
+            for (int k = 0; k < model::kTransportTerms; ++k) {
+                sum = sum + DoublePack::load(t + halfAt(static_cast<std::size_t>(k), half)) *
+                                DoublePack(h[k]);
+            }
+            const DoublePack bounded = fmin(fmax(sum, DoublePack(0.0)), DoublePack(4.0));
+            for (int lane = 0; lane < kPackLanes; ++lane) {
+                out[halfAt(static_cast<std::size_t>(s), half) + static_cast<std::size_t>(lane)] =
+                    static_cast<float>(bounded[lane]);
+            }
         }
     }
 }

@@ -42,7 +42,13 @@ struct Pack {
     Vector v;
 
     Pack() = default;
-    Pack(S scalar) : v(Vector{} + scalar) {}  // NOLINT: broadcast, like a scalar
+    // NOLINTNEXTLINE: broadcast, like a scalar. Element by element, which compiles to one
+    // broadcast; `Vector{} + scalar` added 0 to the scalar first, in the innermost loops.
+    Pack(S scalar) {
+        for (int i = 0; i < L; ++i) {
+            v[i] = scalar;
+        }
+    }
     explicit Pack(Vector vector) : v(vector) {}
 
     static Pack load(const S* p) {
