@@ -232,12 +232,13 @@ public:
             transport_ ? model::evaluateColourTransport(
                              transport_, model::transportDirection(hypothesis_.calibrated, image))
                        : std::array<double, model::kTransportChannels>{1.0, 1.0, 1.0};
+        double f[3];  // one harmonic recurrence for the three channels
+        proto::evaluateFourierBrdfRgb(&coefficients_[0][0], fit::kMaxCoefficients, harmonics_,
+                                      angles.cosThetaD, angles.cosThetaS, f);
         std::array<double, 3> rgb;
         for (int k = 0; k < 3; ++k) {
             rgb[static_cast<std::size_t>(k)] =
-                t[static_cast<std::size_t>(k)] * light.irradiance *
-                proto::evaluateFourierBrdf(coefficients_[k], harmonics_, angles.cosThetaD,
-                                           angles.cosThetaS);
+                t[static_cast<std::size_t>(k)] * light.irradiance * f[k];
         }
         return rgb;
     }
