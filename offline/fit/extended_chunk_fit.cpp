@@ -411,13 +411,16 @@ void transportPressLanes(const ExtendedLightTable& table, const double* pairs, c
 VPE_KERNEL_CLONES
 void sampleTransportLanes(const ExtendedLightTable& table, const double* t, int samples,
                           float* out) {
-    for (int s = 0; s < samples; ++s) {
-        const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
-        for (int half = 0; half < kHalves; ++half) {
+    for (int half = 0; half < kHalves; ++half) {
+        DoublePack coefficients[model::kTransportTerms];  // in registers for every sample
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            coefficients[k] = DoublePack::load(t + halfAt(static_cast<std::size_t>(k), half));
+        }
+        for (int s = 0; s < samples; ++s) {
+            const double* h = table.transportBasis[static_cast<std::size_t>(s)].data();
             DoublePack sum(0.0);
             for (int k = 0; k < model::kTransportTerms; ++k) {
-                sum = sum + DoublePack::load(t + halfAt(static_cast<std::size_t>(k), half)) *
-                                DoublePack(h[k]);
+                sum = sum + coefficients[k] * DoublePack(h[k]);
             }
             const DoublePack bounded = fmin(fmax(sum, DoublePack(0.0)), DoublePack(4.0));
             for (int lane = 0; lane < kPackLanes; ++lane) {
