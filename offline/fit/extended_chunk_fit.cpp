@@ -53,7 +53,6 @@ struct TransportEquations {
     TransportVector b = TransportVector::Zero();
     double meanWeight = 0;  // of w P², the scale the ridges are relative to
 
-    bool solvable() const { return meanWeight > 0; }
     // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖²; not finite when it fails.
     // Cholesky: with a ridge the matrix is positive definite, and LLT is a third of LDLT's
     // time at this size (no pivoting); LDLT only where it fails (no ridge, degenerate lights).
@@ -498,7 +497,7 @@ private:
         return static_cast<std::size_t>(term) * kLanes + static_cast<std::size_t>(lane);
     }
     // A lane's equations of `channel` (0 luminance, 1 + c colour) as a matrix, from the sums
-    // buildTransportEquations made: for the texel's ridge and where Cholesky fails.
+    // buildTransportEquations made: where the lanes' Cholesky fails.
     TransportEquations transportEquations(int lane, int channel) const;
     // Channel `channel`'s ridge solves of the `lanes` (TransportEquations::solve, every lane at
     // once); `finite` says which lanes have a solution.
