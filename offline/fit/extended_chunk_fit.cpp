@@ -53,18 +53,12 @@ struct TransportEquations {
     TransportVector b = TransportVector::Zero();
     double meanWeight = 0;  // of w P², the scale the ridges are relative to
 
-    // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖²; not finite when it fails.
-    // Cholesky: with a ridge the matrix is positive definite, and LLT is a third of LDLT's
-    // time at this size (no pivoting); LDLT only where it fails (no ridge, degenerate lights).
-    TransportVector solve(double ridge, const TransportVector& prior) const {
+    // min Σ w (y − T P)² + ridge · meanWeight · ‖t − prior‖² by LDLT, for a lane whose
+    // Cholesky failed (no ridge, degenerate lights); not finite when this fails too.
+    TransportVector solveByLdlt(double ridge, const TransportVector& prior) const {
         TransportMatrix regularized = a;
         regularized.diagonal().array() += ridge * meanWeight;
-        const TransportVector right = b + ridge * meanWeight * prior;
-        const Eigen::LLT<TransportMatrix> cholesky(regularized);
-        if (cholesky.info() == Eigen::Success) {
-            return cholesky.solve(right);
-        }
-        return regularized.ldlt().solve(right);
+        return regularized.ldlt().solve(b + ridge * meanWeight * prior);
     }
 };
 
@@ -327,7 +321,7 @@ struct LaneCholesky {
 // ([lane], [term][lane]), t out as [term][lane]. The lanes side by side in a vector: sixteen
 // 16 × 16 solves one after the other (Eigen's LLT) were a sixth of the extended fit's time.
 // `solved[lane]` is false where a pivot is not positive, which the caller solves again by
-// LDLT as TransportEquations::solve does.
+// LDLT (TransportEquations::solveByLdlt).
 VPE_KERNEL_CLONES
 void solveTransportLanes(const double* pairs, const double* rights, const double* pull,
                          const double* prior, double* t, bool (&solved)[kLanes]) {
@@ -499,8 +493,8 @@ private:
     // A lane's equations of `channel` (0 luminance, 1 + c colour) as a matrix, from the sums
     // buildTransportEquations made: where the lanes' Cholesky fails.
     TransportEquations transportEquations(int lane, int channel) const;
-    // Channel `channel`'s ridge solves of the `lanes` (TransportEquations::solve, every lane at
-    // once); `finite` says which lanes have a solution.
+    // Channel `channel`'s ridge solves of the `lanes`, every lane at once (solveTransportLanes,
+    // LDLT where it fails); `finite` says which lanes have a solution.
     void solveTransport(int channel, const bool (&lanes)[kLanes], const double (&ridges)[kLanes],
                         const LaneTransport& prior, LaneTransport& t, bool (&finite)[kLanes]) const;
     // T of every sample of the `lanes` into out[s · stride + lane], for each (out, stride)
@@ -524,6 +518,7 @@ private:
     int samples_ = 0;
     std::size_t laneBlock_ = 0;
     double identity_[model::kTransportTerms] = {};
+    LaneTransport identityLanes_ = {};  // T ≡ 1 for every lane: T's prior
     // The luminance T fit's mean weight per lane; 0 while the lane has no fitted T.
     double luminanceWeight_[kLanes] = {};
 
@@ -542,7 +537,7 @@ private:
     std::vector<double> predictedRgb_;  // per sample, channel and lane (predictLanes)
     std::vector<double> magnitudes_;
     // The luminance samples of the texels' ridge choice, [sample][lane] (chooseTexelRidges).
-    std::vector<double> pressWeights_, pressPredicted_, pressObserved_;
+    std::vector<double> pressWeights_, pressObserved_;
     // T's normal equations of every lane (buildTransportEquations): the mean weight of
     // luminance, then R, G, B ([channel][lane]; 0 where not built), and the products they are
     // made by.
@@ -566,6 +561,9 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
     readObservations(capture, geometry, band, row, x0);
     model::identityTransport(identity_);
     for (int lane = 0; lane < kLanes; ++lane) {
+        for (int k = 0; k < model::kTransportTerms; ++k) {
+            identityLanes_[transportIndex(k, lane)] = identity_[k];
+        }
         setGreyTransport(lane, identity_);
         luminanceWeight_[lane] = 0;
         out.transportRidge[lane] = laneRidges ? laneRidges[lane] : settings.transportRidge;
@@ -691,26 +689,18 @@ void ExtendedChunkFit::chooseTexelRidges(const bool (&lanes)[kLanes], double (&r
     constexpr double kWeakest = 0.01;
     constexpr double kRequiredGain = 0.8;
     pressWeights_.assign(laneBlock_, 0.0);
-    pressPredicted_.assign(laneBlock_, 0.0);
     pressObserved_.assign(laneBlock_, 0.0);
     for (int s = 0; s < samples_; ++s) {
         for (int lane = 0; lane < kLanes; ++lane) {
             const std::size_t i = at(s, lane);
             if (lanes[lane] && usable(i)) {
                 pressWeights_[i] = static_cast<double>(weights_[i]);
-                pressPredicted_[i] = predicted_[i];
                 pressObserved_[i] = observedLuminance(s, lane);
             }
         }
     }
-    const LanePressSamples samples{samples_, pressWeights_.data(), pressPredicted_.data(),
+    const LanePressSamples samples{samples_, pressWeights_.data(), predicted_.data(),
                                    pressObserved_.data()};
-    LaneTransport prior;
-    for (int lane = 0; lane < kLanes; ++lane) {
-        for (int k = 0; k < model::kTransportTerms; ++k) {
-            prior[transportIndex(k, lane)] = identity_[k];
-        }
-    }
     const double ridge = settings_->transportRidge;
     double best[kLanes] = {};
     for (double factor : {1.0, 0.3, 0.1, 0.03, 0.01}) {
@@ -724,8 +714,8 @@ void ExtendedChunkFit::chooseTexelRidges(const bool (&lanes)[kLanes], double (&r
         }
         double press[kLanes];
         bool valid[kLanes];
-        transportPressLanes(*table_, pairSums_.data(), rightSums_.data(), pull, prior.data(),
-                            samples, press, valid);
+        transportPressLanes(*table_, pairSums_.data(), rightSums_.data(), pull,
+                            identityLanes_.data(), samples, press, valid);
         for (int lane = 0; lane < kLanes; ++lane) {
             if (!lanes[lane] || !valid[lane]) {
                 continue;
@@ -746,7 +736,7 @@ void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool
     const std::size_t perSample = static_cast<std::size_t>(channels) * kLanes;
     sampleWeights_.assign(static_cast<std::size_t>(samples_) * perSample, 0.0);
     sampleRights_.assign(sampleWeights_.size(), 0.0);
-    double meanWeights[kLanes][1 + model::kTransportChannels] = {};
+    std::fill_n(&meanWeights_[0][0], (1 + model::kTransportChannels) * kLanes, 0.0);
     for (int lane = 0; lane < kLanes; ++lane) {
         if (!lanes[lane]) {
             continue;
@@ -772,19 +762,13 @@ void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool
                 weightSum += wp * predicted;
                 ++used;
             }
-            meanWeights[lane][channel] = used > 0 ? weightSum / used : 0.0;
+            meanWeights_[channel][lane] = used > 0 ? weightSum / used : 0.0;
         }
     }
     pairSums_.resize(static_cast<std::size_t>(channels) * kTransportPairs * kLanes);
     rightSums_.resize(static_cast<std::size_t>(channels) * model::kTransportTerms * kLanes);
     sumTransportEquations(*table_, samples_, channels, sampleWeights_.data(), sampleRights_.data(),
                           pairSums_.data(), rightSums_.data());
-    for (int channel = 0; channel < 1 + model::kTransportChannels; ++channel) {
-        for (int lane = 0; lane < kLanes; ++lane) {
-            meanWeights_[channel][lane] =
-                lanes[lane] && channel < channels ? meanWeights[lane][channel] : 0.0;
-        }
-    }
 }
 
 TransportEquations ExtendedChunkFit::transportEquations(int lane, int channel) const {
@@ -827,7 +811,8 @@ void ExtendedChunkFit::solveTransport(int channel, const bool (&lanes)[kLanes],
             for (int k = 0; k < model::kTransportTerms; ++k) {
                 right[k] = prior[transportIndex(k, lane)];
             }
-            const TransportVector x = transportEquations(lane, channel).solve(ridges[lane], right);
+            const TransportVector x =
+                transportEquations(lane, channel).solveByLdlt(ridges[lane], right);
             for (int k = 0; k < model::kTransportTerms; ++k) {
                 t[transportIndex(k, lane)] = x[k];
             }
@@ -860,11 +845,7 @@ void ExtendedChunkFit::sampleLanes(const LaneTransport& t, const bool (&lanes)[k
 void ExtendedChunkFit::fitTransport(const bool (&active)[kLanes], bool (&fitted)[kLanes]) {
     bool lanes[kLanes];
     double ridges[kLanes] = {};
-    LaneTransport prior;
     for (int lane = 0; lane < kLanes; ++lane) {
-        for (int k = 0; k < model::kTransportTerms; ++k) {
-            prior[transportIndex(k, lane)] = identity_[k];
-        }
         lanes[lane] = active[lane] && meanWeights_[0][lane] > 0;
         ridges[lane] = laneRidges_ ? laneRidges_[lane] : settings_->transportRidge;
     }
@@ -877,7 +858,7 @@ void ExtendedChunkFit::fitTransport(const bool (&active)[kLanes], bool (&fitted)
         }
     }
     LaneTransport t;
-    solveTransport(0, lanes, ridges, prior, t, fitted);
+    solveTransport(0, lanes, ridges, identityLanes_, t, fitted);
     for (int lane = 0; lane < kLanes; ++lane) {
         if (!fitted[lane]) {
             continue;
