@@ -62,16 +62,14 @@ struct TransportEquations {
     }
 };
 
-// The lane kernels below take a chunk's lanes eight at a time, half a chunk: eight doubles
-// are one AVX-512 register, where a vector of all sixteen made GCC keep every value of a
-// kernel's loop on the stack. `half` picks lanes half · 8 … half · 8 + 7.
-constexpr int kPackLanes = kLanes / 2;
-constexpr int kHalves = kLanes / kPackLanes;
-using DoublePack = simd::Pack<double, kPackLanes>;
+// The lane kernels below take a chunk's lanes half at a time (kHalfLanes, one AVX-512 register
+// of doubles): `half` picks lanes half · 8 … half · 8 + 7.
+constexpr int kHalves = kLanes / kHalfLanes;
+using DoublePack = simd::Pack<double, kHalfLanes>;
 
 // Where half `half` of entry `entry` of a [entry][lane] array starts.
 constexpr std::size_t halfAt(std::size_t entry, int half) {
-    return entry * kLanes + static_cast<std::size_t>(half) * kPackLanes;
+    return entry * kLanes + static_cast<std::size_t>(half) * kHalfLanes;
 }
 
 // Half a chunk's BRDF coefficients, each across the lanes: [channel][coefficient].
@@ -82,9 +80,9 @@ using LaneCoefficients = DoublePack[kChannels][kMaxCoefficients];
                                                     LaneCoefficients& out) {
     for (int c = 0; c < kChannels; ++c) {
         for (int k = 0; k < kMaxCoefficients; ++k) {
-            for (int lane = 0; lane < kPackLanes; ++lane) {
+            for (int lane = 0; lane < kHalfLanes; ++lane) {
                 out[c][k].v[lane] =
-                    static_cast<double>(brdf.coefficients[half * kPackLanes + lane][c][k]);
+                    static_cast<double>(brdf.coefficients[half * kHalfLanes + lane][c][k]);
             }
         }
     }
@@ -158,14 +156,14 @@ void everyLaneError(const ChunkSolution& brdf, int harmonics, const LaneSamples&
             evaluateLanes(coefficients, harmonics, samples, s, half, predicted);
             const DoublePack irradiance = DoublePack::load(samples.irradiance + i);
             DoublePack weight, saturated;
-            for (int lane = 0; lane < kPackLanes; ++lane) {
+            for (int lane = 0; lane < kHalfLanes; ++lane) {
                 weight.v[lane] = static_cast<double>(observed.weights[i + lane]);
                 saturated.v[lane] = observed.saturated[i + lane] ? 1.0 : 0.0;
             }
             for (int c = 0; c < 3; ++c) {
                 const std::size_t v = halfAt(static_cast<std::size_t>(s) * 3 + c, half);
                 DoublePack transport, value;
-                for (int lane = 0; lane < kPackLanes; ++lane) {
+                for (int lane = 0; lane < kHalfLanes; ++lane) {
                     transport.v[lane] = static_cast<double>(observed.transport[v + lane]);
                     value.v[lane] = static_cast<double>(observed.values[v + lane]);
                 }
@@ -176,8 +174,8 @@ void everyLaneError(const ChunkSolution& brdf, int harmonics, const LaneSamples&
                 sum = sum + DoublePack(unused ? zero.v : (weight * difference * difference).v);
             }
         }
-        for (int lane = 0; lane < kPackLanes; ++lane) {
-            error[half * kPackLanes + lane] = sum[lane];
+        for (int lane = 0; lane < kHalfLanes; ++lane) {
+            error[half * kHalfLanes + lane] = sum[lane];
         }
     }
 }
@@ -326,7 +324,7 @@ VPE_KERNEL_CLONES
 void solveTransportLanes(const double* pairs, const double* rights, const double* pull,
                          const double* prior, double* t, bool (&solved)[kLanes]) {
     for (int half = 0; half < kHalves; ++half) {
-        const DoublePack ridge = DoublePack::load(pull + half * kPackLanes);
+        const DoublePack ridge = DoublePack::load(pull + half * kHalfLanes);
         LaneCholesky factor;
         factorLanes(pairs, half, ridge, factor);
         DoublePack x[model::kTransportTerms];
@@ -334,8 +332,8 @@ void solveTransportLanes(const double* pairs, const double* rights, const double
         for (int i = 0; i < model::kTransportTerms; ++i) {
             x[i].store(t + halfAt(static_cast<std::size_t>(i), half));
         }
-        for (int lane = 0; lane < kPackLanes; ++lane) {
-            solved[half * kPackLanes + lane] = factor.positive[lane] > 0;
+        for (int lane = 0; lane < kHalfLanes; ++lane) {
+            solved[half * kHalfLanes + lane] = factor.positive[lane] > 0;
         }
     }
 }
@@ -359,7 +357,7 @@ void transportPressLanes(const ExtendedLightTable& table, const double* pairs, c
                          double (&press)[kLanes], bool (&valid)[kLanes]) {
     constexpr int n = model::kTransportTerms;
     for (int half = 0; half < kHalves; ++half) {
-        const DoublePack ridge = DoublePack::load(pull + half * kPackLanes);
+        const DoublePack ridge = DoublePack::load(pull + half * kHalfLanes);
         LaneCholesky factor;
         factorLanes(pairs, half, ridge, factor);
         DoublePack t[n];
@@ -388,13 +386,13 @@ void transportPressLanes(const ExtendedLightTable& table, const double* pairs, c
             sum = sum +
                   DoublePack(weight.v > 0.0 ? (weight * residual * residual).v : DoublePack(0.0).v);
         }
-        for (int lane = 0; lane < kPackLanes; ++lane) {
+        for (int lane = 0; lane < kHalfLanes; ++lane) {
             bool finite = factor.positive[lane] > 0;
             for (int k = 0; k < n; ++k) {
                 finite = finite && std::isfinite(t[k][lane]);
             }
-            valid[half * kPackLanes + lane] = finite;
-            press[half * kPackLanes + lane] = sum[lane];
+            valid[half * kHalfLanes + lane] = finite;
+            press[half * kHalfLanes + lane] = sum[lane];
         }
     }
 }
@@ -416,7 +414,7 @@ void sampleTransportLanes(const ExtendedLightTable& table, const double* t, int 
                 sum = sum + coefficients[k] * DoublePack(h[k]);
             }
             const DoublePack bounded = fmin(fmax(sum, DoublePack(0.0)), DoublePack(4.0));
-            for (int lane = 0; lane < kPackLanes; ++lane) {
+            for (int lane = 0; lane < kHalfLanes; ++lane) {
                 out[halfAt(static_cast<std::size_t>(s), half) + static_cast<std::size_t>(lane)] =
                     static_cast<float>(bounded[lane]);
             }

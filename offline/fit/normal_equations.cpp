@@ -383,7 +383,6 @@ namespace {
 // Solves kHalfLanes lanes from `first` on. Two halves of one zmm of doubles each, not one
 // 16-lane pack: the 16-lane form kept two registers per value and spilled most of them, and
 // the solve took a quarter of the fit's time.
-constexpr int kHalfLanes = kLanes / 2;
 using HalfPack = simd::Pack<double, kHalfLanes>;
 
 [[gnu::always_inline]] inline void solveLanes(const NormalEquationSums& sums, int harmonics,

@@ -10,7 +10,10 @@
 
 namespace vpe::fit {
 
-inline constexpr int kLanes = 16;    // pixels per kernel call (one AVX-512 float vector)
+inline constexpr int kLanes = 16;  // pixels per kernel call (one AVX-512 float vector)
+// Half a chunk: the lanes of one AVX-512 vector of doubles, what the double-precision kernels
+// take at a time (a 16-lane double vector kept its values on the stack).
+inline constexpr int kHalfLanes = kLanes / 2;
 inline constexpr int kChannels = 3;  // RGB
 inline constexpr int kMaxCoefficients = proto::coefficientCount(proto::kMaxHarmonics);
 
