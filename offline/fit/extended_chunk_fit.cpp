@@ -453,6 +453,10 @@ public:
              const KernelLightSet& lights, const capture::SampleBand& band, int row, int x0,
              const ExtendedFitSettings& settings, ExtendedChunkSolution& out,
              const double* laneRidges);
+    // After fit(): the same chunk's fit again under other normals (`geometry`'s), the samples
+    // as fit() read them; only each sample's angles change.
+    void refit(const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+               const KernelLightSet& lights, ExtendedChunkSolution& out, const double* laneRidges);
     // After fit(): keeps that fit's T per sample as the centre a normal search tries its
     // tilts around.
     void rememberCentre();
@@ -472,6 +476,14 @@ private:
     }
     void readObservations(const capture::Capture& capture, const ChunkGeometry& geometry,
                           const capture::SampleBand& band, int row, int x0);
+    // cosθd and cosθs of every sample and lane under `geometry`'s normals.
+    void shade(const ChunkGeometry& geometry);
+    // T ≡ 1 and nothing censored: where every fit of a chunk starts.
+    void resetTransport();
+    // The alternation itself (fit's steps after reading the samples).
+    void alternate(const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                   const KernelLightSet& lights, ExtendedChunkSolution& out,
+                   const double* laneRidges);
     void setGreyTransport(int lane, const double* coefficients);
     double observedLuminance(int s, int lane) const;
     // Whether sample index i (at()) counts in T's fit and the shadow scale: it has a weight and
@@ -524,8 +536,8 @@ private:
     std::vector<float> values_, weights_, scaled_, scaledWeights_, transport_, channelTransport_;
     std::vector<std::uint8_t> saturated_, censored_;
     std::vector<double> cosD_, cosS_, irradiance_;
-    std::vector<proto::Vec3d>
-        lightDirections_;  // per sample and lane (the candidate tilts reuse it)
+    // Each sample's direction to its light, per axis, [sample][lane] (the tilts reuse them).
+    std::vector<double> lightX_, lightY_, lightZ_;
     // The centre of a normal search (rememberCentre): its T per sample, and per lane the mean
     // weight of its luminance T fit.
     std::vector<float> centreTransport_, centreChannelTransport_;
@@ -552,11 +564,26 @@ void ExtendedChunkFit::fit(const capture::Capture& capture, const ExtendedLightT
                            const double* laneRidges) {
     table_ = &table;
     settings_ = &settings;
-    out_ = &out;
-    laneRidges_ = laneRidges;
     samples_ = lights.count;
     laneBlock_ = static_cast<std::size_t>(samples_) * kLanes;
     readObservations(capture, geometry, band, row, x0);
+    alternate(geometry, laneValid, lights, out, laneRidges);
+}
+
+void ExtendedChunkFit::refit(const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                             const KernelLightSet& lights, ExtendedChunkSolution& out,
+                             const double* laneRidges) {
+    resetTransport();
+    shade(geometry);
+    alternate(geometry, laneValid, lights, out, laneRidges);
+}
+
+void ExtendedChunkFit::alternate(const ChunkGeometry& geometry, const bool (&laneValid)[kLanes],
+                                 const KernelLightSet& lights, ExtendedChunkSolution& out,
+                                 const double* laneRidges) {
+    const ExtendedFitSettings& settings = *settings_;
+    out_ = &out;
+    laneRidges_ = laneRidges;
     model::identityTransport(identity_);
     for (int lane = 0; lane < kLanes; ++lane) {
         for (int k = 0; k < model::kTransportTerms; ++k) {
@@ -616,15 +643,15 @@ void ExtendedChunkFit::readObservations(const capture::Capture& capture,
     scaled_.resize(laneBlock_ * 3);
     weights_.resize(laneBlock_);
     scaledWeights_.resize(laneBlock_);
-    transport_.assign(laneBlock_, 1.0f);
-    channelTransport_.assign(laneBlock_ * 3, 1.0f);  // per sample, channel and lane, as values
+    resetTransport();
     saturated_.resize(laneBlock_);
-    censored_.assign(laneBlock_, 0);
     cosD_.resize(laneBlock_);
     cosS_.resize(laneBlock_);
     irradiance_.resize(laneBlock_);
     predictedRgb_.resize(laneBlock_ * 3);
-    lightDirections_.resize(laneBlock_);
+    lightX_.resize(laneBlock_);
+    lightY_.resize(laneBlock_);
+    lightZ_.resize(laneBlock_);
     for (int s = 0; s < samples_; ++s) {
         const capture::CaptureImage& image = capture.images[static_cast<std::size_t>(s)];
         for (int lane = 0; lane < kLanes; ++lane) {
@@ -634,18 +661,50 @@ void ExtendedChunkFit::readObservations(const capture::Capture& capture,
             for (int c = 0; c < 3; ++c) {
                 values_[valueAt(s, c, lane)] = band.value(s, c, row, x0 + lane);
             }
-            const proto::Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
-                                 geometry.normal[2][lane]};
-            const proto::Vec3d v{geometry.view[0][lane], geometry.view[1][lane],
-                                 geometry.view[2][lane]};
             const proto::Vec3d p{geometry.position[0][lane], geometry.position[1][lane],
                                  geometry.position[2][lane]};
             const capture::IncidentLight light = capture::incidentLight(capture, image, p);
-            const auto angles = proto::reflectionAngles(n, light.direction, v);
-            cosD_[i] = angles.cosThetaD;
-            cosS_[i] = angles.cosThetaS;
             irradiance_[i] = light.irradiance;
-            lightDirections_[i] = light.direction;
+            lightX_[i] = light.direction.x;
+            lightY_[i] = light.direction.y;
+            lightZ_[i] = light.direction.z;
+        }
+    }
+    shade(geometry);
+}
+
+void ExtendedChunkFit::resetTransport() {
+    transport_.assign(laneBlock_, 1.0f);
+    channelTransport_.assign(laneBlock_ * 3, 1.0f);  // per sample, channel and lane, as values
+    censored_.assign(laneBlock_, 0);
+}
+
+// proto::reflectionAngles, lane by lane in the same order of operations (so the same bits),
+// written over the lanes side by side so that it vectorizes.
+void ExtendedChunkFit::shade(const ChunkGeometry& geometry) {
+    double nx[kLanes], ny[kLanes], nz[kLanes], nv[kLanes];
+    for (int lane = 0; lane < kLanes; ++lane) {
+        nx[lane] = geometry.normal[0][lane];
+        ny[lane] = geometry.normal[1][lane];
+        nz[lane] = geometry.normal[2][lane];
+        nv[lane] = proto::dot(
+            proto::Vec3d{nx[lane], ny[lane], nz[lane]},
+            proto::Vec3d{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]});
+    }
+    for (int s = 0; s < samples_; ++s) {
+        const std::size_t base = at(s, 0);
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const std::size_t i = base + static_cast<std::size_t>(lane);
+            const double lx = lightX_[i], ly = lightY_[i], lz = lightZ_[i];
+            const double nl = nx[lane] * lx + ny[lane] * ly + nz[lane] * lz;
+            const double lv = lx * static_cast<double>(geometry.view[0][lane]) +
+                              ly * static_cast<double>(geometry.view[1][lane]) +
+                              lz * static_cast<double>(geometry.view[2][lane]);
+            const double rv = 2.0 * nl * nv[lane] - lv;
+            cosD_[i] = nl;
+            // fmin(fmax(rv, −1), 1) as proto has it, NaN included, without libm's calls.
+            const double above = rv > -1.0 ? rv : -1.0;
+            cosS_[i] = above < 1.0 ? above : 1.0;
         }
     }
 }
@@ -732,35 +791,48 @@ void ExtendedChunkFit::chooseTexelRidges(const bool (&lanes)[kLanes], double (&r
 void ExtendedChunkFit::buildTransportEquations(const bool (&lanes)[kLanes], bool colour) {
     const int channels = colour ? 1 + model::kTransportChannels : 1;
     const std::size_t perSample = static_cast<std::size_t>(channels) * kLanes;
-    sampleWeights_.assign(static_cast<std::size_t>(samples_) * perSample, 0.0);
-    sampleRights_.assign(sampleWeights_.size(), 0.0);
+    sampleWeights_.resize(static_cast<std::size_t>(samples_) * perSample);  // all written below
+    sampleRights_.resize(sampleWeights_.size());
     std::fill_n(&meanWeights_[0][0], (1 + model::kTransportChannels) * kLanes, 0.0);
-    for (int lane = 0; lane < kLanes; ++lane) {
-        if (!lanes[lane]) {
-            continue;
+    // Sample by sample with the lanes innermost (each lane's sums in the same order as a lane
+    // alone), so that the loop vectorizes.
+    double weightSums[1 + model::kTransportChannels][kLanes] = {};
+    int used[kLanes] = {};  // the same samples count in every channel
+    for (int s = 0; s < samples_; ++s) {
+        bool use[kLanes];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            use[lane] = lanes[lane] && usable(at(s, lane));
+            used[lane] += use[lane] ? 1 : 0;
         }
         for (int channel = 0; channel < channels; ++channel) {
-            double weightSum = 0;
-            int used = 0;
-            for (int s = 0; s < samples_; ++s) {
-                const std::size_t i = at(s, lane);
-                if (!usable(i)) {
-                    continue;
-                }
-                const double predicted =
-                    channel == 0 ? predicted_[i] : predictedRgb_[valueAt(s, channel - 1, lane)];
-                const double observed =
-                    channel == 0 ? observedLuminance(s, lane)
-                                 : static_cast<double>(values_[valueAt(s, channel - 1, lane)]);
-                const double wp = static_cast<double>(weights_[i]) * predicted;
-                const std::size_t u = static_cast<std::size_t>(s) * perSample +
-                                      static_cast<std::size_t>(channel) * kLanes + lane;
-                sampleWeights_[u] = std::max(wp * predicted, 0.0);
-                sampleRights_[u] = wp * observed;
-                weightSum += wp * predicted;
-                ++used;
+            const std::size_t u0 = static_cast<std::size_t>(s) * perSample +
+                                   static_cast<std::size_t>(channel) * kLanes;
+            const double* __restrict predicted =
+                channel == 0 ? &predicted_[at(s, 0)] : &predictedRgb_[valueAt(s, channel - 1, 0)];
+            const float* __restrict weights = &weights_[at(s, 0)];
+            double* __restrict sampleWeights = &sampleWeights_[u0];
+            double* __restrict sampleRights = &sampleRights_[u0];
+            double observed[kLanes];
+            for (int lane = 0; lane < kLanes; ++lane) {
+                observed[lane] = channel == 0
+                                     ? observedLuminance(s, lane)
+                                     : static_cast<double>(values_[valueAt(s, channel - 1, lane)]);
             }
-            meanWeights_[channel][lane] = used > 0 ? weightSum / used : 0.0;
+            // Computed for every lane and kept where used (+0 elsewhere, as assign left it):
+            // written so, the loop vectorizes.
+            for (int lane = 0; lane < kLanes; ++lane) {
+                const double wp = static_cast<double>(weights[lane]) * predicted[lane];
+                const double square = wp * predicted[lane];
+                sampleWeights[lane] = use[lane] ? std::max(square, 0.0) : 0.0;
+                sampleRights[lane] = use[lane] ? wp * observed[lane] : 0.0;
+                weightSums[channel][lane] += use[lane] ? square : 0.0;
+            }
+        }
+    }
+    for (int channel = 0; channel < channels; ++channel) {
+        for (int lane = 0; lane < kLanes; ++lane) {
+            meanWeights_[channel][lane] =
+                lanes[lane] && used[lane] > 0 ? weightSums[channel][lane] / used[lane] : 0.0;
         }
     }
     pairSums_.resize(static_cast<std::size_t>(channels) * kTransportPairs * kLanes);
@@ -828,11 +900,10 @@ void ExtendedChunkFit::sampleLanes(const LaneTransport& t, const bool (&lanes)[k
     sampleTransportLanes(*table_, t.data(), samples_, sampled_.data());
     for (const auto& [out, stride] : outputs) {
         for (int s = 0; s < samples_; ++s) {
+            float* row = out + static_cast<std::size_t>(s) * stride;
+            const float* sampled = &sampled_[at(s, 0)];
             for (int lane = 0; lane < kLanes; ++lane) {
-                if (lanes[lane]) {
-                    out[static_cast<std::size_t>(s) * stride + static_cast<std::size_t>(lane)] =
-                        sampled_[at(s, lane)];
-                }
+                row[lane] = lanes[lane] ? sampled[lane] : row[lane];  // a blend: vectorizes
             }
         }
     }
@@ -1020,20 +1091,30 @@ void ExtendedChunkFit::updateShadowWeights(int lane) {
 void ExtendedChunkFit::fitBrdf(const ChunkGeometry& geometry, const KernelLightSet& lights,
                                NormalEquationSums& sums) {
     const ExtendedFitSettings& settings = *settings_;
-    for (std::size_t i = 0; i < laneBlock_; ++i) {
-        const double t = static_cast<double>(transport_[i]);
-        const bool use = t >= settings.minimumTransport && !censored_[i];
-        scaledWeights_[i] = use ? static_cast<float>(static_cast<double>(weights_[i]) *
-                                                     static_cast<double>(robust_[i]) * t * t)
-                                : 0.0f;
-        const std::size_t s = i / kLanes, lane = i % kLanes;
+    // Sample by sample with the lanes innermost, so that the loops vectorize.
+    for (int s = 0; s < samples_; ++s) {
+        bool use[kLanes];
+        for (int lane = 0; lane < kLanes; ++lane) {
+            const std::size_t i = at(s, lane);
+            const double t = static_cast<double>(transport_[i]);
+            use[lane] = t >= settings.minimumTransport && !censored_[i];
+            scaledWeights_[i] = use[lane]
+                                    ? static_cast<float>(static_cast<double>(weights_[i]) *
+                                                         static_cast<double>(robust_[i]) * t * t)
+                                    : 0.0f;
+        }
         for (int c = 0; c < 3; ++c) {
-            const std::size_t v = (s * 3 + c) * kLanes + lane;
-            scaled_[v] =
-                use ? static_cast<float>(static_cast<double>(values_[v]) /
-                                         std::max(static_cast<double>(channelTransport_[v]),
-                                                  settings.minimumTransport))
-                    : 0.0f;
+            const std::size_t v0 = valueAt(s, c, 0);
+            const float* __restrict values = &values_[v0];
+            const float* __restrict transport = &channelTransport_[v0];
+            float* __restrict scaled = &scaled_[v0];
+            for (int lane = 0; lane < kLanes; ++lane) {
+                // Divided for every lane and kept where used: so the loop vectorizes.
+                const double quotient =
+                    static_cast<double>(values[lane]) /
+                    std::max(static_cast<double>(transport[lane]), settings.minimumTransport);
+                scaled[lane] = use[lane] ? static_cast<float>(quotient) : 0.0f;
+            }
         }
     }
     ChunkObservations observations;
@@ -1064,18 +1145,7 @@ void ExtendedChunkFit::tryTilt(const ChunkGeometry& candidate, const KernelLight
     out.brdf = centre.brdf;
     std::copy_n(&centre.transport[0][0], kLanes * model::kTransportValues, &out.transport[0][0]);
     std::copy_n(centre.transportRidge, kLanes, out.transportRidge);
-    for (int s = 0; s < samples_; ++s) {
-        for (int lane = 0; lane < kLanes; ++lane) {
-            const std::size_t i = at(s, lane);
-            const proto::Vec3d n{candidate.normal[0][lane], candidate.normal[1][lane],
-                                 candidate.normal[2][lane]};
-            const proto::Vec3d v{candidate.view[0][lane], candidate.view[1][lane],
-                                 candidate.view[2][lane]};
-            const auto angles = proto::reflectionAngles(n, lightDirections_[i], v);
-            cosD_[i] = angles.cosThetaD;
-            cosS_[i] = angles.cosThetaS;
-        }
-    }
+    shade(candidate);
     bool active[kLanes];
     for (int lane = 0; lane < kLanes; ++lane) {
         active[lane] = out.brdf.valid[lane];
@@ -1241,8 +1311,7 @@ void fitChunkExtendedRefiningNormals(const capture::Capture& capture,
         return;
     }
     // The normals found, fitted whole: f and T again, under the centre's ridges.
-    fit.fit(capture, table, geometry, laneValid, lights, band, row, x0, settings, *trial,
-            centre->transportRidge);
+    fit.refit(geometry, laneValid, lights, *trial, centre->transportRidge);
     for (int lane = 0; lane < kLanes; ++lane) {
         if (!moved[lane] || !trial->brdf.valid[lane] ||
             !(trial->trainingError[lane] < out.trainingError[lane])) {
