@@ -72,29 +72,40 @@ void indexDistinctValues(HeldOutValidator::Samples& samples) {
     samples.distinct = std::move(distinct);
 }
 
-std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
-                                                         const normals::NormalMap& normals,
-                                                         int wanted, unsigned threads) {
+// Calls take(x, y) for each pixel of the grid, row by row (heldOutGridPixels).
+template <typename Take>
+void forEachGridPixel(const normals::NormalMap& normals, int wanted, Take take) {
     std::size_t validCount = 0;
     for (std::uint8_t v : normals.valid) {
         validCount += v;
     }
-    if (validCount == 0) {
-        throw common::InputError(capture.source,
-                                 "no pixel has a normal: cannot calibrate geometry");
-    }
-    const int step =
-        std::max(1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / wanted)));
-    auto owned = std::make_unique<HeldOutValidator::Samples>();
-    HeldOutValidator::Samples& samples = *owned;
+    // With at most about `wanted` normals (a map estimated on the grid alone) the step is 1
+    // and the grid is every one of them.
+    const int step = std::max(
+        1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / std::max(wanted, 1))));
     for (int y = step / 2; y < normals.height; y += step) {
         for (int x = step / 2; x < normals.width; x += step) {
             if (normals.validAt(x, y)) {
-                samples.x.push_back(x);
-                samples.y.push_back(y);
+                take(x, y);
             }
         }
     }
+}
+
+std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
+                                                         const normals::NormalMap& normals,
+                                                         int wanted, unsigned threads) {
+    if (std::none_of(normals.valid.begin(), normals.valid.end(),
+                     [](std::uint8_t v) { return v != 0; })) {
+        throw common::InputError(capture.source,
+                                 "no pixel has a normal: cannot calibrate geometry");
+    }
+    auto owned = std::make_unique<HeldOutValidator::Samples>();
+    HeldOutValidator::Samples& samples = *owned;
+    forEachGridPixel(normals, wanted, [&](int x, int y) {
+        samples.x.push_back(x);
+        samples.y.push_back(y);
+    });
     capture::ImageBandReader reader(capture, threads);
     samples.images = reader.imageCount();
     samples.eightBit = reader.eightBitCodes();
@@ -1059,6 +1070,14 @@ void HeldOutSearch::compareClassicBases() {
 }
 
 }  // namespace
+
+std::vector<std::uint8_t> heldOutGridPixels(const normals::NormalMap& normals, int samplePixels) {
+    std::vector<std::uint8_t> pixels(static_cast<std::size_t>(normals.width) * normals.height, 0);
+    forEachGridPixel(normals, samplePixels, [&](int x, int y) {
+        pixels[static_cast<std::size_t>(y) * normals.width + x] = 1;
+    });
+    return pixels;
+}
 
 HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
                                   const normals::NormalMap& normals,

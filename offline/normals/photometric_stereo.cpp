@@ -140,6 +140,10 @@ NormalMap estimateNormals(const capture::Capture& capture,
                     const int r = static_cast<int>(p / static_cast<std::size_t>(width));
                     const int x = static_cast<int>(p % static_cast<std::size_t>(width));
                     const int y = rowBegin + r;
+                    if (options.pixels != nullptr &&
+                        (*options.pixels)[static_cast<std::size_t>(y) * width + x] == 0) {
+                        continue;
+                    }
                     samples.clear();
                     const proto::Vec3d position = geometry.position(x, y);
                     for (int s = 0; s < band.images; ++s) {

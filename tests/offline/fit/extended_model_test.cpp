@@ -96,6 +96,36 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
     EXPECT_LT(result.rms, 0.25 * result.baselineRms);
 }
 
+// The search needs normals on its grid only (the response's second round estimates them
+// there alone): a map holding just the grid's pixels gives the same grid and the same scores.
+TEST(ExtendedModel, HeldOutSearchRunsOnNormalsOfItsGridAlone) {
+    testing::TemporaryFolder folder;
+    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    spec.geometry = {40.0, 5.0, 0.0, {}};
+    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
+    const capture::Capture capture = capture::openCapture(folder / "train");
+    const normals::NormalMap whole = testing::trueNormalMap(truth, spec.width, spec.height);
+    fit::HeldOutSearchOptions options;
+    options.harmonics = 3;
+    options.lambda = 0.1;
+    options.selectRegularization = false;
+    options.samplePixels = 256;
+    const std::vector<std::uint8_t> grid = fit::heldOutGridPixels(whole, options.samplePixels);
+    const auto taken = static_cast<int>(std::count(grid.begin(), grid.end(), 1));
+    EXPECT_GT(taken, 200);
+    EXPECT_LT(taken, 400);
+    normals::NormalMap alone = whole;
+    for (std::size_t p = 0; p < grid.size(); ++p) {
+        alone.valid[p] = grid[p];
+    }
+    EXPECT_EQ(fit::heldOutGridPixels(alone, options.samplePixels), grid);
+    const fit::HeldOutSearchResult onWhole = fit::searchHeldOut(capture, whole, options);
+    const fit::HeldOutSearchResult onGrid = fit::searchHeldOut(capture, alone, options);
+    EXPECT_EQ(onGrid.calibration.fieldOfViewDegrees, onWhole.calibration.fieldOfViewDegrees);
+    EXPECT_EQ(onGrid.calibration.lightDistance, onWhole.calibration.lightDistance);
+    EXPECT_NEAR(onGrid.rms, onWhole.rms, 1e-9 * onWhole.rms);
+}
+
 // A photograph exposed at 20% (a flash that misfired) among the lights the search holds out
 // first: judged on that one fold, its error outweighs the geometry's; judged on every fold,
 // the camera and the lights are still found.

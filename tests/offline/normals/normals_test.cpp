@@ -66,6 +66,34 @@ TEST(PhotometricStereo, RecoversLambertianNormals) {
     EXPECT_LT(error.meanDegrees, 0.5);
 }
 
+// Each pixel's estimate is its own: estimated on some pixels alone (the held-out search's
+// grid), a normal is the one the whole map holds, and no other pixel gets one.
+TEST(PhotometricStereo, EstimatesChosenPixelsAsTheWholeMapDoes) {
+    testing::TemporaryFolder folder;
+    const testing::SyntheticCaptureSpec spec = lambertianSpec();
+    writeSyntheticCapture(folder / "capture", spec);
+    const capture::Capture capture = capture::openCapture(folder / "capture");
+    const normals::NormalMap whole = normals::estimateNormals(capture, stereoOptions());
+    std::vector<std::uint8_t> chosen(static_cast<std::size_t>(spec.width) * spec.height, 0);
+    for (std::size_t p = 0; p < chosen.size(); p += 7) {
+        chosen[p] = 1;
+    }
+    normals::PhotometricStereoOptions options = stereoOptions();
+    options.pixels = &chosen;
+    const normals::NormalMap some = normals::estimateNormals(capture, options);
+    std::size_t compared = 0;
+    for (std::size_t p = 0; p < chosen.size(); ++p) {
+        ASSERT_EQ(some.valid[p], chosen[p] ? whole.valid[p] : 0) << "pixel " << p;
+        if (some.valid[p]) {
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_EQ(some.xyz[p * 3 + c], whole.xyz[p * 3 + c]) << "pixel " << p;
+            }
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, (chosen.size() + 6) / 7);
+}
+
 double luminance(const float* rgb) {
     return vpe::proto::luminance709(rgb[0], rgb[1], rgb[2]);
 }

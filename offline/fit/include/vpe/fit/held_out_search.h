@@ -173,4 +173,9 @@ HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
                                   const normals::NormalMap& normals,
                                   const HeldOutSearchOptions& options);
 
+// The pixels the search's grid takes (W × H, 1 where taken): about `samplePixels` of those
+// with a normal, on a square lattice. A normal map holding only these pixels gives the same
+// grid, so a search can run on normals estimated there alone.
+std::vector<std::uint8_t> heldOutGridPixels(const normals::NormalMap& normals, int samplePixels);
+
 }  // namespace vpe::fit

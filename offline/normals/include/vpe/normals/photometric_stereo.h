@@ -5,6 +5,9 @@
 // then reweights all unsaturated samples with Tukey's biweight (IRLS) around that start.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "vpe/capture/capture.h"
 #include "vpe/normals/normal_map.h"
 
@@ -15,6 +18,9 @@ struct PhotometricStereoOptions {
     double brightFraction = 0.1;  // share of brightest samples left out of the first fit
     int iterations = 5;           // IRLS rounds
     unsigned threads = 1;
+    // W × H, nonzero where a normal is wanted (null: everywhere). Each pixel's estimate is its
+    // own, so a normal estimated here is the one the whole map would hold.
+    const std::vector<std::uint8_t>* pixels = nullptr;
 };
 
 NormalMap estimateNormals(const capture::Capture& capture, const PhotometricStereoOptions& options);
