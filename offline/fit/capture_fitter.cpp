@@ -176,24 +176,42 @@ void checkFitRequest(const capture::Capture& capture, const FitOptions& options,
 // under the response chosen, and the response is chosen again under those normals (once).
 // The held-out error decides between the two normal maps too: photometric stereo is a
 // Lambertian estimate, and on glossy or shadowed captures a response that fits the radiance
-// better can still give worse normals. That second search needs the normals on its grid only,
-// so they are estimated there first and on the whole image only once kept: on realrti-dev
-// item1, 3 and 11 the sRGB normals stay, and the whole map was a tenth of the fit's time.
-// `capture`, `reader` and `normals` are replaced by those under the response kept.
-void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::ImageBandReader>& reader,
-                       normals::NormalsResult& normals, const FitOptions& options,
-                       FitReport& report) {
+// better can still give worse normals. The searches read normals on their grid alone, so
+// photometric stereo runs there for them and on the whole image once, under the response
+// whose normals are kept: it had run on the whole image for each (realrti-dev item7: twice
+// 0.3-0.45 s). `capture` and `reader` are replaced by those under the response kept; returns
+// the normals.
+normals::NormalsResult calibrateResponse(capture::Capture& capture,
+                                         std::unique_ptr<capture::ImageBandReader>& reader,
+                                         const std::vector<std::uint8_t>& mask,
+                                         const FitOptions& options, FitReport& report) {
     const auto searchStart = Clock::now();
     HeldOutSearchOptions search;
     search.calibrateResponse = true;
     search.calibrateGeometry = false;
     search.selectRegularization = false;
     search.threads = options.threads;
-    bool recalibrated = false;       // the response changed: the normals follow it
-    normals::NormalMap gridNormals;  // under the response chosen first, on the grid
+    const capture::Capture stated = capture;  // the response as the capture states it
+    // A given normal map holds whatever the response; photometric stereo's depend on it.
+    std::optional<normals::NormalsResult> given;
+    if (options.normals || capture.normalMap) {
+        given = normals::acquireNormals(capture, options.normals, report.width, report.height,
+                                        options.threads);
+    }
+    const auto searchNormals = [&](const char* stage) {
+        if (given) {
+            return given->normals;
+        }
+        const auto normalsStart = Clock::now();
+        normals::NormalMap grid = heldOutGridNormals(capture, mask, report.width, report.height,
+                                                     search.samplePixels, options.threads);
+        report.searchStageSeconds.push_back({stage, common::secondsSince(normalsStart)});
+        return grid;
+    };
+    normals::NormalMap normals = searchNormals("normals on the grid");
+    bool statedNormals = true;  // the normals kept are those under the stated response
     for (int round = 0; round < 2; ++round) {
-        const HeldOutSearchResult found =
-            searchHeldOut(capture, round == 0 ? normals.normals : gridNormals, search);
+        const HeldOutSearchResult found = searchHeldOut(capture, normals, search);
         for (const SearchStageTime& stage : found.stageSeconds) {
             report.searchStageSeconds.push_back(
                 {stage.stage + " (under " + (round == 0 ? "first" : "calibrated") + " normals)",
@@ -202,9 +220,8 @@ void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::Image
         if (round == 1 && found.rms >= report.responseRms) {
             // The normals estimated under the capture's own response predict the held-out
             // lights better: keep them, with the response chosen under them.
-            normals.source += " (estimated under sRGB)";
+            statedNormals = true;
             report.normalsUnderStatedResponse = true;
-            recalibrated = false;
             break;
         }
         if (round == 0) {  // both under the same (sRGB-estimated) normals
@@ -224,31 +241,21 @@ void calibrateResponse(capture::Capture& capture, std::unique_ptr<capture::Image
         capture = capture::applyGeometryCalibration(capture, found.calibration, report.width,
                                                     report.height);
         reader = std::make_unique<capture::ImageBandReader>(capture, options.threads);
-        recalibrated = true;
+        statedNormals = false;
         if (round == 0) {
-            const auto normalsStart = Clock::now();
-            if (normals.estimated) {
-                normals::PhotometricStereoOptions stereo;
-                stereo.threads = options.threads;
-                const std::vector<std::uint8_t> grid =
-                    heldOutGridPixels(normals.normals, search.samplePixels);
-                stereo.pixels = &grid;
-                gridNormals = normals::estimateNormals(capture, stereo);
-            } else {
-                gridNormals = normals.normals;  // given, whatever the response
-            }
-            report.searchStageSeconds.push_back({"normals under the calibrated response (grid)",
-                                                 common::secondsSince(normalsStart)});
+            normals = searchNormals("normals on the grid under the calibrated response");
         }
     }
-    if (recalibrated) {
-        const auto normalsStart = Clock::now();
-        normals = normals::acquireNormals(capture, options.normals, report.width, report.height,
-                                          options.threads);
-        report.searchStageSeconds.push_back(
-            {"normals under the calibrated response", common::secondsSince(normalsStart)});
-    }
     report.calibrationSeconds += common::secondsSince(searchStart);
+    // The whole map, as the paper's fit estimates it (not the search's time).
+    normals::NormalsResult kept =
+        given ? std::move(*given)
+              : normals::acquireNormals(statedNormals ? stated : capture, options.normals,
+                                        report.width, report.height, options.threads);
+    if (!given && report.normalsUnderStatedResponse) {
+        kept.source += " (estimated under sRGB)";
+    }
+    return kept;
 }
 
 // The relief the normals carry: their mean tilt off the macro shape, in degrees, where the
@@ -447,12 +454,12 @@ FitReport fitCapture(const capture::Capture& originalCapture, const FitOptions& 
     const bool extended = options.variant == ModelVariant::kExtended;
     capture::Capture capture = originalCapture;
     const auto normalsStart = Clock::now();
-    normals::NormalsResult normals = normals::acquireNormals(capture, options.normals, report.width,
-                                                             report.height, options.threads);
-    if (extended && options.calibrateResponse && capture::acceptsResponseCalibration(capture) &&
-        reader->eightBitCodes()) {
-        calibrateResponse(capture, reader, normals, options, report);
-    }
+    normals::NormalsResult normals =
+        extended && options.calibrateResponse && capture::acceptsResponseCalibration(capture) &&
+                reader->eightBitCodes()
+            ? calibrateResponse(capture, reader, mask, options, report)
+            : normals::acquireNormals(capture, options.normals, report.width, report.height,
+                                      options.threads);
     report.normalsSource = normals.source;
     // The relief: measured against the macro shape, then either carried as a detail map or
     // left for the coefficients (fitted against the macro normals).

@@ -22,6 +22,7 @@
 #include "vpe/common/seconds_since.h"
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/model/light_transport.h"
+#include "vpe/normals/photometric_stereo.h"
 
 namespace vpe::fit {
 
@@ -72,24 +73,32 @@ void indexDistinctValues(HeldOutValidator::Samples& samples) {
     samples.distinct = std::move(distinct);
 }
 
-// Calls take(x, y) for each pixel of the grid, row by row (heldOutGridPixels).
+// Calls take(x, y) for each pixel of the grid, row by row (heldOutGridPixels): a square
+// lattice whose step leaves about `wanted` of `validCount` pixels, where valid(x, y).
+template <typename Valid, typename Take>
+void forEachGridPixel(int width, int height, double validCount, int wanted, Valid valid,
+                      Take take) {
+    // With at most about `wanted` normals (a map estimated on the grid alone) the step is 1
+    // and the grid is every one of them.
+    const int step = std::max(1, static_cast<int>(std::sqrt(validCount / std::max(wanted, 1))));
+    for (int y = step / 2; y < height; y += step) {
+        for (int x = step / 2; x < width; x += step) {
+            if (valid(x, y)) {
+                take(x, y);
+            }
+        }
+    }
+}
+
 template <typename Take>
 void forEachGridPixel(const normals::NormalMap& normals, int wanted, Take take) {
     std::size_t validCount = 0;
     for (std::uint8_t v : normals.valid) {
         validCount += v;
     }
-    // With at most about `wanted` normals (a map estimated on the grid alone) the step is 1
-    // and the grid is every one of them.
-    const int step = std::max(
-        1, static_cast<int>(std::sqrt(static_cast<double>(validCount) / std::max(wanted, 1))));
-    for (int y = step / 2; y < normals.height; y += step) {
-        for (int x = step / 2; x < normals.width; x += step) {
-            if (normals.validAt(x, y)) {
-                take(x, y);
-            }
-        }
-    }
+    forEachGridPixel(
+        normals.width, normals.height, static_cast<double>(validCount), wanted,
+        [&](int x, int y) { return normals.validAt(x, y); }, take);
 }
 
 std::unique_ptr<HeldOutValidator::Samples> gatherSamples(const capture::Capture& capture,
@@ -1077,6 +1086,49 @@ std::vector<std::uint8_t> heldOutGridPixels(const normals::NormalMap& normals, i
         pixels[static_cast<std::size_t>(y) * normals.width + x] = 1;
     });
     return pixels;
+}
+
+std::vector<std::uint8_t> heldOutGridPixels(const std::vector<std::uint8_t>& candidates, int width,
+                                            int height, double validShare, int samplePixels) {
+    const auto count = static_cast<double>(
+        std::count_if(candidates.begin(), candidates.end(), [](std::uint8_t c) { return c != 0; }));
+    std::vector<std::uint8_t> pixels(candidates.size(), 0);
+    forEachGridPixel(
+        width, height, count * validShare, samplePixels,
+        [&](int x, int y) { return candidates[static_cast<std::size_t>(y) * width + x] != 0; },
+        [&](int x, int y) { pixels[static_cast<std::size_t>(y) * width + x] = 1; });
+    return pixels;
+}
+
+// Photometric stereo on the held-out search's grid alone (each pixel's estimate is its own,
+// so these are the whole map's normals there). The grid's lattice follows the share of pixels
+// that get a normal: every candidate at first (on realrti-dev every pixel gets one, and the
+// grid is the whole map's); where some do not, the lattice is laid again for the share that
+// did.
+normals::NormalMap heldOutGridNormals(const capture::Capture& capture,
+                                      const std::vector<std::uint8_t>& mask, int width, int height,
+                                      int samplePixels, unsigned threads) {
+    const std::vector<std::uint8_t> candidates =
+        mask.empty() ? std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height, 1)
+                     : mask;
+    normals::PhotometricStereoOptions stereo;
+    stereo.threads = threads;
+    std::vector<std::uint8_t> grid =
+        heldOutGridPixels(candidates, width, height, 1.0, samplePixels);
+    stereo.pixels = &grid;
+    normals::NormalMap estimated = normals::estimateNormals(capture, stereo);
+    const auto tried = static_cast<double>(std::count(grid.begin(), grid.end(), 1));
+    const auto found =
+        static_cast<double>(std::count(estimated.valid.begin(), estimated.valid.end(), 1));
+    if (found < tried) {
+        std::vector<std::uint8_t> again =
+            heldOutGridPixels(candidates, width, height, found / tried, samplePixels);
+        if (again != grid) {
+            grid = std::move(again);
+            estimated = normals::estimateNormals(capture, stereo);
+        }
+    }
+    return estimated;
 }
 
 HeldOutSearchResult searchHeldOut(const capture::Capture& capture,

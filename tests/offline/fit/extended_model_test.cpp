@@ -119,11 +119,49 @@ TEST(ExtendedModel, HeldOutSearchRunsOnNormalsOfItsGridAlone) {
         alone.valid[p] = grid[p];
     }
     EXPECT_EQ(fit::heldOutGridPixels(alone, options.samplePixels), grid);
+    EXPECT_EQ(
+        fit::heldOutGridPixels(whole.valid, spec.width, spec.height, 1.0, options.samplePixels),
+        grid);
     const fit::HeldOutSearchResult onWhole = fit::searchHeldOut(capture, whole, options);
     const fit::HeldOutSearchResult onGrid = fit::searchHeldOut(capture, alone, options);
     EXPECT_EQ(onGrid.calibration.fieldOfViewDegrees, onWhole.calibration.fieldOfViewDegrees);
     EXPECT_EQ(onGrid.calibration.lightDistance, onWhole.calibration.lightDistance);
     EXPECT_NEAR(onGrid.rms, onWhole.rms, 1e-9 * onWhole.rms);
+}
+
+// Where photometric stereo finds no normal (a black background), the grid estimated before
+// any normal is known is laid again for the share that has one: about as many pixels as
+// asked, each with the whole map's normal, and the very grid a search takes from them.
+TEST(ExtendedModel, GridNormalsFollowTheShareOfPixelsWithANormal) {
+    testing::TemporaryFolder folder;
+    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
+    spec.coefficients = [](int x, int y, int c, double* k) {
+        glossy(x, y, c, k);
+        if (x < 48) {                                         // three quarters of the image black
+            std::fill_n(k, proto::coefficientCount(3), 0.0);  // domeSpec's M
+        }
+    };
+    writeSyntheticCapture(folder / "train", spec);
+    const capture::Capture capture = capture::openCapture(folder / "train");
+    normals::PhotometricStereoOptions stereo;
+    stereo.threads = 2;
+    const normals::NormalMap whole = normals::estimateNormals(capture, stereo);
+    const auto withNormal = std::count(whole.valid.begin(), whole.valid.end(), 1);
+    ASSERT_GT(withNormal, 600);
+    ASSERT_LT(withNormal, 900);
+    constexpr int kWanted = 64;
+    const normals::NormalMap grid =
+        fit::heldOutGridNormals(capture, {}, spec.width, spec.height, kWanted, 2);
+    const auto taken = std::count(grid.valid.begin(), grid.valid.end(), 1);
+    EXPECT_GT(taken, kWanted / 2);
+    EXPECT_LT(taken, kWanted * 9 / 4);
+    for (std::size_t p = 0; p < grid.valid.size(); ++p) {
+        if (grid.valid[p]) {
+            ASSERT_TRUE(whole.valid[p]) << "pixel " << p;
+            EXPECT_EQ(grid.xyz[p * 3], whole.xyz[p * 3]) << "pixel " << p;
+        }
+    }
+    EXPECT_EQ(fit::heldOutGridPixels(grid, kWanted), grid.valid);
 }
 
 // A photograph exposed at 20% (a flash that misfired) among the lights the search holds out

@@ -177,5 +177,14 @@ HeldOutSearchResult searchHeldOut(const capture::Capture& capture,
 // with a normal, on a square lattice. A normal map holding only these pixels gives the same
 // grid, so a search can run on normals estimated there alone.
 std::vector<std::uint8_t> heldOutGridPixels(const normals::NormalMap& normals, int samplePixels);
+// The same grid before any normal is known: of the `candidates` (W × H, nonzero where a pixel
+// may have one), as if `validShare` of them had a normal.
+std::vector<std::uint8_t> heldOutGridPixels(const std::vector<std::uint8_t>& candidates, int width,
+                                            int height, double validShare, int samplePixels);
+// Photometric stereo on that grid alone, of the pixels in `mask` (W × H; empty: all): what a
+// search needs of a normal map it has not estimated yet.
+normals::NormalMap heldOutGridNormals(const capture::Capture& capture,
+                                      const std::vector<std::uint8_t>& mask, int width, int height,
+                                      int samplePixels, unsigned threads);
 
 }  // namespace vpe::fit
