@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #include <sys/resource.h>
 
+#include "vpe/capture/decoded_image_cache.h"
 #include "vpe/capture/transfer_function.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
@@ -217,15 +218,31 @@ std::string describeImage(const Capture& capture, std::size_t index) {
 }
 
 struct ImageBandReader::Source {
-    std::unique_ptr<OIIO::ImageInput> input;
+    std::filesystem::path file;
+    std::unique_ptr<OIIO::ImageInput> input;  // null when decoded already (cached)
     std::string description;
+    int width = 0;
+    int height = 0;
     int channels = 0;
     OIIO::TypeDesc readFormat;  // UINT8, UINT16 or FLOAT
     bool srgb = false;
     const float* table = nullptr;  // integer codes → linear radiance, when not the defaults
     int nextRow = 0;
     std::vector<unsigned char> scratch;
+    // The image as an earlier reader decoded it (DecodedImageCache), or, while this reader
+    // decodes it, the whole image it fills for the cache (when the cache admits it).
+    std::shared_ptr<const DecodedImageCache::Image> cached;
+    std::shared_ptr<DecodedImageCache::Image> filling;
 };
+
+namespace {
+
+OIIO::TypeDesc formatOfValueBytes(int bytes) {
+    return bytes == 1 ? OIIO::TypeDesc::UINT8
+                      : (bytes == 2 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT);
+}
+
+}  // namespace
 
 ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : threads_(threads) {
     raiseOpenFileLimit();
@@ -246,26 +263,39 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
     const auto open = [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) {
             auto source = std::make_unique<Source>();
+            source->file = capture.images[i].file;
             source->description = describeImage(capture, i);
-            source->input = OIIO::ImageInput::open(capture.images[i].file.string());
-            if (!source->input) {
-                const std::string reason = OIIO::geterror();
-                if (!std::filesystem::exists(capture.images[i].file)) {
-                    throw common::InputError(source->description + ": no such image file");
-                }
-                throw common::InputError(source->description + ": cannot read image" +
-                                         (reason.empty() ? "" : ": " + reason));
-            }
-            const OIIO::ImageSpec& spec = source->input->spec();
-            source->channels = spec.nchannels;
-            const OIIO::TypeDesc native = spec.format;
-            if (native == OIIO::TypeDesc::UINT8) {
-                source->readFormat = OIIO::TypeDesc::UINT8;
-            } else if (native == OIIO::TypeDesc::UINT16) {
-                source->readFormat = OIIO::TypeDesc::UINT16;
+            source->cached = DecodedImageCache::instance().find(source->file);
+            if (source->cached) {
+                source->width = source->cached->width;
+                source->height = source->cached->height;
+                source->channels = source->cached->channels;
+                source->readFormat = formatOfValueBytes(source->cached->valueBytes);
             } else {
-                source->readFormat = OIIO::TypeDesc::FLOAT;
+                source->input = OIIO::ImageInput::open(source->file.string());
+                if (!source->input) {
+                    const std::string reason = OIIO::geterror();
+                    if (!std::filesystem::exists(source->file)) {
+                        throw common::InputError(source->description + ": no such image file");
+                    }
+                    throw common::InputError(source->description + ": cannot read image" +
+                                             (reason.empty() ? "" : ": " + reason));
+                }
+                const OIIO::ImageSpec& spec = source->input->spec();
+                source->width = spec.width;
+                source->height = spec.height;
+                source->channels = spec.nchannels;
+                const OIIO::TypeDesc native = spec.format;
+                if (native == OIIO::TypeDesc::UINT8) {
+                    source->readFormat = OIIO::TypeDesc::UINT8;
+                } else if (native == OIIO::TypeDesc::UINT16) {
+                    source->readFormat = OIIO::TypeDesc::UINT16;
+                } else {
+                    source->readFormat = OIIO::TypeDesc::FLOAT;
+                }
             }
+            // Read as 8-bit exactly when stored so: "auto" decodes those as sRGB.
+            const bool eightBit = source->readFormat == OIIO::TypeDesc::UINT8;
             switch (capture.encoding) {
                 case ImageEncoding::kSrgb:
                     source->srgb = true;
@@ -274,7 +304,7 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                     source->srgb = false;
                     break;
                 case ImageEncoding::kAuto:
-                    source->srgb = native == OIIO::TypeDesc::UINT8;
+                    source->srgb = eightBit;
                     break;
                 case ImageEncoding::kGamma:
                     if (source->readFormat == OIIO::TypeDesc::FLOAT) {
@@ -288,7 +318,7 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                                         : gammaTable16_.data();
                     break;
             }
-            if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+            if (source->width <= 0 || source->height <= 0 || source->channels <= 0) {
                 throw common::InputError(source->description + ": image has no pixels");
             }
             sources_[i] = std::move(source);
@@ -303,16 +333,42 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
     }
     common::parallelFor(capture.images.size() > 0 ? capture.images.size() - 1 : 0, 1, threads_,
                         [&](std::size_t begin, std::size_t end) { open(begin + 1, end + 1); });
-    width_ = sources_.front()->input->spec().width;
-    height_ = sources_.front()->input->spec().height;
+    width_ = sources_.front()->width;
+    height_ = sources_.front()->height;
+    keepDecodedImages();
     for (std::size_t i = 1; i < sources_.size(); ++i) {
-        const OIIO::ImageSpec& spec = sources_[i]->input->spec();
-        if (spec.width != width_ || spec.height != height_) {
-            throw common::InputError(
-                sources_[i]->description + ": size " + std::to_string(spec.width) + "x" +
-                std::to_string(spec.height) + " differs from " + std::to_string(width_) + "x" +
-                std::to_string(height_) + " of " + sources_.front()->description);
+        const Source& source = *sources_[i];
+        if (source.width != width_ || source.height != height_) {
+            throw common::InputError(source.description + ": size " + std::to_string(source.width) +
+                                     "x" + std::to_string(source.height) + " differs from " +
+                                     std::to_string(width_) + "x" + std::to_string(height_) +
+                                     " of " + sources_.front()->description);
         }
+    }
+}
+
+// The images this reader decodes are kept for the next reader (DecodedImageCache) when the
+// whole capture fits the cache's budget; a larger one streams, its memory growing with the band.
+void ImageBandReader::keepDecodedImages() {
+    std::size_t total = 0;
+    for (const auto& source : sources_) {
+        total += static_cast<std::size_t>(source->width) * source->height * source->channels *
+                 source->readFormat.size();
+    }
+    if (!DecodedImageCache::instance().admits(total)) {
+        return;
+    }
+    for (const auto& source : sources_) {
+        if (source->cached) {
+            continue;
+        }
+        source->filling = std::make_shared<DecodedImageCache::Image>();
+        source->filling->width = source->width;
+        source->filling->height = source->height;
+        source->filling->channels = source->channels;
+        source->filling->valueBytes = static_cast<int>(source->readFormat.size());
+        source->filling->bytes.resize(static_cast<std::size_t>(source->width) * source->height *
+                                      source->channels * source->readFormat.size());
     }
 }
 
@@ -357,23 +413,35 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
                 const std::size_t valueSize = source.readFormat.size();
                 const std::size_t rowBytes =
                     static_cast<std::size_t>(width_) * channels * valueSize;
-                source.scratch.resize(rowBytes * rows);
-                if (!source.input->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0, channels,
-                                                  source.readFormat, source.scratch.data())) {
-                    throw common::InputError(source.description + ": cannot decode rows " +
-                                             std::to_string(rowBegin) + ".." +
-                                             std::to_string(rowBegin + rows - 1) + ": " +
-                                             source.input->geterror());
+                const std::size_t offset = static_cast<std::size_t>(rowBegin) * rowBytes;
+                // Decoded once per process where the cache holds the image (or will).
+                std::shared_ptr<const DecodedImageCache::Image> held = source.cached;
+                const unsigned char* rowsData = held ? held->bytes.data() + offset : nullptr;
+                if (!held) {
+                    unsigned char* target = nullptr;
+                    if (source.filling) {
+                        target = source.filling->bytes.data() + offset;
+                    } else {
+                        source.scratch.resize(rowBytes * rows);
+                        target = source.scratch.data();
+                    }
+                    if (!source.input->read_scanlines(0, 0, rowBegin, rowBegin + rows, 0, 0,
+                                                      channels, source.readFormat, target)) {
+                        throw common::InputError(source.description + ": cannot decode rows " +
+                                                 std::to_string(rowBegin) + ".." +
+                                                 std::to_string(rowBegin + rows - 1) + ": " +
+                                                 source.input->geterror());
+                    }
+                    rowsData = target;
+                    if (source.filling && rowBegin + rows == height_) {
+                        held = source.filling;  // alive until converted, whatever the cache does
+                        DecodedImageCache::instance().insert(source.file,
+                                                             std::move(source.filling));
+                    }
                 }
                 source.nextRow = rowBegin + rows;
-                const DecodedRows decoded{source.scratch.data(),
-                                          rowBytes,
-                                          channels,
-                                          static_cast<int>(i),
-                                          rowBegin,
-                                          rows,
-                                          width_,
-                                          mask};
+                const DecodedRows decoded{rowsData, rowBytes, channels, static_cast<int>(i),
+                                          rowBegin, rows,     width_,   mask};
                 if (source.table != nullptr && source.readFormat == OIIO::TypeDesc::UINT8) {
                     convertCodes8(decoded, source.table, band);
                 } else if (source.table != nullptr) {

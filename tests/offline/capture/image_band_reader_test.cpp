@@ -7,8 +7,10 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <ostream>
 #include <random>
 #include <string>
@@ -17,6 +19,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include "vpe/capture/decoded_image_cache.h"
 #include "vpe/common/input_error.h"
 #include "vpe/proto/srgb.h"
 
@@ -262,6 +265,52 @@ TEST(ImageBandReader, ABandReusedForTheSameShapeHoldsOnlyNewSamples) {
     EXPECT_TRUE(sameBits(reused.weights, fresh.weights));
     EXPECT_EQ(reused.saturated, fresh.saturated);
     EXPECT_EQ(reused.fullyUsable, fresh.fullyUsable);
+}
+
+// A capture read whole once is read again from the process's decoded images, exactly; an
+// image rewritten since is decoded anew.
+TEST(ImageBandReader, ACaptureReadAgainComesFromItsDecodedImagesUntilAFileChanges) {
+    testing::TemporaryFolder folder;
+    const ImageKind kind{".png", OIIO::TypeDesc::UINT8, 3};
+    const capture::Capture capture = writeCapture(folder.path(), kind, 3);
+    const capture::DecodedImageCache& cache = capture::DecodedImageCache::instance();
+    EXPECT_EQ(cache.find(capture.images[1].file), nullptr);
+    const Decoded first = readAll(capture, 2, 5, {});
+    for (const capture::CaptureImage& image : capture.images) {
+        EXPECT_NE(cache.find(image.file), nullptr) << image.file;
+    }
+    expectSame(readAll(capture, 2, 4, {}), first, "read again");
+    expectSame(first, reference(capture, {}, true), "first read");
+
+    // Another image under the same name: a later modification time.
+    writeImage(capture.images[1].file, kind, 77);
+    EXPECT_EQ(cache.find(capture.images[1].file), nullptr);
+    const Decoded rewritten = readAll(capture, 2, 5, {});
+    expectSame(rewritten, reference(capture, {}, true), "after the rewrite");
+    EXPECT_FALSE(sameBits(rewritten.values, first.values));
+}
+
+// The cache keeps what its budget holds, dropping what it held before to make room.
+TEST(DecodedImageCache, KeepsWhatItsBudgetHolds) {
+    testing::TemporaryFolder folder;
+    const capture::Capture capture =
+        writeCapture(folder.path(), {".png", OIIO::TypeDesc::UINT8, 3}, 2);
+    capture::DecodedImageCache cache(100);
+    const auto image = [](std::size_t bytes) {
+        auto made = std::make_shared<capture::DecodedImageCache::Image>();
+        made->bytes.resize(bytes);
+        return made;
+    };
+    EXPECT_TRUE(cache.admits(100));
+    EXPECT_FALSE(cache.admits(101));
+    cache.insert(capture.images[0].file, image(60));
+    EXPECT_NE(cache.find(capture.images[0].file), nullptr);
+    cache.insert(capture.images[1].file, image(60));
+    EXPECT_EQ(cache.find(capture.images[0].file), nullptr);
+    EXPECT_NE(cache.find(capture.images[1].file), nullptr);
+    cache.insert(capture.images[0].file, image(101));  // never held
+    EXPECT_EQ(cache.find(capture.images[0].file), nullptr);
+    EXPECT_EQ(cache.find(folder.path() / "absent.png"), nullptr);
 }
 
 TEST(ImageBandReader, ACorruptImageIsNamedInOneLine) {

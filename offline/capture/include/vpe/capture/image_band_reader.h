@@ -3,6 +3,8 @@
 // N × W × band height, never N × W × H. Every image stays open and is decoded once, top to
 // bottom (OpenImageIO scanline reads: JPEG, PNG, TIFF and OpenEXR decode incrementally); the
 // images of a band are decoded on all threads, and the result does not depend on how many.
+// A capture that fits DecodedImageCache's budget is kept decoded for the process: an extended
+// fit reads it up to seven times, and only the first pass decodes the files.
 #pragma once
 
 #include <memory>
@@ -36,6 +38,7 @@ public:
 
 private:
     struct Source;
+    void keepDecodedImages();
     std::vector<std::unique_ptr<Source>> sources_;
     unsigned threads_;
     std::vector<float> gammaTable8_, gammaTable16_;  // a calibrated response (kGamma)
