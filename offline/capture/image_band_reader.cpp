@@ -335,7 +335,6 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                         [&](std::size_t begin, std::size_t end) { open(begin + 1, end + 1); });
     width_ = sources_.front()->width;
     height_ = sources_.front()->height;
-    keepDecodedImages();
     for (std::size_t i = 1; i < sources_.size(); ++i) {
         const Source& source = *sources_[i];
         if (source.width != width_ || source.height != height_) {
@@ -345,6 +344,7 @@ ImageBandReader::ImageBandReader(const Capture& capture, unsigned threads) : thr
                                      " of " + sources_.front()->description);
         }
     }
+    keepDecodedImages();
 }
 
 // The images this reader decodes are kept for the next reader (DecodedImageCache) when the
