@@ -79,18 +79,31 @@ VariantPsnrs heldOutPsnrsOfBothVariants(const testing::TemporaryFolder& folder) 
                         fit::ModelVariant::kExtended)};
 }
 
-TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
-    testing::TemporaryFolder folder;
+// The dome seen by a camera of 40° field of view, its lights 5 half-widths away, written to
+// folder/train; its true normals; and a search of its geometry alone (M = 3, λ = 0.1).
+struct GeometrySearchCase {
+    capture::Capture capture;
+    normals::NormalMap normals;
+    fit::HeldOutSearchOptions options;
+};
+
+GeometrySearchCase geometrySearchCase(const testing::TemporaryFolder& folder) {
     auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
     spec.geometry = {40.0, 5.0, 0.0, {}};
     const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
-    const capture::Capture capture = capture::openCapture(folder / "train");
-    const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    fit::HeldOutSearchOptions options;
-    options.harmonics = 3;
-    options.lambda = 0.1;
-    options.selectRegularization = false;
-    const fit::HeldOutSearchResult result = fit::searchHeldOut(capture, normals, options);
+    GeometrySearchCase c;
+    c.capture = capture::openCapture(folder / "train");
+    c.normals = testing::trueNormalMap(truth, spec.width, spec.height);
+    c.options.harmonics = 3;
+    c.options.lambda = 0.1;
+    c.options.selectRegularization = false;
+    return c;
+}
+
+TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
+    testing::TemporaryFolder folder;
+    const GeometrySearchCase c = geometrySearchCase(folder);
+    const fit::HeldOutSearchResult result = fit::searchHeldOut(c.capture, c.normals, c.options);
     EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
     EXPECT_LT(result.rms, 0.25 * result.baselineRms);
@@ -100,15 +113,10 @@ TEST(ExtendedModel, CalibrationRecoversFieldOfViewAndLightDistance) {
 // there alone): a map holding just the grid's pixels gives the same grid and the same scores.
 TEST(ExtendedModel, HeldOutSearchRunsOnNormalsOfItsGridAlone) {
     testing::TemporaryFolder folder;
-    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
-    spec.geometry = {40.0, 5.0, 0.0, {}};
-    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
-    const capture::Capture capture = capture::openCapture(folder / "train");
-    const normals::NormalMap whole = testing::trueNormalMap(truth, spec.width, spec.height);
-    fit::HeldOutSearchOptions options;
-    options.harmonics = 3;
-    options.lambda = 0.1;
-    options.selectRegularization = false;
+    GeometrySearchCase c = geometrySearchCase(folder);
+    const capture::Capture& capture = c.capture;
+    const normals::NormalMap& whole = c.normals;
+    fit::HeldOutSearchOptions& options = c.options;
     options.samplePixels = 256;
     const std::vector<std::uint8_t> grid = fit::heldOutGridPixels(whole, options.samplePixels);
     const auto taken = static_cast<int>(std::count(grid.begin(), grid.end(), 1));
@@ -120,7 +128,7 @@ TEST(ExtendedModel, HeldOutSearchRunsOnNormalsOfItsGridAlone) {
     }
     EXPECT_EQ(fit::heldOutGridPixels(alone, options.samplePixels), grid);
     EXPECT_EQ(
-        fit::heldOutGridPixels(whole.valid, spec.width, spec.height, 1.0, options.samplePixels),
+        fit::heldOutGridPixels(whole.valid, whole.width, whole.height, 1.0, options.samplePixels),
         grid);
     const fit::HeldOutSearchResult onWhole = fit::searchHeldOut(capture, whole, options);
     const fit::HeldOutSearchResult onGrid = fit::searchHeldOut(capture, alone, options);
@@ -169,22 +177,15 @@ TEST(ExtendedModel, GridNormalsFollowTheShareOfPixelsWithANormal) {
 // the camera and the lights are still found.
 TEST(ExtendedModel, CalibrationSurvivesAMisfiredExposure) {
     testing::TemporaryFolder folder;
-    auto spec = domeSpec({10, 30, 50, 70, 90}, 12, 0);
-    spec.geometry = {40.0, 5.0, 0.0, {}};
-    const testing::SyntheticCapture truth = writeSyntheticCapture(folder / "train", spec);
-    capture::Capture capture = capture::openCapture(folder / "train");
-    const normals::NormalMap normals = testing::trueNormalMap(truth, spec.width, spec.height);
-    fit::HeldOutSearchOptions options;
-    options.harmonics = 3;
-    options.lambda = 0.1;
-    options.selectRegularization = false;
+    GeometrySearchCase c = geometrySearchCase(folder);
+    capture::Capture& capture = c.capture;
     {
         const std::filesystem::path image = capture.images[7].file;
         const OIIO::ImageBuf dark = OIIO::ImageBufAlgo::mul(OIIO::ImageBuf(image.string()), 0.2f);
         ASSERT_TRUE(dark.write((folder / "misfired.exr").string()));
     }
     capture.images[7].file = folder / "misfired.exr";
-    const fit::HeldOutSearchResult result = fit::searchHeldOut(capture, normals, options);
+    const fit::HeldOutSearchResult result = fit::searchHeldOut(capture, c.normals, c.options);
     EXPECT_NEAR(result.calibration.fieldOfViewDegrees, 40.0, 5.0);
     EXPECT_NEAR(result.calibration.lightDistance, 5.0, 1.0);
 }
