@@ -372,6 +372,21 @@ void ImageBandReader::keepDecodedImages() {
     }
 }
 
+// A reader made before another one decoded its images (the fit's, made before photometric
+// stereo reads the capture) takes them from the cache when it starts reading: the same bytes,
+// without decoding the file again.
+void ImageBandReader::adoptDecodedImage(Source& source) {
+    std::shared_ptr<const DecodedImageCache::Image> decoded =
+        DecodedImageCache::instance().find(source.file);
+    if (decoded && decoded->width == source.width && decoded->height == source.height &&
+        decoded->channels == source.channels &&
+        decoded->valueBytes == static_cast<int>(source.readFormat.size())) {
+        source.cached = std::move(decoded);
+        source.filling.reset();
+        source.input.reset();
+    }
+}
+
 ImageBandReader::~ImageBandReader() = default;
 
 int ImageBandReader::width() const {
@@ -408,6 +423,9 @@ void ImageBandReader::readBand(int rowBegin, int rows, const std::uint8_t* mask,
                 Source& source = *sources_[i];
                 if (source.nextRow != rowBegin) {
                     throw std::logic_error("ImageBandReader: bands must be read in order");
+                }
+                if (rowBegin == 0 && !source.cached) {
+                    adoptDecodedImage(source);
                 }
                 const int channels = source.channels;
                 const std::size_t valueSize = source.readFormat.size();

@@ -275,11 +275,18 @@ TEST(ImageBandReader, ACaptureReadAgainComesFromItsDecodedImagesUntilAFileChange
     const capture::Capture capture = writeCapture(folder.path(), kind, 3);
     const capture::DecodedImageCache& cache = capture::DecodedImageCache::instance();
     EXPECT_EQ(cache.find(capture.images[1].file), nullptr);
+    // Made before the images are decoded, it takes them from the cache once it reads.
+    capture::ImageBandReader early(capture, 2);
     const Decoded first = readAll(capture, 2, 5, {});
     for (const capture::CaptureImage& image : capture.images) {
         EXPECT_NE(cache.find(image.file), nullptr) << image.file;
     }
     expectSame(readAll(capture, 2, 4, {}), first, "read again");
+    capture::SampleBand whole, again;
+    early.readBand(0, kHeight, nullptr, whole);
+    capture::ImageBandReader(capture, 1).readBand(0, kHeight, nullptr, again);
+    EXPECT_TRUE(sameBits(whole.values, again.values));
+    EXPECT_TRUE(sameBits(whole.weights, again.weights));
     expectSame(first, reference(capture, {}, true), "first read");
 
     // Another image under the same name: a later modification time.

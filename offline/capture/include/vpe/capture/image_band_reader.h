@@ -39,6 +39,7 @@ public:
 private:
     struct Source;
     void keepDecodedImages();
+    static void adoptDecodedImage(Source& source);
     std::vector<std::unique_ptr<Source>> sources_;
     unsigned threads_;
     std::vector<float> gammaTable8_, gammaTable16_;  // a calibrated response (kGamma)
