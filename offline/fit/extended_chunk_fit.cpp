@@ -679,32 +679,19 @@ void ExtendedChunkFit::resetTransport() {
     censored_.assign(laneBlock_, 0);
 }
 
-// proto::reflectionAngles, lane by lane in the same order of operations (so the same bits),
-// written over the lanes side by side so that it vectorizes.
+// The angles by proto's own definition (reflection_geometry.h), which the renderer shares.
 void ExtendedChunkFit::shade(const ChunkGeometry& geometry) {
-    double nx[kLanes], ny[kLanes], nz[kLanes], nv[kLanes];
     for (int lane = 0; lane < kLanes; ++lane) {
-        nx[lane] = geometry.normal[0][lane];
-        ny[lane] = geometry.normal[1][lane];
-        nz[lane] = geometry.normal[2][lane];
-        nv[lane] = proto::dot(
-            proto::Vec3d{nx[lane], ny[lane], nz[lane]},
-            proto::Vec3d{geometry.view[0][lane], geometry.view[1][lane], geometry.view[2][lane]});
-    }
-    for (int s = 0; s < samples_; ++s) {
-        const std::size_t base = at(s, 0);
-        for (int lane = 0; lane < kLanes; ++lane) {
-            const std::size_t i = base + static_cast<std::size_t>(lane);
-            const double lx = lightX_[i], ly = lightY_[i], lz = lightZ_[i];
-            const double nl = nx[lane] * lx + ny[lane] * ly + nz[lane] * lz;
-            const double lv = lx * static_cast<double>(geometry.view[0][lane]) +
-                              ly * static_cast<double>(geometry.view[1][lane]) +
-                              lz * static_cast<double>(geometry.view[2][lane]);
-            const double rv = 2.0 * nl * nv[lane] - lv;
-            cosD_[i] = nl;
-            // fmin(fmax(rv, −1), 1) as proto has it, NaN included, without libm's calls.
-            const double above = rv > -1.0 ? rv : -1.0;
-            cosS_[i] = above < 1.0 ? above : 1.0;
+        const proto::Vec3d n{geometry.normal[0][lane], geometry.normal[1][lane],
+                             geometry.normal[2][lane]};
+        const proto::Vec3d v{geometry.view[0][lane], geometry.view[1][lane],
+                             geometry.view[2][lane]};
+        for (int s = 0; s < samples_; ++s) {
+            const std::size_t i = at(s, lane);
+            const auto angles =
+                proto::reflectionAngles(n, proto::Vec3d{lightX_[i], lightY_[i], lightZ_[i]}, v);
+            cosD_[i] = angles.cosThetaD;
+            cosS_[i] = angles.cosThetaS;
         }
     }
 }
