@@ -12,7 +12,10 @@
 #   realtime  its subject is behaviour in real time at a board's frame rate (nodes agreeing
 #             within a frame at 60 Hz, a show riding out faults within seconds, a page seeing
 #             a node within 2 s): it needs the device's own speed, so the arm64 run under
-#             qemu-user, 10-50x slower than a Pi, leaves it out (scripts/test.sh says so)
+#             qemu-user, 10-50x slower than a Pi, leaves it out (scripts/test.sh says so);
+#             a discovered one runs alone (RUN_SERIAL): a test beside it starved its players
+#             of frames (cmake/VpeDiscoverTests.cmake); the control page's scenario, judged
+#             in seconds, not frames, shares the machine
 #   heavy     a second or more in release that AddressSanitizer multiplies 4-80x: large
 #             numeric fits, or many small decodes each of which OpenImageIO gives a 64 MiB
 #             scratch buffer that ASan poisons. The sanitizer run leaves it out (test.sh);
