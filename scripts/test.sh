@@ -32,6 +32,16 @@ scripts/install-deps.sh --test
 
 jobs=$(nproc)
 
+# The release build and the device package's build (preset device-package) compile through
+# ccache, its cache in build/ and made fresh with it: 120 of the package's 123 sources are
+# compiled exactly as the release build compiled them (same flags; paths taken relative to the
+# repository, the build folder's own name left out of the hash), so the package's build takes
+# the objects instead of compiling for about 3 minutes again. Depend mode: no preprocessor run
+# on a miss, ninja's dependency files are enough. The launcher is set when a build folder is
+# first configured.
+export CCACHE_DIR="$PWD/build/ccache" CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=true \
+    CCACHE_DEPEND=true
+
 # The arm64 root (scripts/arm64-sysroot.sh, about 200 s: mostly downloading and unpacking
 # packages) is made in the background while the builds below run, instead of first in the
 # arm64 stage. Its own process group, so that a failing run stops it.
@@ -75,7 +85,7 @@ step "style (clang-format)"
 scripts/check-format.sh
 
 step "release build and tests"
-configure release
+CMAKE_CXX_COMPILER_LAUNCHER=ccache configure release
 cmake --build --preset release -j "$jobs"
 audit_headers release
 check_labels release
@@ -115,8 +125,11 @@ step "the device's Debian package (amd64) and its KMS path against a real kernel
 # dependency. cpack: vpe-player_<version>_amd64.deb (docs/device-package.md); its contents
 # checked, then Debian's kernel in qemu (TCG) with a virtio-gpu drives the packaged player
 # (docs/kms-vm.md).
-configure device-package
+CMAKE_CXX_COMPILER_LAUNCHER=ccache configure device-package
+ccache --zero-stats >/dev/null
 cmake --build --preset device-package -j "$jobs"
+echo "device-package, objects from the release build's:" \
+    $(ccache --show-stats | grep -E '^ *Hits:' | head -n1) >&2
 audit_headers device-package
 rm -f build/device-package/vpe-player_*.deb
 (cd build/device-package && cpack >/dev/null)
