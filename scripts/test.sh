@@ -32,16 +32,31 @@ scripts/install-deps.sh --test
 
 jobs=$(nproc)
 
-# The release build and the device package's build (preset device-package) compile through
-# ccache, its cache in build/ and made fresh with it: the package's sources are compiled
-# exactly as the release build compiled them (same flags; paths taken relative to the
-# repository, the build folder's own name left out of the hash), so the package's build takes
-# the release build's objects (a whole run: 123 of 123, 15 s) instead of compiling for 2-3
-# minutes again. Depend mode: no preprocessor run on a miss, ninja's dependency files are
-# enough (16 sources compiled through it on a miss: 77.7 s against 83.2 s without, alternating,
-# within this machine's noise). The launcher is set when a build folder is first configured.
-export CCACHE_DIR="$PWD/build/ccache" CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=true \
-    CCACHE_DEPEND=true
+# Every build compiles through ccache, and its cache lives outside the clone
+# ($VPE_CCACHE_DIR, else ~/.cache/vpe/ccache), so that a run compiles only what changed since
+# the last build of any clone on this machine: CI runs in a fresh clone on the machine of the
+# session that just built the same tree, and scripts/check-fresh-debian.sh bind-mounts the same
+# folder into its fresh root. Keys that cannot go stale:
+#   - depend mode: the key hashes the source, the compiler's arguments and the contents of every
+#     header the compile read (ninja's dependency files list them, system headers included), so
+#     a changed or missing header or package is a miss and the compile runs (and fails) again;
+#   - the compiler by its contents (not its time stamp): a fresh root's g++ of the same Debian
+#     package hits, another version misses;
+#   - paths relative to the repository, the build folder's own name left out, so that every
+#     clone shares one cache; each preset's flags (sanitizers, clang, the arm64 cross compiler
+#     and its sysroot) are part of its keys;
+#   - precompiled headers: the .gch is hashed like any header (pch_defines: GCC's own rule that
+#     a precompiled header matches its defines).
+# The release build and the device package's build share objects: the package's sources are
+# compiled exactly as the release build compiled them.
+export CCACHE_DIR="${VPE_CCACHE_DIR:-${XDG_CACHE_HOME:-${HOME:-/root}/.cache}/vpe/ccache}" \
+    CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=true CCACHE_DEPEND=true \
+    CCACHE_COMPILERCHECK=content CCACHE_SLOPPINESS=pch_defines,time_macros \
+    CCACHE_MAXSIZE=${VPE_CCACHE_SIZE:-24G} \
+    CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
+mkdir -p "$CCACHE_DIR"
+source scripts/lib/test-run-report.sh
+test_run_begin
 
 # The arm64 root (scripts/arm64-sysroot.sh, about 200 s: mostly downloading and unpacking
 # packages) is made in the background while the builds below run, instead of first in the
@@ -51,15 +66,14 @@ if [[ $quick -eq 0 ]]; then
     sysroot_log=$(mktemp /tmp/vpe-arm64-sysroot.XXXXXX)
     setsid scripts/arm64-sysroot.sh >"$sysroot_log" 2>&1 &
     sysroot_pid=$!
-    trap '[[ -n $sysroot_pid ]] && kill -- -"$sysroot_pid" 2>/dev/null; true' EXIT
 fi
-
-started=$SECONDS
-stage_start=$SECONDS
-step() {
-    printf '\n== [%d s, stage before %d s] %s\n' $((SECONDS - started)) $((SECONDS - stage_start)) "$*" >&2
-    stage_start=$SECONDS
+# When the run ends, passed or not: the background sysroot stopped, then the run's report.
+finish() {
+    local status=$?
+    [[ -n $sysroot_pid ]] && kill -- -"$sysroot_pid" 2>/dev/null
+    test_run_summary "$status"
 }
+trap finish EXIT
 # configure PRESET [AUDIT OPTIONS]: configure with CMake's file API asked for, then audit what
 # it found.
 configure() {
@@ -82,23 +96,26 @@ check_labels() {
     fi
 }
 
-step "style (clang-format)"
+test_run_stage "style (clang-format)"
 scripts/check-format.sh
 
-step "release build and tests"
-CMAKE_CXX_COMPILER_LAUNCHER=ccache configure release
+test_run_stage "release build and tests"
+configure release
+test_run_built release
 cmake --build --preset release -j "$jobs"
 audit_headers release
 check_labels release
 if [[ $quick -eq 1 ]]; then
-    ctest --preset release -j "$jobs" -LE '^(slow|fuzz)$'
-    step "quick tests passed (the full run: scripts/test.sh)"
+    test_run_ctest release --preset release -j "$jobs" -LE '^(slow|fuzz)$'
+    test_run_close_stage
+    echo "quick tests passed (the full run: scripts/test.sh)" >&2
     exit 0
 fi
-ctest --preset release -j "$jobs"
+test_run_ctest release --preset release -j "$jobs"
 
-step "ASan + UBSan build and tests"
+test_run_stage "ASan + UBSan build and tests"
 configure asan
+test_run_built asan
 cmake --build --preset asan -j "$jobs"
 # The tests labelled slow are whole pipelines through the CLI (synth, scan, fit, bake, render),
 # whose units run under the sanitizers in their own tests; of them only the bad-input ones run
@@ -109,28 +126,27 @@ cmake --build --preset asan -j "$jobs"
 # refusals run here on their own.
 # The tests labelled heavy (cmake/VpeTests.cmake) ran in the release build too: ASan made
 # each of them minutes long, and smaller tests take their code paths here.
-ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -LE '^(slow|heavy)$'
-ASAN_OPTIONS=detect_leaks=1 ctest --preset asan -j "$jobs" -L '^slow$' -R 'BadInput|Refuse' \
+ASAN_OPTIONS=detect_leaks=1 test_run_ctest asan --preset asan -j "$jobs" -LE '^(slow|heavy)$'
+ASAN_OPTIONS=detect_leaks=1 test_run_ctest asan --preset asan -j "$jobs" -L '^slow$' -R 'BadInput|Refuse' \
     -E '^Install[.]'
 
-step "libFuzzer targets (clang)"
+test_run_stage "libFuzzer targets (clang)"
 configure fuzz
+test_run_built fuzz
 cmake --build --preset fuzz -j "$jobs" --target vpe_fuzzers
 # Each fuzzer runs for a fixed wall time on one core (VPE_FUZZ_SECONDS): side by side they
 # fuzz as long each, in half the time.
-ctest --test-dir build/fuzz -j "$jobs" --output-on-failure
+test_run_ctest fuzz --test-dir build/fuzz -j "$jobs" --output-on-failure
 
-step "the device's Debian package (amd64) and its KMS path against a real kernel in a VM"
+test_run_stage "device package (amd64) and its KMS path in a VM"
 # The device-only build without its tests (preset device-package): the release build above ran
 # the device's tests, and the arm64 build below runs them again without any offline
 # dependency. cpack: vpe-player_<version>_amd64.deb (docs/device-package.md); its contents
 # checked, then Debian's kernel in qemu (TCG) with a virtio-gpu drives the packaged player
 # (docs/kms-vm.md).
-CMAKE_CXX_COMPILER_LAUNCHER=ccache configure device-package
-ccache --zero-stats >/dev/null
+configure device-package
+test_run_built device-package
 cmake --build --preset device-package -j "$jobs"
-echo "device-package, objects from the release build's:" \
-    $(ccache --show-stats | grep -E '^ *Hits:' | head -n1) >&2
 audit_headers device-package
 rm -f build/device-package/vpe-player_*.deb
 (cd build/device-package && cpack >/dev/null)
@@ -140,7 +156,7 @@ scripts/kms-vm-check.sh "$vm_work" build/device-package/vpe-player_*_amd64.deb
 debian_root_remove "$vm_work/root"
 rm -rf --one-file-system "$vm_work"
 
-step "arm64: the device build cross-compiled for a Raspberry Pi, its tests under qemu-aarch64"
+test_run_stage "arm64: device build for a Pi, its tests under qemu-aarch64"
 # Against a Debian 12 arm64 root holding only the device's packages (scripts/arm64-sysroot.sh),
 # made in the background since the start.
 sysroot_status=0
@@ -153,6 +169,7 @@ if [[ $sysroot_status -ne 0 ]]; then
     exit 1
 fi
 configure device-arm64 --sysroot build/arm64-root
+test_run_built device-arm64
 cmake --build --preset device-arm64 -j "$jobs"
 audit_headers device-arm64 --sysroot build/arm64-root
 check_labels device-arm64
@@ -160,7 +177,7 @@ check_labels device-arm64
 # slower than a Pi, and they ran above on amd64.
 echo "arm64: left out under emulation (label realtime):" \
     $(ctest --test-dir build/device-arm64 -N -L '^realtime$' | sed -n 's/^ *Test *#[0-9]*: //p') >&2
-ctest --preset device-arm64 -j "$jobs"
+test_run_ctest device-arm64 --preset device-arm64 -j "$jobs"
 # The arm64 package, its Depends from dpkg-shlibdeps inside the sysroot, installed with apt into
 # a fresh Debian 12 arm64 root; its --check and a headless frame there under qemu.
 rm -f build/device-arm64/vpe-player_*.deb
@@ -169,4 +186,5 @@ package_root=$(mktemp -d /tmp/vpe-package-arm64.XXXXXX)
 scripts/package-check.sh "$package_root/root" arm64 build/device-arm64/vpe-player_*_arm64.deb
 debian_root_remove "$package_root"
 
-step "all tests passed in $((SECONDS - started)) s"
+test_run_close_stage
+echo "all tests passed in $((SECONDS - test_run_started)) s" >&2
