@@ -68,6 +68,13 @@ if [[ -d "$top/../shared" ]]; then
     mount --bind "$top/../shared" "$root/work/shared"
     mount -o remount,bind,ro "$root/work/shared"
 fi
+# This machine's compile cache (scripts/lib/compile-cache.sh), where the root's HOME keeps it:
+# the fresh root compiles only what no build here compiled, with keys that hash every header
+# it reads, so a package missing from the root still fails its compile.
+source scripts/lib/compile-cache.sh
+compile_cache_use "$top"
+mkdir -p "$root/root/.cache/vpe/ccache"
+mount --bind "$CCACHE_DIR" "$root/root/.cache/vpe/ccache"
 for fs in proc sys dev dev/pts; do
     mkdir -p "$root/$fs"
     mount --bind "/$fs" "$root/$fs"

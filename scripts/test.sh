@@ -32,29 +32,10 @@ scripts/install-deps.sh --test
 
 jobs=$(nproc)
 
-# Every build compiles through ccache, and its cache lives outside the clone
-# ($VPE_CCACHE_DIR, else ~/.cache/vpe/ccache), so that a run compiles only what changed since
-# the last build of any clone on this machine: CI runs in a fresh clone on the machine of the
-# session that just built the same tree, and scripts/check-fresh-debian.sh bind-mounts the same
-# folder into its fresh root. Keys that cannot go stale:
-#   - depend mode: the key hashes the source, the compiler's arguments and the contents of every
-#     header the compile read (ninja's dependency files list them, system headers included), so
-#     a changed or missing header or package is a miss and the compile runs (and fails) again;
-#   - the compiler by its contents (not its time stamp): a fresh root's g++ of the same Debian
-#     package hits, another version misses;
-#   - paths relative to the repository, the build folder's own name left out, so that every
-#     clone shares one cache; each preset's flags (sanitizers, clang, the arm64 cross compiler
-#     and its sysroot) are part of its keys;
-#   - precompiled headers: the .gch is hashed like any header (pch_defines: GCC's own rule that
-#     a precompiled header matches its defines).
-# The release build and the device package's build share objects: the package's sources are
-# compiled exactly as the release build compiled them.
-export CCACHE_DIR="${VPE_CCACHE_DIR:-${XDG_CACHE_HOME:-${HOME:-/root}/.cache}/vpe/ccache}" \
-    CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=true CCACHE_DEPEND=true \
-    CCACHE_COMPILERCHECK=content CCACHE_SLOPPINESS=pch_defines,time_macros \
-    CCACHE_MAXSIZE=${VPE_CCACHE_SIZE:-24G} \
-    CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
-mkdir -p "$CCACHE_DIR"
+# Every build compiles through one compile cache per machine, outside the clone
+# (scripts/lib/compile-cache.sh says where and why its keys cannot go stale).
+source scripts/lib/compile-cache.sh
+compile_cache_use "$PWD"
 source scripts/lib/test-run-report.sh
 test_run_begin
 
