@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "command_runs.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -26,7 +27,7 @@ using vpe::benchmarks::CommandRun;
 using vpe::benchmarks::median;
 using vpe::benchmarks::runCommand;
 
-std::string kVpe = VPE_EXECUTABLE_PATH;
+std::string kVpe = vpe::test_paths::vpeExecutablePath();
 
 // The recipe's inputs, made once by the vpe under test.
 void prepare(const std::filesystem::path& dir) {

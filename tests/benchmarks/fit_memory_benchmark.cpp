@@ -23,6 +23,7 @@
 
 #include "command_runs.h"
 #include "paper_rig.h"
+#include "test_paths.h"
 
 namespace vpe {
 namespace {
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
     int size = 2048;
     int runs = 3;
     std::filesystem::path dir;
-    std::string vpe = VPE_EXECUTABLE_PATH;
+    std::string vpe = vpe::test_paths::vpeExecutablePath();
     std::vector<std::string> fitOptions;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--") == 0) {

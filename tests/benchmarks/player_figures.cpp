@@ -27,6 +27,7 @@
 
 #include "gles_test_bundle.h"
 #include "replay_script.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -106,9 +107,9 @@ void latency(const fs::path& folder, const fs::path& bundle) {
     }
     const fs::path replay = folder / "latency.jsonl";
     script.write(replay);
-    const std::string output =
-        run(std::string(VPE_PLAYER_PATH) + " --board " + writeBoard(folder, "60").string() +
-            " --bundle " + bundle.string() + " --replay " + replay.string() + " --json");
+    const std::string output = run(std::string(vpe::test_paths::playerPath()) + " --board " +
+                                   writeBoard(folder, "60").string() + " --bundle " +
+                                   bundle.string() + " --replay " + replay.string() + " --json");
     const std::string json = lastLine(output);
     std::cout << json << "\n";
     const double p50 = field(json, "latency_ms.p50"), p99 = field(json, "latency_ms.p99");
@@ -140,9 +141,9 @@ void soak(const fs::path& folder, const fs::path& bundle, long frames) {
     const fs::path replay = folder / "soak.jsonl";
     script.write(replay);
     const std::string output =
-        run(std::string(VPE_PLAYER_PATH) + " --board " + writeBoard(folder, "0").string() +
-            " --bundle " + bundle.string() + " --replay " + replay.string() +
-            " --replay-loop --frames " + std::to_string(frames) + " --json");
+        run(std::string(vpe::test_paths::playerPath()) + " --board " +
+            writeBoard(folder, "0").string() + " --bundle " + bundle.string() + " --replay " +
+            replay.string() + " --replay-loop --frames " + std::to_string(frames) + " --json");
     const std::string json = lastLine(output);
     std::cout << json << "\n";
     std::printf(

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <toml++/toml.h>
 
+#include "test_paths.h"
 #include "thrown_message.h"
 
 namespace vpe::firmware {
@@ -28,18 +29,21 @@ void expectRefusals(const std::vector<std::pair<std::string, std::string>>& refu
 }
 
 TEST(BoardConfigTest, ReadsTheRepositoryBoards) {
-    const BoardConfig headless = loadBoardConfig(VPE_SOURCE_DIR "/boards/headless.toml");
+    const BoardConfig headless =
+        loadBoardConfig(std::string(test_paths::sourceDir()) + "/boards/headless.toml");
     EXPECT_EQ(headless.display.backend, DisplayBackend::kHeadless);
     EXPECT_FALSE(headless.render.width.has_value());
 
-    const BoardConfig rpi4 = loadBoardConfig(VPE_SOURCE_DIR "/boards/rpi4.toml");
+    const BoardConfig rpi4 =
+        loadBoardConfig(std::string(test_paths::sourceDir()) + "/boards/rpi4.toml");
     EXPECT_EQ(rpi4.display.backend, DisplayBackend::kKms);
     EXPECT_EQ(rpi4.display.device, "/dev/dri/card0");
     EXPECT_EQ(rpi4.display.connector, "auto");
     EXPECT_FALSE(rpi4.display.mode.has_value());
     EXPECT_TRUE(rpi4.display.atomic);
 
-    const BoardConfig rpi5 = loadBoardConfig(VPE_SOURCE_DIR "/boards/rpi5.toml");
+    const BoardConfig rpi5 =
+        loadBoardConfig(std::string(test_paths::sourceDir()) + "/boards/rpi5.toml");
     EXPECT_EQ(rpi5.display.device, "/dev/dri/card1");
     EXPECT_EQ(rpi5.display.connector, "HDMI-A-1");
     ASSERT_TRUE(rpi5.display.mode.has_value());

@@ -23,6 +23,7 @@
 #include "vpe/renderer/gles/headless_egl_platform.h"
 
 #include "gles_test_bundle.h"
+#include "test_paths.h"
 
 namespace vpe::firmware::testing {
 
@@ -71,7 +72,7 @@ protected:
     }
 
     PlayerRun play(const std::vector<std::string>& arguments) {
-        std::string command = quoted(VPE_PLAYER_PATH);
+        std::string command = quoted(test_paths::playerPath());
         for (const std::string& a : arguments) {
             command += " " + quoted(a);
         }
@@ -87,7 +88,7 @@ protected:
 
     // Starts vpe-player in the background (stdout/stderr to files); finish() collects it.
     pid_t spawn(const std::vector<std::string>& arguments) {
-        std::vector<std::string> argv{VPE_PLAYER_PATH};
+        std::vector<std::string> argv{test_paths::playerPath()};
         argv.insert(argv.end(), arguments.begin(), arguments.end());
         std::vector<char*> pointers;
         for (std::string& a : argv) {

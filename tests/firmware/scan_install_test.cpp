@@ -36,6 +36,7 @@
 #include "child_process.h"
 #include "mosquitto_broker.h"
 #include "scan_installation.h"
+#include "test_paths.h"
 
 namespace vpe::firmware {
 namespace {
@@ -301,8 +302,8 @@ TEST_F(ScanInstallTest, APlayingNodeScansOnCommandAndDrawsTheSameFrameAfter) {
     MosquittoBroker broker(folder_ / "broker", {kController, kPlayer}, showAcl());
     broker.start();
     const fs::path bundle = folder_ / "scene.vpeb";
-    ASSERT_EQ(std::system((std::string(VPE_WRITE_TEST_BUNDLE_PATH) + " --out '" + bundle.string() +
-                           "' --size 160x90 > /dev/null")
+    ASSERT_EQ(std::system((std::string(test_paths::writeTestBundlePath()) + " --out '" +
+                           bundle.string() + "' --size 160x90 > /dev/null")
                               .c_str()),
               0);
     // A still light (no drift): every drawn frame is the same picture. Black for 2.5 s before
@@ -317,8 +318,8 @@ TEST_F(ScanInstallTest, APlayingNodeScansOnCommandAndDrawsTheSameFrameAfter) {
                          << "\"\nlatency_ms = 0\nsettle_ms = 2500\nphase_period = 64\n"
                             "phase_steps = 3\nradiometry = false\nout = \"scan\"\n";
     const fs::path frames = folder_ / "frames";
-    ChildProcess player({VPE_PLAYER_PATH, "--board", board.string(), "--bundle", bundle.string(),
-                         "--out", frames.string(), "--every", "1", "--json"},
+    ChildProcess player({test_paths::playerPath(), "--board", board.string(), "--bundle",
+                         bundle.string(), "--out", frames.string(), "--every", "1", "--json"},
                         folder_ / "player.out", folder_ / "player.err");
     const auto waitFor = [](const std::function<bool()>& done, std::chrono::milliseconds limit) {
         const auto deadline = std::chrono::steady_clock::now() + limit;

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "bundle_fixture.h"
+#include "test_paths.h"
 
 namespace vpe::proto {
 namespace {
@@ -560,7 +561,8 @@ TEST_F(BundleReader, RefusesABadCameraNamingIt) {
 TEST(BundleSeeds, TheFuzzerSeedsWrittenIn10StillRead) {
     // tests/fuzz/corpus/bundle_fuzzer: bundles written by the 1.0 writer, checked in.
     int seeds = 0;
-    for (const auto& entry : std::filesystem::directory_iterator(VPE_BUNDLE_FUZZER_SEEDS)) {
+    for (const auto& entry : std::filesystem::directory_iterator(
+             std::filesystem::path(test_paths::sourceDir()) / "tests/fuzz/corpus/bundle_fuzzer")) {
         if (entry.path().extension() != ".vpeb") {
             continue;
         }

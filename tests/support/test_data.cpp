@@ -9,6 +9,8 @@
 
 #include <unistd.h>
 
+#include "test_paths.h"
+
 namespace vpe::testing {
 
 std::optional<std::filesystem::path> realDataDir() {
@@ -16,7 +18,7 @@ std::optional<std::filesystem::path> realDataDir() {
     if (const char* env = std::getenv("VPE_DATA"); env != nullptr && *env != '\0') {
         dir = env;
     } else {
-        dir = VPE_DEFAULT_DATA_DIR;
+        dir = test_paths::defaultDataDir();
     }
     std::error_code error;
     if (std::filesystem::is_directory(dir / "synthrti", error) ||

@@ -12,6 +12,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "test_paths.h"
+
 namespace vpe::firmware::bus::testing {
 
 namespace fs = std::filesystem;
@@ -43,7 +45,7 @@ std::string readAll(const fs::path& path) {
 }  // namespace
 
 std::string showAcl() {
-    const std::string acl = readAll(fs::path(VPE_SOURCE_DIR) / "boards/mosquitto/acl");
+    const std::string acl = readAll(fs::path(test_paths::sourceDir()) / "boards/mosquitto/acl");
     if (acl.find("user " + kController.name) == std::string::npos) {
         throw std::runtime_error("boards/mosquitto/acl: no user " + kController.name);
     }

@@ -27,6 +27,7 @@
 #include "light_log_agreement.h"
 #include "mosquitto_broker.h"
 #include "replay_script.h"
+#include "test_paths.h"
 
 namespace vpe::firmware::bus {
 namespace {
@@ -120,10 +121,14 @@ struct PlayerNode {
     }
     void start(const fs::path& bundle, std::vector<std::string> extra) {
         ++runs;
-        std::vector<std::string> arguments{
-            VPE_PLAYER_PATH, "--board",       (folder / (name + ".toml")).string(),
-            "--bundle",      bundle.string(), "--light-log",
-            log().string(),  "--json"};
+        std::vector<std::string> arguments{test_paths::playerPath(),
+                                           "--board",
+                                           (folder / (name + ".toml")).string(),
+                                           "--bundle",
+                                           bundle.string(),
+                                           "--light-log",
+                                           log().string(),
+                                           "--json"};
         arguments.insert(arguments.end(), extra.begin(), extra.end());
         process = ChildProcess(arguments, out(), err());
     }
@@ -141,12 +146,12 @@ protected:
                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::create_directories(folder_);
         bundle_ = folder_ / "scene.vpeb";
-        const std::string command = std::string(VPE_WRITE_TEST_BUNDLE_PATH) + " --out '" +
+        const std::string command = std::string(test_paths::writeTestBundlePath()) + " --out '" +
                                     bundle_.string() + "' --size 160x90 >/dev/null";
         ASSERT_EQ(std::system(command.c_str()), 0);
         // The player itself says whether this machine draws headless: one frame, no bus.
         std::ofstream(folder_ / "alone.toml") << "[display]\nbackend = \"headless\"\n";
-        const std::string alone = std::string(VPE_PLAYER_PATH) + " --board '" +
+        const std::string alone = std::string(test_paths::playerPath()) + " --board '" +
                                   (folder_ / "alone.toml").string() + "' --bundle '" +
                                   bundle_.string() + "' --frames 1 >/dev/null 2>'" +
                                   (folder_ / "alone.err").string() + "'";

@@ -10,6 +10,8 @@
 #include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/knobs/knobs_config_parser.h"
 
+#include "test_paths.h"
+
 namespace vpe::firmware::knobs {
 namespace {
 
@@ -141,7 +143,7 @@ TEST(KnobsConfigTest, DefaultsAndEnabled) {
 TEST(KnobsConfigTest, TheRepositoryBoardsSectionsParse) {
     for (const char* board : {"/boards/rpi4.toml", "/boards/rpi5.toml", "/boards/headless.toml"}) {
         SCOPED_TRACE(board);
-        const toml::table root = toml::parse_file(std::string(VPE_SOURCE_DIR) + board);
+        const toml::table root = toml::parse_file(std::string(test_paths::sourceDir()) + board);
         if (const toml::table* gpio = root["gpio"].as_table()) {
             EXPECT_NO_THROW(parseKnobsConfig(*gpio, board));
         }

@@ -11,6 +11,7 @@
 #include "vpe/firmware/board/board_config.h"
 
 #include "../../support/thrown_message.h"
+#include "test_paths.h"
 
 namespace vpe::firmware {
 namespace {
@@ -69,7 +70,7 @@ calibration = [
 
 TEST(CameraConfigTest, ReadsTheRepositoryBoards) {
     for (const char* board : {"headless.toml", "rpi4.toml", "rpi5.toml"}) {
-        const std::string path = std::string(VPE_SOURCE_DIR "/boards/") + board;
+        const std::string path = std::string(test_paths::sourceDir()) + "/boards/" + board;
         const toml::table root = toml::parse_file(path);
         const toml::table* camera = root["camera"].as_table();
         ASSERT_NE(camera, nullptr) << path;
