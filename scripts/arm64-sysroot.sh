@@ -33,15 +33,26 @@ building="$root.building"
 [[ -e "$building" ]] && debian_root_remove "$building"
 # test.sh starts this before anything is built, so on a fresh clone build/ does not exist yet.
 mkdir -p "$(dirname "$root")"
-echo "arm64-sysroot: building a Debian 12 arm64 root in $root (${#packages[@]} packages)" >&2
 start=$(date +%s)
-# essential: dpkg and its database (the dependency audit asks it who owns a header), no apt.
-if ! mmdebstrap --arch=arm64 --variant=essential --include="$(IFS=,; echo "${packages[*]}")" \
-    --aptopt="$aptopt" --format=directory bookworm "$building" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
-    tail -n 20 "$work/mmdebstrap.log" >&2
-    echo "arm64-sysroot: mmdebstrap failed (its log's end above)" >&2
-    debian_root_remove "$building"
-    exit 1
+# Made once per state of Debian's archive and package list (scripts/lib/root-cache.sh), then
+# copied into each clone's build folder.
+source scripts/lib/root-cache.sh
+key=$(root_cache_key "$mirror" arm64-sysroot arm64 essential "${packages[@]}") ||
+    echo "arm64-sysroot: Debian's archive state unreadable; making the root without the cache" >&2
+if root_cache_restore arm64-sysroot "$key" "$building"; then
+    echo "arm64-sysroot: copied from the cache ($(root_cache_dir))" >&2
+else
+    echo "arm64-sysroot: building a Debian 12 arm64 root in $root (${#packages[@]} packages)" >&2
+    # essential: dpkg and its database (the dependency audit asks it who owns a header), no apt.
+    if ! mmdebstrap --arch=arm64 --variant=essential --include="$(IFS=,; echo "${packages[*]}")" \
+        --aptopt="$aptopt" --format=directory bookworm "$building" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
+        tail -n 20 "$work/mmdebstrap.log" >&2
+        echo "arm64-sysroot: mmdebstrap failed (its log's end above)" >&2
+        debian_root_remove "$building"
+        exit 1
+    fi
+    debian_root_unmount_below "$building"
+    root_cache_store arm64-sysroot "$key" "$building"
 fi
 printf '%s\n' "$wanted" >"$building/.vpe-packages"
 mv "$building" "$root"

@@ -75,6 +75,11 @@ source scripts/lib/compile-cache.sh
 compile_cache_use "$top"
 mkdir -p "$root/root/.cache/vpe/ccache"
 mount --bind "$CCACHE_DIR" "$root/root/.cache/vpe/ccache"
+# And its cache of Debian roots (scripts/lib/root-cache.sh): they hold Debian's packages only,
+# keyed by the archive's state; vpe's package is installed into a fresh copy each run.
+source scripts/lib/root-cache.sh
+mkdir -p "$(root_cache_dir)" "$root/root/.cache/vpe/roots"
+mount --bind "$(root_cache_dir)" "$root/root/.cache/vpe/roots"
 for fs in proc sys dev dev/pts; do
     mkdir -p "$root/$fs"
     mount --bind "/$fs" "$root/$fs"

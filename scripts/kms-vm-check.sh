@@ -157,23 +157,51 @@ EOF
 
 # The root: Debian 12 with its kernel and systemd, vpe-player from its package; the reference
 # frame rendered headless in the same root (same binary, same Mesa) before the image is made.
+# The root starts as a copy of a base root with the kernel, systemd and the packages the
+# package's Depends names, made by mmdebstrap from Debian once per state of the archive
+# (scripts/lib/root-cache.sh); the package itself is installed with apt every run.
+source scripts/lib/root-cache.sh
 debian_root_sources "$work" || exit 2
 name=$(basename "$deb")
 cp "$deb" "$work/"
 if [[ $reuse -eq 0 ]]; then
     log "root ($(elapsed) s)"
-    if ! mmdebstrap --variant=apt --aptopt="$aptopt" --format=directory \
-        --include=systemd-sysv,udev,kmod,linux-image-amd64 \
-        --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-exclude=/usr/share/man/*' \
-        --dpkgopt='path-exclude=/usr/share/locale/*' \
-        --customize-hook="cp '$work/$name' \"\$1/tmp/\" && chroot \"\$1\" sh -c 'cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name' >'$work/install.log' 2>&1" \
-        --customize-hook="mkdir -p \"\$1/etc/vpe\" && cp '$work/guest/headless-still.toml' \"\$1/etc/vpe/\" && chroot \"\$1\" vpe-player --board /etc/vpe/headless-still.toml --bundle /usr/share/vpe/examples/vase-640x360.vpeb --frames 1 --out /var/tmp/reference >'$work/reference.txt' 2>&1 && cp \"\$1/var/tmp/reference/frame_00000.ppm\" '$work/reference.ppm'" \
-        bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
-        tail -n 20 "$work/mmdebstrap.log" >&2
-        log "mmdebstrap failed (see $work/mmdebstrap.log, $work/install.log)"
+    mapfile -t base_packages < <(printf '%s\n' systemd-sysv udev kmod linux-image-amd64; root_cache_depends "$deb")
+    base_include=$(IFS=,; echo "${base_packages[*]}")
+    base_key=$(root_cache_key "$mirror" "kms-vm" amd64 apt "$base_include" "no doc man locale") ||
+        log "Debian's archive state unreadable; making the root without the cache"
+    if root_cache_restore kms-vm "$base_key" "$root"; then
+        log "base root from the cache ($(elapsed) s)"
+    else
+        if ! mmdebstrap --variant=apt --aptopt="$aptopt" --format=directory --include="$base_include" \
+            --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-exclude=/usr/share/man/*' \
+            --dpkgopt='path-exclude=/usr/share/locale/*' \
+            bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
+            tail -n 20 "$work/mmdebstrap.log" >&2
+            log "mmdebstrap failed (see $work/mmdebstrap.log)"
+            exit 1
+        fi
+        debian_root_unmount_below "$root"
+        root_cache_store kms-vm "$base_key" "$root"
+    fi
+    cp "$work/$name" "$root/tmp/"
+    if ! root_cache_chroot "$root" sh -c "cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name" \
+        >"$work/install.log" 2>&1; then
+        tail -n 20 "$work/install.log" >&2
+        log "apt-get install ./$name failed (see $work/install.log)"
         exit 1
     fi
-    debian_root_unmount_below "$root"
+    rm -f "$root/tmp/$name"
+    mkdir -p "$root/etc/vpe"
+    cp "$work/guest/headless-still.toml" "$root/etc/vpe/"
+    if ! root_cache_chroot "$root" vpe-player --board /etc/vpe/headless-still.toml \
+        --bundle /usr/share/vpe/examples/vase-640x360.vpeb --frames 1 --out /var/tmp/reference \
+        >"$work/reference.txt" 2>&1; then
+        tail -n 5 "$work/reference.txt" >&2
+        log "the headless reference frame failed (see $work/reference.txt)"
+        exit 1
+    fi
+    cp "$root/var/tmp/reference/frame_00000.ppm" "$work/reference.ppm"
 fi
 # The guest's files, its unit enabled; no getty on the serial console: agetty's vhangup() would
 # cut off the check's own writes to /dev/ttyS0.

@@ -3,7 +3,8 @@
 # The device package's install test (docs/device-package.md): checks what
 # vpe-player_<version>_<ARCH>.deb holds (dpkg-deb -c / -I: the player, the board files, the
 # systemd unit with its watchdog and the package's paths, the example bundles, Depends from
-# dpkg-shlibdeps), then installs it into a fresh Debian 12 root made by mmdebstrap with
+# dpkg-shlibdeps), then installs it into a fresh Debian 12 root (a copy of a base root that
+# mmdebstrap made from Debian, scripts/lib/root-cache.sh) with
 # `apt-get install ./vpe-player_*.deb` (dependencies from Debian) and runs, in that root,
 # `vpe-player --board /usr/share/vpe/boards/headless.toml --check` and one headless frame of the
 # example bundle. Prints one JSON line; exit status 0 when every check passed, 1 when one
@@ -97,28 +98,56 @@ if [[ $contents_only -eq 1 ]]; then
     exit
 fi
 
-# 2. A fresh Debian 12 root (essential + apt), the package installed from its file with its
-# dependencies from Debian, and the player run inside it (mmdebstrap's hooks run with /proc,
-# /sys and /dev mounted in the root).
+# 2. A fresh Debian 12 root (essential + apt), the package installed from its file with apt,
+# and the player run inside it. The root starts as a copy of a base root holding the packages
+# the package's Depends names, made by mmdebstrap from Debian once per state of the archive
+# (scripts/lib/root-cache.sh): apt still checks every Depends, versions included, against what
+# Debian shipped, and the package's own install and maintainer scripts run every time.
 source scripts/lib/debian-root.sh
+source scripts/lib/root-cache.sh
 debian_root_sources "$work" || exit 2
 cp "$deb" "$work/"
 name=$(basename "$deb")
-hook_install="cp '$work/$name' \"\$1/tmp/\" && chroot \"\$1\" sh -c 'cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name' >'$work/install.log' 2>&1"
-hook_run="chroot \"\$1\" vpe-player --board /usr/share/vpe/boards/headless.toml --check >'$work/check.txt' 2>&1; echo \$? >'$work/check.status';
-chroot \"\$1\" vpe-player --board /usr/share/vpe/boards/headless.toml --bundle /usr/share/vpe/examples/vase-640x360.vpeb --frames 1 --out /tmp/frame --json >'$work/frame.txt' 2>&1; echo \$? >'$work/frame.status';
-cp \"\$1/tmp/frame/frame_00000.ppm\" '$work/' 2>/dev/null || true;
-chroot \"\$1\" sh -c 'getent passwd vpe; id -nG vpe; test -d /var/lib/vpe && test -d /etc/vpe && echo folders' >'$work/user.txt' 2>&1 || true;
-chroot \"\$1\" dpkg-query -W -f '\${Status} \${Version}\n' vpe-player >'$work/query.txt' 2>&1 || true;
-chroot \"\$1\" sh -c 'dpkg-query -W | wc -l' >'$work/count.txt' 2>&1 || true"
-if ! mmdebstrap --variant=apt --architectures="$arch" --aptopt="$aptopt" --format=directory \
-    --customize-hook="$hook_install" --customize-hook="$hook_run" \
-    bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
-    tail -n 20 "$work/install.log" "$work/mmdebstrap.log" >&2 2>/dev/null || true
-    echo "package-check: mmdebstrap or apt-get install ./$name failed" >&2
+mapfile -t base_packages < <(root_cache_depends "$deb")
+base_include=$(IFS=,; echo "${base_packages[*]}")
+root=$(realpath -m "$root")
+rmdir "$root" 2>/dev/null || true  # absent or empty, checked above
+mkdir -p "$(dirname "$root")"
+base_key=$(root_cache_key "$mirror" "package-check" "$arch" apt "$base_include") ||
+    echo "package-check: Debian's archive state unreadable; making the root without the cache" >&2
+if root_cache_restore "package-check-$arch" "$base_key" "$root"; then
+    echo "package-check: base root from the cache ($base_include)" >"$work/mmdebstrap.log"
+else
+    rm -rf --one-file-system "$root"
+    if ! mmdebstrap --variant=apt --architectures="$arch" --aptopt="$aptopt" --format=directory \
+        --include="$base_include" bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
+        tail -n 20 "$work/mmdebstrap.log" >&2
+        echo "package-check: mmdebstrap failed (the base root for $base_include)" >&2
+        exit 1
+    fi
+    debian_root_unmount_below "$root"
+    root_cache_store "package-check-$arch" "$base_key" "$root"
+fi
+cp "$work/$name" "$root/tmp/"
+if ! root_cache_chroot "$root" sh -c "cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name" \
+    >"$work/install.log" 2>&1; then
+    tail -n 20 "$work/install.log" >&2
+    echo "package-check: apt-get install ./$name failed" >&2
     exit 1
 fi
-debian_root_unmount_below "$(realpath "$root")"
+in_root() { root_cache_chroot "$root" "$@"; }
+status=0
+in_root vpe-player --board /usr/share/vpe/boards/headless.toml --check >"$work/check.txt" 2>&1 || status=$?
+echo $status >"$work/check.status"
+status=0
+in_root vpe-player --board /usr/share/vpe/boards/headless.toml --bundle /usr/share/vpe/examples/vase-640x360.vpeb \
+    --frames 1 --out /tmp/frame --json >"$work/frame.txt" 2>&1 || status=$?
+echo $status >"$work/frame.status"
+cp "$root/tmp/frame/frame_00000.ppm" "$work/" 2>/dev/null || true
+in_root sh -c 'getent passwd vpe; id -nG vpe; test -d /var/lib/vpe && test -d /etc/vpe && echo folders' \
+    >"$work/user.txt" 2>&1 || true
+in_root dpkg-query -W -f '${Status} ${Version}\n' vpe-player >"$work/query.txt" 2>&1 || true
+in_root sh -c 'dpkg-query -W | wc -l' >"$work/count.txt" 2>&1 || true
 
 check "installed: dpkg-query" grep -q '^install ok installed' "$work/query.txt"
 check "vpe-player --check" test "$(cat "$work/check.status")" = 0
@@ -128,7 +157,7 @@ for group in video render gpio input; do
     check "postinst: group $group" grep -qw "$group" "$work/user.txt"
 done
 check "postinst: /etc/vpe, /var/lib/vpe" grep -qx folders "$work/user.txt"
-frame="$work/frame_00000.ppm"  # mmdebstrap empties the root's /tmp
+frame="$work/frame_00000.ppm"
 check "frame written" test -s "$frame"
 # The frame's mean level (binary PPM, P6 W H 255): a frame of the vase is not black.
 frame_stats=$(python3 - "$frame" <<'EOF' 2>/dev/null || echo '{"width": 0, "height": 0, "mean": 0}'
