@@ -48,7 +48,7 @@ test_packages=(
     python3-selenium                          # the control page's test drives chromium-driver with it
     glslang-dev glslang-tools spirv-tools     # vpe_shader_cost: GLSL → SPIR-V, optimizer (glslang-dev's
                                               # CMake config names glslangValidator, in glslang-tools)
-    ccache                                    # scripts/test.sh: the device package's build reuses the release build's objects
+    ccache                                    # scripts/lib/compile-cache.sh: one compile cache per machine for every build
     dpkg-dev                                  # cpack's DEB generator: dpkg-shlibdeps computes the package's Depends
     mmdebstrap                                # scripts/package-check.sh, kms-vm-check.sh: fresh Debian 12 roots
     qemu-system-x86                           # scripts/kms-vm-check.sh: Debian's kernel and virtio-gpu under TCG

@@ -5,6 +5,12 @@
 # Builds `vpe` and `vpe-player` in the release preset and sets $vpe and $player to their
 # absolute paths.
 build_vpe() {
+    # Through this machine's compile cache (scripts/lib/compile-cache.sh), as scripts/test.sh
+    # builds: a demo after the tests, or the tests after a demo, compiles nothing twice.
+    if command -v ccache >/dev/null; then
+        source scripts/lib/compile-cache.sh
+        compile_cache_use "$PWD"
+    fi
     cmake --preset release >/dev/null
     cmake --build --preset release --target vpe vpe-player -j "$(nproc)"
     vpe=$(realpath build/release/offline/vpe)
