@@ -20,6 +20,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/debian-root.sh  # removing the package tests' roots
+source scripts/lib/root-cache.sh  # the report names the roots' cache
 quick=0
 for argument in "$@"; do
     case "$argument" in

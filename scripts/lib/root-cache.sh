@@ -60,6 +60,12 @@ root_cache_key() {
     printf '%s\n' "maker $root_cache_maker_version" "archive $state" "$@" | sha256sum | cut -c1-24
 }
 
+# root_cache_note WHAT NAME: one line for scripts/test.sh's report, when it asks for them
+# ($VPE_ROOT_CACHE_LOG).
+root_cache_note() {
+    [[ -z "${VPE_ROOT_CACHE_LOG:-}" ]] || echo "$1 $2" >>"$VPE_ROOT_CACHE_LOG"
+}
+
 # root_cache_restore NAME KEY ROOT: copies the cached root NAME with KEY to ROOT (absent).
 # Fails, leaving ROOT absent, when there is none.
 root_cache_restore() {
@@ -68,12 +74,14 @@ root_cache_restore() {
     [[ -n "$2" && -f "$cached/.vpe-root-complete" ]] || return 1
     cp -a --reflink=auto "$cached" "$3"
     rm -f "$3/.vpe-root-complete"
+    root_cache_note restored "$1"
 }
 
 # root_cache_store NAME KEY ROOT: keeps a copy of ROOT (no mounts left in it) as NAME with KEY,
 # replacing older roots of that NAME. Only a whole copy is ever seen under its final name.
 root_cache_store() {
     local dir name=$1 key=$2 root=$3 partial old
+    root_cache_note made "$name"
     [[ -n "$key" ]] || return 0
     dir=$(root_cache_dir)
     mkdir -p "$dir"

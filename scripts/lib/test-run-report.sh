@@ -2,7 +2,8 @@
 # Sourced by scripts/test.sh: what a run took, kept as it goes and printed when it ends (even
 # when it fails), so that CI's budget (90 minutes on 2 cores) is watched on every run:
 #   - each stage's seconds and the total, with a warning above 45 minutes;
-#   - whether the compile cache was warm or cold (ccache's hits during this run);
+#   - whether the compile cache was warm or cold (ccache's hits during this run), and which
+#     Debian roots came from their cache;
 #   - each build's compile time (CPU seconds summed from ninja's log) and its compiles;
 #   - the 25 slowest tests of each stage (from ctest's own lines, kept in build/test-run/).
 # Nothing here decides whether the run passes.
@@ -28,6 +29,8 @@ test_run_cache_counts() {
 test_run_begin() {
     rm -rf "$test_run_dir"
     mkdir -p "$test_run_dir"
+    VPE_ROOT_CACHE_LOG=$(realpath -m "$test_run_dir/roots.log")
+    export VPE_ROOT_CACHE_LOG
     read -r test_run_hits_before test_run_misses_before < <(test_run_cache_counts)
 }
 
@@ -110,6 +113,13 @@ test_run_summary() {
         ((percent >= 50 && percent < 90)) && kind="partly warm"
         echo "compile cache ($CCACHE_DIR): $hits hits, $misses misses of $compiles compiles" \
             "($percent%): a $kind run"
+        # The Debian roots (scripts/lib/root-cache.sh logs each one it restored or made).
+        if [[ -s "$VPE_ROOT_CACHE_LOG" ]]; then
+            echo "Debian roots ($(root_cache_dir)):" \
+                "$(grep -c '^restored ' "$VPE_ROOT_CACHE_LOG") from the cache," \
+                "$(grep -c '^made ' "$VPE_ROOT_CACHE_LOG") made by mmdebstrap" \
+                "($(awk '{ print $2 ": " $1 }' "$VPE_ROOT_CACHE_LOG" | paste -sd, - | sed 's/,/, /g'))"
+        fi
         if ((total > test_run_warn_seconds)); then
             echo "WARNING: test.sh took $total s, over $test_run_warn_seconds s (45 minutes):" \
                 "CI allows 5,400 s; find what grew (the tables above)"
