@@ -35,7 +35,9 @@ TEST_F(ScanTest, CapturesEveryPatternAsTheSimulatorRendersIt) {
     std::ofstream(out_ / proto::kScanManifestName) << "{}";
     std::ofstream(out_ / "stray.txt") << "from the previous scan";
 
-    const fs::path board = scanBoard("latency_ms = 0\n");
+    // The default sequence; the radiometric capture after it on the shortest ladder (two levels
+    // per primary: its default one is scan_radiometry_test.cpp's).
+    const fs::path board = scanBoard("latency_ms = 0\nradiometry_levels = 2\n");
     const PlayerRun run = play({"--board", board.string(), "--scan", out_.string(), "--json"});
     ASSERT_EQ(run.status, 0) << run.err;
     EXPECT_TRUE(run.err.empty()) << run.err;
@@ -102,8 +104,9 @@ TEST_F(ScanTest, TenBitCameraWritesSixteenBitImages) {
         GTEST_SKIP() << *why;
     }
     installation_ = writeScanInstallation(folder_, 10);
-    // The shortest sequence: a coarse period and three steps.
-    const fs::path board = scanBoard("latency_ms = 0\nphase_period = 64\nphase_steps = 3\n");
+    // The shortest sequence: a coarse period and three steps; the shortest radiometric ladder.
+    const fs::path board =
+        scanBoard("latency_ms = 0\nphase_period = 64\nphase_steps = 3\nradiometry_levels = 2\n");
     const PlayerRun run = play({"--board", board.string(), "--scan", out_.string()});
     ASSERT_EQ(run.status, 0) << run.err;
     const proto::ScanManifest manifest = proto::readScanManifest(out_);
