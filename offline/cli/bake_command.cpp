@@ -108,6 +108,7 @@ void runBake(const BakeArguments& args) {
         options.thetaBasis = parseThetaBasis(args.thetaBasis);
     }
     options.threads = common::resolveThreadCount(args.threads);
+    options.registration.threads = options.threads;
     if (args.projectors.size() + args.scans.size() > 1) {
         runShow(args, options);
         return;

@@ -19,6 +19,9 @@
 #include <open3d/utility/Random.h>
 
 #include "vpe/common/input_error.h"
+#include "vpe/common/parallel_for.h"
+
+#include "icp_on_tree.h"
 
 namespace vpe::registration {
 
@@ -322,17 +325,16 @@ RegistrationResult registerMesh(const scene::ScreenMesh& mesh,
         }
     }
     // ICP from a start, at decreasing distances, on `points` (all of `fine`, or a sparse of them
-    // while searching).
+    // while searching), on the dense cloud's one tree.
+    const unsigned threads = common::resolveThreadCount(static_cast<int>(options.threads));
     const auto refine = [&](const o3d::geometry::PointCloud& points, const Eigen::Matrix4d& start,
                             int iterations) {
         Eigen::Matrix4d transformation = start;
         for (const double threshold :
              {2 * kInlierDistance, kInlierDistance, 0.5 * kInlierDistance}) {
-            transformation =
-                reg::RegistrationICP(points, *dense, threshold, transformation,
-                                     reg::TransformationEstimationPointToPlane(),
-                                     reg::ICPConvergenceCriteria(1e-9, 1e-9, iterations))
-                    .transformation_;
+            transformation = icpOnTree(points, *dense, denseTree, threshold, transformation,
+                                       reg::ICPConvergenceCriteria(1e-9, 1e-9, iterations), threads)
+                                 .transformation_;
         }
         return transformation;
     };

@@ -38,6 +38,7 @@ struct RegistrationOptions {
     double nearSymmetry = 0.02;
     double turnSearchDeg = 30;
     std::uint64_t seed = 1;
+    unsigned threads = 0;  // the fine fit's nearest-neighbour searches; 0: all cores
 };
 
 struct RegistrationResult {
