@@ -80,7 +80,9 @@ VariantPsnrs heldOutPsnrsOfBothVariants(const testing::TemporaryFolder& folder) 
 }
 
 // The dome seen by a camera of 40° field of view, its lights 5 half-widths away, written to
-// folder/train; its true normals; and a search of its geometry alone (M = 3, λ = 0.1).
+// folder/train; its true normals; and a search of its geometry alone (M = 3, λ = 0.1) on a grid
+// of 128 pixels: measured, the same field of view (42.5°) and distance (5.37) as on 1,024, the
+// misfired exposure's included, in a tenth of the time (64 pixels moved the misfired one).
 struct GeometrySearchCase {
     capture::Capture capture;
     normals::NormalMap normals;
@@ -97,6 +99,7 @@ GeometrySearchCase geometrySearchCase(const testing::TemporaryFolder& folder) {
     c.options.harmonics = 3;
     c.options.lambda = 0.1;
     c.options.selectRegularization = false;
+    c.options.samplePixels = 128;
     return c;
 }
 
