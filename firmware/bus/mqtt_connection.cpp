@@ -19,7 +19,6 @@ namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kFirstRetryNs = 100 * kMs;
-constexpr std::int64_t kLongestRetryNs = MqttConnection::kLongestRetryNs;
 // A broker that refuses the credentials will refuse them again soon: ask less often.
 constexpr std::int64_t kRefusedRetryNs = 5'000 * kMs;
 // Packets handled per service(): a flood waits for the next turn of the loop (the descriptor
