@@ -29,7 +29,7 @@ test_run_cache_counts() {
 test_run_begin() {
     rm -rf "$test_run_dir"
     mkdir -p "$test_run_dir"
-    VPE_ROOT_CACHE_LOG=$(realpath -m "$test_run_dir/roots.log")
+    VPE_ROOT_CACHE_LOG=$(realpath -m "$test_run_dir/roots.txt")  # not a ctest log
     export VPE_ROOT_CACHE_LOG
     read -r test_run_hits_before test_run_misses_before < <(test_run_cache_counts)
 }
@@ -65,7 +65,7 @@ test_run_ctest() {
 # The 25 slowest tests of one ctest log, as "seconds  status  name".
 test_run_slowest() {
     sed -nE 's/^ *[0-9]+\/[0-9]+ +Test +#[0-9]+: +([^ ].*[^ .]) +[.]* *[*]*([A-Za-z][A-Za-z ]*[A-Za-z]) +([0-9.]+) +sec.*/\3|\2|\1/p' "$1" |
-        sort -t'|' -k1,1gr | head -n 25 | awk -F'|' '{ printf "  %8.1f s  %-8s %s\n", $1, $2, $3 }'
+        sort -t'|' -k1,1gr | awk -F'|' 'NR <= 25 { printf "  %8.1f s  %-8s %s\n", $1, $2, $3 }'
 }
 
 # Compile CPU seconds of one build folder: the sum of every step ninja timed (its log keeps
