@@ -14,6 +14,9 @@
 namespace vpe::firmware {
 namespace {
 
+// liblo's LO_TT_IMMEDIATE is a C compound literal, which clang refuses in C++ (-Wpedantic).
+constexpr lo_timetag kImmediate{0U, 1U};
+
 using Bytes = std::vector<std::uint8_t>;
 
 Bytes serialise(lo_message message, const char* path) {
@@ -92,8 +95,8 @@ TEST(OscPacketTest, DecodesEveryArgumentType) {
 }
 
 TEST(OscPacketTest, DecodesNestedBundlesInOrder) {
-    lo_bundle outer = lo_bundle_new(LO_TT_IMMEDIATE);
-    lo_bundle inner = lo_bundle_new(LO_TT_IMMEDIATE);
+    lo_bundle outer = lo_bundle_new(kImmediate);
+    lo_bundle inner = lo_bundle_new(kImmediate);
     lo_message first = lo_message_new();
     lo_message_add_float(first, 10.0f);
     lo_message second = lo_message_new();

@@ -24,6 +24,9 @@
 namespace vpe::firmware {
 namespace {
 
+// liblo's LO_TT_IMMEDIATE is a C compound literal, which clang refuses in C++ (-Wpedantic).
+constexpr lo_timetag kImmediate{0U, 1U};
+
 OscConfig loopbackConfig(int port = 0) {
     OscConfig config;
     config.address = "127.0.0.1";
@@ -136,7 +139,7 @@ TEST(OscServerTest, TurnsMessagesAndBundlesIntoEvents) {
     ASSERT_GT(lo_send(client.address, "/vpe/light/elevation", "i", 15), 0);
     ASSERT_GT(lo_send(client.address, "/vpe/weights/preset", "s", "brass"), 0);
 
-    lo_bundle bundle = lo_bundle_new(LO_TT_IMMEDIATE);
+    lo_bundle bundle = lo_bundle_new(kImmediate);
     lo_message distance = lo_message_new();
     lo_message_add_double(distance, 1.5);
     lo_message reset = lo_message_new();
@@ -180,7 +183,7 @@ TEST(OscServerTest, AnswersStatusToTheSender) {
     drainUntil(server, 1, events);
 
     ReplyListener listener;
-    ASSERT_GT(lo_send_from(client.address, listener.server, LO_TT_IMMEDIATE, "/vpe/status", ""), 0);
+    ASSERT_GT(lo_send_from(client.address, listener.server, kImmediate, "/vpe/status", ""), 0);
     ASSERT_TRUE(listener.awaitReply(server));
     EXPECT_EQ(listener.path, "/vpe/status/reply");
     EXPECT_EQ(listener.types, "iffffssii");
