@@ -15,8 +15,10 @@
 # cannot hide a broken fresh install.
 # CI allows 90 minutes on 2 cores, so the extra builds compile only what they test: the
 # sanitizer presets at -O1 -g1 (line tables are enough for the reports; at -O2 -g the ASan
-# build took ~15 min, relight_web_encoder.cpp alone 97 s against 27 s), and the fuzz preset
-# only its four fuzzers and the rooms they link (46 files, not the whole tree again).
+# build took ~15 min, relight_web_encoder.cpp alone 97 s against 27 s) and with clang (GCC's
+# sanitizer instrumentation compiled 3.3-3.5x slower: relight_web_encoder.cpp 56.5 s of CPU
+# against 16.4 s, docs/ci-budget.md), and the fuzz preset only its four fuzzers and the rooms
+# they link (46 files, not the whole tree again).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/debian-root.sh  # removing the package tests' roots
