@@ -13,6 +13,7 @@ work=$(mktemp -d /tmp/vpe-root-cache-test.XXXXXX)
 server_pid=""
 trap '[[ -n $server_pid ]] && kill $server_pid 2>/dev/null; rm -rf "$work"' EXIT
 export VPE_ROOT_CACHE_DIR="$work/cache"
+unset VPE_ROOT_CACHE_LOG  # not test.sh's report: these roots are the test's own
 source "$source_dir/scripts/lib/debian-root.sh"
 source "$source_dir/scripts/lib/root-cache.sh"
 
