@@ -26,16 +26,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A simulated room under realistic light (PARTIAL/room) and its decoded scan (PARTIAL/scan).
+void makeScannedRoom(const fs::path& partial, const std::string& projectorSize,
+                     const std::string& cameraSize) {
+    runWithJson({"synth-procam", "--out", (partial / "room").string(), "--projector-size",
+                 projectorSize, "--camera-size", cameraSize, "--poses", "0", "--phase-period", "16",
+                 "--realistic-light"});
+    runWithJson({"scan", (partial / "room" / "scan").string(), "--calibration",
+                 (partial / "room" / "truth" / "calibration.yml").string(), "--out",
+                 (partial / "scan").string()});
+}
+
 // The room, its scan and a texture, made once per build of vpe and shared by the tests.
 const fs::path& gallery() {
     static const fs::path folder =
         folderMadeOncePerVpeBuild("vpe-radiometry-test", [](const fs::path& partial) {
-            runWithJson({"synth-procam", "--out", (partial / "room").string(), "--projector-size",
-                         "640x360", "--camera-size", "656x492", "--poses", "0", "--phase-period",
-                         "16", "--realistic-light"});
-            runWithJson({"scan", (partial / "room" / "scan").string(), "--calibration",
-                         (partial / "room" / "truth" / "calibration.yml").string(), "--out",
-                         (partial / "scan").string()});
+            makeScannedRoom(partial, "640x360", "656x492");
             runWithJson({"synth", "--out", (partial / "capture").string(), "--size", "64"});
             runWithJson({"fit", (partial / "capture" / "train").string(), "--out",
                          (partial / "texture.exr").string(), "--no-preview"});
@@ -49,15 +55,9 @@ const fs::path& gallery() {
 // alone of these).
 constexpr int kSmallWidth = 164, kSmallHeight = 123;
 const fs::path& smallGallery() {
-    static const fs::path folder =
-        folderMadeOncePerVpeBuild("vpe-radiometry-small", [](const fs::path& partial) {
-            runWithJson({"synth-procam", "--out", (partial / "room").string(), "--projector-size",
-                         "160x90", "--camera-size", "164x123", "--poses", "0", "--phase-period",
-                         "16", "--realistic-light"});
-            runWithJson({"scan", (partial / "room" / "scan").string(), "--calibration",
-                         (partial / "room" / "truth" / "calibration.yml").string(), "--out",
-                         (partial / "scan").string()});
-        });
+    static const fs::path folder = folderMadeOncePerVpeBuild(
+        "vpe-radiometry-small",
+        [](const fs::path& partial) { makeScannedRoom(partial, "160x90", "164x123"); });
     return folder;
 }
 
