@@ -13,6 +13,9 @@
 #   scripts/install-deps.sh --list-arm64-root
 #                                    print the arm64 packages of the device's sysroot: what the
 #                                    device build and its tests need on a Pi, nothing offline
+#   scripts/install-deps.sh --list-device-runtime
+#                                    print what the player's package Depends on at run time
+#                                    (the base of the roots that install it: root-cache.sh)
 #
 # Every file the build finds on the system must come from a package named here or from one of
 # their dependencies (the audit in scripts/test.sh checks it).
@@ -76,6 +79,16 @@ arm64_root_packages=(
     dpkg-dev                                  # the arm64 package's Depends: dpkg-shlibdeps run here
 )
 
+# What vpe-player's package (cpack, dpkg-shlibdeps) Depends on, without versions, any
+# architecture: the base roots the package check and the KMS VM install it into are made of these
+# ahead of the package (scripts/device-roots.sh, beside the builds). A library the package comes
+# to need that is missing here still gets installed by apt, from Debian, when the package is.
+device_runtime_packages=(
+    adduser libc6 libgcc-s1 libstdc++6 zlib1g libsystemd0
+    libegl1 libgles2 libgbm1 libdrm2 libgl1-mesa-dri
+    libcamera0.0.3 libgpiod2 liblo7 libmosquitto1 libtinyobjloader2rc10 libtomlplusplus3
+)
+
 test=0
 demo=0
 arm64=0
@@ -87,6 +100,7 @@ for argument in "$@"; do
         --arm64) arm64=1 ;;
         --list) list=1 ;;
         --list-arm64-root) printf '%s\n' "${arm64_root_packages[@]}"; exit 0 ;;
+        --list-device-runtime) printf '%s\n' "${device_runtime_packages[@]}"; exit 0 ;;
         *) echo "install-deps: unknown option $argument" >&2; exit 2 ;;
     esac
 done

@@ -159,31 +159,20 @@ EOF
 # frame rendered headless in the same root (same binary, same Mesa) before the image is made.
 # The root starts as a copy of a base root with the kernel, systemd and the packages the
 # package's Depends names, made by mmdebstrap from Debian once per state of the archive
-# (scripts/lib/root-cache.sh); the package itself is installed with apt every run.
+# (root_cache_device_base in scripts/lib/root-cache.sh; scripts/device-roots.sh makes it ahead);
+# the package itself is installed with apt every run.
 source scripts/lib/root-cache.sh
 debian_root_sources "$work" || exit 2
 name=$(basename "$deb")
 cp "$deb" "$work/"
 if [[ $reuse -eq 0 ]]; then
     log "root ($(elapsed) s)"
-    mapfile -t base_packages < <(printf '%s\n' systemd-sysv udev kmod linux-image-amd64; root_cache_depends "$deb")
-    base_include=$(IFS=,; echo "${base_packages[*]}")
-    base_key=$(root_cache_key "$mirror" "kms-vm" amd64 apt "$base_include" "no doc man locale") ||
-        log "Debian's archive state unreadable; making the root without the cache"
-    if root_cache_restore kms-vm "$base_key" "$root"; then
-        log "base root from the cache ($(elapsed) s)"
-    else
-        if ! mmdebstrap --variant=apt --aptopt="$aptopt" --format=directory --include="$base_include" \
-            --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-exclude=/usr/share/man/*' \
-            --dpkgopt='path-exclude=/usr/share/locale/*' \
-            bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
-            tail -n 20 "$work/mmdebstrap.log" >&2
-            log "mmdebstrap failed (see $work/mmdebstrap.log)"
-            exit 1
-        fi
-        debian_root_unmount_below "$root"
-        root_cache_store kms-vm "$base_key" "$root"
+    if ! root_cache_kms_vm_base "$root" "$work/$name" 2>"$work/mmdebstrap.log"; then
+        tail -n 20 "$work/mmdebstrap.log" >&2
+        log "the base root could not be made (see $work/mmdebstrap.log)"
+        exit 1
     fi
+    log "base root ready ($(elapsed) s)"
     cp "$work/$name" "$root/tmp/"
     if ! root_cache_chroot "$root" sh -c "cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name" \
         >"$work/install.log" 2>&1; then

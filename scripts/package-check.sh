@@ -101,32 +101,21 @@ fi
 # 2. A fresh Debian 12 root (essential + apt), the package installed from its file with apt,
 # and the player run inside it. The root starts as a copy of a base root holding the packages
 # the package's Depends names, made by mmdebstrap from Debian once per state of the archive
-# (scripts/lib/root-cache.sh): apt still checks every Depends, versions included, against what
-# Debian shipped, and the package's own install and maintainer scripts run every time.
+# (root_cache_device_base in scripts/lib/root-cache.sh; scripts/device-roots.sh makes it ahead):
+# apt still checks every Depends, versions included, against what Debian shipped, and the
+# package's own install and maintainer scripts run every time.
 source scripts/lib/debian-root.sh
 source scripts/lib/root-cache.sh
 debian_root_sources "$work" || exit 2
 cp "$deb" "$work/"
 name=$(basename "$deb")
-mapfile -t base_packages < <(root_cache_depends "$deb")
-base_include=$(IFS=,; echo "${base_packages[*]}")
 root=$(realpath -m "$root")
 rmdir "$root" 2>/dev/null || true  # absent or empty, checked above
 mkdir -p "$(dirname "$root")"
-base_key=$(root_cache_key "$mirror" "package-check" "$arch" apt "$base_include") ||
-    echo "package-check: Debian's archive state unreadable; making the root without the cache" >&2
-if root_cache_restore "package-check-$arch" "$base_key" "$root"; then
-    echo "package-check: base root from the cache ($base_include)" >"$work/mmdebstrap.log"
-else
-    rm -rf --one-file-system "$root"
-    if ! mmdebstrap --variant=apt --architectures="$arch" --aptopt="$aptopt" --format=directory \
-        --include="$base_include" bookworm "$root" "$mirror" >"$work/mmdebstrap.log" 2>&1; then
-        tail -n 20 "$work/mmdebstrap.log" >&2
-        echo "package-check: mmdebstrap failed (the base root for $base_include)" >&2
-        exit 1
-    fi
-    debian_root_unmount_below "$root"
-    root_cache_store "package-check-$arch" "$base_key" "$root"
+if ! root_cache_package_check_base "$arch" "$root" "$work/$name" 2>"$work/mmdebstrap.log"; then
+    tail -n 20 "$work/mmdebstrap.log" >&2
+    echo "package-check: the base root could not be made (its log's end above)" >&2
+    exit 1
 fi
 cp "$work/$name" "$root/tmp/"
 if ! root_cache_chroot "$root" sh -c "cd /tmp && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends ./$name" \

@@ -42,19 +42,20 @@ compile_cache_use "$PWD"
 source scripts/lib/test-run-report.sh
 test_run_begin
 
-# The arm64 root (scripts/arm64-sysroot.sh, about 200 s: mostly downloading and unpacking
-# packages) is made in the background while the builds below run, instead of first in the
-# arm64 stage. Its own process group, so that a failing run stops it.
-sysroot_pid=""
+# The Debian roots of the device's checks (scripts/device-roots.sh: the arm64 sysroot, the VM's
+# and the arm64 package check's base roots; on an empty roots' cache about 770 s, mostly
+# downloading and unpacking packages) are made in the background while the builds below run,
+# instead of in the stages that use them. Its own process group, so that a failing run stops it.
+roots_pid=""
 if [[ $quick -eq 0 ]]; then
-    sysroot_log=$(mktemp /tmp/vpe-arm64-sysroot.XXXXXX)
-    setsid scripts/arm64-sysroot.sh >"$sysroot_log" 2>&1 &
-    sysroot_pid=$!
+    roots_log=$(mktemp /tmp/vpe-device-roots.XXXXXX)
+    setsid scripts/device-roots.sh >"$roots_log" 2>&1 &
+    roots_pid=$!
 fi
-# When the run ends, passed or not: the background sysroot stopped, then the run's report.
+# When the run ends, passed or not: the background roots stopped, then the run's report.
 finish() {
     local status=$?
-    [[ -n $sysroot_pid ]] && kill -- -"$sysroot_pid" 2>/dev/null
+    [[ -n $roots_pid ]] && kill -- -"$roots_pid" 2>/dev/null
     # The report never changes the run's status (a pipe it closes early, say).
     test_run_summary "$status" || echo "test.sh: the run's report failed (exit $?)" >&2
     exit "$status"
@@ -125,6 +126,16 @@ cmake --build --preset fuzz -j "$jobs" --target vpe_fuzzers
 test_run_ctest fuzz --test-dir build/fuzz -j "$jobs" --output-on-failure
 
 test_run_stage "device package (amd64) and its KMS path in a VM"
+# The roots made in the background since the start (the VM's, the arm64 sysroot and package root).
+roots_status=0
+wait "$roots_pid" || roots_status=$?
+roots_pid=""
+cat "$roots_log" >&2
+rm -f "$roots_log"
+if [[ $roots_status -ne 0 ]]; then
+    echo "test.sh: scripts/device-roots.sh failed (exit $roots_status; its output above)" >&2
+    exit 1
+fi
 # The device-only build without its tests (preset device-package): the release build above ran
 # the device's tests, and the arm64 build below runs them again without any offline
 # dependency. cpack: vpe-player_<version>_amd64.deb (docs/device-package.md); its contents
@@ -145,15 +156,6 @@ rm -rf --one-file-system "$vm_work"
 test_run_stage "arm64: device build for a Pi, its tests under qemu-aarch64"
 # Against a Debian 12 arm64 root holding only the device's packages (scripts/arm64-sysroot.sh),
 # made in the background since the start.
-sysroot_status=0
-wait "$sysroot_pid" || sysroot_status=$?
-sysroot_pid=""
-cat "$sysroot_log" >&2
-rm -f "$sysroot_log"
-if [[ $sysroot_status -ne 0 ]]; then
-    echo "test.sh: scripts/arm64-sysroot.sh failed (exit $sysroot_status; its output above)" >&2
-    exit 1
-fi
 configure device-arm64 --sysroot build/arm64-root
 test_run_built device-arm64
 cmake --build --preset device-arm64 -j "$jobs"

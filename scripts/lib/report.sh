@@ -36,8 +36,9 @@ start_report() {
     mkdir -p "$out"
 }
 
-# step TEXT: a heading on stderr between the steps' own output (stdout is the report's).
-step() { printf '\n== %s\n' "$*" >&2; }
+# step TEXT: a heading on stderr between the steps' own output (stdout is the report's), with
+# the seconds since the script started, so that a long run shows where its time goes.
+step() { printf '\n== [%d s] %s\n' "$SECONDS" "$*" >&2; }
 
 # json FILTER FILE: one value of a JSON report, as text.
 json() { jq -r "$1" "$2"; }

@@ -116,3 +116,60 @@ root_cache_depends() {
     dpkg-deb -f "$1" Depends | tr ',' '\n' | sed 's/|.*//; s/(.*)//; s/:any//; s/[[:space:]]//g' |
         grep . | sort -u
 }
+
+# root_cache_device_base NAME ARCH ROOT DEB [PACKAGE...] [-- MMDEBSTRAP_OPTION...]: makes ROOT
+# (absent) a Debian 12 root of ARCH, variant apt, holding what vpe-player's package needs at run
+# time (scripts/install-deps.sh --list-device-runtime), the Depends of the package file DEB when
+# DEB is not empty, and the PACKAGEs. A Depends the list lacks is taken in too; the key then
+# differs from the one scripts/device-roots.sh made ahead, so the root is made here, later and
+# slower, but right. From the cache NAME when it holds the key, else made by mmdebstrap (its
+# output on stderr) and kept there. ROOT "-" only makes sure the cache holds it. Uses $mirror and
+# $aptopt (debian_root_sources).
+root_cache_device_base() {
+    local name=$1 arch=$2 root=$3 deb=$4 include key status=0 scratch=""
+    shift 4
+    local packages=() options=()
+    while [[ $# -gt 0 && $1 != -- ]]; do packages+=("$1"); shift; done
+    [[ $# -gt 0 ]] && shift
+    options=("$@")
+    mapfile -t packages < <({
+        printf '%s\n' "${packages[@]}"
+        scripts/install-deps.sh --list-device-runtime
+        [[ -z "$deb" ]] || root_cache_depends "$deb"
+    } | grep . | sort -u)
+    include=$(IFS=,; echo "${packages[*]}")
+    key=$(root_cache_key "$mirror" "$name" "$arch" apt "$include" "${options[@]}") ||
+        echo "root-cache: Debian's archive state unreadable; $name made without the cache" >&2
+    if [[ "$root" == - ]]; then
+        [[ -n "$key" && -f "$(root_cache_dir)/$name-$key/.vpe-root-complete" ]] && return 0
+        scratch=$(mktemp -d "/tmp/vpe-$name.XXXXXX")
+        root="$scratch/root"
+    elif root_cache_restore "$name" "$key" "$root"; then
+        echo "root-cache: $name from the cache ($include)" >&2
+        return 0
+    fi
+    echo "root-cache: making $name with mmdebstrap ($include)" >&2
+    rm -rf --one-file-system "$root"
+    mmdebstrap --variant=apt --architectures="$arch" --aptopt="$aptopt" --format=directory \
+        --include="$include" "${options[@]}" bookworm "$root" "$mirror" >&2 || status=$?
+    debian_root_unmount_below "$root"
+    if [[ $status -eq 0 ]]; then
+        root_cache_store "$name" "$key" "$root"
+    else
+        echo "root-cache: mmdebstrap failed making $name (exit $status)" >&2
+    fi
+    [[ -z "$scratch" ]] || debian_root_remove "$scratch"
+    return $status
+}
+
+# The two base roots the device's package is installed into, defined once for their checks and
+# for scripts/device-roots.sh, which makes them ahead. ROOT and DEB as root_cache_device_base's.
+# root_cache_package_check_base ARCH ROOT DEB: scripts/package-check.sh's root.
+root_cache_package_check_base() { root_cache_device_base "package-check-$1" "$1" "$2" "$3"; }
+# root_cache_kms_vm_base ROOT DEB: scripts/kms-vm-check.sh's guest, amd64, which boots: the kernel
+# and systemd too; no documentation, manual pages or translations (a smaller disk image).
+root_cache_kms_vm_base() {
+    root_cache_device_base kms-vm amd64 "$1" "$2" systemd-sysv udev kmod linux-image-amd64 -- \
+        --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-exclude=/usr/share/man/*' \
+        --dpkgopt='path-exclude=/usr/share/locale/*'
+}
