@@ -48,6 +48,13 @@ test_run_begin
 # instead of in the stages that use them. Its own process group, so that a failing run stops it.
 roots_pid=""
 if [[ $quick -eq 0 ]]; then
+    # One state of Debian's archive for the whole run, read now: the roots made in the
+    # background and those made or restored by the stages then share their keys.
+    roots_sources=$(mktemp -d /tmp/vpe-roots-sources.XXXXXX)
+    (debian_root_sources "$roots_sources" && root_cache_archive_state "$mirror") \
+        >"$roots_sources/state" || true
+    export VPE_ROOT_ARCHIVE_STATE=$(cat "$roots_sources/state")
+    rm -rf "$roots_sources"
     roots_log=$(mktemp /tmp/vpe-device-roots.XXXXXX)
     setsid scripts/device-roots.sh >"$roots_log" 2>&1 &
     roots_pid=$!

@@ -53,10 +53,14 @@ EOF
 
 # root_cache_key SOURCES WORDS...: the key of a root made from SOURCES by WORDS (whatever
 # defines it: architecture, variant, packages). Fails when the archive cannot be read.
+# A run that makes roots at different times (scripts/test.sh: in the background at its start, and
+# in its stages) sets $VPE_ROOT_ARCHIVE_STATE once (root_cache_archive_state) so that its keys
+# agree: Debian publishes several times a day, and a root made at the start then missed at the
+# end was made twice (the cold run of 0892509: 180 s).
 root_cache_key() {
-    local sources=$1 state
+    local sources=$1 state=${VPE_ROOT_ARCHIVE_STATE:-}
     shift
-    state=$(root_cache_archive_state "$sources") || return 1
+    [[ -n "$state" ]] || state=$(root_cache_archive_state "$sources") || return 1
     printf '%s\n' "maker $root_cache_maker_version" "archive $state" "$@" | sha256sum | cut -c1-24
 }
 

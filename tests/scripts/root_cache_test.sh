@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # The Debian roots' cache (scripts/lib/root-cache.sh) against an archive served over HTTP on
 # loopback by a real server: a key changes when the archive publishes (a new InRelease in any
-# suite) or when the root's package list changes, and stays when nothing did; sources in both
+# suite) or when the root's package list changes, and stays when nothing did or when a run fixed
+# the archive's state at its start ($VPE_ROOT_ARCHIVE_STATE); sources in both
 # apt formats are read; an unreadable archive gives no key; only a whole stored root is ever
 # restored, and storing keeps one root per name.
 #   root_cache_test.sh SOURCE_DIR
@@ -14,6 +15,7 @@ server_pid=""
 trap '[[ -n $server_pid ]] && kill $server_pid 2>/dev/null; rm -rf "$work"' EXIT
 export VPE_ROOT_CACHE_DIR="$work/cache"
 unset VPE_ROOT_CACHE_LOG  # not test.sh's report: these roots are the test's own
+unset VPE_ROOT_ARCHIVE_STATE  # nor its archive's state: this test's archive is its own
 source "$source_dir/scripts/lib/debian-root.sh"
 source "$source_dir/scripts/lib/root-cache.sh"
 
@@ -45,6 +47,14 @@ key_a=$(root_cache_key "$work/deb822.sources" arm64 essential libdrm-dev)
 echo "Suite: bookworm-updates, published 2" >"$work/archive/debian/dists/bookworm-updates/InRelease"
 key_b=$(root_cache_key "$work/deb822.sources" arm64 essential libdrm-dev)
 [[ "$key_b" != "$key_a" ]] || fail "the archive published and the key stayed"
+# Within one run the state read at its start holds (scripts/test.sh), so that the roots made
+# early and those made late agree even when the archive publishes meanwhile.
+state_b=$(root_cache_archive_state "$work/deb822.sources")
+echo "Suite: bookworm-updates, published 3" >"$work/archive/debian/dists/bookworm-updates/InRelease"
+[[ "$(VPE_ROOT_ARCHIVE_STATE=$state_b root_cache_key "$work/deb822.sources" arm64 essential libdrm-dev)" == "$key_b" ]] ||
+    fail "the run's archive state was not used"
+[[ "$(root_cache_key "$work/deb822.sources" arm64 essential libdrm-dev)" != "$key_b" ]] ||
+    fail "the archive published again and the key stayed"
 
 # An archive that cannot be read gives no key (the callers then make the root uncached).
 printf 'deb http://127.0.0.1:%s/missing bookworm main\n' "$port" >"$work/missing.list"
