@@ -17,22 +17,26 @@
 #                     the tracked lamp's direction through the bundle's calibrated camera
 # The scan's and the registration's own figures are measured with the true calibration (the
 # method's accuracy, as the goals are stated); the chain's with vpe calibrate's.
-#   scripts/install-report.sh [--out DIR] [--seed N] [--poses N]
+#   scripts/install-report.sh [--out DIR] [--seed N] [--poses N] [--projector-size WxH]
+#                             [--camera-size WxH] [--phase-period N]
+# The sizes default to the gallery above (vpe synth-procam's); the demo passes a smaller room,
+# the tests' (640 × 360, 656 × 492, 6 poses, period 16), where its figures need no more.
 # Writes DIR (default install-report/) with every step's output and pictures; the last line of
 # stdout is one JSON object with the figures.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=install-report seed=1 poses=15
+out=install-report seed=1 poses=15 projector_size=1920x1080 camera_size=1640x1232 phase_period=32
 source scripts/lib/report.sh
-report_options install-report out seed poses -- "$@"
+report_options install-report out seed poses projector-size camera-size phase-period -- "$@"
 start_report
 cmake --build --preset release --target vpe_lamp_direction -j "$(nproc)" >&2
 lamp=build/release/tests/benchmarks/vpe_lamp_direction
 started=$(date +%s.%N)
 
-step "the simulated gallery (vpe synth-procam, seed $seed, $poses board poses)"
+step "the simulated gallery (vpe synth-procam, seed $seed, $poses board poses, projector $projector_size, camera $camera_size)"
 room="$out/room"
-"$vpe" synth-procam --out "$room" --seed "$seed" --poses "$poses" --json | tail -1 > "$out/room.json"
+"$vpe" synth-procam --out "$room" --seed "$seed" --poses "$poses" --projector-size "$projector_size" \
+    --camera-size "$camera_size" --phase-period "$phase_period" --json | tail -1 > "$out/room.json"
 board=$(json .board "$out/room.json")
 
 step "calibrate (vpe calibrate --board $board)"

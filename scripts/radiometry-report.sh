@@ -15,20 +15,23 @@
 #   vpe synth-procam --check-light
 #                     the camera's view of each bundle's frames on the true installation
 #                     against their target, in levels of 255 (4 lights on the visitors' side)
-#   scripts/radiometry-report.sh [--out DIR] [--seed N]
+#   scripts/radiometry-report.sh [--out DIR] [--seed N] [--projector-size WxH] [--camera-size WxH]
+#                                [--phase-period N]
+# The sizes default to vpe synth-procam's (a 1080p projector); the demo passes a smaller room.
 # The last line of stdout is one JSON object: rms_levels, baseline_rms_levels, stability_levels,
-# clipped_share, seconds (the radiometric capture and fit for the 1080p projector).
+# clipped_share, seconds (the radiometric capture and fit for the room's projector).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-out=radiometry-report seed=1
+out=radiometry-report seed=1 projector_size=1920x1080 camera_size=1640x1232 phase_period=32
 source scripts/lib/report.sh
-report_options radiometry-report out seed -- "$@"
+report_options radiometry-report out seed projector-size camera-size phase-period -- "$@"
 start_report
 
 step "the gallery with its real light (vpe synth-procam --realistic-light, seed $seed)"
 room="$out/room"
-"$vpe" synth-procam --out "$room" --seed "$seed" --poses 0 --realistic-light --json |
-    tail -1 > "$out/room.json"
+"$vpe" synth-procam --out "$room" --seed "$seed" --poses 0 --realistic-light \
+    --projector-size "$projector_size" --camera-size "$camera_size" --phase-period "$phase_period" \
+    --json | tail -1 > "$out/room.json"
 
 step "a texture (vpe synth → fit)"
 "$vpe" synth --out "$out/texture/capture" --size 128 --noise camera >&2
