@@ -104,7 +104,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
         }
     }
     const std::filesystem::path whitePath =
-        capture.imagePath(static_cast<std::size_t>(sequence.find("white")));
+        capture.imagePath(capture.imageIndex("white"));
     if (brightEnough < std::max<std::size_t>(16, pixels / 10000)) {
         throw common::InputError(
             whitePath, "the white frame shows no projector light (white − black < " +
@@ -118,10 +118,10 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
     }
 
     const auto load = [&](const proto::PatternSpec& pattern) {
-        return capture.image(static_cast<std::size_t>(sequence.find(pattern.name())));
+        return capture.image(capture.imageIndex(pattern.name()));
     };
     const auto pathOf = [&](const proto::PatternSpec& pattern) {
-        return capture.imagePath(static_cast<std::size_t>(sequence.find(pattern.name())));
+        return capture.imagePath(capture.imageIndex(pattern.name()));
     };
     const int lowest = sequence.lowestGrayBit();
     const proto::PatternAxis axes[2] = {proto::PatternAxis::kColumns, proto::PatternAxis::kRows};

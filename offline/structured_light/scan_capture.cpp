@@ -35,6 +35,7 @@ ScanCapture::ScanCapture(const std::filesystem::path& folderOrManifest)
     std::set<std::string> listed;
     for (std::size_t i = 0; i < manifest_.images.size(); ++i) {
         listed.insert(manifest_.images[i].file);
+        imageOfPattern_.emplace(manifest_.images[i].pattern, i);
         std::error_code error;
         if (!std::filesystem::is_regular_file(imagePath(i), error)) {
             throw common::InputError(imagePath(i), "missing: the scan's image of pattern '" +
@@ -92,13 +93,17 @@ std::vector<float> ScanCapture::image(std::size_t index) const {
     return greyPixels(std::move(image), path);
 }
 
-std::vector<float> ScanCapture::image(const char* name) const {
-    const int index = sequence_.find(name);
-    if (index < 0) {
+std::size_t ScanCapture::imageIndex(std::string_view pattern) const {
+    const auto found = imageOfPattern_.find(pattern);
+    if (found == imageOfPattern_.end()) {
         throw common::InputError(folder_,
-                                 std::string("the sequence has no pattern '") + name + "'");
+                                 "the sequence has no pattern '" + std::string(pattern) + "'");
     }
-    return image(static_cast<std::size_t>(index));
+    return found->second;
+}
+
+std::vector<float> ScanCapture::image(const char* name) const {
+    return image(imageIndex(name));
 }
 
 }  // namespace vpe::structured_light

@@ -73,6 +73,17 @@ public:
         return number;
     }
 
+    bool boolean(const char* key, bool fallback) const {
+        const Json* value = find(key);
+        if (value == nullptr) {
+            return fallback;
+        }
+        if (!value->is_boolean()) {
+            fail(std::string(key) + ": expected true or false");
+        }
+        return value->get<bool>();
+    }
+
     std::string text(const char* key, bool needed) const {
         const Json* value = needed ? &required(key) : find(key);
         if (value == nullptr) {
@@ -168,6 +179,14 @@ std::string manifestText(const Json& head, const std::vector<ScanImage>& images)
 // file name; `what` names the sequence's items in messages ("patterns", "flat fields").
 std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string& source,
                                       const std::vector<std::string>& expected, const char* what);
+
+// One entry of "images": its file (a plain name), pattern and attempts.
+ScanImage readImageEntry(const JsonFields& image);
+
+// The "images" array of `root` as a set: every image shows one of the `declared` patterns, each
+// exactly once, in any order (a foreign tool's order is its own), each with a plain file name.
+std::vector<ScanImage> parseImageSet(const JsonFields& root, const std::string& source,
+                                     const std::vector<std::string>& declared, const char* what);
 
 // Parses JSON text, a ScanManifestError naming `source` when it is not JSON.
 Json parseJsonText(std::string_view text, const std::string& source);

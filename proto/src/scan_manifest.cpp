@@ -3,9 +3,11 @@
 // files).
 #include "vpe/proto/scan_manifest.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -26,8 +28,22 @@ using Fields = detail::JsonFields;
 
 std::string scanManifestJson(const ScanManifest& m) {
     Json projector = detail::projectorJson(m.patterns, m.projectorLatencyMs);
-    projector["phase_period"] = m.patterns.phasePeriod;
-    projector["phase_steps"] = m.patterns.phaseSteps;
+    const StructuredLightParameters& p = m.patterns;
+    // The keys of foreign sequences only where they differ from the device's, so that its
+    // manifests read as they always have.
+    if (p.phaseSteps > 0) {
+        projector["phase_period"] = p.phasePeriod;
+    }
+    projector["phase_steps"] = p.phaseSteps;
+    if (p.codeStep != 1) {
+        projector["code_step"] = p.codeStep;
+    }
+    if (p.lowestGrayBit) {
+        projector["lowest_gray_bit"] = *p.lowestGrayBit;
+    }
+    if (!p.flatFields) {
+        projector["flat_fields"] = false;
+    }
     return detail::manifestText(detail::manifestHead("vpe-scan", kScanManifestVersion, m.createdBy,
                                                      projector, detail::cameraJson(m.camera)),
                                 m.images);
@@ -38,8 +54,18 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     const Fields root(json, source, "");
     ScanManifest m;
     const Fields projector = detail::readManifestHead(root, m, m.patterns);
-    m.patterns.phasePeriod = projector.integer("phase_period", 1, 1 << 20);
-    m.patterns.phaseSteps = projector.integer("phase_steps", 1, 1 << 20);
+    StructuredLightParameters& p = m.patterns;
+    p.phaseSteps = projector.integer("phase_steps", 0, 1 << 20);
+    if (p.phaseSteps > 0 || projector.find("phase_period")) {
+        p.phasePeriod = projector.integer("phase_period", 1, 1 << 20);
+    }
+    if (projector.find("code_step")) {
+        p.codeStep = projector.integer("code_step", 1, 16384);
+    }
+    if (projector.find("lowest_gray_bit")) {
+        p.lowestGrayBit = projector.integer("lowest_gray_bit", 0, 31);
+    }
+    p.flatFields = projector.boolean("flat_fields", true);
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
     detail::readCameraFormat(camera, m.camera);
@@ -51,11 +77,11 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     } catch (const StructuredLightError& error) {
         projector.fail(error.what());
     }
-    std::vector<std::string> expected;
+    std::vector<std::string> declared;
     for (const PatternSpec& pattern : sequence->patterns()) {
-        expected.push_back(pattern.name());
+        declared.push_back(pattern.name());
     }
-    m.images = detail::parseImageList(root, source, expected, "patterns");
+    m.images = detail::parseImageSet(root, source, declared, "patterns");
     return m;
 }
 
@@ -132,6 +158,17 @@ std::string manifestText(const Json& head, const std::vector<ScanImage>& images)
     return text + "  ]\n}\n";
 }
 
+ScanImage readImageEntry(const JsonFields& image) {
+    ScanImage entry;
+    entry.file = image.text("file", true);
+    entry.pattern = image.text("pattern", true);
+    entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
+    if (!plainFileName(entry.file)) {
+        image.fail("file: '" + entry.file + "' is not a file name inside the folder");
+    }
+    return entry;
+}
+
 std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string& source,
                                       const std::vector<std::string>& expected, const char* what) {
     const Json& images = root.required("images");
@@ -141,13 +178,7 @@ std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string&
     std::vector<ScanImage> list;
     for (std::size_t i = 0; i < images.size(); ++i) {
         const JsonFields image(images[i], source, "images[" + std::to_string(i) + "]");
-        ScanImage entry;
-        entry.file = image.text("file", true);
-        entry.pattern = image.text("pattern", true);
-        entry.attempts = image.find("attempts") ? image.integer("attempts", 1, 1000) : 1;
-        if (!plainFileName(entry.file)) {
-            image.fail("file: '" + entry.file + "' is not a file name inside the folder");
-        }
+        ScanImage entry = readImageEntry(image);
         if (i >= expected.size()) {
             image.fail("an extra image ('" + entry.file + "'): the sequence has " +
                        std::to_string(expected.size()) + " " + what);
@@ -162,6 +193,45 @@ std::vector<ScanImage> parseImageList(const JsonFields& root, const std::string&
         root.fail("images: " + std::to_string(list.size()) + " of the sequence's " +
                   std::to_string(expected.size()) + " " + what + " (the first missing is '" +
                   expected[list.size()] + "')");
+    }
+    return list;
+}
+
+std::vector<ScanImage> parseImageSet(const JsonFields& root, const std::string& source,
+                                     const std::vector<std::string>& declared, const char* what) {
+    const Json& images = root.required("images");
+    if (!images.is_array()) {
+        root.fail("images: expected an array");
+    }
+    // Where each declared pattern is listed (the image's index), to name the first listing of
+    // a pattern listed twice.
+    std::map<std::string, std::size_t, std::less<>> listedAt;
+    for (const std::string& name : declared) {
+        listedAt.emplace(name, images.size());
+    }
+    std::vector<ScanImage> list;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const JsonFields image(images[i], source, "images[" + std::to_string(i) + "]");
+        ScanImage entry = readImageEntry(image);
+        const auto place = listedAt.find(entry.pattern);
+        if (place == listedAt.end()) {
+            image.fail("pattern '" + entry.pattern + "' is not one of the declared sequence's " +
+                       std::to_string(declared.size()) + " " + what);
+        }
+        if (place->second != images.size()) {
+            image.fail("pattern '" + entry.pattern + "' again (images[" +
+                       std::to_string(place->second) + "] shows it)");
+        }
+        place->second = i;
+        list.push_back(std::move(entry));
+    }
+    if (list.size() < declared.size()) {
+        const auto missing = std::find_if(declared.begin(), declared.end(), [&](const auto& name) {
+            return listedAt.find(name)->second == images.size();
+        });
+        root.fail("images: " + std::to_string(list.size()) + " of the sequence's " +
+                  std::to_string(declared.size()) + " " + what + " (the first missing is '" +
+                  *missing + "')");
     }
     return list;
 }

@@ -42,24 +42,49 @@ StructuredLightSequence::StructuredLightSequence(const StructuredLightParameters
         throw StructuredLightError("projector size " + std::to_string(p.width) + "x" +
                                    std::to_string(p.height) + " is outside 8..16384");
     }
-    if (p.phasePeriod < 8 || p.phasePeriod > 1024 ||
-        !std::has_single_bit(static_cast<unsigned>(p.phasePeriod))) {
-        throw StructuredLightError("phase period " + std::to_string(p.phasePeriod) +
-                                   " is not a power of two in 8..1024");
+    const int shorter = std::min(p.width, p.height);
+    if (p.codeStep < 1 || p.codeStep > shorter / 2) {
+        throw StructuredLightError("code step " + std::to_string(p.codeStep) + " outside 1.." +
+                                   std::to_string(shorter / 2) + " (2 codes across the " +
+                                   std::to_string(shorter) + " pixels of the shorter axis)");
     }
-    if (p.phasePeriod > std::min(p.width, p.height)) {
-        throw StructuredLightError("phase period " + std::to_string(p.phasePeriod) +
-                                   " is longer than the projector's " +
-                                   std::to_string(std::min(p.width, p.height)) + " pixels");
-    }
-    if (p.phaseSteps < 3 || p.phaseSteps > 64) {
+    if (p.phaseSteps != 0 && (p.phaseSteps < 3 || p.phaseSteps > 64)) {
         throw StructuredLightError("phase steps " + std::to_string(p.phaseSteps) +
-                                   " outside 3..64");
+                                   " outside 3..64 (0: no phase images)");
     }
-    patterns_.push_back({PatternKind::kWhite});
-    patterns_.push_back({PatternKind::kBlack});
+    if (hasPhase()) {
+        if (p.phasePeriod < 8 || p.phasePeriod > 1024 ||
+            !std::has_single_bit(static_cast<unsigned>(p.phasePeriod))) {
+            throw StructuredLightError("phase period " + std::to_string(p.phasePeriod) +
+                                       " is not a power of two in 8..1024");
+        }
+        if (p.phasePeriod > shorter) {
+            throw StructuredLightError("phase period " + std::to_string(p.phasePeriod) +
+                                       " is longer than the projector's " +
+                                       std::to_string(shorter) + " pixels");
+        }
+    }
+    const int bits = std::min(grayBits(PatternAxis::kColumns), grayBits(PatternAxis::kRows));
+    lowestGrayBit_ = p.lowestGrayBit.value_or(
+        hasPhase() ? std::countr_zero(static_cast<unsigned>(p.phasePeriod)) - 2 : 0);
+    if (lowestGrayBit_ < 0 || lowestGrayBit_ >= bits) {
+        throw StructuredLightError("lowest Gray bit " + std::to_string(lowestGrayBit_) +
+                                   " outside 0.." + std::to_string(bits - 1) +
+                                   " (the bits of the shorter axis' code)");
+    }
+    // The phase is unwrapped by the Gray bin: a bin read one off must stay within half a period.
+    if (hasPhase() && 4 * grayBinWidth() > p.phasePeriod) {
+        throw StructuredLightError(
+            "Gray bins of " + std::to_string(grayBinWidth()) + " pixels (code step " +
+            std::to_string(p.codeStep) + ", lowest bit " + std::to_string(lowestGrayBit_) +
+            ") are wider than a quarter of the phase period " + std::to_string(p.phasePeriod));
+    }
+    if (p.flatFields) {
+        patterns_.push_back({PatternKind::kWhite});
+        patterns_.push_back({PatternKind::kBlack});
+    }
     for (const PatternAxis axis : {PatternAxis::kColumns, PatternAxis::kRows}) {
-        for (int bit = grayBits(axis) - 1; bit >= lowestGrayBit(); --bit) {
+        for (int bit = grayBits(axis) - 1; bit >= lowestGrayBit_; --bit) {
             patterns_.push_back({PatternKind::kGray, axis, bit, false, 0});
             patterns_.push_back({PatternKind::kGray, axis, bit, true, 0});
         }
@@ -80,11 +105,8 @@ int StructuredLightSequence::find(std::string_view name) const {
 
 int StructuredLightSequence::grayBits(PatternAxis axis) const {
     const int extent = axis == PatternAxis::kColumns ? parameters_.width : parameters_.height;
-    return static_cast<int>(std::bit_width(static_cast<unsigned>(extent - 1)));
-}
-
-int StructuredLightSequence::lowestGrayBit() const {
-    return std::countr_zero(static_cast<unsigned>(parameters_.phasePeriod)) - 2;
+    const int codes = (extent + parameters_.codeStep - 1) / parameters_.codeStep;
+    return static_cast<int>(std::bit_width(static_cast<unsigned>(codes - 1)));
 }
 
 double StructuredLightSequence::level(const PatternSpec& pattern, int x, int y) const {
@@ -95,8 +117,8 @@ double StructuredLightSequence::level(const PatternSpec& pattern, int x, int y) 
         case PatternKind::kBlack:
             return 0.0;
         case PatternKind::kGray: {
-            const bool lit =
-                (grayEncode(static_cast<std::uint32_t>(coordinate)) >> pattern.bit) & 1u;
+            const auto code = static_cast<std::uint32_t>(coordinate / parameters_.codeStep);
+            const bool lit = (grayEncode(code) >> pattern.bit) & 1u;
             return lit != pattern.inverted ? 1.0 : 0.0;
         }
         case PatternKind::kPhase: {

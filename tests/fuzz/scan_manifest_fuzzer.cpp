@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 // libFuzzer target: arbitrary bytes as a scan.json either parse into a manifest whose images are
-// exactly the sequence's patterns, or fail with a ScanManifestError naming the file; anything
-// else (a crash, another exception, an accepted manifest that breaks that promise) aborts.
+// exactly the sequence's patterns (each once, in any order), or fail with a ScanManifestError
+// naming the file; anything else (a crash, another exception, an accepted manifest that breaks that
+// promise) aborts.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <set>
+#include <string>
 #include <string_view>
 
 #include "vpe/proto/scan_manifest.h"
@@ -21,10 +24,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             manifest.camera.width < 1 || manifest.camera.height < 1) {
             std::abort();
         }
-        for (std::size_t i = 0; i < manifest.images.size(); ++i) {
-            const std::string& file = manifest.images[i].file;
-            if (manifest.images[i].pattern != sequence.patterns()[i].name() || file.empty() ||
-                file.find('/') != std::string::npos || manifest.images[i].attempts < 1) {
+        std::set<std::string> shown;
+        for (const vpe::proto::ScanImage& image : manifest.images) {
+            if (sequence.find(image.pattern) < 0 || !shown.insert(image.pattern).second ||
+                image.file.empty() || image.file.find('/') != std::string::npos ||
+                image.attempts < 1) {
                 std::abort();
             }
         }

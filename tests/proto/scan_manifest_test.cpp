@@ -80,7 +80,27 @@ TEST(ScanManifest, RefusesEachMalformedManifestNamingTheKey) {
         {replaced(good, "\"file\":\"0-white.pgm\"", "\"file\":\"../white.pgm\""),
          "scan.json: images[0]: file: '../white.pgm' is not a file name inside the folder"},
         {replaced(good, "\"pattern\":\"black\"", "\"pattern\":\"white\""),
-         "scan.json: images[1]: pattern 'white', expected 'black' (the sequence's order)"},
+         "scan.json: images[1]: pattern 'white' again (images[0] shows it)"},
+        // Bit 0 is not shown when the phase's period is 8 (the Gray code stops at bit 1).
+        {replaced(good, "\"pattern\":\"gray-x-b1\"", "\"pattern\":\"gray-x-b0\""),
+         "scan.json: images[10]: pattern 'gray-x-b0' is not one of the declared sequence's 28 "
+         "patterns"},
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 2"),
+         "scan.json: projector: phase steps 2 outside 3..64 (0: no phase images)"},
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 3, \"code_step\": 0"),
+         "scan.json: projector: code_step: 0 outside 1..16384"},
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 3, \"code_step\": 2"),
+         "scan.json: projector: Gray bins of 4 pixels (code step 2, lowest bit 1) are wider "
+         "than a quarter of the phase period 8"},
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 3, \"lowest_gray_bit\": 6"),
+         "scan.json: projector: lowest Gray bit 6 outside 0..5 (the bits of the shorter axis' "
+         "code)"},
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 3, \"flat_fields\": 0"),
+         "scan.json: projector: flat_fields: expected true or false"},
+        // The sequence shrinks to what is declared: the images it no longer has are refused.
+        {replaced(good, "\"phase_steps\": 3", "\"phase_steps\": 3, \"flat_fields\": false"),
+         "scan.json: images[0]: pattern 'white' is not one of the declared sequence's 26 "
+         "patterns"},
     });
     // A missing image names the first missing pattern; an extra one is refused.
     const std::string last = ",\n    {\"file\":\"27-phase-y-s2.pgm\",\"pattern\":\"phase-y-s2\"}";
@@ -89,7 +109,67 @@ TEST(ScanManifest, RefusesEachMalformedManifestNamingTheKey) {
               "scan.json: images: 27 of the sequence's 28 patterns (the first missing is "
               "'phase-y-s2')");
     EXPECT_EQ(errorOf(replaced(good, last, last + ",\n    {\"file\":\"x.pgm\",\"pattern\":\"x\"}")),
-              "scan.json: images[28]: an extra image ('x.pgm'): the sequence has 28 patterns");
+              "scan.json: images[28]: pattern 'x' is not one of the declared sequence's 28 "
+              "patterns");
+    EXPECT_EQ(errorOf(replaced(good, last, last + last)),
+              "scan.json: images[28]: pattern 'phase-y-s2' again (images[27] shows it)");
+}
+
+TEST(ScanManifest, TodaysManifestsKeepTheirKeysAndTheirMeaning) {
+    const std::string json = scanManifestJson(smallManifest());
+    for (const char* key : {"code_step", "lowest_gray_bit", "flat_fields"}) {
+        EXPECT_EQ(json.find(key), std::string::npos) << key;
+    }
+    const ScanManifest back = parseScanManifest(json, "scan.json");
+    EXPECT_EQ(back.patterns.codeStep, 1);
+    EXPECT_FALSE(back.patterns.lowestGrayBit.has_value());
+    EXPECT_TRUE(back.patterns.flatFields);
+    const StructuredLightSequence sequence(back.patterns);
+    EXPECT_EQ(sequence.lowestGrayBit(), 1);  // log2(8) − 2
+    ASSERT_EQ(back.images.size(), sequence.patterns().size());
+    for (std::size_t i = 0; i < back.images.size(); ++i) {
+        EXPECT_EQ(back.images[i].pattern, sequence.patterns()[i].name());
+    }
+}
+
+// procam-calibration's layout: column bits, each with its inverse, then row bits, then white
+// and black; every bit down to 0, no phase, a code step apart from the size.
+TEST(ScanManifest, ReadsAForeignSequenceInItsOwnOrder) {
+    ScanManifest m;
+    m.patterns.width = 1024;
+    m.patterns.height = 768;
+    m.patterns.phaseSteps = 0;
+    m.patterns.codeStep = 2;
+    m.camera = {1280, 1024, 8, 0, 1.0, "imported:procam-calibration"};
+    const StructuredLightSequence sequence(m.patterns);
+    std::vector<std::string> order;
+    for (const PatternSpec& pattern : sequence.patterns()) {
+        if (pattern.kind == PatternKind::kGray) {
+            order.push_back(pattern.name());
+        }
+    }
+    order.insert(order.end(), {"white", "black"});
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        m.images.push_back({"graycode_" + std::to_string(i) + ".png", order[i], 1});
+    }
+    const std::string json = scanManifestJson(m);
+    EXPECT_EQ(json.find("phase_period"), std::string::npos);
+    const ScanManifest back = parseScanManifest(json, "scan.json");
+    EXPECT_EQ(back.patterns.phaseSteps, 0);
+    EXPECT_EQ(back.patterns.codeStep, 2);
+    ASSERT_EQ(back.images.size(), 2u * (9 + 9) + 2);
+    EXPECT_EQ(back.images.front().pattern, "gray-x-b8");
+    EXPECT_EQ(back.images[36].pattern, "white");
+    EXPECT_EQ(back.images.back().file, "graycode_37.png");
+    // Without white and black, as declared.
+    m.patterns.flatFields = false;
+    m.images.resize(36);
+    EXPECT_EQ(parseScanManifest(scanManifestJson(m), "scan.json").images.size(), 36u);
+    // A declared depth: bits below it are not in the sequence.
+    m.patterns.lowestGrayBit = 2;
+    EXPECT_EQ(errorOf(scanManifestJson(m)),
+              "scan.json: images[14]: pattern 'gray-x-b1' is not one of the declared sequence's "
+              "28 patterns");
 }
 
 TEST(ScanManifest, WritesAndReadsAFolder) {

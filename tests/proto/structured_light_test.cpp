@@ -88,17 +88,97 @@ TEST(StructuredLight, RowsPatternsVaryAlongColumnsOnly) {
                  StructuredLightError);
 }
 
+// OpenCV's GrayCodePattern as procam-calibration shows it: every bit down to bit 0, no phase,
+// white and black (or neither).
+TEST(StructuredLight, AGrayCodeAloneGoesDownToBitZero) {
+    StructuredLightParameters parameters{1024, 768, 32, 0};
+    parameters.flatFields = false;
+    const StructuredLightSequence sequence(parameters);
+    EXPECT_FALSE(sequence.hasPhase());
+    EXPECT_EQ(sequence.lowestGrayBit(), 0);
+    EXPECT_EQ(sequence.grayBinWidth(), 1);
+    EXPECT_EQ(sequence.grayBits(PatternAxis::kColumns), 10);
+    EXPECT_EQ(sequence.grayBits(PatternAxis::kRows), 10);
+    const auto& p = sequence.patterns();
+    ASSERT_EQ(p.size(), 2u * 2 * 10);
+    EXPECT_EQ(p[0].name(), "gray-x-b9");
+    EXPECT_EQ(p[19].name(), "gray-x-b0-inv");
+    EXPECT_EQ(p[20].name(), "gray-y-b9");
+    EXPECT_EQ(sequence.find("white"), -1);
+    EXPECT_EQ(sequence.find("phase-x-s0"), -1);
+    // Every column's code read back from its bits.
+    for (int x = 0; x < 1024; ++x) {
+        std::uint32_t gray = 0;
+        for (int bit = 0; bit < 10; ++bit) {
+            gray |= (sequence.level({PatternKind::kGray, PatternAxis::kColumns, bit, false, 0}, x,
+                                    0) > 0.5
+                         ? 1u
+                         : 0u)
+                    << bit;
+        }
+        ASSERT_EQ(grayDecode(gray), static_cast<std::uint32_t>(x));
+    }
+    parameters.flatFields = true;
+    EXPECT_EQ(StructuredLightSequence(parameters).patterns().size(), 42u);
+}
+
+TEST(StructuredLight, ACodeStepCountsCodesNotPixels) {
+    StructuredLightParameters parameters{1920, 1080, 32, 0};
+    parameters.codeStep = 3;
+    parameters.lowestGrayBit = 1;
+    const StructuredLightSequence sequence(parameters);
+    EXPECT_EQ(sequence.grayBits(PatternAxis::kColumns), 10);  // 640 codes
+    EXPECT_EQ(sequence.grayBits(PatternAxis::kRows), 9);      // 360 codes
+    EXPECT_EQ(sequence.grayBinWidth(), 6);
+    EXPECT_EQ(sequence.patterns().size(), 2u + 2 * (9 + 8));
+    const PatternSpec bit1{PatternKind::kGray, PatternAxis::kColumns, 1, false, 0};
+    for (int x = 0; x < 1920; ++x) {
+        const bool lit = (grayEncode(static_cast<std::uint32_t>(x / 3)) >> 1) & 1u;
+        ASSERT_EQ(sequence.level(bit1, x, 0), lit ? 1.0 : 0.0) << x;
+    }
+    // With a phase: bins of 3 pixels fit a quarter of 16, bins of 6 do not.
+    parameters.phaseSteps = 4;
+    parameters.phasePeriod = 16;
+    parameters.lowestGrayBit = 0;
+    EXPECT_EQ(StructuredLightSequence(parameters).grayBinWidth(), 3);
+    parameters.lowestGrayBit = 1;
+    EXPECT_THROW(StructuredLightSequence{parameters}, StructuredLightError);
+}
+
 TEST(StructuredLight, RefusesParametersThatMakeNoSequence) {
     EXPECT_THROW(StructuredLightSequence({4, 100, 8, 8}), StructuredLightError);
     EXPECT_THROW(StructuredLightSequence({640, 480, 24, 8}), StructuredLightError);
     EXPECT_THROW(StructuredLightSequence({640, 480, 4, 8}), StructuredLightError);
     EXPECT_THROW(StructuredLightSequence({640, 480, 32, 2}), StructuredLightError);
     EXPECT_THROW(StructuredLightSequence({64, 16, 32, 8}), StructuredLightError);
-    try {
-        StructuredLightSequence({640, 480, 24, 8});
-    } catch (const StructuredLightError& error) {
-        EXPECT_STREQ(error.what(), "phase period 24 is not a power of two in 8..1024");
-    }
+    const auto refusal = [](const StructuredLightParameters& parameters) -> std::string {
+        try {
+            StructuredLightSequence{parameters};
+        } catch (const StructuredLightError& error) {
+            return error.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(refusal({640, 480, 24, 8}), "phase period 24 is not a power of two in 8..1024");
+    EXPECT_EQ(refusal({640, 480, 32, 2}), "phase steps 2 outside 3..64 (0: no phase images)");
+    // Without a phase the period is not read.
+    EXPECT_EQ(refusal({640, 480, 24, 0}), "");
+    StructuredLightParameters step{640, 480, 32, 0};
+    step.codeStep = 0;
+    EXPECT_EQ(refusal(step),
+              "code step 0 outside 1..240 (2 codes across the 480 pixels of the "
+              "shorter axis)");
+    step.codeStep = 241;
+    EXPECT_NE(refusal(step), "");
+    StructuredLightParameters lowest{640, 480, 32, 0};
+    lowest.lowestGrayBit = 9;  // 480 rows: bits 0..8
+    EXPECT_EQ(refusal(lowest),
+              "lowest Gray bit 9 outside 0..8 (the bits of the shorter axis' code)");
+    StructuredLightParameters wide{640, 480, 32, 8};
+    wide.codeStep = 2;  // the default lowest bit 3 makes bins of 16 pixels
+    EXPECT_EQ(refusal(wide),
+              "Gray bins of 16 pixels (code step 2, lowest bit 3) are wider than "
+              "a quarter of the phase period 32");
 }
 
 }  // namespace

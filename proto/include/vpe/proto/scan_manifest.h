@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // ScanManifest: what a scan capture folder holds (proto/SCAN.md) — the projector's pattern
-// sequence, the camera that photographed it and one image per pattern, in order. Written by
+// sequence, the camera that photographed it and one image per pattern, in any order. Written by
 // the device (vpe-player --scan) and the simulator (vpe synth-procam), read by vpe scan and
 // vpe calibrate: one definition of the folder for both sides.
 #pragma once
@@ -35,7 +35,7 @@ struct ScanImage {
 struct ScanManifest {
     StructuredLightParameters patterns;  // the projector's size and the phase settings
     ScanCamera camera;
-    std::vector<ScanImage> images;  // one per pattern, in the sequence's order
+    std::vector<ScanImage> images;  // one per pattern of the sequence, in any order
     std::string createdBy;          // "vpe-player", "vpe synth-procam", ...
     double projectorLatencyMs = 0;  // the wait after showing a pattern, before capturing
 };
@@ -50,8 +50,9 @@ public:
 std::string scanManifestJson(const ScanManifest& manifest);
 
 // Parses and checks: format "vpe-scan", version 1, a valid sequence, a camera size in
-// 1..16384 and bits 8 or 10, and exactly one image per pattern of the sequence in its order
-// with a plain file name. `source` names the manifest in errors. Throws ScanManifestError.
+// 1..16384 and bits 8 or 10, and images that each name a pattern of the declared sequence, every
+// pattern exactly once (in any order), with plain file names. `source` names the manifest in
+// errors. Throws ScanManifestError.
 ScanManifest parseScanManifest(std::string_view json, const std::string& source);
 
 // DIR/scan.json (or a path to the manifest itself).

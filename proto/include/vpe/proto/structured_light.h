@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -45,7 +46,18 @@ struct StructuredLightParameters {
     // bit that splits a period in quarters: finer stripes are what defocus blurs first, and the
     // phase measures inside a period better than they would.
     int phasePeriod = 32;
-    int phaseSteps = 8;  // N, 3..64: harmonics of the projector's response up to N − 2 cancel
+    // N, 3..64: harmonics of the projector's response up to N − 2 cancel. 0: no phase images
+    // (a Gray code alone, as other tools show it; the period is then unused).
+    int phaseSteps = 8;
+    // Projector pixels per code, along both axes (OpenCV's GrayCodePattern step): the Gray
+    // code counts ⌊x / codeStep⌋, so the projector's size and the code's depth stay apart.
+    int codeStep = 1;
+    // The least significant Gray bit shown. Absent: log2(period) − 2 with the phase (a Gray bin
+    // is a quarter period), 0 without it (every bit).
+    std::optional<int> lowestGrayBit = std::nullopt;
+    // White and black shown. Other tools may leave them out; the decoder then takes each Gray
+    // pair's mean and range instead.
+    bool flatFields = true;
 };
 
 // One line naming the problem, for parameters or manifests that cannot describe a scan.
@@ -55,16 +67,20 @@ public:
 };
 
 // Pixel centres are at integer coordinates: column x covers [x − ½, x + ½). A Gray pattern
-// lights column x when bit `bit` of gray(x) is 1 (0 when inverted). Phase step s lights
-// column x at level ½ + ½·cos(2π·x/T − 2π·s/N). Rows likewise with y. Levels are drive levels
-// (what the frame buffer holds), shown as 8-bit codes round(255·level) on all three channels.
+// lights column x when bit `bit` of gray(⌊x / codeStep⌋) is 1 (0 when inverted). Phase step s
+// lights column x at level ½ + ½·cos(2π·x/T − 2π·s/N). Rows likewise with y. Levels are drive
+// levels (what the frame buffer holds), shown as 8-bit codes round(255·level) on all three
+// channels.
 //
-// The order: white, black, then per axis (columns, then rows) the Gray bits from the most
-// significant down to lowestGrayBit(), each followed by its inverse, then the N phase steps.
+// The order patterns() lists (the device shows them in it; a manifest may list its images in
+// any): white and black when shown, then per axis (columns, then rows) the Gray bits from the
+// most significant down to lowestGrayBit(), each followed by its inverse, then the N phase steps.
 class StructuredLightSequence {
 public:
-    // Throws StructuredLightError for a size outside 8..16384, a period that is not a power of
-    // two in 8..1024 or longer than the axis, or N outside 3..64.
+    // Throws StructuredLightError for a size outside 8..16384; a code step that leaves fewer
+    // than 2 codes along an axis; N other than 0 or 3..64; with a phase, a period that is not a
+    // power of two in 8..1024 or longer than the axis, or Gray bins wider than a quarter period
+    // (the phase could not be unwrapped); a lowest Gray bit that leaves an axis without bits.
     explicit StructuredLightSequence(const StructuredLightParameters& parameters);
 
     const StructuredLightParameters& parameters() const { return parameters_; }
@@ -72,11 +88,13 @@ public:
     // The index of the pattern with this name, or −1.
     int find(std::string_view name) const;
 
-    // Bits of the Gray code that cover the axis: ceil(log2(extent)).
+    bool hasPhase() const { return parameters_.phaseSteps > 0; }
+    // Bits of the Gray code that cover the axis: ceil(log2(codes)), codes = ceil(extent / step).
     int grayBits(PatternAxis axis) const;
-    // The least significant bit shown: log2(period) − 2, so that one Gray bin is a quarter of
-    // a period.
-    int lowestGrayBit() const;
+    // The least significant bit shown (StructuredLightParameters::lowestGrayBit, resolved).
+    int lowestGrayBit() const { return lowestGrayBit_; }
+    // Projector pixels that the shown Gray bits cannot tell apart: codeStep · 2^lowestGrayBit.
+    int grayBinWidth() const { return parameters_.codeStep << lowestGrayBit_; }
 
     double level(const PatternSpec& pattern, int x, int y) const;
     std::uint8_t code(const PatternSpec& pattern, int x, int y) const;
@@ -85,6 +103,7 @@ public:
 
 private:
     StructuredLightParameters parameters_;
+    int lowestGrayBit_ = 0;
     std::vector<PatternSpec> patterns_;
 };
 

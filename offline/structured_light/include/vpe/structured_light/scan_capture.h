@@ -5,6 +5,9 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "vpe/image/image_file.h"
@@ -28,18 +31,24 @@ public:
     const std::filesystem::path& folder() const { return folder_; }
     int width() const { return manifest_.camera.width; }
     int height() const { return manifest_.camera.height; }
+    // The manifest's image `index` (the manifest lists them in any order).
     std::filesystem::path imagePath(std::size_t index) const;
+    // The manifest's index of the image showing the pattern named `pattern` ("white",
+    // "gray-x-b10", …). Throws InputError naming the folder when the sequence has no such
+    // pattern.
+    std::size_t imageIndex(std::string_view pattern) const;
 
-    // Image `index` of the sequence, width·height values. Throws InputError naming the file when
+    // The manifest's image `index`, width·height values. Throws InputError naming the file when
     // it cannot be read or its size is not the manifest's camera size.
     std::vector<float> image(std::size_t index) const;
-    // The image of the pattern named `name` ("white", "gray-x-b10", …).
+    // The image of the pattern named `name`.
     std::vector<float> image(const char* name) const;
 
 private:
     std::filesystem::path folder_;
     proto::ScanManifest manifest_;
     proto::StructuredLightSequence sequence_;
+    std::map<std::string, std::size_t, std::less<>> imageOfPattern_;
 };
 
 }  // namespace vpe::structured_light
