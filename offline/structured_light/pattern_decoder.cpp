@@ -13,6 +13,8 @@
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/quantile.h"
 
+#include "decoding_steps.h"
+
 namespace vpe::structured_light {
 
 namespace {
@@ -73,6 +75,14 @@ double NoiseModel::sigma(double signal) const {
 
 DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& options) {
     const proto::StructuredLightSequence& sequence = capture.sequence();
+    if (!sequence.hasPhase()) {
+        return detail::decodeGrayCode(capture, options);
+    }
+    if (!sequence.parameters().flatFields) {
+        throw common::InputError(capture.folder() / proto::kScanManifestName,
+                                 "phase images without white and black (flat_fields false): the "
+                                 "phase is read against the flat fields");
+    }
     const proto::StructuredLightParameters& parameters = sequence.parameters();
     const unsigned threads = common::resolveThreadCount(options.threads);
     const std::size_t pixels = static_cast<std::size_t>(capture.width()) * capture.height();
@@ -103,8 +113,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             ++saturated;
         }
     }
-    const std::filesystem::path whitePath =
-        capture.imagePath(capture.imageIndex("white"));
+    const std::filesystem::path whitePath = capture.imagePath(capture.imageIndex("white"));
     if (brightEnough < std::max<std::size_t>(16, pixels / 10000)) {
         throw common::InputError(
             whitePath, "the white frame shows no projector light (white − black < " +
@@ -150,46 +159,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             }
         }
     }
-    {
-        // var(p + i − W − B) = 2σ²(W) + 2σ²(B) = 4a + 2b·(W + B): a line through the binned
-        // variances (robust: MAD per bin).
-        constexpr int kBins = 16;
-        std::vector<std::vector<double>> bins(kBins);
-        std::vector<std::vector<double>> levels(kBins);
-        for (std::size_t k = 0; k < noiseLevel.size(); ++k) {
-            const int bin = std::clamp(static_cast<int>(noiseLevel[k] / 2 * kBins), 0, kBins - 1);
-            bins[static_cast<std::size_t>(bin)].push_back(noiseResidual[k]);
-            levels[static_cast<std::size_t>(bin)].push_back(noiseLevel[k]);
-        }
-        double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-        for (int b = 0; b < kBins; ++b) {
-            auto& values = bins[static_cast<std::size_t>(b)];
-            if (values.size() < 64) {
-                continue;
-            }
-            const double centre = common::quantile(values, 0.5);
-            for (double& v : values) {
-                v = std::abs(v - centre);
-            }
-            const double sigma = 1.4826 * common::quantile(values, 0.5);
-            const double x = common::quantile(levels[static_cast<std::size_t>(b)], 0.5);
-            const double y = sigma * sigma;
-            sx += x;
-            sy += y;
-            sxx += x * x;
-            sxy += x * y;
-            n += 1;
-        }
-        double slope = 0, intercept = n > 0 ? sy / n : 0;
-        if (n >= 2 && sxx * n - sx * sx > 1e-12) {
-            slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-            intercept = (sy - slope * sx) / n;
-        }
-        slope = std::max(slope, 0.0);
-        // A capture without measurable noise still has its quantization's.
-        scan.noise.constant = std::max(intercept / 4, quantum * quantum / 12);
-        scan.noise.perSignal = slope / 2;
-    }
+    scan.noise = detail::fitNoiseModel(noiseLevel, noiseResidual, quantum);
     for (std::size_t p = 0; p < pixels; ++p) {
         const double contrast = double(scan.white[p]) - double(scan.black[p]);
         scan.global[p] = static_cast<float>(std::max(0.0, contrast - double(scan.direct[p])));
@@ -303,7 +273,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
     scan.projectorY.assign(pixels, kNaN);
     scan.precision.assign(pixels, kNaN);
     const double period = parameters.phasePeriod;
-    const double binWidth = std::ldexp(1.0, lowest);
+    const double binWidth = sequence.grayBinWidth();
     const double steps = parameters.phaseSteps;
     common::parallelFor(lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
@@ -377,61 +347,8 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
             }
         }
     });
-    // Mixed pixels across a jump: along a row or a column the decoded coordinates bend one way
-    // at a pixel and the other way at its neighbour — a step, which a smooth surface, even seen
-    // at a grazing angle (bends of one sign), does not make.
-    const int w = scan.width, h = scan.height;
-    const auto decodedAt = [&](int x, int y) {
-        return x >= 0 && y >= 0 && x < w && y < h &&
-               scan.status[static_cast<std::size_t>(y) * w + x] == DecodeStatus::kDecoded;
-    };
-    // The bend of `map` at (x, y) along (dx, dy); NaN without both neighbours.
-    const auto bend = [&](const std::vector<float>& map, int x, int y, int dx, int dy) {
-        if (!decodedAt(x, y) || !decodedAt(x - dx, y - dy) || !decodedAt(x + dx, y + dy)) {
-            return std::numeric_limits<double>::quiet_NaN();
-        }
-        const auto at = [&](int u, int v) {
-            return double(map[static_cast<std::size_t>(v) * w + u]);
-        };
-        return at(x - dx, y - dy) + at(x + dx, y + dy) - 2 * at(x, y);
-    };
-    std::vector<std::uint8_t> edge(pixels, 0);
-    common::parallelFor(
-        static_cast<std::size_t>(h), 16, threads, [&](std::size_t begin, std::size_t end) {
-            for (int y = static_cast<int>(begin); y < static_cast<int>(end); ++y) {
-                for (int x = 0; x < w; ++x) {
-                    if (!decodedAt(x, y)) {
-                        continue;
-                    }
-                    bool step = false;
-                    for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
-                        for (const std::vector<float>* map : {&scan.projectorX, &scan.projectorY}) {
-                            const double here = bend(*map, x, y, dx, dy);
-                            for (const int side : {-1, 1}) {
-                                const double there =
-                                    bend(*map, x + side * dx, y + side * dy, dx, dy);
-                                step =
-                                    step || (std::abs(here) > options.maxBend &&
-                                             std::abs(there) > options.maxBend && here * there < 0);
-                            }
-                        }
-                    }
-                    edge[static_cast<std::size_t>(y) * w + x] = step ? 1 : 0;
-                }
-            }
-        });
-    for (std::size_t q = 0; q < pixels; ++q) {
-        if (edge[q]) {
-            scan.status[q] = DecodeStatus::kEdge;
-            scan.projectorX[q] = scan.projectorY[q] = scan.precision[q] = kNaN;
-        }
-    }
-    scan.statusCounts.assign(kDecodeStatusCount, 0);
-    for (const DecodeStatus status : scan.status) {
-        ++scan.statusCounts[static_cast<std::size_t>(status)];
-    }
-    scan.decoded = scan.statusCounts[0];
-    scan.lit = lit.size();
+    detail::markMixedPixels(scan, options.maxBend, threads);
+    detail::countStatuses(scan, lit.size());
     return scan;
 }
 

@@ -2,7 +2,8 @@
 // decodePatterns: per camera pixel, which projector pixel lights it — the Gray code gives the
 // quarter period, the phase shifting the position inside the period — with a robustness test
 // at every step, so that pixels in shadow, saturated, or lit mostly by interreflection are
-// marked, never guessed (docs/install.md, "How a scan is decoded").
+// marked, never guessed (docs/install.md, "How a scan is decoded"). A Gray code without phase
+// images (a foreign sequence, proto/SCAN.md) gives whole Gray bins.
 #pragma once
 
 #include <cstdint>
@@ -66,8 +67,9 @@ struct DecodedScan {
     std::vector<float> direct;        // L_d: the projector's direct light, white − black share
     std::vector<float> global;        // L_g: interreflection and scatter under full white
     std::vector<float> white, black;  // the two flat frames
-    // The decoded position's expected standard deviation from the camera's noise (projector
-    // pixels, the worse axis); NaN undecoded.
+    // The decoded position's expected standard deviation (projector pixels, the worse axis):
+    // with a phase, from the camera's noise; from a Gray code alone, the bin's width / √12.
+    // NaN undecoded.
     std::vector<float> precision;
     std::vector<DecodeStatus> status;
     NoiseModel noise;
@@ -76,9 +78,18 @@ struct DecodedScan {
     std::size_t lit = 0;  // pixels with direct light ≥ minDirect: the object the camera sees lit
 };
 
+// With phase images: the Gray bits by Xu and Aliaga's rule against white and black (which the
+// sequence must show), the phase inside the bin. Without: each Gray bit from its pair's
+// difference against the camera's noise at that level (DecodeOptions::noiseSigmas), one bit left
+// open per axis placing the pixel on the edge between two bins; white and black where shown,
+// else the pairs' highest and lowest values in their place. minModulation, maxSigma and
+// saturation are the phase's and do not apply; a step between surfaces must bend the
+// coordinates by maxBend beyond two bins.
+//
 // Throws InputError naming the capture when it cannot be decoded at all: an image missing or of
-// another size (ScanCapture), a white frame that is black (no projector light reaches the
-// camera), or one whose lit pixels are mostly saturated.
+// another size (ScanCapture), a white frame (or without one, the first Gray pair) that is black
+// (no projector light reaches the camera), a pair captured wrong, or with a phase a white frame
+// whose lit pixels are mostly saturated.
 DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& options = {});
 
 }  // namespace vpe::structured_light

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// The steps of decoding that the phase-shifting decoder (pattern_decoder.cpp) and the Gray-code
+// one (gray_code_decoder.cpp) share: the camera's noise from residuals that must be zero, the
+// mixed pixels at steps between surfaces, and the tally of the pixels' statuses.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "vpe/structured_light/pattern_decoder.h"
+
+namespace vpe::structured_light::detail {
+
+// σ² = a + b·signal from residuals r = (two images) − (two others) that would be zero without
+// noise, at levels x = the sum of one pair (0..2): var(r) = 4a + 2b·x, a line through the binned
+// variances (robust: the median absolute deviation per bin). `quantum` is the camera's step:
+// a capture without measurable noise still has its quantization's.
+NoiseModel fitNoiseModel(const std::vector<double>& level, const std::vector<double>& residual,
+                         double quantum);
+
+// Marks as kEdge (and undecodes) the decoded pixels where the coordinates bend beyond maxBend
+// projector pixels one way and the other way at a neighbour, along a row or a column.
+void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads);
+
+// statusCounts, decoded and lit (`lit`: the pixels the projector's direct light reaches).
+void countStatuses(DecodedScan& scan, std::size_t lit);
+
+// A Gray code without phase images: whole Gray bins (gray_code_decoder.cpp).
+DecodedScan decodeGrayCode(const ScanCapture& capture, const DecodeOptions& options);
+
+}  // namespace vpe::structured_light::detail
