@@ -31,6 +31,7 @@ void addSynthProcamCommand(CLI::App& app, Action& action);
 void addScanCommand(CLI::App& app, Action& action);
 void addRadiometryCommand(CLI::App& app, Action& action);
 void addCalibrateCommand(CLI::App& app, Action& action);
+void addImportGrayCodeCommand(CLI::App& app, Action& action);
 void addShowCheckCommand(CLI::App& app, Action& action);
 void addProjectorRingCommand(CLI::App& app, Action& action);
 

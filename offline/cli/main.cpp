@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
     vpe::cli::addInfoCommand(app, action);
     vpe::cli::addTransferCommand(app, action);
     vpe::cli::addSynthProcamCommand(app, action);
+    vpe::cli::addImportGrayCodeCommand(app, action);
     vpe::cli::addCalibrateCommand(app, action);
     vpe::cli::addScanCommand(app, action);
     vpe::cli::addRadiometryCommand(app, action);

@@ -9,6 +9,20 @@
 
 namespace vpe::image {
 
+ImageInfo readImageInfo(const std::filesystem::path& path) {
+    auto input = OIIO::ImageInput::open(path.string());
+    if (!input) {
+        std::string reason = OIIO::geterror();
+        throw common::InputError(path, "cannot read image" + (reason.empty() ? "" : ": " + reason));
+    }
+    const OIIO::ImageSpec& spec = input->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+        throw common::InputError(path, "image has no pixels");
+    }
+    return {spec.width, spec.height, spec.nchannels, static_cast<int>(8 * spec.format.size()),
+            spec.format.is_floating_point()};
+}
+
 FloatImage readImage(const std::filesystem::path& path) {
     auto input = OIIO::ImageInput::open(path.string());
     if (!input) {

@@ -21,6 +21,18 @@ struct FloatImage {
     }
 };
 
+// What an image file's header says, nothing decoded: size, channels and bits per sample.
+struct ImageInfo {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    int bits = 0;           // per sample: 8, 16, 32, …
+    bool floating = false;  // float samples (half, float) rather than integers
+};
+
+// Throws InputError naming the file when it is no image OpenImageIO can open.
+ImageInfo readImageInfo(const std::filesystem::path& path);
+
 // Reads every channel as float: integer formats are scaled to [0, 1], no transfer function
 // is applied. Throws InputError naming the file.
 FloatImage readImage(const std::filesystem::path& path);

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+// vpe import-graycode as a user runs it on procam-calibration's captures: the scan folders it
+// writes decode to what the camera saw, and every bad capture is refused in one line naming the
+// file, with exit status 2 and no output folder.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "vpe/proto/scan_manifest.h"
+#include "vpe/structured_light/pattern_decoder.h"
+#include "vpe/structured_light/scan_capture.h"
+
+#include "support/cli_expectations.h"
+#include "support/command_runner.h"
+#include "support/shared_test_folders.h"
+#include "synthetic_gray_code.h"
+
+namespace vpe::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Two poses of a 64 × 48 projector: 2·(6 + 6) + 2 = 26 images each.
+fs::path twoCaptures(const std::string& name) {
+    const fs::path folder = scratchFolder("vpe-import-graycode-" + name);
+    SyntheticGrayCode capture;
+    writeToolCapture(capture, folder / "capture_0");
+    capture.offset = 2.1;
+    capture.seed = 2;
+    writeToolCapture(capture, folder / "capture_1");
+    return folder;
+}
+
+std::vector<std::string> importCommand(const fs::path& folder,
+                                       const std::string& projector = "64x48") {
+    return vpeCommand({"import-graycode", (folder / "capture_0").string(),
+                       (folder / "capture_1").string(), "--projector", projector, "--out",
+                       (folder / "scans").string()});
+}
+
+TEST(ImportGrayCode, WritesScanFoldersThatDecodeToWhatTheCameraSaw) {
+    const fs::path folder = twoCaptures("good");
+    std::vector<std::string> command = importCommand(folder);
+    command.push_back("--json");
+    const CommandResult result = runCommand(command);
+    ASSERT_EQ(result.exitStatus, 0) << result.err;
+    const nlohmann::json report = lastJsonLine(result.out);
+    ASSERT_EQ(report["scans"].size(), 2u);
+    EXPECT_EQ(report["scans"][0]["images"], 26);
+
+    const structured_light::ScanCapture scan(folder / "scans" / "capture_1");
+    const proto::ScanManifest& manifest = scan.manifest();
+    EXPECT_EQ(manifest.patterns.phaseSteps, 0);
+    EXPECT_EQ(manifest.camera.width, 160);
+    EXPECT_EQ(manifest.images.front().file, "graycode_00.png");
+    EXPECT_EQ(manifest.images.front().pattern, "gray-x-b5");
+    EXPECT_EQ(manifest.images[1].pattern, "gray-x-b5-inv");
+    EXPECT_EQ(manifest.images[12].pattern, "gray-y-b5");
+    EXPECT_EQ(manifest.images[24].pattern, "white");
+    EXPECT_EQ(manifest.images[25].pattern, "black");
+    const structured_light::DecodedScan decoded = structured_light::decodePatterns(scan);
+    EXPECT_EQ(decoded.decoded, 160u * 120u);
+    // The second pose sees projector point 2.1 + 0.37·u (a point sample: its column exactly).
+    for (int u = 0; u < 160; u += 7) {
+        EXPECT_EQ(decoded.projectorX[static_cast<std::size_t>(u)], std::floor(2.1 + 0.37 * u + 0.5))
+            << u;
+    }
+    fs::remove_all(folder);
+}
+
+TEST(ImportGrayCode, RefusesABadCaptureInOneLineAndWritesNothing) {
+    {  // a missing image
+        const fs::path folder = twoCaptures("missing");
+        fs::remove(folder / "capture_1" / "graycode_05.png");
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_1/graycode_05.png", "missing", "gray-x-b3-inv",
+                          "holds 25 graycode images", "shows 26 images (2·(6 + 6) + 2)"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // an extra one
+        const fs::path folder = twoCaptures("extra");
+        fs::copy_file(folder / "capture_0" / "graycode_00.png",
+                      folder / "capture_0" / "graycode_26.png");
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_0/graycode_26.png", "an extra image", "holds 27"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // the wrong projector: a count that does not fit
+        const fs::path folder = twoCaptures("count");
+        expectInputError(runCommand(importCommand(folder, "128x48")),
+                         {"capture_0/graycode_26.png", "missing",
+                          "128x48 projector with step 1 shows 28 images (2·(7 + 6) + 2)"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // an image that is not one
+        const fs::path folder = twoCaptures("unreadable");
+        std::ofstream(folder / "capture_1" / "graycode_03.png") << "not a picture";
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_1/graycode_03.png", "cannot read image"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // an image of another size
+        const fs::path folder = twoCaptures("size");
+        image::writeImage8(folder / "capture_0" / "graycode_07.png", 80, 60, 1,
+                           std::vector<std::uint8_t>(80 * 60, 100));
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_0/graycode_07.png", "80x60", "graycode_00.png is 160x120"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // a size and step that make no sequence
+        const fs::path folder = twoCaptures("step");
+        std::vector<std::string> command = importCommand(folder);
+        command.insert(command.end(), {"--step", "40"});
+        expectInputError(runCommand(command), {"--projector 64x48 --step 40", "code step 40"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+}
+
+}  // namespace
+}  // namespace vpe::testing
