@@ -99,11 +99,17 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
         }
     }
     if (!found || static_cast<int>(corners.size()) != board.cornerCount()) {
+        // Other tools count a board by its inner corners: say which count --board takes.
+        const std::string inner =
+            std::to_string(board.cornersX()) + "x" + std::to_string(board.cornersY());
+        const std::string squares =
+            std::to_string(board.squaresX) + "x" + std::to_string(board.squaresY);
         throw common::InputError(pose.folder,
-                                 "the board's " + std::to_string(board.cornersX()) + "x" +
-                                     std::to_string(board.cornersY()) +
-                                     " inner corners were not found in the white frame "
-                                     "(whole board in view, in focus, lit?)");
+                                 "the board's " + inner +
+                                     " inner corners were not found in the white frame (--board "
+                                     "counts squares: " +
+                                     squares + " squares have " + inner +
+                                     " inner corners; whole board in view, in focus, lit?)");
     }
     // The first corner is the one whose up-left square is dark (BoardSpec: square (0, 0) is
     // dark); the detector may have started from the opposite corner (a half turn).

@@ -397,7 +397,8 @@ TEST(Install, RefusesABoardNotFoundAndAMeshThatIsNotTheObject) {
     calibrate.insert(calibrate.end(),
                      {"--board", "10x7:18mm", "--out", (out / "procam.yml").string()});
     expectInputError(runCommand(vpeCommand(calibrate)),
-                     {"vase-pose", "inner corners were not found"});
+                     {"vase-pose", "inner corners were not found",
+                      "--board counts squares: 10x7 squares have 9x6 inner corners"});
     EXPECT_FALSE(fs::exists(out / "procam.yml"));
     expectInputError(runCommand(vpeCommand({"calibrate", poses[0], "--board", "10x7", "--out",
                                             (out / "procam.yml").string()})),
