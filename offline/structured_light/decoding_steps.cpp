@@ -59,7 +59,6 @@ NoiseModel fitNoiseModel(const std::vector<double>& level, const std::vector<dou
 }
 
 void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads) {
-    constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
     const std::size_t pixels = scan.status.size();
     // Mixed pixels across a jump: along a row or a column the decoded coordinates bend one way
     // at a pixel and the other way at its neighbour — a step, which a smooth surface, even seen

@@ -5,11 +5,19 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "vpe/structured_light/pattern_decoder.h"
 
 namespace vpe::structured_light::detail {
+
+// Shared by both decoders: an undecoded coordinate, the pixels per parallel task, and the
+// per-pixel, per-axis markers of a Gray bit left open.
+inline constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+inline constexpr std::size_t kGrain = 4096;
+inline constexpr int kNoUncertainBit = -1;
+inline constexpr int kTooManyUncertainBits = -2;
 
 // σ² = a + b·signal from residuals r = (two images) − (two others) that would be zero without
 // noise, at levels x = the sum of one pair (0..2): var(r) = 4a + 2b·x, a line through the binned

@@ -21,10 +21,6 @@ namespace vpe::structured_light::detail {
 
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr std::size_t kGrain = 4096;
-constexpr int kNoUncertainBit = -1;
-constexpr int kTooManyUncertainBits = -2;
 // A pair whose sum misses the reference's (white + black, or the first pair's) by half the direct
 // light on more than this share of the lit pixels was captured wrong: black, stale or clipped.
 constexpr double kWrongFrameShare = 0.1;

@@ -20,11 +20,10 @@ namespace vpe::structured_light {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr std::size_t kGrain = 4096;
-// Uncertain-bit markers per pixel and axis.
-constexpr int kNoUncertainBit = -1;
-constexpr int kTooManyUncertainBits = -2;
+using detail::kGrain;
+using detail::kNaN;
+using detail::kNoUncertainBit;
+using detail::kTooManyUncertainBits;
 
 // A frame whose median over the lit pixels sits this far from where it must (its pair's sum, or
 // inside white and black) was captured wrong: black (the camera missed it) or saturated.
