@@ -97,7 +97,8 @@ ProjectorSurface triangulateScan(const structured_light::DecodedScan& scan, cons
     std::vector<CameraVertex> vertices(static_cast<std::size_t>(cw) * ch);
     common::parallelFor(vertices.size(), 4096, threads, [&](std::size_t begin, std::size_t end) {
         for (std::size_t q = begin; q < end; ++q) {
-            if (std::isnan(scan.projectorX[q])) {
+            if (std::isnan(scan.projectorX[q]) ||
+                !(double(scan.precision[q]) <= options.maxSigma)) {
                 continue;
             }
             const proto::Vec2d pixel{double(q % static_cast<std::size_t>(cw)),

@@ -58,7 +58,65 @@ NoiseModel fitNoiseModel(const std::vector<double>& level, const std::vector<dou
     return model;
 }
 
-void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads) {
+double fitCameraGamma(const std::vector<float>& white, const std::vector<float>& black,
+                      const std::vector<float>& on, const std::vector<float>& off) {
+    // The pixels both images of the pair light partly, well inside the camera's range: chosen
+    // by p − i, whose noise is independent of the p + i the fit reads (equal variances), so
+    // that the choice does not bias the sum.
+    std::vector<std::size_t> partial;
+    for (std::size_t q = 0; q < white.size(); ++q) {
+        const double w = white[q], b = black[q], range = w - b;
+        if (range > 0.25 && w < 0.98 && std::abs(double(on[q]) - double(off[q])) < 0.4 * range) {
+            partial.push_back(q);
+        }
+    }
+    constexpr std::size_t kFewest = 256, kEnough = 20000;
+    if (partial.size() < kFewest) {
+        return 1;
+    }
+    if (partial.size() > kEnough) {  // an even sample: the median needs no more
+        const std::size_t stride = partial.size() / kEnough + 1;
+        for (std::size_t k = 0; k * stride < partial.size(); ++k) {
+            partial[k] = partial[k * stride];
+        }
+        partial.resize((partial.size() + stride - 1) / stride);
+    }
+    // The median of (p^γ + i^γ − w^γ − b^γ) / (w^γ − b^γ) falls as γ grows (the curve's bend
+    // is undone): its zero, by bisection.
+    std::vector<double> residual(partial.size());
+    const auto medianResidual = [&](double gamma) {
+        for (std::size_t k = 0; k < partial.size(); ++k) {
+            const std::size_t q = partial[k];
+            const double w = std::pow(double(white[q]), gamma),
+                         b = std::pow(double(black[q]), gamma);
+            residual[k] =
+                (std::pow(double(on[q]), gamma) + std::pow(double(off[q]), gamma) - w - b) /
+                (w - b);
+        }
+        return common::quantile(residual, 0.5);
+    };
+    double low = 0.5, high = 4.0;
+    if (medianResidual(low) <= 0 || medianResidual(high) >= 0) {
+        return 1;  // no γ in range explains it: leave the values as they are
+    }
+    for (int iteration = 0; iteration < 30; ++iteration) {
+        const double middle = 0.5 * (low + high);
+        (medianResidual(middle) > 0 ? low : high) = middle;
+    }
+    const double gamma = 0.5 * (low + high);
+    return std::abs(gamma - 1) < 0.05 ? 1.0 : gamma;
+}
+
+void linearize(std::vector<float>& values, double gamma) {
+    if (gamma == 1) {
+        return;
+    }
+    for (float& v : values) {
+        v = static_cast<float>(std::pow(std::clamp(double(v), 0.0, 1.0), gamma));
+    }
+}
+
+void markMixedPixels(DecodedScan& scan, double maxBend, double grayBinWidth, unsigned threads) {
     const std::size_t pixels = scan.status.size();
     // Mixed pixels across a jump: along a row or a column the decoded coordinates bend one way
     // at a pixel and the other way at its neighbour — a step, which a smooth surface, even seen
@@ -68,7 +126,11 @@ void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads) {
         return x >= 0 && y >= 0 && x < w && y < h &&
                scan.status[static_cast<std::size_t>(y) * w + x] == DecodeStatus::kDecoded;
     };
-    // The bend of `map` at (x, y) along (dx, dy); NaN without both neighbours.
+    const auto byGrayBin = [&](int x, int y) {
+        return scan.source[static_cast<std::size_t>(y) * w + x] == PositionSource::kGrayBin;
+    };
+    // The bend of `map` at (x, y) along (dx, dy) beyond what the pixels' rounding allows (its
+    // sign kept); NaN without both neighbours.
     const auto bend = [&](const std::vector<float>& map, int x, int y, int dx, int dy) {
         if (!decodedAt(x, y) || !decodedAt(x - dx, y - dy) || !decodedAt(x + dx, y + dy)) {
             return std::numeric_limits<double>::quiet_NaN();
@@ -76,7 +138,11 @@ void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads) {
         const auto at = [&](int u, int v) {
             return double(map[static_cast<std::size_t>(v) * w + u]);
         };
-        return at(x - dx, y - dy) + at(x + dx, y + dy) - 2 * at(x, y);
+        const double value = at(x - dx, y - dy) + at(x + dx, y + dy) - 2 * at(x, y);
+        const bool rounded =
+            byGrayBin(x, y) || byGrayBin(x - dx, y - dy) || byGrayBin(x + dx, y + dy);
+        const double allowed = rounded ? 2 * grayBinWidth : 0.0;
+        return std::copysign(std::max(0.0, std::abs(value) - allowed), value);
     };
     std::vector<std::uint8_t> edge(pixels, 0);
     common::parallelFor(
@@ -106,6 +172,7 @@ void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads) {
         if (edge[q]) {
             scan.status[q] = DecodeStatus::kEdge;
             scan.projectorX[q] = scan.projectorY[q] = scan.precision[q] = kNaN;
+            scan.source[q] = PositionSource::kNone;
         }
     }
 }
@@ -116,6 +183,10 @@ void countStatuses(DecodedScan& scan, std::size_t lit) {
         ++scan.statusCounts[static_cast<std::size_t>(status)];
     }
     scan.decoded = scan.statusCounts[0];
+    scan.sourceCounts.assign(kPositionSourceCount, 0);
+    for (const PositionSource source : scan.source) {
+        ++scan.sourceCounts[static_cast<std::size_t>(source)];
+    }
     scan.lit = lit;
 }
 

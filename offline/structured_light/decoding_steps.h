@@ -26,11 +26,23 @@ inline constexpr int kTooManyUncertainBits = -2;
 NoiseModel fitNoiseModel(const std::vector<double>& level, const std::vector<double>& residual,
                          double quantum);
 
-// Marks as kEdge (and undecodes) the decoded pixels where the coordinates bend beyond maxBend
-// projector pixels one way and the other way at a neighbour, along a row or a column.
-void markMixedPixels(DecodedScan& scan, double maxBend, unsigned threads);
+// The camera's encoding γ (value = signal^(1/γ)) that makes a pattern and its inverse add up to
+// white + black, as light does: fitted on the pixels the pair lights partly (a stripe's edge,
+// the projector's blur), where a curve breaks the sum. 1 when the capture is linear (within
+// 0.05) or shows too few such pixels to tell.
+double fitCameraGamma(const std::vector<float>& white, const std::vector<float>& black,
+                      const std::vector<float>& on, const std::vector<float>& off);
 
-// statusCounts, decoded and lit (`lit`: the pixels the projector's direct light reaches).
+// Every value v ← v^γ (clipped to [0, 1]): the camera's codes back to its signal.
+void linearize(std::vector<float>& values, double gamma);
+
+// Marks as kEdge (and undecodes) the decoded pixels where the coordinates bend beyond maxBend
+// projector pixels one way and the other way at a neighbour, along a row or a column. A bend
+// through a pixel the Gray bin placed (PositionSource::kGrayBin) may add two bins' rounding.
+void markMixedPixels(DecodedScan& scan, double maxBend, double grayBinWidth, unsigned threads);
+
+// statusCounts, sourceCounts, decoded and lit (`lit`: the pixels the projector's direct light
+// reaches).
 void countStatuses(DecodedScan& scan, std::size_t lit);
 
 // A Gray code without phase images: whole Gray bins (gray_code_decoder.cpp).

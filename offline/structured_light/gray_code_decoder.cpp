@@ -204,6 +204,7 @@ DecodedScan decodeGrayCode(const ScanCapture& capture, const DecodeOptions& opti
     scan.projectorX.assign(pixels, kNaN);
     scan.projectorY.assign(pixels, kNaN);
     scan.precision.assign(pixels, kNaN);
+    scan.source.assign(pixels, PositionSource::kNone);
     const double binWidth = sequence.grayBinWidth();
     // A whole bin's position is uniform across its width: σ = width / √12.
     const auto precision = static_cast<float>(binWidth / std::sqrt(12.0));
@@ -251,11 +252,12 @@ DecodedScan decodeGrayCode(const ScanCapture& capture, const DecodeOptions& opti
             scan.projectorX[q] = static_cast<float>(position[0]);
             scan.projectorY[q] = static_cast<float>(position[1]);
             scan.precision[q] = precision;
+            scan.source[q] = PositionSource::kGrayBin;
         }
     }
     // Whole bins step by a bin between neighbours where the surface is smooth: a step between
     // surfaces must bend the coordinates by more than two bins' rounding.
-    markMixedPixels(scan, options.maxBend + 2 * binWidth, threads);
+    markMixedPixels(scan, options.maxBend, binWidth, threads);
     countStatuses(scan, lit);
     return scan;
 }

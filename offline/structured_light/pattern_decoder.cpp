@@ -25,6 +25,15 @@ using detail::kNaN;
 using detail::kNoUncertainBit;
 using detail::kTooManyUncertainBits;
 
+// The largest neighbourhood the phase is summed over (5 × 5), and how bright against the object's
+// median direct light a pixel must be for its neighbours to help.
+constexpr int kLargestRadius = 2;
+constexpr double kNoisyButBright = 0.25;
+// The pair's difference decides a bit only where the global light is this small a share of the
+// direct: the finest pairs' estimate of it misses a concave corner's mirror-like bounce, which
+// can flip a difference that clears it.
+constexpr double kLittleGlobal = 0.1;
+
 // A frame whose median over the lit pixels sits this far from where it must (its pair's sum, or
 // inside white and black) was captured wrong: black (the camera missed it) or saturated.
 constexpr double kFrameTolerance = 0.4;
@@ -44,6 +53,477 @@ std::vector<std::size_t> litPixels(const DecodedScan& scan) {
         }
     }
     return lit;
+}
+
+// One axis of one pixel, placed.
+struct AxisPosition {
+    DecodeStatus status = DecodeStatus::kDecoded;
+    PositionSource source = PositionSource::kNone;
+    double position = 0, sigma = 0;
+};
+
+// The stages of decoding a Gray code with phase shifting, in the order decode() runs them.
+class PhaseShiftDecoder {
+public:
+    PhaseShiftDecoder(const ScanCapture& capture, const DecodeOptions& options)
+        : capture_(capture),
+          options_(options),
+          sequence_(capture.sequence()),
+          parameters_(sequence_.parameters()),
+          threads_(common::resolveThreadCount(options.threads)),
+          pixels_(static_cast<std::size_t>(capture.width()) * capture.height()) {}
+
+    DecodedScan decode() {
+        readFlatFields();
+        measureDirectLight();
+        for (int a = 0; a < 2; ++a) {
+            readGrayBits(a);
+            accumulatePhase(a);
+        }
+        placePixels();
+        // Gray bins are period / 4 wide: a bend through one placed by its bin may be that much.
+        detail::markMixedPixels(scan_, options_.maxBend, sequence_.grayBinWidth(), threads_);
+        detail::countStatuses(scan_, lit_.size());
+        return std::move(scan_);
+    }
+
+private:
+    static constexpr proto::PatternAxis kAxes[2] = {proto::PatternAxis::kColumns,
+                                                    proto::PatternAxis::kRows};
+
+    // An image as the camera's signal (its encoding undone).
+    std::vector<float> load(const proto::PatternSpec& pattern) const {
+        std::vector<float> values = capture_.image(capture_.imageIndex(pattern.name()));
+        detail::linearize(values, scan_.cameraGamma);
+        return values;
+    }
+    std::filesystem::path pathOf(const proto::PatternSpec& pattern) const {
+        return capture_.imagePath(capture_.imageIndex(pattern.name()));
+    }
+    static proto::PatternSpec grayPattern(proto::PatternAxis axis, int bit, bool inverted) {
+        return {proto::PatternKind::kGray, axis, bit, inverted, 0};
+    }
+
+    void readFlatFields();
+    void measureDirectLight();
+    void checkPair(const std::vector<float>& p, const std::vector<float>& i,
+                   const proto::PatternSpec& on, const proto::PatternSpec& off) const;
+    void readGrayBits(int a);
+    void accumulatePhase(int a);
+    AxisPosition placeAxis(int a, std::size_t q, const std::vector<std::uint8_t>& isLit) const;
+    AxisPosition placeByGrayBin(int a, std::size_t q) const;
+    void placePixels();
+
+    // The noise margin of the bit tests at pixel q.
+    double margin(std::size_t q) const {
+        return options_.noiseSigmas * std::sqrt(2.0) * scan_.noise.sigma(scan_.white[q]) +
+               options_.relativeMargin * (double(scan_.white[q]) - double(scan_.black[q]));
+    }
+
+    const ScanCapture& capture_;
+    const DecodeOptions& options_;
+    const proto::StructuredLightSequence& sequence_;
+    const proto::StructuredLightParameters& parameters_;
+    const unsigned threads_;
+    const std::size_t pixels_;
+    DecodedScan scan_;
+    std::vector<std::size_t> lit_;  // the pixels the projector's direct light reaches
+    double typicalDirect_ = 0;      // their median direct light
+    AxisState state_[2];
+};
+
+// Flat frames: the camera's encoding, where the projector reaches at all, and whether the white
+// frame is usable.
+void PhaseShiftDecoder::readFlatFields() {
+    scan_.width = capture_.width();
+    scan_.height = capture_.height();
+    scan_.projectorWidth = parameters_.width;
+    scan_.projectorHeight = parameters_.height;
+    scan_.white = capture_.image("white");
+    scan_.black = capture_.image("black");
+    scan_.status.assign(pixels_, DecodeStatus::kDecoded);
+    scan_.direct.assign(pixels_, 0.0f);
+    scan_.global.assign(pixels_, 0.0f);
+
+    // Saturation on the codes as captured: a clipped code is clipped in any encoding.
+    std::vector<std::uint8_t> clipped(pixels_, 0);
+    for (std::size_t p = 0; p < pixels_; ++p) {
+        clipped[p] = double(scan_.white[p]) >= options_.saturation ? 1 : 0;
+    }
+    // The finest column pair's stripe edges tell the camera's curve.
+    {
+        const int lowest = sequence_.lowestGrayBit();
+        const proto::PatternAxis columns = proto::PatternAxis::kColumns;
+        const std::vector<float> on = capture_.image(capture_.imageIndex(
+                                     grayPattern(columns, lowest, false).name())),
+                                 off = capture_.image(capture_.imageIndex(
+                                     grayPattern(columns, lowest, true).name()));
+        scan_.cameraGamma = detail::fitCameraGamma(scan_.white, scan_.black, on, off);
+    }
+    detail::linearize(scan_.white, scan_.cameraGamma);
+    detail::linearize(scan_.black, scan_.cameraGamma);
+
+    std::size_t brightEnough = 0, saturated = 0;
+    for (std::size_t p = 0; p < pixels_; ++p) {
+        const double contrast = double(scan_.white[p]) - double(scan_.black[p]);
+        if (contrast < options_.minDirect) {
+            scan_.status[p] = DecodeStatus::kDark;
+            continue;
+        }
+        ++brightEnough;
+        if (clipped[p]) {
+            scan_.status[p] = DecodeStatus::kSaturated;
+            ++saturated;
+        }
+    }
+    const std::filesystem::path whitePath = capture_.imagePath(capture_.imageIndex("white"));
+    if (brightEnough < std::max<std::size_t>(16, pixels_ / 10000)) {
+        throw common::InputError(
+            whitePath, "the white frame shows no projector light (white − black < " +
+                           std::to_string(options_.minDirect) +
+                           " everywhere): projector off, lens capped, or exposure too short");
+    }
+    if (saturated * 2 > brightEnough) {
+        throw common::InputError(whitePath,
+                                 "saturated in " + std::to_string(100 * saturated / brightEnough) +
+                                     "% of the lit pixels: lower the camera's exposure or gain");
+    }
+}
+
+// The direct light, from the two finest Gray pairs of each axis (high frequencies: the global
+// light is the same under a pattern and its inverse), and the camera's noise from how far each
+// pair's sum departs from white + black. A pixel is lit where the direct light stands above
+// minDirect and above what the noise alone makes of |pattern − inverse|.
+void PhaseShiftDecoder::measureDirectLight() {
+    const int lowest = sequence_.lowestGrayBit();
+    std::vector<double> noiseLevel, noiseResidual;
+    for (const proto::PatternAxis axis : kAxes) {
+        const int finest = std::min(lowest + 1, sequence_.grayBits(axis) - 1);
+        for (int bit = lowest; bit <= finest; ++bit) {
+            const std::vector<float> p = load(grayPattern(axis, bit, false)),
+                                     i = load(grayPattern(axis, bit, true));
+            for (std::size_t q = 0; q < pixels_; ++q) {
+                scan_.direct[q] = std::max(scan_.direct[q], std::abs(p[q] - i[q]));
+            }
+            if (bit == lowest && axis == proto::PatternAxis::kColumns) {
+                for (std::size_t q = 0; q < pixels_; q += 3) {
+                    if (scan_.status[q] == DecodeStatus::kDecoded) {
+                        noiseLevel.push_back(double(scan_.white[q]) + double(scan_.black[q]));
+                        noiseResidual.push_back(double(p[q]) + double(i[q]) -
+                                                double(scan_.white[q]) - double(scan_.black[q]));
+                    }
+                }
+            }
+        }
+    }
+    // The camera's step, in signal: an encoding's steepest step is γ codes' worth.
+    const double quantum = scan_.cameraGamma / ((1 << capture_.manifest().camera.bits) - 1);
+    scan_.noise = detail::fitNoiseModel(noiseLevel, noiseResidual, quantum);
+    for (std::size_t p = 0; p < pixels_; ++p) {
+        const double contrast = double(scan_.white[p]) - double(scan_.black[p]);
+        scan_.global[p] = static_cast<float>(std::max(0.0, contrast - double(scan_.direct[p])));
+        // |p − i| of an unlit pixel is noise of σ√2 at the black level: the largest of four
+        // such reaches a few σ.
+        const double noiseFloor =
+            options_.noiseSigmas * std::sqrt(2.0) * scan_.noise.sigma(scan_.black[p]);
+        if (scan_.status[p] == DecodeStatus::kDecoded &&
+            double(scan_.direct[p]) < options_.minDirect + noiseFloor) {
+            scan_.status[p] = DecodeStatus::kDark;  // lit, but only by the room or by bounces
+        }
+    }
+    lit_ = litPixels(scan_);
+    std::vector<double> direct;
+    for (std::size_t k = 0; k < lit_.size(); k += 7) {
+        direct.push_back(double(scan_.direct[lit_[k]]));
+    }
+    typicalDirect_ = direct.empty() ? 0.0 : common::quantile(direct, 0.5);
+}
+
+// A pattern and its inverse must add up to white + black wherever the projector reaches: a pair
+// that does not was captured wrong (a black frame, a stale one, a clipped one).
+void PhaseShiftDecoder::checkPair(const std::vector<float>& p, const std::vector<float>& i,
+                                  const proto::PatternSpec& on,
+                                  const proto::PatternSpec& off) const {
+    std::vector<double> ratio;
+    for (std::size_t k = 0; k < lit_.size(); k += 7) {
+        const std::size_t q = lit_[k];
+        const double contrast = double(scan_.white[q]) - double(scan_.black[q]);
+        ratio.push_back(
+            (double(p[q]) + double(i[q]) - double(scan_.white[q]) - double(scan_.black[q])) /
+            contrast);
+    }
+    const double m = common::quantile(ratio, 0.5);
+    if (std::abs(m) > kFrameTolerance) {
+        // The frame that departs from its own expectation most is the wrong one.
+        double darkP = 0, darkI = 0;
+        for (std::size_t k = 0; k < lit_.size(); k += 7) {
+            darkP += double(p[lit_[k]]);
+            darkI += double(i[lit_[k]]);
+        }
+        const bool blame = m < 0 ? darkP < darkI : darkP > darkI;
+        throw common::InputError(blame ? pathOf(on) : pathOf(off),
+                                 std::string(m < 0 ? "black or stale" : "saturated or stale") +
+                                     ": with its inverse it adds up to " +
+                                     std::to_string(static_cast<int>(std::lround(100 * (1 + m)))) +
+                                     "% of white + black, not 100% (pattern '" +
+                                     (blame ? on : off).name() + "')");
+    }
+}
+
+// The Gray bits of axis `a`, most significant first. A bit is read where Xu and Aliaga's test
+// finds it in the direct light alone, or where the pair's difference exceeds all the global light
+// and the camera's noise could make of it; else it is left open (one per axis is an edge
+// between two bins).
+void PhaseShiftDecoder::readGrayBits(int a) {
+    const proto::PatternAxis axis = kAxes[a];
+    AxisState& s = state_[a];
+    s.code.assign(pixels_, 0);
+    s.uncertain.assign(pixels_, kNoUncertainBit);
+    const int lowest = sequence_.lowestGrayBit();
+    const NoiseModel& noise = scan_.noise;
+    for (int bit = sequence_.grayBits(axis) - 1; bit >= lowest; --bit) {
+        const proto::PatternSpec on = grayPattern(axis, bit, false),
+                                 off = grayPattern(axis, bit, true);
+        const std::vector<float> p = load(on), i = load(off);
+        checkPair(p, i, on, off);
+        const std::uint32_t weight = 1u << (bit - lowest);
+        common::parallelFor(lit_.size(), kGrain, threads_, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::size_t q = lit_[k];
+                const double pl = double(p[q]) - double(scan_.black[q]);
+                const double il = double(i[q]) - double(scan_.black[q]);
+                const double d = scan_.direct[q], g = scan_.global[q], tau = margin(q);
+                // p = d·x + g_p, i = d·(1 − x) + g_i with 0 ≤ g_p, g_i ≤ g: a value above g can
+                // only be direct light, one below d cannot hold it.
+                const bool one = pl > g + tau || il < d - tau;
+                const bool zero = il > g + tau || pl < d - tau;
+                if (one != zero) {
+                    s.code[q] |= one ? weight : 0u;
+                    continue;
+                }
+                // p − i = d·(2x − 1) + g_p − g_i, and |g_p − g_i| ≤ g: a difference beyond g and
+                // the noise of var(p − i) = 2a + b·(p + i) has the direct light's sign.
+                const double difference = pl - il;
+                const double spread = std::sqrt(std::max(
+                    0.0, 2 * noise.constant +
+                             noise.perSignal * std::max(double(p[q]) + double(i[q]), 0.0)));
+                s.code[q] |= difference > 0 ? weight : 0u;
+                if (g < kLittleGlobal * d &&
+                    std::abs(difference) > 2 * g + options_.noiseSigmas * spread) {
+                    continue;
+                }
+                // Undecided: at a stripe's edge (both half lit) or drowned in global light. One
+                // per axis is allowed, and settled by the phase or placed on the bins' edge.
+                s.uncertain[q] = s.uncertain[q] == kNoUncertainBit
+                                     ? static_cast<std::int8_t>(bit - lowest)
+                                     : static_cast<std::int8_t>(kTooManyUncertainBits);
+            }
+        });
+    }
+}
+
+// Σ I_s sin δ_s and Σ I_s cos δ_s of axis `a` over its phase shifts, at the lit pixels.
+void PhaseShiftDecoder::accumulatePhase(int a) {
+    const proto::PatternAxis axis = kAxes[a];
+    AxisState& s = state_[a];
+    s.sine.assign(pixels_, 0.0f);
+    s.cosine.assign(pixels_, 0.0f);
+    for (int step = 0; step < parameters_.phaseSteps; ++step) {
+        const proto::PatternSpec pattern{proto::PatternKind::kPhase, axis, 0, false, step};
+        const std::vector<float> image = load(pattern);
+        std::vector<double> share;
+        for (std::size_t k = 0; k < lit_.size(); k += 7) {
+            const std::size_t q = lit_[k];
+            share.push_back((double(image[q]) - double(scan_.black[q])) /
+                            (double(scan_.white[q]) - double(scan_.black[q])));
+        }
+        const double m = common::quantile(share, 0.5);
+        if (!(m > 0.02 && m < 0.98)) {
+            throw common::InputError(pathOf(pattern),
+                                     std::string(m <= 0.02 ? "black" : "saturated") +
+                                         ": its lit pixels hold " +
+                                         std::to_string(static_cast<int>(std::lround(100 * m))) +
+                                         "% of white − black (pattern '" + pattern.name() + "')");
+        }
+        const double delta = 2 * kPi * step / parameters_.phaseSteps;
+        const auto c = static_cast<float>(std::cos(delta)),
+                   sn = static_cast<float>(std::sin(delta));
+        for (const std::size_t q : lit_) {
+            s.sine[q] += image[q] * sn;
+            s.cosine[q] += image[q] * c;
+        }
+    }
+}
+
+// Axis `a` of pixel q by its Gray code alone: the bin's centre, or with one bit open the edge
+// between the two bins it names; σ = the bin's width / √12.
+AxisPosition PhaseShiftDecoder::placeByGrayBin(int a, std::size_t q) const {
+    const AxisState& s = state_[a];
+    const double binWidth = sequence_.grayBinWidth();
+    const int extent = a == 0 ? parameters_.width : parameters_.height;
+    AxisPosition placed;
+    placed.source = PositionSource::kGrayBin;
+    placed.sigma = binWidth / std::sqrt(12.0);
+    const auto bin = static_cast<double>(proto::grayDecode(s.code[q]));
+    if (s.uncertain[q] == kNoUncertainBit) {
+        const double start = bin * binWidth;
+        placed.position = (start + std::min(start + binWidth, double(extent)) - 1) / 2;
+        if (start >= extent) {
+            placed.status = DecodeStatus::kInconsistent;  // a code the projector does not have
+        }
+        return placed;
+    }
+    const auto other = static_cast<double>(
+        proto::grayDecode(s.code[q] ^ (1u << static_cast<unsigned>(s.uncertain[q]))));
+    const double edge = std::max(bin, other) * binWidth;
+    placed.position = edge - 0.5;
+    if (std::abs(bin - other) != 1) {
+        placed.status = DecodeStatus::kAmbiguous;
+    } else if (edge >= extent) {
+        placed.status = DecodeStatus::kInconsistent;
+    }
+    return placed;
+}
+
+// Axis `a` of lit pixel q: the phase inside the Gray code's bin, summed over the pixel's 3 × 3
+// or 5 × 5 neighbourhood when the camera's noise leaves the pixel's own σ above maxSigma (the
+// neighbours' phasors add: a smooth surface's mean is the centre's coordinate), and the Gray bin
+// when even that does not reach maxSigma or the phase is too weak. A phase precise enough that
+// disagrees with the code is a pixel the decoder cannot trust (kInconsistent).
+AxisPosition PhaseShiftDecoder::placeAxis(int a, std::size_t q,
+                                          const std::vector<std::uint8_t>& isLit) const {
+    const AxisState& s = state_[a];
+    if (s.uncertain[q] == kTooManyUncertainBits) {
+        return {DecodeStatus::kAmbiguous, PositionSource::kNone, 0, 0};
+    }
+    const double period = parameters_.phasePeriod, steps = parameters_.phaseSteps;
+    const double binWidth = sequence_.grayBinWidth();
+    const int extent = a == 0 ? parameters_.width : parameters_.height;
+    const int w = scan_.width, h = scan_.height;
+    const int x = static_cast<int>(q % static_cast<std::size_t>(w));
+    const int y = static_cast<int>(q / static_cast<std::size_t>(w));
+    const auto centreBin = static_cast<long>(proto::grayDecode(s.code[q]));
+    // σ(θ) = σ_I·√(2/N)/A for N steps of amplitude A; the noise at the mean level; n pixels'
+    // phasors divide it by √n.
+    const double sigmaI =
+        scan_.noise.sigma(0.5 * (double(scan_.white[q]) + double(scan_.black[q])));
+    // Neighbours help where the camera's noise, not the geometry, makes the pixel imprecise: a
+    // pixel as bright as the object's typical one. A dim one (grazing, at a silhouette or a
+    // shadow's edge) is where neighbours lie on a surface bending away: the Gray bin places it.
+    const int largestRadius =
+        double(scan_.direct[q]) >= kNoisyButBright * typicalDirect_ ? kLargestRadius : 0;
+    // A neighbour counts when lit and on the same surface (its bin the centre's or next to it).
+    const auto usable = [&](int u, int v) {
+        if (u < 0 || v < 0 || u >= w || v >= h) {
+            return false;
+        }
+        const std::size_t r = static_cast<std::size_t>(v) * w + u;
+        return isLit[r] != 0 &&
+               std::abs(static_cast<long>(proto::grayDecode(s.code[r])) - centreBin) <= 1;
+    };
+    for (int radius = 0; radius <= largestRadius; ++radius) {
+        // Neighbours in mirrored pairs only: the offsets' mean stays the centre, so a surface's
+        // gradient adds no bias, and a silhouette or a step only narrows the neighbourhood.
+        double sine = double(s.sine[q]), cosine = double(s.cosine[q]), n = 1;
+        for (int dy = 0; dy <= radius; ++dy) {
+            for (int dx = -radius; dx <= radius; ++dx) {
+                if (dy == 0 && dx <= 0) {
+                    continue;  // the other half of the pairs, and the centre
+                }
+                if (!usable(x + dx, y + dy) || !usable(x - dx, y - dy)) {
+                    continue;
+                }
+                for (const int side : {1, -1}) {
+                    const std::size_t r =
+                        static_cast<std::size_t>(y + side * dy) * w + (x + side * dx);
+                    sine += double(s.sine[r]);
+                    cosine += double(s.cosine[r]);
+                }
+                n += 2;
+            }
+        }
+        if (radius > 0 && n <= 1) {
+            break;  // no neighbour to help
+        }
+        const double amplitude = 2.0 / steps * std::hypot(sine, cosine) / n;
+        if (amplitude < options_.minModulation * double(scan_.direct[q])) {
+            // Weak against the direct light, not the noise: blur or two surfaces mixed in the
+            // pixel, where the Gray code is no better.
+            return {DecodeStatus::kLowModulation, PositionSource::kNone, 0, 0};
+        }
+        const double sigma =
+            period / (2 * kPi) * sigmaI * std::sqrt(2.0 / steps) / amplitude / std::sqrt(n);
+        if (sigma > options_.maxSigma) {
+            continue;
+        }
+        double angle = std::atan2(sine, cosine);
+        if (angle < 0) {
+            angle += 2 * kPi;
+        }
+        const double inPeriod = angle / (2 * kPi) * period;
+        // The candidates: the code as read, and with the undecided bit flipped when the two codes
+        // are neighbours (an edge between two bins); the phase picks.
+        std::uint32_t candidates[2] = {s.code[q], s.code[q]};
+        int count = 1;
+        if (s.uncertain[q] >= 0) {
+            candidates[1] ^= 1u << s.uncertain[q];
+            const auto b0 = static_cast<long>(proto::grayDecode(candidates[0]));
+            const auto b1 = static_cast<long>(proto::grayDecode(candidates[1]));
+            if (std::abs(b0 - b1) != 1) {
+                return {DecodeStatus::kAmbiguous, PositionSource::kNone, 0, 0};
+            }
+            count = 2;
+        }
+        double best = std::numeric_limits<double>::infinity(), chosen = 0;
+        for (int c = 0; c < count; ++c) {
+            const double bin = proto::grayDecode(candidates[c]);
+            const double coarse = bin * binWidth + (binWidth - 1) / 2;
+            const double turns = std::round((coarse - inPeriod) / period);
+            const double candidate = inPeriod + turns * period;
+            if (std::abs(candidate - coarse) < best) {
+                best = std::abs(candidate - coarse);
+                chosen = candidate;
+            }
+        }
+        // Inside its bin the phase sits within half a bin of the bin's centre; an edge read on
+        // the wrong side adds one bin.
+        if (best > 1.5 * binWidth || chosen < -0.5 || chosen > extent - 0.5) {
+            return {DecodeStatus::kInconsistent, PositionSource::kNone, 0, 0};
+        }
+        return {DecodeStatus::kDecoded,
+                radius == 0 ? PositionSource::kPhase : PositionSource::kPhaseNeighbourhood, chosen,
+                sigma};
+    }
+    return placeByGrayBin(a, q);
+}
+
+void PhaseShiftDecoder::placePixels() {
+    scan_.projectorX.assign(pixels_, kNaN);
+    scan_.projectorY.assign(pixels_, kNaN);
+    scan_.precision.assign(pixels_, kNaN);
+    scan_.source.assign(pixels_, PositionSource::kNone);
+    std::vector<std::uint8_t> isLit(pixels_, 0);
+    for (const std::size_t q : lit_) {
+        isLit[q] = 1;
+    }
+    common::parallelFor(lit_.size(), kGrain, threads_, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::size_t q = lit_[k];
+            AxisPosition axes[2];
+            DecodeStatus status = DecodeStatus::kDecoded;
+            for (int a = 0; a < 2 && status == DecodeStatus::kDecoded; ++a) {
+                axes[a] = placeAxis(a, q, isLit);
+                status = axes[a].status;
+            }
+            scan_.status[q] = status;
+            if (status == DecodeStatus::kDecoded) {
+                scan_.projectorX[q] = static_cast<float>(axes[0].position);
+                scan_.projectorY[q] = static_cast<float>(axes[1].position);
+                scan_.precision[q] = static_cast<float>(std::max(axes[0].sigma, axes[1].sigma));
+                scan_.source[q] = std::max(axes[0].source, axes[1].source);
+            }
+        }
+    });
 }
 
 }  // namespace
@@ -68,6 +548,20 @@ const char* decodeStatusName(DecodeStatus status) {
     return "unknown";
 }
 
+const char* positionSourceName(PositionSource source) {
+    switch (source) {
+        case PositionSource::kNone:
+            return "none";
+        case PositionSource::kPhase:
+            return "phase";
+        case PositionSource::kPhaseNeighbourhood:
+            return "phase_neighbourhood";
+        case PositionSource::kGrayBin:
+            return "gray_bin";
+    }
+    return "unknown";
+}
+
 double NoiseModel::sigma(double signal) const {
     return std::sqrt(std::max(0.0, constant + perSignal * std::max(signal, 0.0)));
 }
@@ -82,273 +576,7 @@ DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& opti
                                  "phase images without white and black (flat_fields false): the "
                                  "phase is read against the flat fields");
     }
-    const proto::StructuredLightParameters& parameters = sequence.parameters();
-    const unsigned threads = common::resolveThreadCount(options.threads);
-    const std::size_t pixels = static_cast<std::size_t>(capture.width()) * capture.height();
-    const double quantum = 1.0 / ((1 << capture.manifest().camera.bits) - 1);
-
-    DecodedScan scan;
-    scan.width = capture.width();
-    scan.height = capture.height();
-    scan.projectorWidth = parameters.width;
-    scan.projectorHeight = parameters.height;
-    scan.white = capture.image("white");
-    scan.black = capture.image("black");
-    scan.status.assign(pixels, DecodeStatus::kDecoded);
-    scan.direct.assign(pixels, 0.0f);
-    scan.global.assign(pixels, 0.0f);
-
-    // Flat frames: where the projector reaches at all, and whether the white frame is usable.
-    std::size_t brightEnough = 0, saturated = 0;
-    for (std::size_t p = 0; p < pixels; ++p) {
-        const double contrast = double(scan.white[p]) - double(scan.black[p]);
-        if (contrast < options.minDirect) {
-            scan.status[p] = DecodeStatus::kDark;
-            continue;
-        }
-        ++brightEnough;
-        if (double(scan.white[p]) >= options.saturation) {
-            scan.status[p] = DecodeStatus::kSaturated;
-            ++saturated;
-        }
-    }
-    const std::filesystem::path whitePath = capture.imagePath(capture.imageIndex("white"));
-    if (brightEnough < std::max<std::size_t>(16, pixels / 10000)) {
-        throw common::InputError(
-            whitePath, "the white frame shows no projector light (white − black < " +
-                           std::to_string(options.minDirect) +
-                           " everywhere): projector off, lens capped, or exposure too short");
-    }
-    if (saturated * 2 > brightEnough) {
-        throw common::InputError(whitePath,
-                                 "saturated in " + std::to_string(100 * saturated / brightEnough) +
-                                     "% of the lit pixels: lower the camera's exposure or gain");
-    }
-
-    const auto load = [&](const proto::PatternSpec& pattern) {
-        return capture.image(capture.imageIndex(pattern.name()));
-    };
-    const auto pathOf = [&](const proto::PatternSpec& pattern) {
-        return capture.imagePath(capture.imageIndex(pattern.name()));
-    };
-    const int lowest = sequence.lowestGrayBit();
-    const proto::PatternAxis axes[2] = {proto::PatternAxis::kColumns, proto::PatternAxis::kRows};
-
-    // The direct light, from the two finest Gray pairs of each axis (high frequencies: the
-    // global light is the same under a pattern and its inverse), and the camera's noise from
-    // how far each pair's sum departs from white + black.
-    std::vector<double> noiseLevel, noiseResidual;
-    for (const proto::PatternAxis axis : axes) {
-        const int finest = std::min(lowest + 1, sequence.grayBits(axis) - 1);
-        for (int bit = lowest; bit <= finest; ++bit) {
-            const proto::PatternSpec on{proto::PatternKind::kGray, axis, bit, false, 0};
-            const proto::PatternSpec off{proto::PatternKind::kGray, axis, bit, true, 0};
-            const std::vector<float> p = load(on), i = load(off);
-            for (std::size_t q = 0; q < pixels; ++q) {
-                scan.direct[q] = std::max(scan.direct[q], std::abs(p[q] - i[q]));
-            }
-            if (bit == lowest && axis == proto::PatternAxis::kColumns) {
-                for (std::size_t q = 0; q < pixels; q += 3) {
-                    if (scan.status[q] == DecodeStatus::kDecoded) {
-                        noiseLevel.push_back(double(scan.white[q]) + double(scan.black[q]));
-                        noiseResidual.push_back(double(p[q]) + double(i[q]) -
-                                                double(scan.white[q]) - double(scan.black[q]));
-                    }
-                }
-            }
-        }
-    }
-    scan.noise = detail::fitNoiseModel(noiseLevel, noiseResidual, quantum);
-    for (std::size_t p = 0; p < pixels; ++p) {
-        const double contrast = double(scan.white[p]) - double(scan.black[p]);
-        scan.global[p] = static_cast<float>(std::max(0.0, contrast - double(scan.direct[p])));
-        if (scan.status[p] == DecodeStatus::kDecoded &&
-            double(scan.direct[p]) < options.minDirect) {
-            scan.status[p] = DecodeStatus::kDark;  // lit, but only by the room or by bounces
-        }
-    }
-    const std::vector<std::size_t> lit = litPixels(scan);
-    const auto margin = [&](std::size_t p) {
-        return options.noiseSigmas * std::sqrt(2.0) * scan.noise.sigma(scan.white[p]) +
-               options.relativeMargin * (double(scan.white[p]) - double(scan.black[p]));
-    };
-
-    // A pattern and its inverse must add up to white + black wherever the projector reaches:
-    // a pair that does not was captured wrong (a black frame, a stale one, a clipped one).
-    const auto checkPair = [&](const std::vector<float>& p, const std::vector<float>& i,
-                               const proto::PatternSpec& on, const proto::PatternSpec& off) {
-        std::vector<double> ratio;
-        for (std::size_t k = 0; k < lit.size(); k += 7) {
-            const std::size_t q = lit[k];
-            const double contrast = double(scan.white[q]) - double(scan.black[q]);
-            ratio.push_back(
-                (double(p[q]) + double(i[q]) - double(scan.white[q]) - double(scan.black[q])) /
-                contrast);
-        }
-        const double m = common::quantile(ratio, 0.5);
-        if (std::abs(m) > kFrameTolerance) {
-            // The frame that departs from its own expectation most is the wrong one.
-            double darkP = 0, darkI = 0;
-            for (std::size_t k = 0; k < lit.size(); k += 7) {
-                darkP += double(p[lit[k]]);
-                darkI += double(i[lit[k]]);
-            }
-            const bool blame = m < 0 ? darkP < darkI : darkP > darkI;
-            throw common::InputError(
-                blame ? pathOf(on) : pathOf(off),
-                std::string(m < 0 ? "black or stale" : "saturated or stale") +
-                    ": with its inverse it adds up to " +
-                    std::to_string(static_cast<int>(std::lround(100 * (1 + m)))) +
-                    "% of white + black, not 100% (pattern '" + (blame ? on : off).name() + "')");
-        }
-    };
-
-    AxisState state[2];
-    for (int a = 0; a < 2; ++a) {
-        const proto::PatternAxis axis = axes[a];
-        AxisState& s = state[a];
-        s.code.assign(pixels, 0);
-        s.uncertain.assign(pixels, kNoUncertainBit);
-        s.sine.assign(pixels, 0.0f);
-        s.cosine.assign(pixels, 0.0f);
-        for (int bit = sequence.grayBits(axis) - 1; bit >= lowest; --bit) {
-            const proto::PatternSpec on{proto::PatternKind::kGray, axis, bit, false, 0};
-            const proto::PatternSpec off{proto::PatternKind::kGray, axis, bit, true, 0};
-            const std::vector<float> p = load(on), i = load(off);
-            checkPair(p, i, on, off);
-            const std::uint32_t weight = 1u << (bit - lowest);
-            common::parallelFor(
-                lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
-                    for (std::size_t k = begin; k < end; ++k) {
-                        const std::size_t q = lit[k];
-                        const double pl = double(p[q]) - double(scan.black[q]);
-                        const double il = double(i[q]) - double(scan.black[q]);
-                        const double d = scan.direct[q], g = scan.global[q], tau = margin(q);
-                        // p = d·x + g_p, i = d·(1 − x) + g_i with 0 ≤ g_p, g_i ≤ g: a value above
-                        // g can only be direct light, one below d cannot hold it.
-                        const bool one = pl > g + tau || il < d - tau;
-                        const bool zero = il > g + tau || pl < d - tau;
-                        if (one != zero) {
-                            s.code[q] |= one ? weight : 0u;
-                            continue;
-                        }
-                        // Undecided: at a stripe's edge (both half lit) or drowned in global light.
-                        // One per axis is allowed, and settled by the phase below.
-                        s.code[q] |= pl > il ? weight : 0u;
-                        s.uncertain[q] = s.uncertain[q] == kNoUncertainBit
-                                             ? static_cast<std::int8_t>(bit - lowest)
-                                             : static_cast<std::int8_t>(kTooManyUncertainBits);
-                    }
-                });
-        }
-        for (int step = 0; step < parameters.phaseSteps; ++step) {
-            const proto::PatternSpec pattern{proto::PatternKind::kPhase, axis, 0, false, step};
-            const std::vector<float> image = load(pattern);
-            std::vector<double> share;
-            for (std::size_t k = 0; k < lit.size(); k += 7) {
-                const std::size_t q = lit[k];
-                share.push_back((double(image[q]) - double(scan.black[q])) /
-                                (double(scan.white[q]) - double(scan.black[q])));
-            }
-            const double m = common::quantile(share, 0.5);
-            if (!(m > 0.02 && m < 0.98)) {
-                throw common::InputError(
-                    pathOf(pattern), std::string(m <= 0.02 ? "black" : "saturated") +
-                                         ": its lit pixels hold " +
-                                         std::to_string(static_cast<int>(std::lround(100 * m))) +
-                                         "% of white − black (pattern '" + pattern.name() + "')");
-            }
-            const double delta = 2 * kPi * step / parameters.phaseSteps;
-            const auto c = static_cast<float>(std::cos(delta)),
-                       sn = static_cast<float>(std::sin(delta));
-            for (const std::size_t q : lit) {
-                s.sine[q] += image[q] * sn;
-                s.cosine[q] += image[q] * c;
-            }
-        }
-    }
-
-    scan.projectorX.assign(pixels, kNaN);
-    scan.projectorY.assign(pixels, kNaN);
-    scan.precision.assign(pixels, kNaN);
-    const double period = parameters.phasePeriod;
-    const double binWidth = sequence.grayBinWidth();
-    const double steps = parameters.phaseSteps;
-    common::parallelFor(lit.size(), kGrain, threads, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t k = begin; k < end; ++k) {
-            const std::size_t q = lit[k];
-            double position[2] = {0, 0}, worst = 0;
-            DecodeStatus status = DecodeStatus::kDecoded;
-            for (int a = 0; a < 2 && status == DecodeStatus::kDecoded; ++a) {
-                const AxisState& s = state[a];
-                const int extent = a == 0 ? parameters.width : parameters.height;
-                if (s.uncertain[q] == kTooManyUncertainBits) {
-                    status = DecodeStatus::kAmbiguous;
-                    break;
-                }
-                const double amplitude =
-                    2.0 / steps * std::hypot(double(s.sine[q]), double(s.cosine[q]));
-                if (amplitude < options.minModulation * double(scan.direct[q])) {
-                    status = DecodeStatus::kLowModulation;
-                    break;
-                }
-                double angle = std::atan2(double(s.sine[q]), double(s.cosine[q]));
-                if (angle < 0) {
-                    angle += 2 * kPi;
-                }
-                const double inPeriod = angle / (2 * kPi) * period;
-                // The candidates: the code as read, and with the undecided bit flipped when the
-                // two codes are neighbours (an edge between two bins); the phase picks.
-                std::uint32_t candidates[2] = {s.code[q], s.code[q]};
-                int count = 1;
-                if (s.uncertain[q] >= 0) {
-                    candidates[1] ^= 1u << s.uncertain[q];
-                    const auto b0 = static_cast<long>(proto::grayDecode(candidates[0]));
-                    const auto b1 = static_cast<long>(proto::grayDecode(candidates[1]));
-                    if (std::abs(b0 - b1) != 1) {
-                        status = DecodeStatus::kAmbiguous;
-                        break;
-                    }
-                    count = 2;
-                }
-                double best = std::numeric_limits<double>::infinity(), chosen = 0;
-                for (int c = 0; c < count; ++c) {
-                    const double bin = proto::grayDecode(candidates[c]);
-                    const double coarse = bin * binWidth + (binWidth - 1) / 2;
-                    const double turns = std::round((coarse - inPeriod) / period);
-                    const double x = inPeriod + turns * period;
-                    if (std::abs(x - coarse) < best) {
-                        best = std::abs(x - coarse);
-                        chosen = x;
-                    }
-                }
-                // Inside its bin the phase sits within half a bin of the bin's centre; an edge
-                // read on the wrong side adds one bin.
-                if (best > 1.5 * binWidth || chosen < -0.5 || chosen > extent - 0.5) {
-                    status = DecodeStatus::kInconsistent;
-                    break;
-                }
-                position[a] = chosen;
-                // σ(θ) = σ_I·√(2/N)/A for N steps of amplitude A; the noise at the mean level.
-                const double sigmaI =
-                    scan.noise.sigma(0.5 * (double(scan.white[q]) + double(scan.black[q])));
-                worst = std::max(worst,
-                                 period / (2 * kPi) * sigmaI * std::sqrt(2.0 / steps) / amplitude);
-                if (worst > options.maxSigma) {
-                    status = DecodeStatus::kLowModulation;
-                }
-            }
-            scan.status[q] = status;
-            if (status == DecodeStatus::kDecoded) {
-                scan.projectorX[q] = static_cast<float>(position[0]);
-                scan.projectorY[q] = static_cast<float>(position[1]);
-                scan.precision[q] = static_cast<float>(worst);
-            }
-        }
-    });
-    detail::markMixedPixels(scan, options.maxBend, threads);
-    detail::countStatuses(scan, lit.size());
-    return scan;
+    return PhaseShiftDecoder(capture, options).decode();
 }
 
 }  // namespace vpe::structured_light

@@ -40,6 +40,11 @@ struct TriangulationOptions {
     // ... and only where the neighbours' distances along their rays fit their plane to this RMS
     // (metres): a smooth patch, not a step or noise.
     double maxFillResidual = 5e-5;
+    // Camera pixels placed less precisely than this (σ in projector pixels,
+    // DecodedScan::precision) stay out of the surface: a wide Gray bin's rounding, where the
+    // phase could not help, is a right code but no surface point. A Gray code down to single
+    // pixels (σ = 1/√12) stays in.
+    double maxSigma = 1.0;
     // Lit camera pixels (DecodedScan::direct) have at least this much direct light.
     double minDirect = 0.015;
     int threads = 0;

@@ -30,6 +30,19 @@ enum class DecodeStatus : std::uint8_t {
 inline constexpr int kDecodeStatusCount = 7;
 const char* decodeStatusName(DecodeStatus status);
 
+// What placed a decoded pixel, the worse of its two axes: the phase at the pixel alone; the
+// phase summed over a neighbourhood where the camera's noise left the pixel's own too imprecise
+// (a noisy camera costs resolution there, not the pixel); or the Gray bin alone where the phase
+// cannot help (too weak, or disagreeing with a code the bits hold certain).
+enum class PositionSource : std::uint8_t {
+    kNone = 0,
+    kPhase,
+    kPhaseNeighbourhood,
+    kGrayBin,
+};
+inline constexpr int kPositionSourceCount = 4;
+const char* positionSourceName(PositionSource source);
+
 struct DecodeOptions {
     // The least direct light (white − black, as a fraction of the camera's full scale) worth
     // decoding.
@@ -41,10 +54,13 @@ struct DecodeOptions {
     // white − black for what the noise model does not see (response, blur).
     double noiseSigmas = 3.5;
     double relativeMargin = 0.04;
-    // The phase's amplitude must reach this share of the direct light.
+    // The phase's amplitude must reach this share of the direct light; below it the Gray bin
+    // places the pixel.
     double minModulation = 0.15;
-    // The position's expected standard deviation from the camera's noise (DecodedScan::precision)
-    // must stay below this many projector pixels: dimmer pixels are too noisy to place.
+    // The phase places a pixel while the position's expected standard deviation from the
+    // camera's noise (DecodedScan::precision) stays below this many projector pixels. Noisier
+    // pixels sum the phase over their neighbours (3 × 3, then 5 × 5) until it does; where even
+    // that does not, the Gray bin places them.
     double maxSigma = 0.25;
     // Bends of the decoded coordinates, x(left) + x(right) − 2·x on a row or a column, beyond
     // this many projector pixels and of opposite signs at two neighbours mark a step.
@@ -72,6 +88,12 @@ struct DecodedScan {
     // NaN undecoded.
     std::vector<float> precision;
     std::vector<DecodeStatus> status;
+    std::vector<PositionSource> source;     // kNone undecoded
+    std::vector<std::size_t> sourceCounts;  // kPositionSourceCount entries
+    // The camera's encoding the decoder undid: value = signal^(1/γ); 1 for a linear camera.
+    // Measured on the capture (a pattern and its inverse add up to white + black in light, not in
+    // codes).
+    double cameraGamma = 1;
     NoiseModel noise;
     std::vector<std::size_t> statusCounts;  // kDecodeStatusCount entries
     std::size_t decoded = 0;
@@ -79,7 +101,9 @@ struct DecodedScan {
 };
 
 // With phase images: the Gray bits by Xu and Aliaga's rule against white and black (which the
-// sequence must show), the phase inside the bin. Without: each Gray bit from its pair's
+// sequence must show), or where that rule cannot tell, by the pair's difference against the
+// global light and the camera's noise; the phase inside the bin, over a neighbourhood where the
+// noise demands it, else the Gray bin (PositionSource). Without: each Gray bit from its pair's
 // difference against the camera's noise at that level (DecodeOptions::noiseSigmas), one bit left
 // open per axis placing the pixel on the edge between two bins; white and black where shown,
 // else the pairs' highest and lowest values in their place. minModulation, maxSigma and
