@@ -97,10 +97,12 @@ void runScan(const ScanArguments& args) {
     if (accuracy) {
         std::fprintf(stderr,
                      "against the truth: coverage %.2f%%, depth RMS %.3f mm (p99 %.3f), normals "
-                     "median %.2f°, wrong decodes %.4f%% (%zu), decode RMS %.3f px\n",
+                     "median %.2f°, wrong decodes %.4f%% (%zu; beyond their precision %.4f%%), "
+                     "decode RMS %.3f px, lit pixels decoded %.2f%%\n",
                      100 * accuracy->coverage, accuracy->depthRmsMm, accuracy->depthP99Mm,
                      accuracy->normalMedianDeg, 100 * accuracy->wrongDecodeShare,
-                     accuracy->wrongDecodes, accuracy->decodeRmsPx);
+                     accuracy->wrongDecodes, 100 * accuracy->wrongCodeShare, accuracy->decodeRmsPx,
+                     100 * accuracy->litDecodedShare);
     }
     if (args.json) {
         nlohmann::json json;
@@ -117,6 +119,14 @@ void runScan(const ScanArguments& args) {
         }
         json["undecoded"] = reasons;
         json["noise_sigma_at_half"] = decoded.noise.sigma(0.5);
+        json["camera_gamma"] = decoded.cameraGamma;
+        nlohmann::json placedBy = nlohmann::json::object();
+        for (int s = 1; s < structured_light::kPositionSourceCount; ++s) {
+            placedBy[structured_light::positionSourceName(
+                static_cast<structured_light::PositionSource>(s))] =
+                decoded.sourceCounts[static_cast<std::size_t>(s)];
+        }
+        json["placed_by"] = placedBy;
         json["measured_projector_pixels"] = surface.measured;
         json["completed_projector_pixels"] = surface.completed;
         json["surface_chart"] = registration::surfaceChartName(surfaceMesh.chart);
@@ -133,6 +143,17 @@ void runScan(const ScanArguments& args) {
             json["normal_median_deg"] = accuracy->normalMedianDeg;
             json["normal_p95_deg"] = accuracy->normalP95Deg;
             json["wrong_decode_share"] = accuracy->wrongDecodeShare;
+            json["wrong_code_share"] = accuracy->wrongCodeShare;
+            json["lit_decoded_share"] = accuracy->litDecodedShare;
+            json["lit_seen_pixels"] = accuracy->litSeen;
+            nlohmann::json bySource = nlohmann::json::object();
+            for (int s = 1; s < structured_light::kPositionSourceCount; ++s) {
+                const auto source = static_cast<structured_light::PositionSource>(s);
+                bySource[structured_light::positionSourceName(source)] = {
+                    {"pixels", accuracy->bySource[static_cast<std::size_t>(s)]},
+                    {"rms_px", accuracy->rmsBySourcePx[static_cast<std::size_t>(s)]}};
+            }
+            json["decode_error_by_source"] = bySource;
             json["wrong_decodes"] = accuracy->wrongDecodes;
             json["wrong_decode_share_centre"] = accuracy->wrongAtCentreShare;
             json["decode_rms_px"] = accuracy->decodeRmsPx;

@@ -89,12 +89,33 @@ ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
         }
         const double ex = double(decoded.projectorX[q]) - double(tx),
                      ey = double(decoded.projectorY[q]) - double(ty);
-        if (std::hypot(ex, ey) > 1.0) {
+        const double error = std::hypot(ex, ey);
+        if (error > 1.0) {
             ++a.wrongDecodes;
         }
+        // Both axes may be off by their claim: √2 of it along the diagonal.
+        const double claim = std::sqrt(2.0) * std::sqrt(3.0) * double(decoded.precision[q]);
+        if (!(error <= claim + 1.0)) {
+            ++a.wrongCodes;
+        }
+        const auto source = static_cast<std::size_t>(decoded.source[q]);
+        ++a.bySource[source];
+        a.rmsBySourcePx[source] += ex * ex + ey * ey;
         squared += ex * ex + ey * ey;
         ++compared;
     }
+    for (std::size_t s = 0; s < a.bySource.size(); ++s) {
+        a.rmsBySourcePx[s] =
+            a.bySource[s] ? std::sqrt(a.rmsBySourcePx[s] / double(a.bySource[s])) : 0;
+    }
+    for (std::size_t q = 0; q < decoded.projectorX.size(); ++q) {
+        if (!std::isnan(camera.pixels[4 * q])) {
+            ++a.litSeen;
+            a.decodedLitSeen += std::isnan(decoded.projectorX[q]) ? 0 : 1;
+        }
+    }
+    a.litDecodedShare = a.litSeen ? double(a.decodedLitSeen) / double(a.litSeen) : 0;
+    a.wrongCodeShare = a.decoded ? double(a.wrongCodes) / double(a.decoded) : 0;
     a.wrongDecodeShare = a.decoded ? double(a.wrongDecodes) / double(a.decoded) : 0;
     a.wrongAtCentreShare = a.decoded ? double(a.wrongAtCentre) / double(a.decoded) : 0;
     a.decodeRmsPx = compared ? std::sqrt(squared / double(compared)) : 0;

@@ -3,6 +3,7 @@
 // much of the object it measured, how well, and how many camera pixels it decoded wrong.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 
@@ -26,6 +27,18 @@ struct ScanAccuracy {
     std::size_t decoded = 0, wrongDecodes = 0, decodedWithoutTruth = 0;
     double wrongDecodeShare = 0;
     double decodeRmsPx = 0;  // over decoded pixels with a truth, both axes
+    // Camera pixels that see a point the projector lights (the truth has a coordinate there: lit
+    // and unshadowed), how many of them were decoded, and the share.
+    std::size_t litSeen = 0, decodedLitSeen = 0;
+    double litDecodedShare = 0;
+    // Decoded pixels whose error exceeds their own claim by more than one projector pixel: the
+    // claim is ±√3·σ of DecodedScan::precision, a whole Gray bin's half width for a pixel its
+    // bin placed. A wrong code, where wrongDecodes also counts a right but imprecise one.
+    std::size_t wrongCodes = 0;
+    double wrongCodeShare = 0;
+    // The decoded pixels with a truth by what placed them (PositionSource), and their RMS error.
+    std::array<std::size_t, structured_light::kPositionSourceCount> bySource{};
+    std::array<double, structured_light::kPositionSourceCount> rmsBySourcePx{};
     // The same against the coordinate of the pixel's centre ray alone: stricter where one camera
     // pixel sees many projector pixels (grazing surfaces), whose mean is not the centre's.
     std::size_t wrongAtCentre = 0;
