@@ -46,6 +46,9 @@ struct SynthProcamArguments {
     double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06;
     std::uint64_t seed = 1;
     std::string noise = "camera";
+    // The sensor and the optics, for noise sweeps: 0 / "" keep the gallery's.
+    double fullWell = 0, blur = -1;
+    std::string cameraOutput = "linear10";
     bool stains = false;
     bool realisticLight = false;
     int capture = 0;  // which capture of the installation: fresh noise for each
@@ -74,6 +77,34 @@ proto::PinholeCamera inCameraFrame(const proto::PinholeCamera& device,
 nlohmann::json poseJson(const sim::RigidPose& pose) {
     return {{"R", pose.R}, {"t", pose.t}};
 }
+// --full-well, --camera-output and --blur over the gallery's camera and projector, on every
+// capture (the board poses' too).
+void applySensorOptions(const SynthProcamArguments& args, procam::GalleryInstallation& gallery) {
+    renderer::procam::SimulatedCamera& camera = gallery.camera;
+    if (args.fullWell != 0) {
+        if (!(args.fullWell >= 50 && args.fullWell <= 1e6)) {
+            throw common::InputError("--full-well must be in [50, 1000000] electrons");
+        }
+        camera.fullWellElectrons = args.fullWell;
+    }
+    if (args.cameraOutput == "gamma8") {  // an ISP's 8-bit output, value = signal^(1/2.2)
+        camera.response = renderer::procam::CameraResponse::kGamma;
+        camera.gamma = 2.2;
+        camera.bits = 8;
+    } else if (args.cameraOutput == "linear10") {  // raw 10-bit
+        camera.response = renderer::procam::CameraResponse::kLinear;
+        camera.bits = 10;
+    }
+    if (args.blur >= 0) {
+        if (!(args.blur <= 20)) {
+            throw common::InputError("--blur must be in [0, 20] projector pixels");
+        }
+        gallery.objectScene.projector.blurPixels = args.blur;
+        for (renderer::procam::ProcamScene& scene : gallery.boardScenes) {
+            scene.projector.blurPixels = args.blur;
+        }
+    }
+}
 
 void runGallery(const SynthProcamArguments& args) {
     const auto start = std::chrono::steady_clock::now();
@@ -98,7 +129,8 @@ void runGallery(const SynthProcamArguments& args) {
     options.noise = args.noise == "camera";
     options.stains = args.stains;
     options.realisticLight = args.realisticLight;
-    const procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
+    procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
+    applySensorOptions(args, gallery);
     const int threads = static_cast<int>(common::resolveThreadCount(args.threads));
 
     common::AtomicFolder folder(args.out, "installation.toml", "vpe synth-procam");
@@ -513,6 +545,14 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
         ->add_option("--room-light", args->roomLight,
                      "The room's irradiance on the object, in the projector's units")
         ->capture_default_str();
+    command->add_option("--full-well", args->fullWell,
+                        "The sensor's full well (electrons; default the gallery's 10000): the "
+                        "shot noise");
+    addChoiceOption(command, "--camera-output", args->cameraOutput,
+                    "linear10 (raw 10-bit, the default) or gamma8 (an ISP's 8-bit, γ 2.2)",
+                    {"linear10", "gamma8"});
+    command->add_option("--blur", args->blur,
+                        "The projector's defocus, σ in projector pixels (default 0.7)");
     command->add_option("--noise", args->noise, "camera (shot + read noise) or none")
         ->check(CLI::IsMember({"camera", "none"}))
         ->capture_default_str();
