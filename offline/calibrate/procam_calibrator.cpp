@@ -42,11 +42,9 @@ double sample(const std::vector<float>& image, int width, int height, const cv::
 
 std::vector<cv::Point3f> boardPoints(const BoardSpec& board) {
     std::vector<cv::Point3f> points;
-    for (int j = 0; j < board.cornersY(); ++j) {
-        for (int i = 0; i < board.cornersX(); ++i) {
-            points.emplace_back(static_cast<float>(i * board.squareM),
-                                static_cast<float>(j * board.squareM), 0.0f);
-        }
+    for (int k = 0; k < board.cornerCount(); ++k) {
+        points.emplace_back(static_cast<float>(board.cornerX(k)),
+                            static_cast<float>(board.cornerY(k)), 0.0f);
     }
     return points;
 }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// vpe calibrate POSE... --board 10x7:25mm --out procam.yml [--truth truth.json]
+// vpe calibrate POSE... --board 10x7:25mm --out procam.yml [--truth truth.json] [--hold-out]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "vpe/calibrate/held_out_poses.h"
 #include "vpe/calibrate/procam_calibrator.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/progress_bar.h"
@@ -28,7 +29,7 @@ struct CalibrateArguments {
     std::vector<std::string> poses;
     std::string board, out, truth;
     int threads = 0;
-    bool json = false;
+    bool json = false, holdOut = false;
 };
 
 // A simulation's truth (vpe synth-procam's truth/truth.json) against the calibration.
@@ -124,6 +125,12 @@ void writePoseSheet(const std::vector<calibrate::BoardPose>& poses,
 void runCalibrate(const CalibrateArguments& args) {
     const auto start = std::chrono::steady_clock::now();
     const calibrate::BoardSpec board = calibrate::parseBoardSpec(args.board);
+    if (args.holdOut && args.poses.size() < 4) {
+        throw common::InputError(
+            "--hold-out needs at least 4 board poses (each held-in "
+            "calibration needs 3), got " +
+            std::to_string(args.poses.size()));
+    }
     std::vector<calibrate::BoardPose> poses;
     common::ProgressBar progress("calibrate", args.poses.size());
     for (const std::string& folder : args.poses) {
@@ -138,6 +145,11 @@ void runCalibrate(const CalibrateArguments& args) {
     }
     progress.setPhase("calibrating");
     const calibrate::ProcamCalibration calibration = calibrate::calibrateProcam(poses, board);
+    std::optional<calibrate::HeldOutPoses> heldOut;
+    if (args.holdOut) {
+        progress.setPhase("holding out");
+        heldOut = calibrate::evaluateHeldOutPoses(poses, board);
+    }
     progress.finish();
     scene::writeProcamCalibration(calibration.projector, calibration.camera, calibration.stereoRms,
                                   args.out);
@@ -155,6 +167,18 @@ void runCalibrate(const CalibrateArguments& args) {
                  1000 * std::hypot(calibration.projector.T[0], calibration.projector.T[1],
                                    calibration.projector.T[2]),
                  seconds, sheet.c_str());
+    if (heldOut) {
+        std::string perPose;
+        for (const calibrate::HeldOutPose& pose : heldOut->poses) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%s%.2f", perPose.empty() ? "" : ", ", pose.rms);
+            perPose += text;
+        }
+        std::fprintf(stderr,
+                     "held-out poses: each predicted in the projector by the others' "
+                     "calibration, RMS %.3f px, median %.3f px (per pose %s)\n",
+                     heldOut->rms, heldOut->median, perPose.c_str());
+    }
     std::optional<TruthErrors> errors;
     if (!args.truth.empty()) {
         errors = compareWithTruth(calibration, args.truth);
@@ -185,6 +209,17 @@ void runCalibrate(const CalibrateArguments& args) {
                                {"projector_rms_px", pose.projectorRms}});
         }
         json["per_pose"] = perPose;
+        if (heldOut) {
+            json["heldout_projector_rms_px"] = heldOut->rms;
+            json["heldout_projector_median_px"] = heldOut->median;
+            nlohmann::json heldOutPerPose = nlohmann::json::array();
+            for (const calibrate::HeldOutPose& pose : heldOut->poses) {
+                heldOutPerPose.push_back({{"folder", pose.folder.string()},
+                                          {"rms_px", pose.rms},
+                                          {"corners", pose.corners}});
+            }
+            json["heldout_per_pose"] = heldOutPerPose;
+        }
         if (errors) {
             json["intrinsics_error_pct"] = errors->intrinsicsPct;
             json["extrinsic_mm"] = errors->extrinsicMm;
@@ -217,6 +252,9 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
         ->required();
     command->add_option("--truth", args->truth,
                         "A simulation's truth.json (vpe synth-procam): report the errors");
+    command->add_flag("--hold-out", args->holdOut,
+                      "Also leave each pose out in turn: calibrate on the others and predict "
+                      "its corners in the projector (N more calibrations; at least 4 poses)");
     addThreadsOption(command, args->threads);
     addJsonFlag(command, args->json);
     command->callback([args, &action] { action = [args] { runCalibrate(*args); }; });

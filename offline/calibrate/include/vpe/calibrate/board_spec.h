@@ -15,6 +15,9 @@ struct BoardSpec {
     int cornersX() const { return squaresX - 1; }
     int cornersY() const { return squaresY - 1; }
     int cornerCount() const { return cornersX() * cornersY(); }
+    // Inner corner k (row by row from the first corner) on the board's plane z = 0, metres.
+    double cornerX(int k) const { return (k % cornersX()) * squareM; }
+    double cornerY(int k) const { return (k / cornersX()) * squareM; }
 };
 
 // "COLSxROWS:SIZE" with SIZE in mm (25mm), cm or m; squares 3..64 per side, different parities
