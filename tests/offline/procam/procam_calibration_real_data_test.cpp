@@ -3,7 +3,8 @@
 // camera, a 1024 × 768 projector showing OpenCV's GrayCodePattern; ../shared/data/README.md)
 // imported with vpe import-graycode and calibrated with vpe calibrate, against the figures the
 // tool's own OpenCV pipeline reaches on them, and held out: each pose predicted in the projector
-// by the other four's calibration. Skips without the data.
+// by the other four's calibration; and the projector size the tool's committed result was
+// computed for (1920 x 1080, step 2: also 42 images) refused at decode. Skips without the data.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,8 @@
 #include "vpe/structured_light/pattern_decoder.h"
 #include "vpe/structured_light/scan_capture.h"
 
+#include "support/cli_expectations.h"
+#include "support/command_runner.h"
 #include "support/json_report_command.h"
 #include "support/shared_test_folders.h"
 #include "support/test_data.h"
@@ -91,6 +94,32 @@ TEST(ProcamCalibrationRealData, ImportedPosesCalibrateTheRigAsWellAsTheToolDoes)
         EXPECT_EQ(pose["corners"], 63) << pose["folder"];
         EXPECT_LT(pose["rms_px"].get<double>(), 0.45) << pose["folder"];
     }
+    fs::remove_all(out);
+}
+
+// The tool's committed calibration_result.xml was computed as if the projector were 1920 x 1080
+// with step 2: 540 row codes, where these captures' reach 767. The image count (42) is the same,
+// so the import cannot tell; the first decode must, in one line naming the pose's manifest.
+TEST(ProcamCalibrationRealData, TheWrongProjectorSizeIsRefusedAtDecode) {
+    VPE_REQUIRE_REAL_DATA(data);
+    const fs::path sample = data / "procam-calibration-sample";
+    if (!fs::exists(sample / "capture_0")) {
+        GTEST_SKIP() << sample << " not found";
+    }
+    const fs::path out = scratchFolder("vpe-procam-calibration-wrong-size");
+    const CommandResult imported =
+        runCommand(vpeCommand({"import-graycode", (sample / "capture_0").string(), "--projector",
+                               "1920x1080", "--step", "2", "--out", (out / "scans").string()}));
+    ASSERT_EQ(imported.exitStatus, 0) << imported.err;
+    // Measured: 228184 of capture_0's 743207 certain row codes (30.7 %) are 540..767; declared
+    // 1024x768, none of any pose's codes are beyond (kWrongSizeShare in gray_code_decoder.cpp).
+    expectInputError(
+        runCommand(vpeCommand({"calibrate", (out / "scans" / "capture_0").string(), "--board",
+                               "10x8:75mm", "--out", (out / "procam.yml").string()})),
+        {"capture_0/scan.json: 31% of the decoded row codes are 540..767, beyond the "
+         "540 row codes (0..539) a 1920x1080 projector with step 2 has",
+         "--projector"});
+    EXPECT_FALSE(fs::exists(out / "procam.yml"));
     fs::remove_all(out);
 }
 

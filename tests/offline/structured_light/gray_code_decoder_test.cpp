@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Decoding a Gray code without phase images: whole bins where the camera is clean or noisy, with
 // white and black or without them, with a code step; an edge inside a pixel placed on the edge,
-// not dropped; a frame captured wrong refused in one line naming it.
+// not dropped; a frame captured wrong, or codes beyond the declared projector, refused in one
+// line naming the file.
 #include <cmath>
 #include <filesystem>
 
@@ -147,6 +148,38 @@ TEST(GrayCodeDecoder, RefusesAFrameCapturedBlackNamingIt) {
         EXPECT_NE(message.find(file), std::string::npos) << message;
         EXPECT_NE(message.find("black or stale"), std::string::npos) << message;
     }
+    fs::remove_all(folder);
+}
+
+// Patterns made for a 64 × 48 projector in a manifest that declares 48 × 48: the same 26 images
+// (6 bits per axis), so only the codes can tell. The camera sees columns 0.3 .. 59.2: a fifth
+// of its codes are 48..59, which a 48-column projector does not have.
+TEST(GrayCodeDecoder, RefusesCodesBeyondTheDeclaredProjectorNamingTheManifest) {
+    const fs::path folder = scratchFolder("vpe-gray-code-wrong-size");
+    const SyntheticGrayCode capture;
+    writeSyntheticScan(capture, folder);
+    proto::ScanManifest manifest = proto::readScanManifest(folder);
+    manifest.patterns.width = 48;
+    proto::writeScanManifest(folder, manifest);
+    const structured_light::ScanCapture scan(folder);
+    try {
+        structured_light::decodePatterns(scan);
+        ADD_FAILURE() << "decoded codes a 48x48 projector does not have";
+    } catch (const common::InputError& error) {
+        const std::string message = error.what();
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        for (const char* mention :
+             {"scan.json: 20% of the decoded column codes are 48..59, beyond the 48 column codes "
+              "(0..47) a 48x48 projector with step 1 has: is the projector's size right"}) {
+            EXPECT_NE(message.find(mention), std::string::npos) << message;
+        }
+        EXPECT_EQ(message.find("row"), std::string::npos) << message;
+    }
+    // Declared right, the same images decode whole (GivesWholeBinsWithWhiteAndBlackShownLast).
+    manifest.patterns.width = 64;
+    proto::writeScanManifest(folder, manifest);
+    EXPECT_EQ(structured_light::decodePatterns(structured_light::ScanCapture(folder)).decoded,
+              160u * 120u);
     fs::remove_all(folder);
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/proto/scan_manifest.h"
+#include "vpe/scene/projector_calibration.h"
 #include "vpe/structured_light/pattern_decoder.h"
 #include "vpe/structured_light/scan_capture.h"
 
@@ -123,6 +124,32 @@ TEST(ImportGrayCode, RefusesABadCaptureInOneLineAndWritesNothing) {
         EXPECT_FALSE(fs::exists(folder / "scans"));
         fs::remove_all(folder);
     }
+}
+
+// The wrong projector with the right image count: 64 × 48 patterns imported as 48 × 48 (26
+// images either way) import, and the first decode refuses them in one line naming the
+// capture's manifest, writing nothing.
+TEST(ImportGrayCode, AWrongProjectorSizeIsRefusedAtDecode) {
+    const fs::path folder = twoCaptures("wrong-size");
+    const CommandResult imported = runCommand(importCommand(folder, "48x48"));
+    ASSERT_EQ(imported.exitStatus, 0) << imported.err;
+    proto::PinholeCamera camera;
+    camera.width = 160;
+    camera.height = 120;
+    camera.K = {200, 0, 79.5, 0, 200, 59.5, 0, 0, 1};
+    scene::ProjectorCalibration projector = camera;
+    projector.width = 48;
+    projector.height = 48;
+    projector.T = {-0.1, 0, 0};
+    scene::writeProcamCalibration(projector, camera, std::nullopt, folder / "procam.yml");
+    expectInputError(
+        runCommand(
+            vpeCommand({"scan", (folder / "scans" / "capture_0").string(), "--calibration",
+                        (folder / "procam.yml").string(), "--out", (folder / "scan").string()})),
+        {"capture_0/scan.json: 20% of the decoded column codes are 48..", "a 48x48 projector",
+         "is the projector's size right (vpe import-graycode --projector, --step)?"});
+    EXPECT_FALSE(fs::exists(folder / "scan"));
+    fs::remove_all(folder);
 }
 
 }  // namespace

@@ -112,8 +112,10 @@ struct DecodedScan {
 //
 // Throws InputError naming the capture when it cannot be decoded at all: an image missing or of
 // another size (ScanCapture), a white frame (or without one, the first Gray pair) that is black
-// (no projector light reaches the camera), a pair captured wrong, or with a phase a white frame
-// whose lit pixels are mostly saturated.
+// (no projector light reaches the camera), a pair captured wrong, with a phase a white frame
+// whose lit pixels are mostly saturated, or without one codes beyond the declared projector's
+// width or height (divided by the code step) on over 2 % of an axis' certain codes (naming the
+// manifest: the patterns were made for another size or step).
 DecodedScan decodePatterns(const ScanCapture& capture, const DecodeOptions& options = {});
 
 }  // namespace vpe::structured_light
