@@ -90,8 +90,9 @@ void addImportGrayCodeCommand(CLI::App& app, Action& action) {
         "into vpe scan folders");
     command
         ->add_option("captures", args->captures,
-                     "Capture folders of graycode_NN.png: column bits (most significant first, "
-                     "each followed by its inverse), row bits, white, black")
+                     "Capture folders of graycode_NN.png (or .jpg, .tif; 8- or 16-bit): column "
+                     "bits (most significant first, each followed by its inverse), row bits, "
+                     "white, black")
         ->required();
     command
         ->add_option("--projector", args->projector,

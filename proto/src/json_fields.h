@@ -127,13 +127,16 @@ Json projectorJson(const Parameters& parameters, double latencyMs) {
 // The camera keys a scan and a radiometric capture share (ScanCamera and RadiometryCamera name
 // them alike): size and bits, then exposure, gain and source. Two readers, so that a capture
 // can read its own keys in between, in the order its messages have always come.
+// `sixteenBits`: 16 is allowed too (a scan's images imported from another tool's 16-bit PNG or
+// TIFF files).
 template <typename Camera>
-void readCameraFormat(const JsonFields& camera, Camera& into) {
+void readCameraFormat(const JsonFields& camera, Camera& into, bool sixteenBits = false) {
     into.width = camera.integer("width", 1, 16384);
     into.height = camera.integer("height", 1, 16384);
     into.bits = camera.integer("bits", 1, 16);
-    if (into.bits != 8 && into.bits != 10) {
-        camera.fail("bits: " + std::to_string(into.bits) + " (8 or 10)");
+    if (into.bits != 8 && into.bits != 10 && !(sixteenBits && into.bits == 16)) {
+        camera.fail("bits: " + std::to_string(into.bits) +
+                    (sixteenBits ? " (8, 10 or 16)" : " (8 or 10)"));
     }
 }
 

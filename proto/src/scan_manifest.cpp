@@ -68,7 +68,7 @@ ScanManifest parseScanManifest(std::string_view text, const std::string& source)
     p.flatFields = projector.boolean("flat_fields", true);
     m.projectorLatencyMs = projector.number("latency_ms", 0, 0, 1e6);
     const Fields camera = root.child("camera");
-    detail::readCameraFormat(camera, m.camera);
+    detail::readCameraFormat(camera, m.camera, true);
     detail::readCameraSettings(camera, m.camera);
 
     std::optional<StructuredLightSequence> sequence;

@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         // What the decoder relies on once a manifest is accepted.
         const vpe::proto::StructuredLightSequence sequence(manifest.patterns);
         if (manifest.images.size() != sequence.patterns().size() ||
-            (manifest.camera.bits != 8 && manifest.camera.bits != 10) ||
+            (manifest.camera.bits != 8 && manifest.camera.bits != 10 &&
+             manifest.camera.bits != 16) ||
             manifest.camera.width < 1 || manifest.camera.height < 1) {
             std::abort();
         }

@@ -3,6 +3,7 @@
 // writes decode to what the camera saw, and every bad capture is refused in one line naming the
 // file, with exit status 2 and no output folder.
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -121,6 +122,121 @@ TEST(ImportGrayCode, RefusesABadCaptureInOneLineAndWritesNothing) {
         std::vector<std::string> command = importCommand(folder);
         command.insert(command.end(), {"--step", "40"});
         expectInputError(runCommand(command), {"--projector 64x48 --step 40", "code step 40"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+}
+
+// Pixels decoded in both scans whose coordinates differ (either axis), and those decoded in one
+// only.
+struct DecodeDifference {
+    std::size_t differing = 0, onlyOne = 0, both = 0;
+};
+
+DecodeDifference differenceOf(const structured_light::DecodedScan& a,
+                              const structured_light::DecodedScan& b) {
+    DecodeDifference d;
+    for (std::size_t p = 0; p < a.projectorX.size(); ++p) {
+        const bool inA = !std::isnan(a.projectorX[p]), inB = !std::isnan(b.projectorX[p]);
+        if (inA != inB) {
+            ++d.onlyOne;
+        } else if (inA) {
+            ++d.both;
+            d.differing +=
+                a.projectorX[p] != b.projectorX[p] || a.projectorY[p] != b.projectorY[p] ? 1 : 0;
+        }
+    }
+    return d;
+}
+
+// The same capture as 16-bit TIFF and as JPEG: imported with its own extension and depth, and
+// decoded as the PNGs are (the TIFF exactly, the JPEG's artefacts moving a few codes).
+TEST(ImportGrayCode, ReadsSixteenBitTiffAndJpegAsThePngs) {
+    const fs::path folder = twoCaptures("formats");
+    convertToolCapture(folder / "capture_0", folder / "tiff" / "capture_0", ".tif", 16);
+    convertToolCapture(folder / "capture_0", folder / "jpeg" / "capture_0", ".jpg", 8, 90);
+    const auto importAndDecode = [&](const fs::path& capture, const std::string& format) {
+        const fs::path scans = folder / ("scans-" + format);
+        const CommandResult result =
+            runCommand(vpeCommand({"import-graycode", capture.string(), "--projector", "64x48",
+                                   "--out", scans.string()}));
+        EXPECT_EQ(result.exitStatus, 0) << result.err;
+        return structured_light::ScanCapture(scans / "capture_0");
+    };
+    const structured_light::ScanCapture png = importAndDecode(folder / "capture_0", "png");
+    const structured_light::ScanCapture tiff =
+        importAndDecode(folder / "tiff" / "capture_0", "tiff");
+    const structured_light::ScanCapture jpeg =
+        importAndDecode(folder / "jpeg" / "capture_0", "jpeg");
+    EXPECT_EQ(tiff.manifest().camera.bits, 16);
+    EXPECT_EQ(tiff.manifest().images[3].file, "graycode_03.tif");
+    EXPECT_EQ(jpeg.manifest().camera.bits, 8);
+    EXPECT_EQ(jpeg.manifest().images[3].file, "graycode_03.jpg");
+    const structured_light::DecodedScan fromPng = structured_light::decodePatterns(png);
+    const structured_light::DecodedScan fromTiff = structured_light::decodePatterns(tiff);
+    const structured_light::DecodedScan fromJpeg = structured_light::decodePatterns(jpeg);
+    const DecodeDifference tiffDifference = differenceOf(fromPng, fromTiff);
+    const DecodeDifference jpegDifference = differenceOf(fromPng, fromJpeg);
+    std::printf(
+        "16-bit TIFF: %zu decoded (PNG %zu), %zu differ; JPEG: %zu decoded, %zu of %zu "
+        "differ, %zu in one only\n",
+        fromTiff.decoded, fromPng.decoded, tiffDifference.differing, fromJpeg.decoded,
+        jpegDifference.differing, jpegDifference.both, jpegDifference.onlyOne);
+    EXPECT_EQ(fromTiff.decoded, fromPng.decoded);
+    EXPECT_EQ(tiffDifference.differing + tiffDifference.onlyOne, 0u);
+    EXPECT_NEAR(double(fromJpeg.decoded), double(fromPng.decoded), 0.01 * fromPng.decoded);
+    EXPECT_LT(jpegDifference.differing, 0.01 * jpegDifference.both);
+    fs::remove_all(folder);
+}
+
+TEST(ImportGrayCode, RefusesMixedFormatsAndDepthsNamingTheFiles) {
+    {  // one JPEG among PNGs
+        const fs::path folder = twoCaptures("mixed");
+        convertToolCapture(folder / "capture_1", folder / "jpeg", ".jpg", 8);
+        fs::remove(folder / "capture_1" / "graycode_07.png");
+        fs::copy_file(folder / "jpeg" / "graycode_07.jpg",
+                      folder / "capture_1" / "graycode_07.jpg");
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_1: mixes image formats (graycode_00.png, graycode_07.jpg)"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // a format vpe does not import
+        const fs::path folder = twoCaptures("bmp");
+        fs::rename(folder / "capture_0" / "graycode_04.png",
+                   folder / "capture_0" / "graycode_04.bmp");
+        expectInputError(runCommand(importCommand(folder)),
+                         {"capture_0/graycode_04.bmp", "not an image format vpe imports"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // a 16-bit TIFF among 8-bit ones
+        const fs::path folder = twoCaptures("depth");
+        for (const char* capture : {"capture_0", "capture_1"}) {
+            convertToolCapture(folder / capture, folder / "tiff" / capture, ".tif", 8);
+        }
+        convertToolCapture(folder / "capture_1", folder / "deep", ".tif", 16);
+        fs::copy_file(folder / "deep" / "graycode_09.tif",
+                      folder / "tiff" / "capture_1" / "graycode_09.tif",
+                      fs::copy_options::overwrite_existing);
+        const CommandResult result =
+            runCommand(vpeCommand({"import-graycode", (folder / "tiff" / "capture_0").string(),
+                                   (folder / "tiff" / "capture_1").string(), "--projector", "64x48",
+                                   "--out", (folder / "scans").string()}));
+        expectInputError(result,
+                         {"capture_1/graycode_09.tif: 16-bit, but graycode_00.tif is 8-bit"});
+        EXPECT_FALSE(fs::exists(folder / "scans"));
+        fs::remove_all(folder);
+    }
+    {  // float samples
+        const fs::path folder = twoCaptures("float");
+        convertToolCapture(folder / "capture_0", folder / "tiff" / "capture_0", ".tif", 8);
+        image::writeImage(folder / "tiff" / "capture_0" / "graycode_02.tif", 160, 120, 1,
+                          std::vector<float>(160 * 120, 0.5f), image::PixelFormat::kFloat);
+        const CommandResult result =
+            runCommand(vpeCommand({"import-graycode", (folder / "tiff" / "capture_0").string(),
+                                   "--projector", "64x48", "--out", (folder / "scans").string()}));
+        expectInputError(result, {"capture_0/graycode_02.tif: 32-bit float samples"});
         EXPECT_FALSE(fs::exists(folder / "scans"));
         fs::remove_all(folder);
     }

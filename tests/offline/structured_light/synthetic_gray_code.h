@@ -3,7 +3,8 @@
 // flat target filling the camera's view, camera pixel (u, v) seeing projector point
 // (offset + u·scale, offset + v·scale); each image the black level plus the albedo times the
 // pattern's level averaged over the pixel's footprint, plus Gaussian noise, in 8 bits. Written
-// as a vpe scan folder (PGM) or as procam-calibration lays out its captures (PNG).
+// as a vpe scan folder (PGM) or as procam-calibration lays out its captures (PNG), and such a
+// capture (a real one too) rewritten in the other formats its cameras may write.
 #pragma once
 
 #include <algorithm>
@@ -11,8 +12,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <OpenImageIO/imageio.h>
 
 #include "vpe/image/image_file.h"
 #include "vpe/proto/pnm_image.h"
@@ -119,6 +123,40 @@ inline void writeToolCapture(const SyntheticGrayCode& capture,
             "graycode_" + std::string(i < 10 ? "0" : "") + std::to_string(i) + ".png";
         image::writeImage8(folder / name, capture.cameraWidth, capture.cameraHeight, 1,
                            photographPattern(capture, order[i], random));
+    }
+}
+
+// A procam-calibration capture folder's graycode_NN.png rewritten into `to` as
+// graycode_NN`extension`: 16-bit (level v of 255 as 257·v of 65535: the same value on the 0..1
+// scale) or 8-bit; a JPEG at `jpegQuality`.
+inline void convertToolCapture(const std::filesystem::path& from, const std::filesystem::path& to,
+                               const std::string& extension, int bits, int jpegQuality = 90) {
+    std::filesystem::create_directories(to);
+    for (const auto& entry : std::filesystem::directory_iterator(from)) {
+        if (entry.path().extension() != ".png") {
+            continue;
+        }
+        auto input = OIIO::ImageInput::open(entry.path().string());
+        if (!input) {
+            throw std::runtime_error("cannot read " + entry.path().string());
+        }
+        const OIIO::ImageSpec& in = input->spec();
+        std::vector<std::uint16_t> pixels(static_cast<std::size_t>(in.width) * in.height *
+                                          in.nchannels);
+        if (!input->read_image(0, 0, 0, in.nchannels, OIIO::TypeDesc::UINT16, pixels.data())) {
+            throw std::runtime_error("cannot decode " + entry.path().string());
+        }
+        OIIO::ImageSpec spec(in.width, in.height, in.nchannels,
+                             bits == 16 ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
+        if (extension == ".jpg" || extension == ".jpeg") {
+            spec.attribute("Compression", "jpeg:" + std::to_string(jpegQuality));
+        }
+        const std::string path = (to / entry.path().stem()).string() + extension;
+        auto output = OIIO::ImageOutput::create(path);
+        if (!output || !output->open(path, spec) ||
+            !output->write_image(OIIO::TypeDesc::UINT16, pixels.data()) || !output->close()) {
+            throw std::runtime_error("cannot write " + path);
+        }
     }
 }
 

@@ -20,7 +20,7 @@ inline constexpr int kScanManifestVersion = 1;
 
 struct ScanCamera {
     int width = 0, height = 0;  // pixels of every image
-    int bits = 8;               // per sample: 8 (maxval 255) or 10 (maxval 1023)
+    int bits = 8;               // per sample: 8 (maxval 255), 10 (maxval 1023) or 16 (imported)
     double exposureUs = 0;      // fixed for the whole sequence (0: not known)
     double analogueGain = 1;    // fixed likewise
     std::string source;         // "libcamera:<id>" or "simulated:<scene>"
@@ -50,8 +50,8 @@ public:
 std::string scanManifestJson(const ScanManifest& manifest);
 
 // Parses and checks: format "vpe-scan", version 1, a valid sequence, a camera size in
-// 1..16384 and bits 8 or 10, and images that each name a pattern of the declared sequence, every
-// pattern exactly once (in any order), with plain file names. `source` names the manifest in
+// 1..16384 and bits 8, 10 or 16, and images that each name a pattern of the declared sequence,
+// every pattern exactly once (in any order), with plain file names. `source` names the manifest in
 // errors. Throws ScanManifestError.
 ScanManifest parseScanManifest(std::string_view json, const std::string& source);
 
