@@ -19,6 +19,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/image/image_file.h"
+#include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
@@ -64,7 +65,7 @@ namespace {
 
 struct BakeArguments {
     bake::BakeOptions options;
-    std::string texture, quilt, mesh, projectorSize, out;
+    std::string texture, quilt, mesh, projectorSize, calibrationUnit, out;
     std::vector<std::string> projectors, scans, radiometry;
     std::vector<std::string> presets;
     double blendFeather = 0;
@@ -89,6 +90,9 @@ void runBake(const BakeArguments& args) {
         const SizeArgument size = parseSizeArgument(args.projectorSize, "--projector-size", 8192);
         options.projectorWidth = size.width;
         options.projectorHeight = size.height;
+    }
+    if (!args.calibrationUnit.empty()) {
+        options.projectorMetresPerUnit = scene::metresPerLengthUnit(args.calibrationUnit);
     }
     for (const std::string& preset : args.presets) {
         const std::size_t equals = preset.find('=');
@@ -356,11 +360,13 @@ void addBakeCommand(CLI::App& app, Action& action) {
     command->add_option("--projector", args->projectors,
                         "Projector calibration (OpenCV YAML/XML: proj_K, proj_kc, R, T; with "
                         "cam_K, cam_kc, cam_width, cam_height the bundle carries the camera "
-                        "too); default: a demo projector facing the object. Repeat for a show "
+                        "too; or procam-calibration's calibration_result.xml); default: a demo "
+                        "projector facing the object. Repeat for a show "
                         "of several projectors on one object: --out is then a folder with one "
                         "bundle per projector, each with its share of the light");
     command->add_option("--projector-size", args->projectorSize,
                         "Projector resolution WxH, when the calibration file has none");
+    addCalibrationUnitOption(command, args->calibrationUnit);
     command
         ->add_option("--demo-distance", args->options.demoDistance,
                      "Distance of the demo projector from the object (m)")

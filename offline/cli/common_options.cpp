@@ -30,4 +30,12 @@ void addMeshScaleOption(CLI::App* command, double& metresPerUnit) {
         ->capture_default_str();
 }
 
+void addCalibrationUnitOption(CLI::App* command, std::string& unit) {
+    command
+        ->add_option("--calibration-unit", unit,
+                     "The unit of the calibration's translation when the file does not say "
+                     "(procam-calibration's: its chessboard squares', usually mm)")
+        ->check(CLI::IsMember({"m", "cm", "mm"}));
+}
+
 }  // namespace vpe::cli

@@ -26,4 +26,8 @@ void addChoiceOption(CLI::App* command, const std::string& name, std::string& va
 // --mesh-scale: metres per unit of the screen object's mesh file.
 void addMeshScaleOption(CLI::App* command, double& metresPerUnit);
 
+// --calibration-unit m|cm|mm: the unit of a calibration file's T when the file does not say
+// (procam-calibration's is its chessboard squares'); empty when not given.
+void addCalibrationUnitOption(CLI::App* command, std::string& unit);
+
 }  // namespace vpe::cli

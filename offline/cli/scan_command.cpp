@@ -23,7 +23,7 @@ namespace vpe::cli {
 namespace {
 
 struct ScanArguments {
-    std::string capture, calibration, out, truth;
+    std::string capture, calibration, calibrationUnit, out, truth;
     double minCoverage = 0.5;
     int threads = 0;
     bool json = false;
@@ -31,8 +31,17 @@ struct ScanArguments {
 
 void runScan(const ScanArguments& args) {
     const auto start = std::chrono::steady_clock::now();
+    const structured_light::ScanCapture capture(args.capture);
+    // A file without the projector's size (procam-calibration's) is the scan's projector; T's
+    // unit from the file, else --calibration-unit.
+    scene::ProjectorCalibrationOverrides overrides;
+    overrides.defaultWidth = capture.manifest().patterns.width;
+    overrides.defaultHeight = capture.manifest().patterns.height;
+    if (!args.calibrationUnit.empty()) {
+        overrides.metresPerUnit = scene::metresPerLengthUnit(args.calibrationUnit);
+    }
     scan::ProcamRig rig;
-    rig.projector = scene::readProjectorCalibration(args.calibration);
+    rig.projector = scene::readProjectorCalibration(args.calibration, overrides);
     const auto camera = scene::readCameraCalibration(args.calibration);
     if (!camera) {
         throw common::InputError(args.calibration,
@@ -40,7 +49,6 @@ void runScan(const ScanArguments& args) {
                                  "calibration from vpe calibrate)");
     }
     rig.camera = *camera;
-    const structured_light::ScanCapture capture(args.capture);
     structured_light::DecodeOptions decodeOptions;
     decodeOptions.threads = args.threads;
     const structured_light::DecodedScan decoded =
@@ -68,9 +76,11 @@ void runScan(const ScanArguments& args) {
     scan::writePointCloud(surface, folder.temporaryPath() / scan::kPointCloudFile);
     scan::writeScanSheet(decoded, surface, folder.temporaryPath() / scan::kScanSheetFile);
     scan::writeDecoded(decoded, folder.temporaryPath() / scan::kDecodedFile);
-    // The calibration goes with the scan (vpe bake --scan reads both), and the scan's own
-    // surface as a mesh, for an installation without one.
-    std::filesystem::copy_file(args.calibration, folder.temporaryPath() / scan::kCalibrationFile);
+    // The calibration goes with the scan (vpe bake --scan reads both), as this scan read it:
+    // vpe's keys, metres, both sizes, whatever the file's layout; and the scan's own surface as
+    // a mesh, for an installation without one.
+    scene::writeProcamCalibration(rig.projector, rig.camera, std::nullopt,
+                                  folder.temporaryPath() / scan::kCalibrationFile);
     const registration::SurfaceMesh surfaceMesh =
         registration::makeSurfaceMesh(surface, rig.projector);
     registration::writeSurfaceMesh(surfaceMesh, folder.temporaryPath());
@@ -176,8 +186,10 @@ void addScanCommand(CLI::App& app, Action& action) {
         ->required();
     command
         ->add_option("--calibration", args->calibration,
-                     "Projector–camera calibration (vpe calibrate's YAML, with cam_K)")
+                     "Projector–camera calibration: vpe calibrate's YAML, or procam-calibration's "
+                     "calibration_result.xml (the projector's size then the scan's)")
         ->required();
+    addCalibrationUnitOption(command, args->calibrationUnit);
     command
         ->add_option("--out", args->out,
                      "Folder to write: surface.exr, points.ply, surface-mesh.obj, "

@@ -1,14 +1,19 @@
 // SPDX-License-Identifier: MIT
 // Projector calibration files through OpenCV's FileStorage.
 //
-// Key names: Moreno & Taubin's procam-calibration (Brown University, 2012;
-// Application::calibrate in src/Application.cpp) writes calibration.yml with
-//   fs << "cam_K" << cam_K << "cam_kc" << cam_kc << "proj_K" << proj_K << "proj_kc" << proj_kc
-//      << "R" << R << "T" << T << "b" << ... << "m" << ... << "stereo_error" << ...;
+// Two layouts of keys. vpe's are Moreno & Taubin's procam-calibration's (Brown University,
+// 2012; CalibrationData::save_calibration_yml):
+//   cam_K, cam_kc, proj_K, proj_kc, R, T, cam_error, proj_error, stereo_error
 // where R, T come from cv::stereoCalibrate(camera, projector): camera → projector
 // coordinates, T in the chessboard's unit; proj_kc has OpenCV's five coefficients (k3 fixed
 // at 0 by CALIB_FIX_K3). It does not write the projector's resolution, nor the camera's:
 // vpe's files add proj_width/proj_height and cam_width/cam_height (and length_unit).
+// kamino410/procam-calibration's calibrate.py writes calibration_result.xml:
+//   img_shape (the camera image's rows, cols), rms (cv::stereoCalibrate's), cam_int, cam_dist,
+//   proj_int, proj_dist, rotation, translation
+// (its first versions spelt rotation "roration"), where rotation, translation are
+// cv::stereoCalibrate(camera, projector)'s R, T as well — "from camera coord to projector
+// coord", vpe's direction — T in the unit of its chessboard's square size; no projector size.
 #include "vpe/scene/projector_calibration.h"
 
 #include <algorithm>
@@ -219,9 +224,91 @@ struct PinholeKeys {
     const char* kc;
     const char* width;
     const char* height;
+    const char* R = "R";
+    const char* T = "T";
 };
 constexpr PinholeKeys kProjectorKeys{"projector", "proj_K", "proj_kc", "proj_width", "proj_height"};
 constexpr PinholeKeys kCameraKeys{"camera", "cam_K", "cam_kc", "cam_width", "cam_height"};
+
+// The keys of a file's layout (the file's comment above): vpe's, or kamino410's.
+struct KeyLayout {
+    bool vpe = true;
+    PinholeKeys projector = kProjectorKeys;
+    PinholeKeys camera = kCameraKeys;
+    const char* R = "R";
+    const char* T = "T";
+};
+
+// vpe's keys (Moreno & Taubin's, with what their tool and its forks write beside them);
+// kamino410/procam-calibration's; and the keys either may carry: the sizes, T's unit.
+constexpr std::array<std::string_view, 13> kVpeKeys = {
+    "proj_K",     "proj_kc",      "cam_K", "cam_kc", "R", "T", "cam_error",
+    "proj_error", "stereo_error", "E",     "F",      "b", "m"};
+constexpr std::array<std::string_view, 9> kToolKeys = {"img_shape", "rms",      "cam_int",
+                                                       "cam_dist",  "proj_int", "proj_dist",
+                                                       "rotation",  "roration", "translation"};
+constexpr std::array<std::string_view, 7> kSharedKeys = {
+    "proj_width",  "proj_height",  "cam_width",  "cam_height",
+    "image_width", "image_height", "length_unit"};
+
+template <std::size_t N>
+bool among(const std::array<std::string_view, N>& keys, const std::string& key) {
+    return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+// The file's layout from its top-level keys. Refuses a key of neither layout, and a file that
+// mixes the two (which of proj_K and proj_int would be the projector's?).
+KeyLayout layoutOf(const cv::FileStorage& storage, const std::filesystem::path& path) {
+    std::vector<std::string> keys;
+    const cv::FileNode root = storage.root();
+    if (root.isMap()) {
+        keys = root.keys();
+    }
+    std::string unknown, vpeKey, toolKey;
+    int unknownCount = 0;
+    for (const std::string& key : keys) {
+        if (among(kVpeKeys, key)) {
+            vpeKey = vpeKey.empty() ? key : vpeKey;
+        } else if (among(kToolKeys, key)) {
+            toolKey = toolKey.empty() ? key : toolKey;
+        } else if (!among(kSharedKeys, key)) {
+            unknown += (unknown.empty() ? "" : ", ") + key;
+            ++unknownCount;
+        }
+    }
+    if (unknownCount > 0) {
+        throw common::InputError(
+            path, std::string(unknownCount == 1 ? "unknown key " : "unknown keys ") + unknown +
+                      ": neither vpe's calibration keys (proj_K, proj_kc, cam_K, cam_kc, R, T, "
+                      "…) nor procam-calibration's calibration_result (proj_int, proj_dist, "
+                      "cam_int, cam_dist, rotation, translation, …)");
+    }
+    if (!vpeKey.empty() && !toolKey.empty()) {
+        throw common::InputError(path, "mixes vpe's keys (" + vpeKey +
+                                           ") with procam-calibration's calibration_result "
+                                           "keys (" +
+                                           toolKey + "): one layout per file");
+    }
+    KeyLayout layout;
+    if (toolKey.empty()) {
+        return layout;
+    }
+    const bool rotation = std::find(keys.begin(), keys.end(), "rotation") != keys.end();
+    const bool roration = std::find(keys.begin(), keys.end(), "roration") != keys.end();
+    if (rotation && roration) {
+        throw common::InputError(path,
+                                 "roration: given beside rotation (the same key misspelt "
+                                 "by the tool's first versions): keep one");
+    }
+    layout.vpe = false;
+    layout.R = roration ? "roration" : "rotation";
+    layout.T = "translation";
+    layout.projector = {"projector",   "proj_int", "proj_dist", "proj_width",
+                        "proj_height", layout.R,   layout.T};
+    layout.camera = {"camera",     "cam_int", "cam_dist", "cam_width",
+                     "cam_height", layout.R,  layout.T};
+    return layout;
+}
 
 // The checks a calibration file's pinhole must pass, naming its keys.
 void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path& source,
@@ -241,11 +328,12 @@ void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path&
     if (!allFinite(c.distortion)) {
         throw common::InputError(source, kc + ": not all finite numbers");
     }
+    const std::string R = keys.R, T = keys.T;
     if (!allFinite(c.R)) {
-        throw common::InputError(source, "R: not all finite numbers");
+        throw common::InputError(source, R + ": not all finite numbers");
     }
     if (!allFinite(c.T)) {
-        throw common::InputError(source, "T: not all finite numbers");
+        throw common::InputError(source, T + ": not all finite numbers");
     }
     if (!(c.K[0] > 0) || !(c.K[4] > 0)) {
         throw common::InputError(
@@ -269,13 +357,13 @@ void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path&
         }
     }
     if (worst > kRotationTolerance) {
-        throw common::InputError(source, "R: not orthonormal (RᵀR differs from I by " +
+        throw common::InputError(source, R + ": not orthonormal (RᵀR differs from I by " +
                                              formatNumber(worst) + ", tolerance 1e-3)");
     }
     const double det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) +
                        r[2] * (r[3] * r[7] - r[4] * r[6]);
     if (std::fabs(det - 1) > kRotationTolerance) {
-        throw common::InputError(source, "R: determinant " + formatNumber(det) +
+        throw common::InputError(source, R + ": determinant " + formatNumber(det) +
                                              ", not +1 (a reflection, not a rotation)");
     }
 }
@@ -283,9 +371,10 @@ void validatePinhole(const proto::PinholeCamera& c, const std::filesystem::path&
 // Opens a calibration file into `storage`. Read through memory: OpenCV refuses YAML without its
 // "%YAML:1.0" first line, which hand-written files often lack; it is added here (and line
 // numbers corrected).
-// `what` names the file's kind in messages ("projector calibration").
-void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage,
-                     const std::string& what) {
+// `what` names the file's kind in messages ("projector calibration"). Returns the file's layout
+// (layoutOf: a key of neither is refused).
+KeyLayout openCalibration(const std::filesystem::path& path, cv::FileStorage& storage,
+                          const std::string& what) {
     std::error_code error;
     if (!std::filesystem::is_regular_file(path, error)) {
         throw common::InputError(
@@ -310,6 +399,7 @@ void openCalibration(const std::filesystem::path& path, cv::FileStorage& storage
     } catch (const cv::Exception& failure) {
         throw parseError(path, failure, addedLines, what);
     }
+    return layoutOf(storage, path);
 }
 
 std::array<double, 9> intrinsicsFrom(const Numbers& k, const std::filesystem::path& path,
@@ -350,35 +440,41 @@ std::array<double, 5> distortionFrom(const CalibrationReader& reader,
     return distortion;
 }
 
-// R (3×3 or a Rodrigues vector) and T in metres: T's unit from `metresPerUnit`, else the file's
-// length_unit; nullopt when neither says (T is then taken in metres, and the caller judges).
+// R (3×3 or a Rodrigues vector) and T in metres, under the layout's names: T's unit from
+// `metresPerUnit` (which must agree with the file's length_unit when it has one), else the
+// file's length_unit; nullopt when neither says (T is then taken in metres, and the caller
+// judges).
 std::optional<double> readPose(const CalibrationReader& reader, const std::filesystem::path& path,
                                std::optional<double> metresPerUnit, proto::PinholeCamera& c,
-                               const char* needs) {
-    const Numbers r = reader.required("R", needs);
+                               const KeyLayout& layout, const std::string& needs) {
+    const std::string R = layout.R, T = layout.T;
+    const Numbers r = reader.required(layout.R, needs.c_str());
     if (r.values.size() == 9 && (r.rows == 3 || r.rows == 1)) {
         std::copy(r.values.begin(), r.values.end(), c.R.begin());
     } else if (r.values.size() == 3 && (r.rows == 1 || r.cols == 1)) {
         c.R = rotationFromVector(r.values);
     } else {
         throw common::InputError(
-            path, "R: expected a 3x3 rotation matrix or a 3-vector, found " + shape(r));
+            path, R + ": expected a 3x3 rotation matrix or a 3-vector, found " + shape(r));
     }
-    const Numbers t = reader.required("T", needs);
+    const Numbers t = reader.required(layout.T, needs.c_str());
     if (t.values.size() != 3 || (t.rows != 1 && t.cols != 1)) {
-        throw common::InputError(path, "T: expected a 3-vector, found " + shape(t));
+        throw common::InputError(path, T + ": expected a 3-vector, found " + shape(t));
     }
     std::optional<double> scale = metresPerUnit;
-    if (!scale) {
-        if (const auto unit = reader.string("length_unit")) {
-            scale = metresPerUnitOf(*unit);
-            if (!scale) {
-                throw common::InputError(path, "length_unit: '" + *unit + "' is not m, cm or mm");
-            }
+    if (const auto unit = reader.string("length_unit")) {
+        const std::optional<double> fileScale = metresPerUnitOf(*unit);
+        if (!fileScale) {
+            throw common::InputError(path, "length_unit: '" + *unit + "' is not m, cm or mm");
         }
+        if (scale && *scale != *fileScale) {
+            throw common::InputError(path, "length_unit: the file says " + *unit + " but " +
+                                               formatNumber(*scale) + " m per unit was given");
+        }
+        scale = fileScale;
     }
     if (scale && (!(*scale > 0) || !std::isfinite(*scale))) {
-        throw common::InputError(path, "T: the unit scale must be a positive number of metres");
+        throw common::InputError(path, T + ": the unit scale must be a positive number of metres");
     }
     for (std::size_t i = 0; i < 3; ++i) {
         c.T[i] = t.values[i] * scale.value_or(1.0);
@@ -388,14 +484,15 @@ std::optional<double> readPose(const CalibrationReader& reader, const std::files
 
 // Without a unit, T is metres unless that puts the camera implausibly far: probably millimetres.
 void checkUnitlessDistance(const proto::PinholeCamera& c, const std::filesystem::path& path,
-                           const char* what) {
+                           const char* what, const KeyLayout& layout) {
     const Vec3d centre = c.center();
     const double distance = std::sqrt(proto::dot(centre, centre));
     if (distance > kMaxUnitlessDistance) {
-        throw common::InputError(path, std::string("T: the ") + what + " would be " +
-                                           formatNumber(distance) +
-                                           " m from the origin; if T is in millimetres (as "
-                                           "procam-calibration writes it), give the unit");
+        throw common::InputError(
+            path, std::string(layout.T) + ": the " + what + " would be " + formatNumber(distance) +
+                      " m from the origin; if it is in millimetres (as procam-calibration writes "
+                      "it: the unit of the chessboard's squares), give the unit (length_unit in "
+                      "the file, or the command's --calibration-unit)");
     }
 }
 
@@ -475,13 +572,16 @@ void validateCameraCalibration(const proto::PinholeCamera& camera,
 ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
                                               const ProjectorCalibrationOverrides& overrides) {
     cv::FileStorage storage;
-    openCalibration(path, storage, "projector calibration");
+    const KeyLayout layout = openCalibration(path, storage, "projector calibration");
     const CalibrationReader reader(path, storage);
     ProjectorCalibration c;
-    constexpr const char* kNeeds = "a projector calibration needs proj_K, R and T";
-    c.K = intrinsicsFrom(reader.required("proj_K", kNeeds), path, "proj_K");
-    c.distortion = distortionFrom(reader, path, "proj_kc");
-    const std::optional<double> scale = readPose(reader, path, overrides.metresPerUnit, c, kNeeds);
+    const std::string needs = std::string("a projector calibration needs ") + layout.projector.K +
+                              ", " + layout.R + " and " + layout.T;
+    c.K = intrinsicsFrom(reader.required(layout.projector.K, needs.c_str()), path,
+                         layout.projector.K);
+    c.distortion = distortionFrom(reader, path, layout.projector.kc);
+    const std::optional<double> scale =
+        readPose(reader, path, overrides.metresPerUnit, c, layout, needs);
 
     // The resolution: from the file (procam tools disagree on the name) or the overrides.
     std::optional<std::pair<int, int>> size;
@@ -494,7 +594,8 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
             break;
         }
     }
-    if (overrides.width.has_value() != overrides.height.has_value()) {
+    if (overrides.width.has_value() != overrides.height.has_value() ||
+        overrides.defaultWidth.has_value() != overrides.defaultHeight.has_value()) {
         throw common::InputError(path, "the projector resolution needs both a width and a height");
     }
     if (size && overrides.width &&
@@ -504,54 +605,98 @@ ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
                       std::to_string(size->second) + " but " + std::to_string(*overrides.width) +
                       "x" + std::to_string(*overrides.height) + " was given");
     }
-    if (!size) {
-        if (!overrides.width) {
-            throw common::InputError(path,
-                                     "no projector resolution (keys proj_width/proj_height or "
-                                     "image_width/image_height): give it on the command line");
-        }
+    if (!size && overrides.width) {
         size = std::pair{*overrides.width, *overrides.height};
+    }
+    if (!size && overrides.defaultWidth) {
+        size = std::pair{*overrides.defaultWidth, *overrides.defaultHeight};
+    }
+    if (!size) {
+        throw common::InputError(path,
+                                 "no projector resolution (keys proj_width/proj_height or "
+                                 "image_width/image_height): give it on the command line");
     }
     c.width = size->first;
     c.height = size->second;
 
-    validateProjectorCalibration(c, path);
+    validatePinhole(c, path, layout.projector);
     if (!scale) {
-        checkUnitlessDistance(c, path, "projector");
+        checkUnitlessDistance(c, path, "projector", layout);
     }
     return c;
+}
+
+// The camera image's size of kamino410's file: img_shape, the image's (rows, cols) as numpy
+// gives them (a third number, the channels, is ignored).
+std::optional<std::pair<int, int>> imageShapeFrom(const CalibrationReader& reader,
+                                                  const std::filesystem::path& path) {
+    const std::optional<Numbers> shape = reader.numbers("img_shape");
+    if (!shape) {
+        return std::nullopt;
+    }
+    const std::vector<double>& v = shape->values;
+    if ((shape->rows != 1 && shape->cols != 1) || (v.size() != 2 && v.size() != 3) ||
+        v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]) || std::fabs(v[0]) > 1e9 ||
+        std::fabs(v[1]) > 1e9) {
+        throw common::InputError(path,
+                                 "img_shape: expected the camera image's rows and columns, two "
+                                 "whole numbers");
+    }
+    return std::pair{static_cast<int>(v[1]), static_cast<int>(v[0])};
 }
 
 std::optional<proto::PinholeCamera> readCameraCalibration(const std::filesystem::path& path,
                                                           CameraPose pose) {
     cv::FileStorage storage;
-    openCalibration(path, storage, "camera calibration");
+    const KeyLayout layout = openCalibration(path, storage, "camera calibration");
     const CalibrationReader reader(path, storage);
-    const std::optional<Numbers> k = reader.numbers("cam_K");
+    const char* K = layout.camera.K;
+    const std::optional<Numbers> k = reader.numbers(K);
     if (!k) {
         return std::nullopt;
     }
     proto::PinholeCamera c;
-    c.K = intrinsicsFrom(*k, path, "cam_K");
-    c.distortion = distortionFrom(reader, path, "cam_kc");
-    const auto size = resolutionFrom(reader, path, "cam_width", "cam_height");
+    c.K = intrinsicsFrom(*k, path, K);
+    c.distortion = distortionFrom(reader, path, layout.camera.kc);
+    auto size = resolutionFrom(reader, path, "cam_width", "cam_height");
+    if (!layout.vpe) {
+        const auto shape = imageShapeFrom(reader, path);
+        if (size && shape && *size != *shape) {
+            throw common::InputError(
+                path, "cam_width: the file says " + std::to_string(size->first) + "x" +
+                          std::to_string(size->second) + " but img_shape says " +
+                          std::to_string(shape->first) + "x" + std::to_string(shape->second));
+        }
+        size = size ? size : shape;
+        if (pose == CameraPose::kFromFile) {
+            throw common::InputError(path, std::string(layout.R) +
+                                               ": procam-calibration's rotation and translation "
+                                               "are the projector's pose (camera → projector), "
+                                               "not a camera's");
+        }
+    }
     if (!size) {
-        throw common::InputError(
-            path,
-            "cam_width: missing (cam_K needs the camera's resolution: cam_width "
-            "and cam_height, pixels)");
+        throw common::InputError(path, layout.vpe ? "cam_width: missing (cam_K needs the camera's "
+                                                    "resolution: cam_width and cam_height, pixels)"
+                                                  : "img_shape: missing (cam_int needs the "
+                                                    "camera's resolution: img_shape, or cam_width "
+                                                    "and cam_height)");
     }
     c.width = size->first;
     c.height = size->second;
     std::optional<double> scale = 1.0;
     if (pose == CameraPose::kFromFile) {
-        scale = readPose(reader, path, std::nullopt, c, "the camera's pose needs R and T");
+        scale = readPose(reader, path, std::nullopt, c, layout, "the camera's pose needs R and T");
     }
-    validateCameraCalibration(c, path);
+    validatePinhole(c, path, layout.camera);
     if (!scale) {
-        checkUnitlessDistance(c, path, "camera");
+        checkUnitlessDistance(c, path, "camera", layout);
     }
     return c;
+}
+
+std::optional<double> metresPerLengthUnit(const std::string& unit) {
+    return metresPerUnitOf(unit);
 }
 
 void writeProjectorCalibration(const ProjectorCalibration& c, const std::filesystem::path& path) {

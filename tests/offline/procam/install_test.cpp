@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Installing on a simulated gallery, as a technician runs it: vpe synth-procam (the room), vpe
 // calibrate, vpe scan, vpe bake --scan and vpe synth-procam --check, on a small rig (projector
-// 640 × 360, camera 656 × 492, six board poses); and every bad input of the chain refused in one
-// line. The full-size figures are scripts/install-report.sh's.
+// 640 × 360, camera 656 × 492, six board poses), vpe scan with procam-calibration's file; and
+// every bad input of the chain refused in one line. The full-size figures are
+// scripts/install-report.sh's.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -17,8 +18,10 @@
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/renderer/procam/scene_file.h"
+#include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/screen_mesh.h"
 
+#include "offline/scene/tool_calibration_file.h"
 #include "support/cli_expectations.h"
 #include "support/command_runner.h"
 #include "support/json_report_command.h"
@@ -137,6 +140,51 @@ TEST(Install, ScanMeasuresTheVaseWithoutWrongDecodes) {
                           std::to_string(report["measured_projector_pixels"].get<std::size_t>())),
               std::string::npos)
         << header;
+    fs::remove_all(out);
+}
+
+// The rig in kamino410/procam-calibration's calibration_result.xml (its keys, T in millimetres,
+// no projector size): vpe scan reads it with --calibration-unit mm and the scan's projector size,
+// measures what it measures with vpe's own file, and leaves vpe's keys in the scan folder, which
+// vpe bake --scan reads.
+TEST(Install, ScanReadsProcamCalibrationsResultFile) {
+    const fs::path out = scratch("tool-calibration");
+    const fs::path truth = room() / "truth" / "calibration.yml";
+    const scene::ProjectorCalibration projector = scene::readProjectorCalibration(truth);
+    const std::optional<proto::PinholeCamera> camera = scene::readCameraCalibration(truth);
+    ASSERT_TRUE(camera.has_value());
+    std::ofstream(out / "calibration_result.xml") << toolCalibrationXml(projector, *camera, 0.1);
+    const auto scan = [&](const fs::path& calibration, const std::string& to,
+                          const std::vector<std::string>& more) {
+        std::vector<std::string> arguments{"scan",          (room() / "scan").string(),
+                                           "--calibration", calibration.string(),
+                                           "--out",         (out / to).string()};
+        arguments.insert(arguments.end(), more.begin(), more.end());
+        return arguments;
+    };
+    expectInputError(
+        runCommand(vpeCommand(scan(out / "calibration_result.xml", "unitless", {}))),
+        {"calibration_result.xml: translation: the projector would be", "--calibration-unit"});
+    EXPECT_FALSE(fs::exists(out / "unitless"));
+    const nlohmann::json fromTool =
+        runWithJson(scan(out / "calibration_result.xml", "tool", {"--calibration-unit", "mm"}));
+    const nlohmann::json fromVpe = runWithJson(scan(truth, "vpe", {}));
+    EXPECT_EQ(fromTool["projector"], fromVpe["projector"]);
+    EXPECT_EQ(fromTool["measured_projector_pixels"], fromVpe["measured_projector_pixels"]);
+    EXPECT_EQ(fromTool["surface_triangles"], fromVpe["surface_triangles"]);
+    const scene::ProjectorCalibration kept =
+        scene::readProjectorCalibration(out / "tool" / "calibration.yml");
+    EXPECT_EQ(kept.width, projector.width);
+    EXPECT_EQ(kept.K, projector.K);
+    EXPECT_EQ(kept.R, projector.R);
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_NEAR(kept.T[i], projector.T[i], 1e-15) << i;
+    }
+    EXPECT_EQ(scene::readCameraCalibration(out / "tool" / "calibration.yml")->width, camera->width);
+    const nlohmann::json bake =
+        runWithJson({"bake", "--texture", (installation() / "texture.exr").string(), "--scan",
+                     (out / "tool").string(), "--out", (out / "scene.vpeb").string()});
+    EXPECT_TRUE(bake["camera"].get<bool>());
     fs::remove_all(out);
 }
 

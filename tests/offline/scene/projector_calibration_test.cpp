@@ -15,6 +15,7 @@
 #include "vpe/scene/screen_mesh.h"
 
 #include "offline/scene/scene_test_support.h"
+#include "offline/scene/tool_calibration_file.h"
 #include "support/test_data.h"
 
 namespace vpe::scene {
@@ -396,6 +397,163 @@ TEST(CameraCalibration, ACameraFileCarriesItsOwnPose) {
               "500, 239.5, 0, 0, 1]\n");
     EXPECT_INPUT_ERROR(readCameraCalibration(folder / "none.yml", CameraPose::kFromFile),
                        "none.yml: R: missing (the camera's pose needs R and T)");
+}
+
+// kamino410/procam-calibration's calibration_result.xml holding a vpe rig: the projector (in
+// the camera's frame, with its distortion and skew) and the camera, T in millimetres.
+TEST(ToolCalibration, ReadsCalibrationResultAsTheSameRig) {
+    TemporaryFolder folder;
+    const ProjectorCalibration projector = sampleCalibration();
+    const proto::PinholeCamera camera = sampleCamera();
+    writeFile(folder / "calibration_result.xml",
+              testing::toolCalibrationXml(projector, camera, 0.42));
+    ProjectorCalibrationOverrides overrides;
+    overrides.defaultWidth = 1920;  // a scan's projector: the file has no size
+    overrides.defaultHeight = 1080;
+    overrides.metresPerUnit = 0.001;
+    const ProjectorCalibration read =
+        readProjectorCalibration(folder / "calibration_result.xml", overrides);
+    const auto expectSameRig = [](const proto::PinholeCamera& a, const proto::PinholeCamera& b) {
+        EXPECT_EQ(a.width, b.width);
+        EXPECT_EQ(a.height, b.height);
+        EXPECT_EQ(a.K, b.K);
+        EXPECT_EQ(a.distortion, b.distortion);
+        EXPECT_EQ(a.R, b.R);
+        for (std::size_t i = 0; i < 3; ++i) {
+            EXPECT_NEAR(a.T[i], b.T[i], 1e-15) << i;  // through millimetres
+        }
+    };
+    expectSameRig(projector, read);
+    const std::optional<proto::PinholeCamera> readCamera =
+        readCameraCalibration(folder / "calibration_result.xml");
+    ASSERT_TRUE(readCamera.has_value());
+    expectSameRig(camera, *readCamera);  // 1640 x 1232 from img_shape (rows, cols)
+
+    // The direction, as the tool defines it ("rotation matrix / translation vector from camera
+    // to projector: they translate points from camera coord to projector coord"): a point of
+    // the camera's frame, taken to the projector's by the file's numbers by hand, lands on the
+    // pixel vpe projects it to; and the projector's centre is −Rᵀ·T.
+    ProjectorCalibration pinhole = projector;
+    pinhole.distortion = {};
+    pinhole.K[1] = 0;
+    writeFile(folder / "pinhole.xml", testing::toolCalibrationXml(pinhole, camera, 0.42));
+    const ProjectorCalibration straight =
+        readProjectorCalibration(folder / "pinhole.xml", overrides);
+    const std::array<double, 9>& R = pinhole.R;
+    const std::array<double, 3> t{pinhole.T[0] * 1000, pinhole.T[1] * 1000, pinhole.T[2] * 1000};
+    for (const proto::Vec3d& X : {proto::Vec3d{0, 0.075, 0}, proto::Vec3d{0.05, 0.12, -0.03}}) {
+        const double mm[3] = {1000 * X.x, 1000 * X.y, 1000 * X.z};
+        double x[3];
+        for (int r = 0; r < 3; ++r) {
+            x[r] = R[3 * r] * mm[0] + R[3 * r + 1] * mm[1] + R[3 * r + 2] * mm[2] + t[r];
+        }
+        const auto pixel = proto::projectToPixel(straight, X);
+        ASSERT_TRUE(pixel);
+        EXPECT_NEAR(pixel->x, pinhole.K[0] * x[0] / x[2] + pinhole.K[2], 1e-9);
+        EXPECT_NEAR(pixel->y, pinhole.K[4] * x[1] / x[2] + pinhole.K[5], 1e-9);
+    }
+    const proto::Vec3d centre = straight.center();
+    EXPECT_NEAR(centre.x, -(R[0] * t[0] + R[3] * t[1] + R[6] * t[2]) / 1000, 1e-15);
+    EXPECT_NEAR(centre.y, -(R[1] * t[0] + R[4] * t[1] + R[7] * t[2]) / 1000, 1e-15);
+    EXPECT_NEAR(centre.z, -(R[2] * t[0] + R[5] * t[1] + R[8] * t[2]) / 1000, 1e-15);
+
+    // The tool's first versions spelt the rotation "roration".
+    writeFile(folder / "old.xml",
+              testing::toolCalibrationXml(projector, camera, 0.42, 0.001, "roration"));
+    expectSameRig(projector, readProjectorCalibration(folder / "old.xml", overrides));
+    // A projector size in the file wins over the scan's default (which the scan then checks).
+    writeFile(folder / "sized.xml",
+              testing::toolCalibrationXml(projector, camera, 0.42)
+                  .insert(std::string("<?xml version=\"1.0\"?>\n<opencv_storage>\n").size(),
+                          "<proj_width>1280</proj_width><proj_height>720</proj_height>\n"));
+    EXPECT_EQ(readProjectorCalibration(folder / "sized.xml", overrides).width, 1280);
+}
+
+TEST(ToolCalibration, RefusesWhatItCannotReadByKey) {
+    TemporaryFolder folder;
+    const std::string good = testing::toolCalibrationXml(sampleCalibration(), sampleCamera(), 0.42);
+    const auto withLine = [&](const std::string& line) {
+        return std::string(good).insert(good.find("<rms>"), line + "\n");
+    };
+    ProjectorCalibrationOverrides overrides;
+    overrides.width = 1920;
+    overrides.height = 1080;
+    // No unit: 0.80 m read as 803.5 m.
+    writeFile(folder / "p.xml", good);
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: translation: the projector would be 803.5");
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "give the unit (length_unit in the file, or the command's "
+                       "--calibration-unit)");
+    // No size from the file or the command line.
+    overrides.metresPerUnit = 0.001;
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", {}),
+                       "p.xml: no projector resolution");
+    // A unit in the file that the command line contradicts.
+    writeFile(folder / "p.xml", withLine("<length_unit>m</length_unit>"));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: length_unit: the file says m but 0.001 m per unit was given");
+    // Keys of neither layout, named; keys of both; both spellings of the rotation.
+    writeFile(folder / "p.xml", withLine("<held_out_rms>1.2</held_out_rms>"));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: unknown key held_out_rms: neither vpe's calibration keys");
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "p.xml"), "p.xml: unknown key held_out_rms");
+    writeFile(folder / "p.xml", withLine("<cam_shape>1</cam_shape><proj_shape>2</proj_shape>"));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: unknown keys cam_shape, proj_shape: neither");
+    writeFile(folder / "p.xml", withLine("<T>0 0 1</T>"));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: mixes vpe's keys (T) with procam-calibration's calibration_result "
+                       "keys (");
+    writeFile(folder / "p.xml",
+              withLine(testing::toolMatrix("roration", 3, 3, sampleCalibration().R)));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: roration: given beside rotation");
+    // The tool's own keys checked under their names.
+    ProjectorCalibration flat = sampleCalibration();
+    flat.K[0] = -5;
+    writeFile(folder / "p.xml", testing::toolCalibrationXml(flat, sampleCamera(), 0.42));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: proj_int: focal lengths must be positive (fx = -5");
+    ProjectorCalibration mirrored = sampleCalibration();
+    for (std::size_t i = 6; i < 9; ++i) {
+        mirrored.R[i] = -mirrored.R[i];
+    }
+    writeFile(folder / "p.xml", testing::toolCalibrationXml(mirrored, sampleCamera(), 0.42));
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: rotation: determinant -1");
+    std::string noTranslation = good;
+    noTranslation.erase(
+        noTranslation.find("<translation"),
+        noTranslation.find("</opencv_storage>") - noTranslation.find("<translation"));
+    writeFile(folder / "p.xml", noTranslation);
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.xml", overrides),
+                       "p.xml: translation: missing (a projector calibration needs proj_int, "
+                       "rotation and translation)");
+    // The camera: its size from img_shape, which cam_width/cam_height must not contradict; and
+    // the file's pose is the projector's, never a camera's.
+    writeFile(folder / "p.xml", withLine("<cam_width>640</cam_width><cam_height>480</cam_height>"));
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "p.xml"),
+                       "p.xml: cam_width: the file says 640x480 but img_shape says 1640x1232");
+    std::string shapeless = good;
+    shapeless.erase(0, shapeless.find("<rms>"));
+    shapeless.insert(0, "<?xml version=\"1.0\"?>\n<opencv_storage>\n");
+    writeFile(folder / "p.xml", shapeless);
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "p.xml"), "p.xml: img_shape: missing");
+    writeFile(folder / "p.xml", good);
+    EXPECT_INPUT_ERROR(readCameraCalibration(folder / "p.xml", CameraPose::kFromFile),
+                       "p.xml: rotation: procam-calibration's rotation and translation are the "
+                       "projector's pose");
+}
+
+// vpe's own files: a key vpe does not know is refused too, naming it.
+TEST(ProjectorCalibration, RefusesAnUnknownKeyNamingIt) {
+    TemporaryFolder folder;
+    writeFile(folder / "p.yml", yamlWith("", "") + "proj_skew: 0.1\n");
+    EXPECT_INPUT_ERROR(readProjectorCalibration(folder / "p.yml"),
+                       "p.yml: unknown key proj_skew: neither vpe's calibration keys");
+    writeFile(folder / "p.yml", yamlWith("", "") + "cam_error: 0.2\nproj_error: 0.1\nE: 1\nF: 2\n");
+    EXPECT_EQ(readProjectorCalibration(folder / "p.yml").width, 1920);
 }
 
 TEST(ProjectorCalibration, DemoProjectorFramesTheVase) {

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/vector_types.h"
@@ -26,6 +27,9 @@ using ProjectorCalibration = proto::PinholeCamera;
 struct ProjectorCalibrationOverrides {
     // The resolution, required when the file has none; must agree with the file otherwise.
     std::optional<int> width, height;
+    // The resolution when neither the file nor width/height give one (vpe scan: the scan
+    // manifest's projector, which the calibration then must fit anyway).
+    std::optional<int> defaultWidth, defaultHeight;
     // Metres per unit of T, when the file does not say (key length_unit: m, cm or mm).
     // procam-calibration measures T in the unit of its chessboard squares: usually mm.
     std::optional<double> metresPerUnit;
@@ -35,12 +39,15 @@ struct ProjectorCalibrationOverrides {
 // T — the keys of Moreno & Taubin's procam-calibration, whose R, T take camera coordinates
 // to projector coordinates: a mesh scanned with the same rig is in the camera's frame, which
 // is then the object frame. cam_K, cam_kc (readCameraCalibration's) and the rest are ignored.
-// The resolution comes from proj_width/proj_height or image_width/image_height, or the
-// overrides. Without
-// a unit, T is taken in metres unless that puts the projector over 20 m away, which is
-// refused as a probable millimetre file. Throws InputError "PATH: KEY: problem" for a
-// missing or unreadable file, missing keys, wrong shapes, non-finite numbers, focal lengths
-// ≤ 0, R not a rotation (orthonormal with det +1 within 1e-3), resolution outside 1..8192.
+// Or the same read from kamino410/procam-calibration's calibration_result.xml: proj_int,
+// proj_dist, rotation, translation (camera → projector too); its img_shape, rms, cam_int,
+// cam_dist are the camera's. The resolution comes from proj_width/proj_height or
+// image_width/image_height, or the overrides. Without a unit, T is taken in metres unless
+// that puts the projector over 20 m away, which is refused as a probable millimetre file.
+// Throws InputError "PATH: KEY: problem" for a missing or unreadable file, a key of neither
+// layout (naming it) or keys of both, missing keys, wrong shapes, non-finite numbers, focal
+// lengths ≤ 0, R not a rotation (orthonormal with det +1 within 1e-3), resolution outside
+// 1..8192, a unit that disagrees with the file's length_unit.
 ProjectorCalibration readProjectorCalibration(const std::filesystem::path& path,
                                               const ProjectorCalibrationOverrides& overrides = {});
 
@@ -55,12 +62,16 @@ enum class CameraPose {
 };
 
 // The camera of a calibration file: cam_K, cam_kc (optional: no distortion), and its resolution
-// cam_width/cam_height, required with cam_K (procam-calibration writes none; vpe's writers do).
+// cam_width/cam_height, required with cam_K (procam-calibration writes none; vpe's writers do);
+// or kamino410's cam_int, cam_dist and img_shape (rows, cols), only as a procam file's camera.
 // Nothing when the file has no cam_K. Throws InputError "PATH: KEY: problem" as
 // readProjectorCalibration does (resolution 1..8192, focal lengths > 0, finite numbers, R a
 // rotation).
 std::optional<proto::PinholeCamera> readCameraCalibration(
     const std::filesystem::path& path, CameraPose pose = CameraPose::kProcamOrigin);
+
+// Metres per unit of length_unit's values (m, cm, mm); nothing for another word.
+std::optional<double> metresPerLengthUnit(const std::string& unit);
 
 // Writes the same keys (plus proj_width, proj_height and length_unit: m) as YAML (.yml,
 // .yaml), XML (.xml) or JSON (.json), atomically.
