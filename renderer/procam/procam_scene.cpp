@@ -205,6 +205,9 @@ std::string checkSimulatedCamera(const SimulatedCamera& c) {
     if (c.readNoiseElectrons > 0 && !(c.fullWellElectrons > 0)) {
         return "camera: read noise needs a full well to be measured against";
     }
+    if (!(c.blackLevel >= 0 && c.blackLevel < 0.5)) {
+        return "camera: black level must be in [0, 0.5)";
+    }
     if (c.bits != 8 && c.bits != 10) {
         return "camera: bits must be 8 or 10";
     }

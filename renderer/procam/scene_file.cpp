@@ -354,9 +354,10 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
     scene.projector.peakIrradiance = projector.number("peak_irradiance", 1.0, 1e-6, 1e6);
     scene.projector.blurPixels = projector.number("blur_px", 0.7, 0.0, 20.0);
 
-    const Section camera(root["camera"].as_table(), source, "camera",
-                         {"size", "K", "distortion", "R", "T", "exposure", "response", "gamma",
-                          "full_well", "read_noise", "bits", "samples", "monochrome", "seed"});
+    const Section camera(
+        root["camera"].as_table(), source, "camera",
+        {"size", "K", "distortion", "R", "T", "exposure", "response", "gamma", "full_well",
+         "read_noise", "black_level", "bits", "samples", "monochrome", "seed"});
     if (!camera.present()) {
         throw SceneFileError(source + ": camera: missing section");
     }
@@ -371,6 +372,7 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
     c.gamma = camera.number("gamma", 2.2, 0.1, 9.9);
     c.fullWellElectrons = camera.number("full_well", c.fullWellElectrons, 0.0, 1e9);
     c.readNoiseElectrons = camera.number("read_noise", c.readNoiseElectrons, 0.0, 1e6);
+    c.blackLevel = camera.number("black_level", 0.0, 0.0, 0.49);
     c.bits = static_cast<int>(camera.number("bits", 8, 8, 10));
     c.samples = static_cast<int>(camera.number("samples", 2, 1, 8));
     c.monochrome = camera.boolean("monochrome").value_or(true);
@@ -451,6 +453,9 @@ void writeSceneFile(const std::filesystem::path& path, const ProcamScene& scene,
     c.insert("gamma", camera.gamma);
     c.insert("full_well", camera.fullWellElectrons);
     c.insert("read_noise", camera.readNoiseElectrons);
+    if (camera.blackLevel > 0) {
+        c.insert("black_level", camera.blackLevel);
+    }
     c.insert("bits", camera.bits);
     c.insert("samples", camera.samples);
     c.insert("monochrome", camera.monochrome);

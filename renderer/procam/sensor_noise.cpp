@@ -64,7 +64,7 @@ CameraFrame exposeSensor(const SimulatedCamera& camera, const RgbImage& radiance
                         stream ^ mix(pixel * 4 + static_cast<std::uint64_t>(channel));
                     signal = (electrons + sigma * gaussian(key)) / fullWell;
                 }
-                signal = std::clamp(signal, 0.0, 1.0);
+                signal = std::clamp(signal + camera.blackLevel, 0.0, 1.0);
                 const double value = camera.response == CameraResponse::kGamma
                                          ? std::pow(signal, 1.0 / camera.gamma)
                                          : signal;

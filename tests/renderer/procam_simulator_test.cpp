@@ -165,6 +165,25 @@ TEST(ProcamSimulator, TheSensorHasShotAndReadNoise) {
     EXPECT_NEAR(variance / expected, 1.0, 0.12);
 }
 
+TEST(ProcamSimulator, TheSensorsBlackLevelIsAnOffsetWhateverTheLight) {
+    SimulatedCamera camera = quietCamera();
+    camera.bits = 10;
+    const ProcamSimulator simulator(planeScene(), camera, 2);
+    SimulatedCamera pedestal = camera;
+    pedestal.blackLevel = 0.004;
+    for (const float level : {0.0f, 0.5f}) {
+        const RgbImage radiance = simulator.radiance(flat(64, 48, level));
+        const CameraFrame without = simulator.expose(radiance, 1);
+        const CameraFrame with = simulator.expose(radiance, 1, pedestal);
+        for (std::size_t i = 0; i < with.samples.size(); ++i) {
+            // 0.004 of 1023 codes, within the code either rounding gives.
+            EXPECT_NEAR(double(with.samples[i]) - double(without.samples[i]), 4.092, 1.0) << i;
+        }
+    }
+    camera.blackLevel = 0.5;
+    EXPECT_EQ(checkSimulatedCamera(camera), "camera: black level must be in [0, 0.5)");
+}
+
 TEST(ProcamSimulator, InterreflectionAddsLightWhereTheSurfaceSeesItself) {
     const testing::OwnedMesh vase = testing::makeVaseMesh(96, 48);
     ProcamScene scene;
@@ -283,6 +302,7 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
     SimulatedCamera camera = quietCamera();
     camera.response = CameraResponse::kGamma;
     camera.seed = 42;
+    camera.blackLevel = 0.004;
     writeSceneFile(folder / "installation.toml", scene, camera, "object.obj");
     const SceneFile back = readSceneFile(folder / "installation.toml");
     EXPECT_EQ(back.scene.object->positions.size(), 3u);
@@ -292,6 +312,7 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
     EXPECT_EQ(back.camera.camera.R, camera.camera.R);
     EXPECT_EQ(back.camera.response, CameraResponse::kGamma);
     EXPECT_EQ(back.camera.seed, 42u);
+    EXPECT_DOUBLE_EQ(back.camera.blackLevel, 0.004);
     EXPECT_DOUBLE_EQ(back.scene.albedo.stainStrength, 0.2);
     EXPECT_NEAR(back.scene.projector.response.output(1, 0.5), 0.5, 1e-12);
 

@@ -105,7 +105,7 @@ enum class CameraResponse : std::uint8_t {
 // The camera: its model (room → camera) and its sensor. A pixel's signal is
 // exposure × radiance (1 = full well), averaged over samples² points of the pixel's area;
 // then shot noise (Poisson in electrons, full well = fullWellElectrons) and read noise, the
-// response, and quantization to `bits`.
+// black level, the response, and quantization to `bits`.
 struct SimulatedCamera {
     proto::PinholeCamera camera;
     double exposure = 1.0;
@@ -117,6 +117,9 @@ struct SimulatedCamera {
     int samples = 2;                  // per axis and pixel
     bool monochrome = true;           // one channel (Rec. 709 luminance of the light), or RGB
     std::uint64_t seed = 1;
+    // The sensor's black level (pedestal): an offset every value carries whatever the light, as
+    // a share of full scale; a raw frame with the lens capped reads it.
+    double blackLevel = 0;
 };
 
 struct Room {
