@@ -43,7 +43,7 @@ struct SynthProcamArguments {
     std::string out, scene, show, check, checkLight, baseline;
     std::string projectorSize = "1920x1080", cameraSize = "1640x1232";
     int poses = 15;
-    double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06;
+    double cameraOffset = 0.21, exposure = 0.85, roomLight = 0.06, cameraBlack = 0;
     std::uint64_t seed = 1;
     std::string noise = "camera";
     // The sensor and the optics, for noise sweeps: 0 / "" keep the gallery's.
@@ -51,6 +51,7 @@ struct SynthProcamArguments {
     std::string cameraOutput = "linear10";
     bool stains = false;
     bool realisticLight = false;
+    bool uniformPlaster = false;
     int capture = 0;  // which capture of the installation: fresh noise for each
     int phasePeriod = 32, phaseSteps = 8;
     int threads = 0;
@@ -119,16 +120,19 @@ void runGallery(const SynthProcamArguments& args) {
     options.cameraOffsetM = args.cameraOffset;
     options.exposure = args.exposure;
     options.roomLight = args.roomLight;
+    options.cameraBlack = args.cameraBlack;
     if (!(args.cameraOffset > 0.02 && args.cameraOffset < 2) || !(args.exposure > 0) ||
-        !(args.roomLight >= 0) || !std::isfinite(args.exposure + args.roomLight)) {
+        !(args.roomLight >= 0) || !std::isfinite(args.exposure + args.roomLight) ||
+        !(args.cameraBlack >= 0 && args.cameraBlack < 0.5)) {
         throw common::InputError(
             "--camera-offset must be in (0.02, 2) m, --exposure positive, "
-            "--room-light ≥ 0");
+            "--room-light ≥ 0, --camera-black in [0, 0.5)");
     }
     options.seed = args.seed;
     options.noise = args.noise == "camera";
     options.stains = args.stains;
     options.realisticLight = args.realisticLight;
+    options.uniformPlaster = args.uniformPlaster;
     procam::GalleryInstallation gallery = procam::makeGalleryInstallation(options);
     applySensorOptions(args, gallery);
     const int threads = static_cast<int>(common::resolveThreadCount(args.threads));
@@ -560,6 +564,13 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
     command->add_flag("--realistic-light", args->realisticLight,
                       "A gallery's light: plaster stained ±30 %, a projector response that is no "
                       "gamma, crosstalk between its primaries, room light at 2 % of its white");
+    command->add_flag("--uniform-plaster", args->uniformPlaster,
+                      "With --realistic-light: plaster of one albedo, no stains, no greyer foot");
+    command
+        ->add_option("--camera-black", args->cameraBlack,
+                     "The camera sensor's black level (an offset in every value), share of "
+                     "full scale")
+        ->capture_default_str();
     command
         ->add_option("--capture", args->capture,
                      "With --scene: which capture of the installation (fresh noise for each)")

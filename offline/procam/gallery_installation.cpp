@@ -144,6 +144,10 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
         }
         room.projector.response = proto::ResponseFunction::sampled(levels, curves);
         room.projector.mixing = {0.92, 0.07, 0.01, 0.06, 0.88, 0.05, 0.01, 0.09, 0.93};
+        if (options.uniformPlaster) {
+            room.albedo.stainStrength = 0;
+            room.albedo.footShade = 0;
+        }
         // 2 % of full white at the object's centre, at normal incidence.
         const Vec3d p = room.projector.camera.center();
         const double d2 = (p.x - centre.x) * (p.x - centre.x) +
@@ -166,6 +170,7 @@ GalleryInstallation makeGalleryInstallation(const GalleryOptions& options) {
     camera.exposure = options.exposure;
     camera.fullWellElectrons = options.noise ? 10000 : 0;
     camera.readNoiseElectrons = options.noise ? 5 : 0;
+    camera.blackLevel = options.cameraBlack;
     camera.samples = 2;
     camera.monochrome = true;
     camera.seed = seed;

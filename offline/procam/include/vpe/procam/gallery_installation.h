@@ -30,6 +30,11 @@ struct GalleryOptions {
     // channel) with crosstalk between its primaries, and the room's light at 2 % of the
     // projector's full white on the object. Implies stains.
     bool realisticLight = false;
+    // With realisticLight: plaster of one albedo everywhere (no stains, no greyer foot), the
+    // product's normal case, whose floor the geometry alone must split.
+    bool uniformPlaster = false;
+    // The camera sensor's black level (SimulatedCamera::blackLevel), share of full scale.
+    double cameraBlack = 0;
 };
 
 struct GalleryInstallation {
