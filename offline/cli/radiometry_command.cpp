@@ -2,6 +2,7 @@
 // vpe radiometry CAPTURE --scan SCAN --out DIR: the projector's light on the object, measured.
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "vpe/radiometry/projector_radiometry.h"
 #include "vpe/scan/scan_files.h"
 #include "vpe/scene/projector_calibration.h"
+#include "vpe/scene/scene_settings.h"
 
 #include "cli/commands.h"
 #include "cli/common_options.h"
@@ -21,7 +23,7 @@ namespace vpe::cli {
 namespace {
 
 struct RadiometryArguments {
-    std::string capture, scan, out;
+    std::string capture, scan, out, cameraBlack;
     int threads = 0;
     bool json = false;
 };
@@ -47,6 +49,9 @@ void runRadiometry(const RadiometryArguments& args) {
     const proto::RadiometryManifest manifest = proto::readRadiometryManifest(capture);
     radiometry::RadiometryOptions options;
     options.threads = args.threads;
+    if (!args.cameraBlack.empty()) {
+        options.cameraBlack = scene::parseBlackLevel(args.cameraBlack, "--camera-black");
+    }
     common::ProgressBar progress("radiometry", manifest.images.size());
     const radiometry::ProjectorRadiometry measured =
         radiometry::measureRadiometry(capture, surface, *camera, projector, options, &progress);
@@ -65,7 +70,7 @@ void runRadiometry(const RadiometryArguments& args) {
         stderr,
         "%s: %zu projector pixels measured; crosstalk (camera channel from primary) "
         "R %.3f %.3f %.3f | G %.3f %.3f %.3f | B %.3f %.3f %.3f, one for the whole "
-        "projector%s; ambient %.4f %.4f %.4f of full output at 1 m; %.1f s\n",
+        "projector%s; %.1f s\n",
         args.out.c_str(), measured.measured, x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8],
         [&] {
             for (std::size_t i = 0; i < 9; ++i) {
@@ -76,19 +81,15 @@ void runRadiometry(const RadiometryArguments& args) {
             }
             return "";
         }(),
-        measured.ambient[0], measured.ambient[1], measured.ambient[2], seconds);
+        seconds);
+    std::fprintf(stderr, "%s: %s\n", args.out.c_str(),
+                 radiometry::describeFloorSplit(measured.floorSplit).c_str());
     if (args.json) {
-        nlohmann::json json;
+        // What measured.json holds (the split with its errors: null where the object cannot tell
+        // it), and the times.
+        std::ifstream file(std::filesystem::path(args.out) / radiometry::kMeasuredFile);
+        nlohmann::json json = nlohmann::json::parse(file);
         json["out"] = args.out;
-        json["measured_pixels"] = measured.measured;
-        json["mixing"] = measured.mixing;
-        json["mixing_spread"] = measured.mixingSpread;
-        json["mixing_noise"] = measured.mixingNoise;
-        json["black_level"] = measured.blackLevel;
-        json["ambient"] = measured.ambient;
-        json["white_signal"] = measured.whiteSignal;
-        json["white_saturated_share"] = measured.whiteSaturatedShare;
-        json["camera_linear"] = measured.cameraLinear;
         json["fit_seconds"] = measured.fitSeconds;
         json["seconds"] = seconds;
         printJson(json.dump());
@@ -116,6 +117,10 @@ void addRadiometryCommand(CLI::App& app, Action& action) {
                      "Folder to write: irradiance.exr, floor.exr, response.csv, measured.json, "
                      "contact-sheet.png")
         ->required();
+    command->add_option(
+        "--camera-black", args->cameraBlack,
+        "The camera's black level, one value or r,g,b, share of its linear range (the mean of a "
+        "raw frame with the lens capped): splits the floor on plaster of one albedo");
     addThreadsOption(command, args->threads);
     addJsonFlag(command, args->json);
     command->callback([args, &action] { action = [args] { runRadiometry(*args); }; });

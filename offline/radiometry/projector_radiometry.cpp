@@ -13,6 +13,7 @@
 #include "vpe/common/quantile.h"
 #include "vpe/image/image_file.h"
 #include "vpe/radiometry/camera_response.h"
+#include "vpe/radiometry/floor_split.h"
 
 namespace vpe::radiometry {
 
@@ -71,6 +72,61 @@ image::FloatImage readField(const std::filesystem::path& path, const proto::Radi
         }
     }
     return image;
+}
+
+// The pixels whose floor the split reads, per channel: well lit (`strong`), their light at most
+// 60° from the normal — the scan's normals are good to about a degree, which at grazing light is
+// several per cent of S, and the split leans on S — and with every pixel of the scan's normal
+// window (7 × 7) measured, not at the outline, whose normals are fitted to half a window. Blocks
+// of 1/20 of the projector's width are the bootstrap's unit: the model's misfit (interreflection,
+// the normals' errors) is smooth over the object, and smaller blocks understate the errors.
+std::array<std::vector<FloorSample>, 3> floorSamples(const std::vector<Sample>& samples,
+                                                     const std::vector<std::uint8_t>& strong,
+                                                     const scan::ProjectorSurface& surface,
+                                                     const proto::PinholeCamera& projector,
+                                                     const std::vector<float>& floor,
+                                                     const std::vector<float>& irradiance) {
+    constexpr double kMinCosine = 0.5;
+    constexpr int kWindow = 3;  // the scan's normal radius (ProjectorSurfaceOptions)
+    const int width = surface.width, height = surface.height;
+    std::vector<std::uint8_t> known(static_cast<std::size_t>(width) * height, 0);
+    for (const Sample& sample : samples) {
+        known[sample.index] = 1;
+    }
+    const auto wholeWindow = [&](int x, int y) {
+        for (int j = y - kWindow; j <= y + kWindow; ++j) {
+            for (int i = x - kWindow; i <= x + kWindow; ++i) {
+                if (i < 0 || j < 0 || i >= width || j >= height ||
+                    !known[static_cast<std::size_t>(j) * width + i]) {
+                    return false;
+                }
+            }
+        }
+        return true;
+    };
+    const std::uint32_t side = static_cast<std::uint32_t>(std::max(8, width / 20));
+    const std::uint32_t across = (static_cast<std::uint32_t>(width) + side - 1) / side;
+    const proto::Vec3d centre = projector.center();
+    std::array<std::vector<FloorSample>, 3> channels;
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        const std::uint32_t p = samples[s].index;
+        const int x = static_cast<int>(p % static_cast<std::uint32_t>(width));
+        const int y = static_cast<int>(p / static_cast<std::uint32_t>(width));
+        const float* q = &surface.position[3 * p];
+        const double dx = centre.x - double(q[0]), dy = centre.y - double(q[1]),
+                     dz = centre.z - double(q[2]);
+        const double cosine = double(samples[s].geometry) * (dx * dx + dy * dy + dz * dz);
+        if (!strong[s] || cosine < kMinCosine || !wholeWindow(x, y)) {
+            continue;
+        }
+        const std::uint32_t block =
+            (static_cast<std::uint32_t>(y) / side) * across + static_cast<std::uint32_t>(x) / side;
+        for (std::size_t k = 0; k < 3; ++k) {
+            channels[k].push_back(
+                {floor[3 * p + k], irradiance[3 * p + k], samples[s].geometry, block});
+        }
+    }
+    return channels;
 }
 
 }  // namespace
@@ -378,28 +434,12 @@ ProjectorRadiometry measureRadiometry(const std::filesystem::path& capture,
     });
     r.measured = n;
 
-    // The floor split by geometry: D/F = black + ambient · (1/S), a line over the object.
-    for (std::size_t k = 0; k < 3; ++k) {
-        double s1 = 0, sx = 0, sxx = 0, sy = 0, sxy = 0;
-        for (std::size_t s = 0; s < n; ++s) {
-            const float f = r.irradiance[3 * samples[s].index + k];
-            if (!strong[s] || !(f > 0)) {
-                continue;
-            }
-            const double x = 1.0 / double(samples[s].geometry);
-            const double y = double(r.floor[3 * samples[s].index + k]) / double(f);
-            s1 += 1;
-            sx += x;
-            sxx += x * x;
-            sy += y;
-            sxy += x * y;
-        }
-        const double determinant = s1 * sxx - sx * sx;
-        if (determinant > 0) {
-            r.ambient[k] = (s1 * sxy - sx * sy) / determinant;
-            r.blackLevel[k] = (sy - r.ambient[k] * sx) / s1;
-        }
-    }
+    // The floor split into the camera's black, the projector's and the room's light, with their
+    // errors (floor_split.h).
+    FloorSplitOptions split;
+    split.cameraBlack = options.cameraBlack;
+    r.floorSplit =
+        splitFloor(floorSamples(samples, strong, surface, projector, r.floor, r.irradiance), split);
     r.fitSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }

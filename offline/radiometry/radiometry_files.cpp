@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -42,6 +43,30 @@ std::array<double, N> arrayOf(const nlohmann::json& json, const std::filesystem:
             throw common::InputError(path, std::string(key) + ": expected numbers");
         }
         values[i] = json[key][i].get<double>();
+    }
+    return values;
+}
+
+// Like arrayOf, but null (what a NaN is written as: a value the capture could not measure) reads
+// as NaN, and a file without the key as NaN too.
+template <std::size_t N>
+std::array<double, N> measuredArrayOf(const nlohmann::json& json, const std::filesystem::path& path,
+                                      const char* key) {
+    std::array<double, N> values{};
+    values.fill(std::numeric_limits<double>::quiet_NaN());
+    if (!json.contains(key)) {
+        return values;
+    }
+    if (!json[key].is_array() || json[key].size() != N) {
+        throw common::InputError(path,
+                                 std::string(key) + ": expected " + std::to_string(N) + " numbers");
+    }
+    for (std::size_t i = 0; i < N; ++i) {
+        if (json[key][i].is_number()) {
+            values[i] = json[key][i].get<double>();
+        } else if (!json[key][i].is_null()) {
+            throw common::InputError(path, std::string(key) + ": expected numbers or null");
+        }
     }
     return values;
 }
@@ -123,8 +148,19 @@ void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& 
     json["mixing"] = arrayJson(r.mixing);
     json["mixing_spread"] = arrayJson(r.mixingSpread);
     json["mixing_noise"] = arrayJson(r.mixingNoise);
-    json["black_level"] = arrayJson(r.blackLevel);
-    json["ambient"] = arrayJson(r.ambient);
+    // The floor's split (floor_split.h); null where the object cannot tell it.
+    const FloorSplit& split = r.floorSplit;
+    json["floor"] = arrayJson(split.floor);
+    json["floor_separable"] = split.separable;
+    json["camera_black_given"] = split.cameraBlackGiven;
+    json["camera_black"] = arrayJson(split.cameraBlack);
+    json["camera_black_sigma"] = arrayJson(split.cameraBlackSigma);
+    json["projector_black"] = arrayJson(split.projectorBlack);
+    json["projector_black_sigma"] = arrayJson(split.projectorBlackSigma);
+    json["ambient"] = arrayJson(split.ambient);
+    json["ambient_sigma"] = arrayJson(split.ambientSigma);
+    json["ambient_at_most"] = arrayJson(split.ambientAtMost);
+    json["ambient_leverage"] = arrayJson(split.ambientLeverage);
     json["measured_pixels"] = r.measured;
     json["white_saturated_share"] = r.whiteSaturatedShare;
     json["white_signal"] = r.whiteSignal;
@@ -152,8 +188,21 @@ ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
     r.mixing = arrayOf<9>(json, measured, "mixing");
     r.mixingSpread = arrayOf<9>(json, measured, "mixing_spread");
     r.mixingNoise = arrayOf<9>(json, measured, "mixing_noise");
-    r.blackLevel = arrayOf<3>(json, measured, "black_level");
-    r.ambient = arrayOf<3>(json, measured, "ambient");
+    // The split as written (a file from before issue 45 has the projector's black as
+    // black_level, and no errors).
+    FloorSplit& split = r.floorSplit;
+    split.floor = measuredArrayOf<3>(json, measured, "floor");
+    split.separable = json.value("floor_separable", true);
+    split.cameraBlackGiven = json.value("camera_black_given", false);
+    split.cameraBlack = measuredArrayOf<3>(json, measured, "camera_black");
+    split.cameraBlackSigma = measuredArrayOf<3>(json, measured, "camera_black_sigma");
+    split.projectorBlack = measuredArrayOf<3>(
+        json, measured, json.contains("projector_black") ? "projector_black" : "black_level");
+    split.projectorBlackSigma = measuredArrayOf<3>(json, measured, "projector_black_sigma");
+    split.ambient = measuredArrayOf<3>(json, measured, "ambient");
+    split.ambientSigma = measuredArrayOf<3>(json, measured, "ambient_sigma");
+    split.ambientAtMost = measuredArrayOf<3>(json, measured, "ambient_at_most");
+    split.ambientLeverage = measuredArrayOf<3>(json, measured, "ambient_leverage");
     for (std::size_t k = 0; k < 3; ++k) {
         if (!(std::abs(r.mixing[4 * k] - 1) < 1e-9)) {
             throw common::InputError(measured, "mixing: its diagonal must be 1");

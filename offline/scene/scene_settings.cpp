@@ -80,4 +80,9 @@ std::array<double, 3> parseAmbient(std::string_view text, std::string_view what)
         text, what, [](double v) { return v >= 0; }, "≥ 0");
 }
 
+std::array<double, 3> parseBlackLevel(std::string_view text, std::string_view what) {
+    return parseColour(
+        text, what, [](double v) { return v >= 0 && v < 0.5; }, "in [0, 0.5)");
+}
+
 }  // namespace vpe::scene

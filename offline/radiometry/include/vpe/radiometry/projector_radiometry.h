@@ -6,10 +6,10 @@
 //   C_k(p) = D_k(p) + F_k(p) · Σ_c X_kc · g_c(level_c)
 //
 // C the camera's linear signal in channel k at the surface point projector pixel p lights; D
-// the floor — what the camera sees with the projector at level 0 (the room's light and the
-// projector's black); F the irradiance factor — albedo × geometry × the camera's gain, signal
-// per unit of the channel's own primary; X the primaries' crosstalk, one 3 × 3 for the whole
-// projector (X_kk = 1); g_c the response above black, g_c(0) = 0, g_c(1) = 1.
+// the floor — what the camera sees with the projector at level 0 (the room's light, the
+// projector's black, the camera's black level); F the irradiance factor — albedo × geometry ×
+// the camera's gain, signal per unit of the channel's own primary; X the primaries' crosstalk,
+// one 3 × 3 for the whole projector (X_kk = 1); g_c the response above black (0 at 0, 1 at 1).
 //
 // Why X is global and F per pixel: a matte plaster scales each camera channel by its albedo
 // there, the same for every primary, so the per-pixel 3 × 3 is diag(F(p))·X; a per-pixel X
@@ -21,12 +21,14 @@
 #include <array>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vpe/common/progress_bar.h"
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/radiometry_capture.h"
+#include "vpe/radiometry/floor_split.h"
 #include "vpe/scan/projector_surface.h"
 
 namespace vpe::radiometry {
@@ -37,6 +39,9 @@ struct RadiometryOptions {
     // The white field's median above black must reach this share of the camera's range, or the
     // floor (black) is measured in noise.
     double minWhiteSignal = 0.08;
+    // The camera's black level per channel (share of its range: the mean of a frame with the
+    // lens capped), when known; else fitted, which needs an object of uneven albedo.
+    std::optional<std::array<double, 3>> cameraBlack;
     int threads = 0;
 };
 
@@ -50,11 +55,9 @@ struct ProjectorRadiometry {
     // g_c at levels[i] (level 0 first, g = 0 there; the ladder's levels up to 1).
     std::vector<double> levels;
     std::array<std::vector<double>, 3> response;
-    // The floor split by geometry (D/F = black + ambient / S over the object, S = cos θ / d²
-    // of the projector's light): the projector's light at level 0 as a share of each channel's
-    // full output, and the room's irradiance in units of the projector's full output at 1 m.
-    std::array<double, 3> blackLevel{};
-    std::array<double, 3> ambient{};
+    // The floor split into the camera's black, the projector's light at level 0 and the room's
+    // light, with their errors, or why the object cannot split it (floor_split.h).
+    FloorSplit floorSplit;
     std::size_t measured = 0;  // projector pixels with maps
     double whiteSaturatedShare = 0;
     double whiteSignal = 0;  // the white field's median above black, share of the range

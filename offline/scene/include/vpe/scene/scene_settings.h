@@ -32,5 +32,7 @@ proto::Vec3<double> parsePosition(std::string_view text, std::string_view what);
 std::array<double, 3> parseAlbedo(std::string_view text, std::string_view what);
 // An ambient level: one grey value or r,g,b, each ≥ 0.
 std::array<double, 3> parseAmbient(std::string_view text, std::string_view what);
+// A camera's black level, share of its range: one value or r,g,b, each in [0, 0.5).
+std::array<double, 3> parseBlackLevel(std::string_view text, std::string_view what);
 
 }  // namespace vpe::scene
