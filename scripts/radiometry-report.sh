@@ -79,4 +79,5 @@ jq -c -n \
       completed_share: ($bake[0].radiometry.completed_pixels / $bake[0].radiometry.covered_pixels
                         * 10000 | round / 10000),
       mixing: $measured[0].mixing, ambient: $measured[0].ambient,
-      black_level: $measured[0].black_level}'
+      ambient_sigma: $measured[0].ambient_sigma, camera_black: $measured[0].camera_black,
+      projector_black: $measured[0].projector_black}'
