@@ -52,6 +52,10 @@ TEST(SceneSettings, ParsesAlbedoAndAmbient) {
               (std::array<double, 3>{0.02, 0.03, 0.04}));
     EXPECT_INPUT_ERROR(parseAmbient("-0.1", "--ambient"),
                        "--ambient: '-0.1': each value must be ≥ 0");
+    EXPECT_EQ(parseBlackLevel("0.004", "--camera-black"),
+              (std::array<double, 3>{0.004, 0.004, 0.004}));
+    EXPECT_INPUT_ERROR(parseBlackLevel("0.7", "--camera-black"),
+                       "--camera-black: '0.7': each value must be in [0, 0.5)");
 }
 
 }  // namespace
