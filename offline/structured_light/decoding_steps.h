@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -25,6 +26,19 @@ inline constexpr int kTooManyUncertainBits = -2;
 // a capture without measurable noise still has its quantization's.
 NoiseModel fitNoiseModel(const std::vector<double>& level, const std::vector<double>& residual,
                          double quantum);
+
+// What the two axes have read so far, per pixel.
+struct AxisCode {
+    std::vector<std::uint32_t> code;     // the Gray bits as read, above the lowest shown
+    std::vector<std::int8_t> uncertain;  // the one bit the noise left open, or the markers
+};
+
+// Refuses (InputError naming the manifest) a capture whose certain codes reach beyond the
+// declared projector on more than 2 % of an axis' certain codes, among the pixels not kDark: a
+// wrong --projector or --step, which the image count cannot tell (1024x768 step 1 and 1920x1080
+// step 2 both show 42 images).
+void checkCodesFitTheProjector(const ScanCapture& capture, const AxisCode& columns,
+                               const AxisCode& rows, const std::vector<DecodeStatus>& status);
 
 // The camera's encoding γ (value = signal^(1/γ)) that makes a pattern and its inverse add up to
 // white + black, as light does: fitted on the pixels the pair lights partly (a stripe's edge,

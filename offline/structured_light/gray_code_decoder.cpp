@@ -25,13 +25,6 @@ namespace {
 // light on more than this share of the lit pixels was captured wrong: black, stale or clipped.
 constexpr double kWrongFrameShare = 0.1;
 
-// Codes the declared projector does not have (a bin starting at or beyond its width or height)
-// on more than this share of an axis' certain codes: the patterns were made for another size or
-// step than the manifest says. A right declaration leaves them to misread bits: none of the
-// 3.2 million certain codes per axis of the procam-calibration sample's five poses declared
-// 1024x768; declared 1920x1080 step 2, 31 % of capture_0's row codes are 540..767.
-constexpr double kWrongSizeShare = 0.02;
-
 struct GrayPair {
     proto::PatternSpec on, off;
     int axis = 0;  // 0: columns, 1: rows
@@ -49,61 +42,6 @@ std::vector<GrayPair> grayPairs(const proto::StructuredLightSequence& sequence) 
         }
     }
     return pairs;
-}
-
-// What the two axes have read so far, per pixel.
-struct AxisCode {
-    std::vector<std::uint32_t> code;     // the Gray bits as read, above the lowest shown
-    std::vector<std::int8_t> uncertain;  // the one bit the noise left open, or the markers
-};
-
-// Refuses a capture whose certain codes reach beyond the declared projector on more than
-// kWrongSizeShare of an axis' certain codes, naming its manifest: a wrong --projector or
-// --step, which the image count cannot tell (1024x768 step 1 and 1920x1080 step 2 both show
-// 42 images).
-void checkCodesFitTheProjector(const ScanCapture& capture, const AxisCode (&axes)[2],
-                               const std::vector<DecodeStatus>& status) {
-    const proto::StructuredLightParameters& parameters = capture.sequence().parameters();
-    const int binWidth = capture.sequence().grayBinWidth();
-    const int extents[2] = {parameters.width, parameters.height};
-    std::string problems;
-    for (int a = 0; a < 2; ++a) {
-        const AxisCode& axis = axes[a];
-        // Bins 0 .. bins − 1 exist; the last may be cut short by the projector's edge.
-        const std::uint32_t bins =
-            static_cast<std::uint32_t>((extents[a] + binWidth - 1) / binWidth);
-        std::size_t certain = 0, beyond = 0;
-        std::uint32_t highest = 0;
-        for (std::size_t q = 0; q < status.size(); ++q) {
-            if (status[q] == DecodeStatus::kDark || axis.uncertain[q] != kNoUncertainBit) {
-                continue;
-            }
-            ++certain;
-            const std::uint32_t bin = proto::grayDecode(axis.code[q]);
-            if (bin >= bins) {
-                ++beyond;
-                highest = std::max(highest, bin);
-            }
-        }
-        if (certain == 0 || double(beyond) <= kWrongSizeShare * double(certain)) {
-            continue;
-        }
-        const char* name = a == 0 ? "column" : "row";
-        problems += std::string(problems.empty() ? "" : "; ") +
-                    std::to_string(
-                        static_cast<int>(std::lround(100.0 * double(beyond) / double(certain)))) +
-                    "% of the decoded " + name + " codes are " + std::to_string(bins) + ".." +
-                    std::to_string(highest) + ", beyond the " + std::to_string(bins) + " " + name +
-                    " codes (0.." + std::to_string(bins - 1) + ") a " +
-                    std::to_string(parameters.width) + "x" + std::to_string(parameters.height) +
-                    " projector with step " + std::to_string(parameters.codeStep) + " has";
-    }
-    if (!problems.empty()) {
-        throw common::InputError(capture.folder() / proto::kScanManifestName,
-                                 problems +
-                                     ": is the projector's size right (vpe import-graycode "
-                                     "--projector, --step)?");
-    }
 }
 
 }  // namespace
@@ -311,7 +249,7 @@ DecodedScan decodeGrayCode(const ScanCapture& capture, const DecodeOptions& opti
             scan.source[q] = PositionSource::kGrayBin;
         }
     }
-    checkCodesFitTheProjector(capture, axes, scan.status);
+    checkCodesFitTheProjector(capture, axes[0], axes[1], scan.status);
     // Whole bins step by a bin between neighbours where the surface is smooth: a step between
     // surfaces must bend the coordinates by more than two bins' rounding.
     markMixedPixels(scan, options.maxBend, binWidth, threads);

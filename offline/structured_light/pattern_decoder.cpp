@@ -38,10 +38,9 @@ constexpr double kLittleGlobal = 0.1;
 // inside white and black) was captured wrong: black (the camera missed it) or saturated.
 constexpr double kFrameTolerance = 0.4;
 
-struct AxisState {
-    std::vector<std::uint32_t> code;  // the Gray bits read so far, above the lowest shown
-    std::vector<std::int8_t> uncertain;
-    std::vector<float> sine, cosine;  // Σ I_s sin δ_s, Σ I_s cos δ_s
+// The Gray bits read so far, and Σ I_s sin δ_s, Σ I_s cos δ_s over the phase shifts.
+struct AxisState : detail::AxisCode {
+    std::vector<float> sine, cosine;
 };
 
 // Every lit pixel's index, in order: the tests below work on these only.
@@ -78,6 +77,9 @@ public:
         measureDirectLight();
         for (int a = 0; a < 2; ++a) {
             readGrayBits(a);
+        }
+        detail::checkCodesFitTheProjector(capture_, state_[0], state_[1], scan_.status);
+        for (int a = 0; a < 2; ++a) {
             accumulatePhase(a);
         }
         placePixels();

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "vpe/common/input_error.h"
 #include "vpe/image/image_file.h"
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/half_float.h"
@@ -20,6 +21,7 @@
 #include "vpe/renderer/procam/scene_file.h"
 #include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/screen_mesh.h"
+#include "vpe/structured_light/pattern_decoder.h"
 
 #include "offline/scene/tool_calibration_file.h"
 #include "support/cli_expectations.h"
@@ -404,6 +406,32 @@ TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
     EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.015);
     EXPECT_GT(report["placed_by"]["phase_neighbourhood"].get<int>(), 500);
     EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.25);
+    fs::remove_all(out);
+}
+
+// A phase-shifting capture declared for a shorter projector than showed it: its row codes
+// reach past the declared height, and decoding says so in one line instead of calibrating
+// quietly wrong.
+TEST(Install, RefusesCodesBeyondTheDeclaredProjector) {
+    const fs::path out = scratch("wrong-size");
+    const CommandResult synth = runCommand(vpeCommand(
+        {"synth-procam", "--out", (out / "room").string(), "--poses", "0", "--projector-size",
+         "640x360", "--camera-size", "656x492", "--phase-period", "16"}));
+    ASSERT_EQ(synth.exitStatus, 0) << synth.err;
+    const fs::path manifest = out / "room" / "scan" / "scan.json";
+    nlohmann::json scan;
+    std::ifstream(manifest) >> scan;
+    scan["projector"]["height"] = 260;  // the same 7 row bits (4-pixel bins), 100 rows short
+    std::ofstream(manifest) << scan.dump(2);
+    try {
+        structured_light::decodePatterns(structured_light::ScanCapture(out / "room" / "scan"));
+        ADD_FAILURE() << "decoded a capture declared 100 rows short";
+    } catch (const common::InputError& error) {
+        const std::string what = error.what();
+        EXPECT_NE(what.find("scan.json"), std::string::npos) << what;
+        EXPECT_NE(what.find("beyond"), std::string::npos) << what;
+        EXPECT_NE(what.find("640x260"), std::string::npos) << what;
+    }
     fs::remove_all(out);
 }
 
