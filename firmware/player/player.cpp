@@ -5,13 +5,13 @@
 #include <csignal>
 #include <cstdio>
 
-#include <GLES3/gl31.h>
 #include <poll.h>
 
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/ppm_writer.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 #include "vpe/renderer/gles/kms_platform.h"
+#include "vpe/renderer/gles/target_drawing.h"
 
 namespace vpe::firmware {
 
@@ -423,11 +423,7 @@ void Player::skipFrame(std::int64_t nowNs) {
 }
 
 void Player::renderBlack(std::int64_t beginNs) {
-    glBindFramebuffer(GL_FRAMEBUFFER, target_->framebuffer());
-    glViewport(0, 0, target_->width(), target_->height());
-    glDisable(GL_SCISSOR_TEST);
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glClear(GL_COLOR_BUFFER_BIT);
+    gles::clearToBlack(*target_);
     target_->present();
     if (!headless_) {
         waitingForFlip_ = target_->vsyncPending();

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// PatternProjector: a scan's patterns on the board's display — 8-bit codes copied into a texture
-// and blitted full-screen into the render target (no shader, no filtering: the projector shows
-// exactly the codes), grey (the structured-light patterns: the same level on all three
-// channels) or RGB (the radiometric capture's flat fields), then presented: headless, the GPU
-// has finished; KMS, the page flip has completed (the pattern is being scanned out).
+// PatternProjector: a scan's patterns on the board's display — 8-bit codes copied into the
+// renderer's ImageBlitter and blitted full-screen into the render target (no shader, no
+// filtering: the projector shows exactly the codes), grey (the structured-light patterns: the same
+// level on all three channels) or RGB (the radiometric capture's flat fields), then presented:
+// headless, the GPU has finished; KMS, the page flip has completed (the pattern is being scanned
+// out).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "vpe/renderer/gles/graphics_platform.h"
+#include "vpe/renderer/gles/target_drawing.h"
 
 namespace vpe::firmware {
 
@@ -19,7 +21,6 @@ public:
     // The GL context of the platform that made `target` must be current. Throws
     // renderer::gles::GraphicsError.
     explicit PatternProjector(renderer::gles::RenderTarget& target);
-    ~PatternProjector();
     PatternProjector(const PatternProjector&) = delete;
     PatternProjector& operator=(const PatternProjector&) = delete;
 
@@ -34,12 +35,11 @@ public:
     std::vector<std::uint8_t> readBack() const { return target_.readRgba8(); }
 
 private:
-    // Uploads rgba_, blits and presents; returns once displayed.
+    // Blits rgba_ and presents; returns once displayed.
     std::int64_t present();
 
     renderer::gles::RenderTarget& target_;
-    unsigned texture_ = 0;
-    unsigned framebuffer_ = 0;
+    renderer::gles::ImageBlitter blitter_;
     std::vector<std::uint8_t> rgba_;
 };
 
