@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
 // GLSL generation for the load passes and the frame (see the header).
-#include "vpe/renderer/gles/frame_shaders.h"
+#include "frame_shaders.h"
 
 #include <vector>
 
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/material_codes.h"
-#include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/gles/texture_formats.h"
+#include "geometry_buffer.h"
+#include "material_codes.h"
+#include "shading_glsl.h"
+#include "texture_formats.h"
 
 namespace vpe::renderer::gles {
 

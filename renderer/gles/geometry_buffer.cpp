@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // GeometryBuffer: trace, pack and upload the projector pixels' geometry (see the header).
-#include "vpe/renderer/gles/geometry_buffer.h"
+#include "geometry_buffer.h"
 
 #include <algorithm>
 #include <atomic>
@@ -12,9 +12,10 @@
 
 #include "vpe/proto/detail_normal.h"
 #include "vpe/renderer/cpu/parallel_rows.h"
-#include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/gles/texture_formats.h"
-#include "vpe/renderer/gles/tile_cover.h"
+
+#include "shading_glsl.h"
+#include "texture_formats.h"
+#include "tile_cover.h"
 
 namespace vpe::renderer::gles {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Shader compilation with named errors; GL object handles.
-#include "vpe/renderer/gles/gl_program.h"
+#include "gl_program.h"
 
 #include <sstream>
 

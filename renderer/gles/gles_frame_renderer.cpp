@@ -17,15 +17,16 @@
 #include "vpe/renderer/cpu/bundle_scene.h"
 #include "vpe/renderer/cpu/measured_light.h"
 #include "vpe/renderer/cpu/projector_pixels.h"
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/material_pass.h"
-#include "vpe/renderer/gles/relief_pass.h"
-#include "vpe/renderer/gles/shading_geometry_pass.h"
-#include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/gles/texture_formats.h"
-#include "vpe/renderer/gles/theta_textures.h"
-#include "vpe/renderer/gles/tile_cover.h"
-#include "vpe/renderer/gles/weight_pass.h"
+
+#include "geometry_buffer.h"
+#include "material_pass.h"
+#include "relief_pass.h"
+#include "shading_geometry_pass.h"
+#include "shading_glsl.h"
+#include "texture_formats.h"
+#include "theta_textures.h"
+#include "tile_cover.h"
+#include "weight_pass.h"
 
 namespace vpe::renderer::gles {
 
@@ -111,9 +112,25 @@ struct GlesFrameRenderer::FrameProgram {
     GLint topRow = -1, row = -1, size = -1, light = -1, radianceScale = -1, ambient = -1, fade = -1;
 };
 
+// The GL textures the renderer owns beside its passes' (out of the public header, which names
+// no GL type).
+struct GlesFrameRenderer::Textures {
+    // Composed materials: [shown_] the current preset's, the other the previous one's while
+    // fading. With live weights also one per region, which a preset change blends.
+    std::array<CodedMaterial, 2> composed;
+    std::vector<CodedMaterial> regionMaterials;
+    // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and the
+    // response's inverse table. Empty without one.
+    GlObject measuredIrradiance, measuredFloor, inverseResponse;
+    GlObject levelTable;  // without measured light: the response inverse (projectorLevelTable)
+};
+
 GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                                      const GlesRendererOptions& options)
-    : bundleName_(bundle.name()), settings_(bundle.settings()), options_(options) {
+    : bundleName_(bundle.name()),
+      settings_(bundle.settings()),
+      options_(options),
+      gpu_(std::make_unique<Textures>()) {
     const proto::ProjectorCalibration& calibration = bundle.projector();
     width_ = static_cast<int>(calibration.width);
     height_ = static_cast<int>(calibration.height);
@@ -162,11 +179,11 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                         sharedIrradiance(proto::halfToFloat(shared[4 * p + k]), share));
                 }
             }
-            measuredIrradiance_ = halfTexture(width_, height_, shared);
+            gpu_->measuredIrradiance = halfTexture(width_, height_, shared);
         } else {
-            measuredIrradiance_ = halfTexture(width_, height_, measured->irradiance);
+            gpu_->measuredIrradiance = halfTexture(width_, height_, measured->irradiance);
         }
-        measuredFloor_ = halfTexture(width_, height_, measured->floor);
+        gpu_->measuredFloor = halfTexture(width_, height_, measured->floor);
         const std::array<double, 9> inverse = inverse3x3(measured->mixing);
         for (std::size_t row = 0; row < 3; ++row) {
             for (std::size_t column = 0; column < 3; ++column) {
@@ -183,8 +200,8 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                     proto::floatToHalf(table.levels(c)[static_cast<std::size_t>(i)]);
             }
         }
-        inverseResponse_ = makeTexture2D(kMeasuredFormat, table.samples(), 1, GL_RGBA,
-                                         GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
+        gpu_->inverseResponse = makeTexture2D(kMeasuredFormat, table.samples(), 1, GL_RGBA,
+                                              GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
         measuredLight_ = true;
     } else {
         // The response inverse as a table (projectorLevelTable): three filtered fetches, no pow.
@@ -201,8 +218,8 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
                 texels[4 * i + c] = proto::floatToHalf(table[3 * i + c]);
             }
         }
-        levelTable_ = makeTexture2D(kLevelTableFormat, kProjectorLevelSamples, 1, GL_RGBA,
-                                    GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
+        gpu_->levelTable = makeTexture2D(kLevelTableFormat, kProjectorLevelSamples, 1, GL_RGBA,
+                                         GL_HALF_FLOAT, texels.data(), TextureFilter::kLinear);
     }
 
     start = Clock::now();
@@ -216,16 +233,16 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     loadTimes_.shadersMs = msSince(start);
 
     start = Clock::now();
-    composed_[0] = materialPass_->makeTarget();
-    composed_[1] = materialPass_->makeTarget();
+    gpu_->composed[0] = materialPass_->makeTarget();
+    gpu_->composed[1] = materialPass_->makeTarget();
     if (options.liveWeights) {
         if (textures_->presetCount() > 0) {
             weightPass_ = std::make_unique<WeightPass>(*textures_, *geometry_, *tiles_);
         }
         for (int r = 0; r < textures_->layout().regions; ++r) {
-            regionMaterials_.push_back(materialPass_->makeTarget());
+            gpu_->regionMaterials.push_back(materialPass_->makeTarget());
             if (!reliefPass_) {  // with a relief, selectPreset composes them on its normals
-                materialPass_->composeRegion(regionMaterials_.back(), r);
+                materialPass_->composeRegion(gpu_->regionMaterials.back(), r);
             }
         }
     }
@@ -356,7 +373,7 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
                                         "' (it has none)");
         }
         foldRelief();
-        materialPass_->composeRegion(composed_[static_cast<std::size_t>(shown_)], 0);
+        materialPass_->composeRegion(gpu_->composed[static_cast<std::size_t>(shown_)], 0);
         return;
     }
     const std::size_t next = presetIndex(name);
@@ -376,11 +393,11 @@ void GlesFrameRenderer::selectPreset(const std::string& name, bool fade) {
     if (changed) {
         foldRelief();
     }
-    const CodedMaterial& target = composed_[static_cast<std::size_t>(shown_)];
+    const CodedMaterial& target = gpu_->composed[static_cast<std::size_t>(shown_)];
     if (options_.liveWeights) {
         // The regions' materials blended in projector space: a pass of reads and writes, not a
         // resampling of every region's maps.
-        materialPass_->blendRegions(target, regionMaterials_, weightPass_->alpha(preset_));
+        materialPass_->blendRegions(target, gpu_->regionMaterials, weightPass_->alpha(preset_));
     } else {
         materialPass_->composePreset(target, preset_);
     }
@@ -398,8 +415,8 @@ void GlesFrameRenderer::foldRelief() {
     }
     shadingPass_->run();
     if (options_.liveWeights) {
-        for (std::size_t r = 0; r < regionMaterials_.size(); ++r) {
-            materialPass_->composeRegion(regionMaterials_[r], static_cast<int>(r));
+        for (std::size_t r = 0; r < gpu_->regionMaterials.size(); ++r) {
+            materialPass_->composeRegion(gpu_->regionMaterials[r], static_cast<int>(r));
         }
     }
 }
@@ -500,14 +517,14 @@ void GlesFrameRenderer::bindFrameTextures() {
     bind(kUnitShading, GL_TEXTURE_2D, shadingPass_->shading().get());
     bind(kUnitTable, GL_TEXTURE_2D, textures_->table().get());
     if (measuredLight_) {
-        bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, measuredIrradiance_.get());
-        bind(kUnitMeasuredFloor, GL_TEXTURE_2D, measuredFloor_.get());
-        bind(kUnitResponse, GL_TEXTURE_2D, inverseResponse_.get());
+        bind(kUnitMeasuredIrradiance, GL_TEXTURE_2D, gpu_->measuredIrradiance.get());
+        bind(kUnitMeasuredFloor, GL_TEXTURE_2D, gpu_->measuredFloor.get());
+        bind(kUnitResponse, GL_TEXTURE_2D, gpu_->inverseResponse.get());
     } else {
-        bind(kUnitResponse, GL_TEXTURE_2D, levelTable_.get());
+        bind(kUnitResponse, GL_TEXTURE_2D, gpu_->levelTable.get());
     }
-    const CodedMaterial& shown = composed_[static_cast<std::size_t>(shown_)];
-    const CodedMaterial& previous = composed_[static_cast<std::size_t>(1 - shown_)];
+    const CodedMaterial& shown = gpu_->composed[static_cast<std::size_t>(shown_)];
+    const CodedMaterial& previous = gpu_->composed[static_cast<std::size_t>(1 - shown_)];
     bind(kUnitMaterial, GL_TEXTURE_2D_ARRAY, shown.codes.get());
     bind(kUnitMaterial + 1, GL_TEXTURE_2D, shown.diffuse.get());
     bind(kUnitMaterialFrom, GL_TEXTURE_2D_ARRAY, previous.codes.get());

@@ -9,9 +9,8 @@
 #include <EGL/eglext.h>
 #include <GLES3/gl31.h>
 
-#include "vpe/renderer/gles/gl_program.h"
-
 #include "egl_support.h"
+#include "gl_program.h"
 
 namespace vpe::renderer::gles {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // MaterialCoding: the material's codes and their GLSL (see the header).
-#include "vpe/renderer/gles/material_codes.h"
+#include "material_codes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // MaterialPass: compose projector-space coded materials (see the header).
-#include "vpe/renderer/gles/material_pass.h"
+#include "material_pass.h"
 
 #include <algorithm>
 #include <string>
@@ -9,8 +9,9 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
-#include "vpe/renderer/gles/material_codes.h"
-#include "vpe/renderer/gles/texture_formats.h"
+
+#include "material_codes.h"
+#include "texture_formats.h"
 
 namespace vpe::renderer::gles {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // ReliefPass: upload the detail normals, fold them into geometry1 (see the header).
-#include "vpe/renderer/gles/relief_pass.h"
+#include "relief_pass.h"
 
 #include <algorithm>
 #include <stdexcept>

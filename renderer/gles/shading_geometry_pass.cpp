@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 // ShadingGeometryPass: pack the frame's per-pixel shading geometry (see the header).
-#include "vpe/renderer/gles/shading_geometry_pass.h"
+#include "shading_geometry_pass.h"
 
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
-#include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/gles/texture_formats.h"
+
+#include "shading_glsl.h"
+#include "texture_formats.h"
 
 namespace vpe::renderer::gles {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // GLSL mirrors of the frame's C++ steps (see the header).
-#include "vpe/renderer/gles/shading_glsl.h"
+#include "shading_glsl.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Names of the sized internal formats the renderer allocates (see the header).
-#include "vpe/renderer/gles/texture_formats.h"
+#include "texture_formats.h"
 
 #include <stdexcept>
 

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // ThetaTextures: project, reorder and upload (see the header).
-#include "vpe/renderer/gles/theta_textures.h"
+#include "theta_textures.h"
 
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/cpu/theta_material.h"
 #include "vpe/renderer/gles/graphics_platform.h"
-#include "vpe/renderer/gles/material_codes.h"
-#include "vpe/renderer/gles/texture_formats.h"
+
+#include "material_codes.h"
+#include "texture_formats.h"
 
 namespace vpe::renderer::gles {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // TileCover: the covered tiles as quads (see the header).
-#include "vpe/renderer/gles/tile_cover.h"
+#include "tile_cover.h"
 
 #include <algorithm>
 

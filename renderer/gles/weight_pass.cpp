@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // WeightPass: the presets' α per projector pixel (see the header).
-#include "vpe/renderer/gles/weight_pass.h"
+#include "weight_pass.h"
 
 #include <array>
 #include <string>
@@ -8,7 +8,8 @@
 #include <GLES3/gl31.h>
 
 #include "vpe/renderer/gles/graphics_platform.h"
-#include "vpe/renderer/gles/texture_formats.h"
+
+#include "texture_formats.h"
 
 namespace vpe::renderer::gles {
 

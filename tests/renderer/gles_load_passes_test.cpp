@@ -25,17 +25,17 @@
 #include "vpe/renderer/cpu/bundle_scene.h"
 #include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/renderer/cpu/theta_material.h"
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/material_codes.h"
-#include "vpe/renderer/gles/material_pass.h"
-#include "vpe/renderer/gles/shading_geometry_pass.h"
-#include "vpe/renderer/gles/shading_glsl.h"
-#include "vpe/renderer/gles/theta_textures.h"
-#include "vpe/renderer/gles/tile_cover.h"
-#include "vpe/renderer/gles/weight_pass.h"
 
+#include "geometry_buffer.h"
 #include "gles_test_bundle.h"
 #include "gles_test_platform.h"
+#include "material_codes.h"
+#include "material_pass.h"
+#include "shading_geometry_pass.h"
+#include "shading_glsl.h"
+#include "theta_textures.h"
+#include "tile_cover.h"
+#include "weight_pass.h"
 
 namespace vpe::renderer::testing {
 namespace {

@@ -7,9 +7,9 @@
 #include <GLES3/gl31.h>
 #include <gtest/gtest.h>
 
-#include "vpe/renderer/gles/gl_program.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 
+#include "gl_program.h"
 #include "gles_test_bundle.h"
 #include "gles_test_platform.h"
 

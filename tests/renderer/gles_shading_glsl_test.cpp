@@ -25,11 +25,11 @@
 #include "vpe/proto/theta_basis.h"
 #include "vpe/renderer/cpu/material_textures.h"
 #include "vpe/renderer/cpu/measured_light.h"
-#include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/gles/material_codes.h"
-#include "vpe/renderer/gles/shading_glsl.h"
 
+#include "gl_program.h"
 #include "gles_test_platform.h"
+#include "material_codes.h"
+#include "shading_glsl.h"
 
 namespace vpe::renderer::testing {
 namespace {

@@ -28,19 +28,20 @@
 #include <vector>
 
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/gles/frame_shaders.h"
-#include "vpe/renderer/gles/gl_program.h"
+#include "vpe/renderer/gles/frame_variant.h"
 #include "vpe/renderer/gles/graphics_platform.h"
-#include "vpe/renderer/gles/material_pass.h"
 
 namespace vpe::renderer::gles {
 
+// The renderer's internals (renderer/gles/, not installed).
 class GeometryBuffer;
 class ThetaTextures;
+class MaterialPass;
 class ReliefPass;
 class ShadingGeometryPass;
 class WeightPass;
 class TileCover;
+struct ShaderLayout;
 
 struct GlesRendererOptions {
     // Largest texture side accepted, on top of GL_MAX_TEXTURE_SIZE (the Pi 4/5 guarantee).
@@ -159,22 +160,17 @@ private:
     std::vector<std::string> presetNames_;
     std::string presetName_;
     std::size_t preset_ = 0;
-    // Composed materials: [shown] the current preset's, the other the previous one's while
-    // fading. With live weights also one per region, which a preset change blends.
-    std::array<CodedMaterial, 2> composed_;
-    int shown_ = 0;
-    std::vector<CodedMaterial> regionMaterials_;
+    // The coded materials and the measured light's textures (GL objects: gles_frame_renderer.cpp).
+    struct Textures;
+    std::unique_ptr<Textures> gpu_;
+    int shown_ = 0;  // which of gpu_'s composed materials is the current preset's
     bool fading_ = false;
     bool renderedOnce_ = false;
     std::optional<double> fadeStart_;
     std::vector<std::unique_ptr<FrameProgram>> programs_;  // per variant and falloff, as needed
     std::vector<std::unique_ptr<FrameProgram>> passThroughPrograms_;  // built when first asked
     std::unique_ptr<TileCover> tiles_;
-    // Format 1.4's measured light: F and D as RGBA16F projector-sized textures, and X⁻¹
-    // column-major for GLSL's mat3. Empty without one.
-    GlObject measuredIrradiance_, measuredFloor_, inverseResponse_;
-    GlObject levelTable_;  // without measured light: the response inverse (projectorLevelTable)
-    std::array<float, 9> mixingInverse_{};
+    std::array<float, 9> mixingInverse_{};  // the measured light's X⁻¹, column-major (mat3)
     bool measuredLight_ = false;
     LoadTimes loadTimes_;
 };

@@ -31,7 +31,8 @@
 #include <vector>
 
 #include "vpe/renderer/cpu/projector_pixels.h"
-#include "vpe/renderer/gles/gl_program.h"
+
+#include "gl_program.h"
 
 namespace vpe::renderer::gles {
 

@@ -9,10 +9,10 @@
 #include <cstddef>
 #include <vector>
 
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/gles/theta_textures.h"
-#include "vpe/renderer/gles/tile_cover.h"
+#include "geometry_buffer.h"
+#include "gl_program.h"
+#include "theta_textures.h"
+#include "tile_cover.h"
 
 namespace vpe::renderer::gles {
 

@@ -9,9 +9,10 @@
 
 #include "vpe/proto/bundle.h"
 #include "vpe/proto/theta_basis.h"
-#include "vpe/renderer/gles/frame_shaders.h"
-#include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/gles/material_codes.h"
+
+#include "frame_shaders.h"
+#include "gl_program.h"
+#include "material_codes.h"
 
 namespace vpe::renderer::gles {
 

@@ -8,20 +8,12 @@
 #include <string>
 
 #include "vpe/proto/bundle_contents.h"
+#include "vpe/renderer/gles/frame_variant.h"
 
 namespace vpe::renderer::gles {
 
 // Samples of the measured light's inverse response table (proto::InverseResponseTable).
 inline constexpr int kInverseResponseSamples = 256;
-
-// How a frame finds its material. (With live weights, the regions' materials are kept apart
-// and the preset's blend of them is composed in projector space when the weights change, not
-// every frame: a frame reads one composed material either way.)
-enum class FrameVariant {
-    kStatic,  // one composed material
-    kFade,    // two composed materials mixed: a preset change cross-fading
-};
-const char* frameVariantName(FrameVariant variant);  // "static", "fade"
 
 // The sizes a shader is generated for.
 struct ShaderLayout {

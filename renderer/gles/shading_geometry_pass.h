@@ -12,9 +12,9 @@
 
 #include <array>
 
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/gles/tile_cover.h"
+#include "geometry_buffer.h"
+#include "gl_program.h"
+#include "tile_cover.h"
 
 namespace vpe::renderer::gles {
 

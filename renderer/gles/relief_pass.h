@@ -10,11 +10,12 @@
 #include <cstddef>
 
 #include "vpe/proto/bundle.h"
-#include "vpe/renderer/gles/frame_shaders.h"
-#include "vpe/renderer/gles/geometry_buffer.h"
-#include "vpe/renderer/gles/gl_program.h"
-#include "vpe/renderer/gles/theta_textures.h"
-#include "vpe/renderer/gles/tile_cover.h"
+
+#include "frame_shaders.h"
+#include "geometry_buffer.h"
+#include "gl_program.h"
+#include "theta_textures.h"
+#include "tile_cover.h"
 
 namespace vpe::renderer::gles {
 

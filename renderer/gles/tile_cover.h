@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "vpe/renderer/gles/gl_program.h"
+#include "gl_program.h"
 
 namespace vpe::renderer::gles {
 
