@@ -167,6 +167,9 @@ std::string checkProcamScene(const ProcamScene& scene) {
     if (!(p.blurPixels >= 0 && p.blurPixels <= 20)) {
         return "projector: blur must be in [0, 20] pixels";
     }
+    if (!(p.dlp.exposureFrames >= 0 && p.dlp.exposureFrames <= 100)) {
+        return "projector: the DLP exposure must be in [0, 100] frames (0: off)";
+    }
     for (const double a : scene.room.ambient) {
         if (!(a >= 0) || !std::isfinite(a)) {
             return "room: ambient must be finite and ≥ 0";

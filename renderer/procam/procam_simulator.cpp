@@ -242,8 +242,21 @@ const SimulatedCamera& ProcamSimulator::camera() const {
 }
 
 RgbImage ProcamSimulator::radiance(const RgbImage& levels) const {
+    return radianceAt(levels, std::nullopt);
+}
+
+RgbImage ProcamSimulator::radiance(const RgbImage& levels, std::uint64_t frame) const {
     const Impl& s = *impl_;
-    const ProjectorLight light(s.scene.projector, levels);
+    if (!s.scene.projector.dlp.enabled()) {
+        return radianceAt(levels, std::nullopt);
+    }
+    return radianceAt(levels, dlpWindowStart(s.camera.seed, frame));
+}
+
+RgbImage ProcamSimulator::radianceAt(const RgbImage& levels,
+                                     std::optional<double> windowStart) const {
+    const Impl& s = *impl_;
+    const ProjectorLight light(s.scene.projector, levels, windowStart);
     std::vector<float> bounce;
     if (s.interreflection) {
         bounce = s.interreflection->bounce(light, s.scene.room.ambient);
@@ -283,7 +296,15 @@ RgbImage ProcamSimulator::radiance(const RgbImage& levels) const {
 }
 
 RgbImage ProcamSimulator::radiance(std::span<const std::uint8_t> codes) const {
-    const proto::PinholeCamera& p = impl_->scene.projector.camera;
+    return radiance(levelsOf(impl_->scene.projector.camera, codes));
+}
+
+RgbImage ProcamSimulator::radiance(std::span<const std::uint8_t> codes, std::uint64_t frame) const {
+    return radiance(levelsOf(impl_->scene.projector.camera, codes), frame);
+}
+
+RgbImage ProcamSimulator::levelsOf(const proto::PinholeCamera& p,
+                                   std::span<const std::uint8_t> codes) {
     if (codes.size() != static_cast<std::size_t>(p.width) * static_cast<std::size_t>(p.height)) {
         throw std::invalid_argument("procam simulator: the pattern has " +
                                     std::to_string(codes.size()) + " pixels, the projector " +
@@ -294,7 +315,7 @@ RgbImage ProcamSimulator::radiance(std::span<const std::uint8_t> codes) const {
         const float level = static_cast<float>(codes[i]) / 255.0f;
         levels.values[3 * i] = levels.values[3 * i + 1] = levels.values[3 * i + 2] = level;
     }
-    return radiance(levels);
+    return levels;
 }
 
 CameraFrame ProcamSimulator::expose(const RgbImage& radiance, std::uint64_t frame) const {

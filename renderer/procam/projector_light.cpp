@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The projector's light for one frame: response, black level, separable Gaussian defocus.
+// The projector's light for one frame: response, a DLP's bit-planes over the exposure window,
+// black level, separable Gaussian defocus.
 #include "projector_light.h"
 
 #include <algorithm>
@@ -43,7 +44,8 @@ void blurAxis(std::vector<float>& values, int width, int height, bool alongRows,
 
 }  // namespace
 
-ProjectorLight::ProjectorLight(const SimulatedProjector& projector, const RgbImage& levels)
+ProjectorLight::ProjectorLight(const SimulatedProjector& projector, const RgbImage& levels,
+                               std::optional<double> windowStart)
     : width_(projector.camera.width), height_(projector.camera.height) {
     if (levels.width != width_ || levels.height != height_ ||
         levels.values.size() != levels.pixelCount() * 3) {
@@ -55,9 +57,16 @@ ProjectorLight::ProjectorLight(const SimulatedProjector& projector, const RgbIma
     // The response is a function of 256 codes in practice; a table per channel keeps a frame's
     // cost at a lookup per value for 8-bit patterns, exact for the others.
     std::array<std::array<float, 256>, 3> table{};
+    // A DLP's degamma is in its bit-plane weights: the mirror's duty is the response's output,
+    // and the exposure window sees its bit-planes (dlp_timing.h). The leak is there throughout.
+    const bool dlp = projector.dlp.enabled() && windowStart.has_value();
     const auto relative = [&](int channel, double level) {
         const double black = projector.blackLevel[static_cast<std::size_t>(channel)];
-        return static_cast<float>(black + (1 - black) * projector.response.output(channel, level));
+        double duty = projector.response.output(channel, level);
+        if (dlp) {
+            duty = dlpWindowDuty(projector.dlp, duty, *windowStart);
+        }
+        return static_cast<float>(black + (1 - black) * duty);
     };
     for (int channel = 0; channel < 3; ++channel) {
         for (int code = 0; code < 256; ++code) {

@@ -4,6 +4,7 @@
 // the checkerboard, and scene files.
 #include "vpe/renderer/procam/procam_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -270,6 +271,92 @@ TEST(ProcamSimulator, ProjectorTruthSaysWhatTheCameraSees) {
     EXPECT_LT(seen, lit);
 }
 
+// The mean and standard deviation of the window's duty over `count` evenly spread starts.
+std::pair<double, double> overStarts(const DlpTiming& timing, double duty, int count = 100000) {
+    double sum = 0, squares = 0;
+    for (int i = 0; i < count; ++i) {
+        const double value = dlpWindowDuty(timing, duty, (i + 0.5) / count);
+        sum += value;
+        squares += value * value;
+    }
+    const double mean = sum / count;
+    return {mean, std::sqrt(std::max(squares / count - mean * mean, 0.0))};
+}
+
+TEST(DlpTiming, BinaryLevelsAreExactAndIntermediateOnesSpreadAroundTheirLight) {
+    for (const DlpBitOrder order : {DlpBitOrder::kMsbFirst, DlpBitOrder::kLsbFirst}) {
+        for (const double frames : {0.3, 0.5, 1.5}) {
+            const DlpTiming timing{frames, order};
+            for (int i = 0; i < 1000; ++i) {
+                const double start = i / 1000.0;
+                EXPECT_EQ(dlpWindowDuty(timing, 0.0, start), 0.0);
+                EXPECT_EQ(dlpWindowDuty(timing, 1.0, start), 1.0);
+            }
+            // Over window starts the mean is the level's light, between codes too.
+            for (const double duty : {1 / 255.0, 55.6 / 255.0, 0.5, 200.25 / 255.0}) {
+                EXPECT_NEAR(overStarts(timing, duty).first, duty, 1e-6)
+                    << frames << " frames, duty " << duty;
+            }
+        }
+    }
+    // Code 128 is bit-plane 7 alone: on for a = 128/255 of the frame. A window of w = 1/4 frame
+    // (shorter than the on and the off spans) sees all on for a − w of the starts, all off for
+    // 1 − a − w, and a ramp over 2w: mean a, mean square a − w/3, so σ² = a(1 − a) − w/3.
+    const double a = 128 / 255.0, w = 0.25;
+    const auto [mean, sigma] = overStarts({w, DlpBitOrder::kMsbFirst}, a);
+    EXPECT_NEAR(mean, a, 1e-6);
+    EXPECT_NEAR(sigma, std::sqrt(a * (1 - a) - w / 3), 1e-5);  // 0.408
+    // A frame and a half sees one whole frame (exact) and half a frame: a third of the spread of
+    // the half frame alone.
+    const double half = overStarts({0.5, DlpBitOrder::kMsbFirst}, 0.3).second;
+    EXPECT_NEAR(overStarts({1.5, DlpBitOrder::kMsbFirst}, 0.3).second, half / 3, 1e-5);
+    EXPECT_GT(half, 0.05);
+}
+
+TEST(DlpTiming, WholeFramesSeeEveryLevelExactly) {
+    for (const DlpBitOrder order : {DlpBitOrder::kMsbFirst, DlpBitOrder::kLsbFirst}) {
+        for (const double frames : {1.0, 2.0}) {
+            const DlpTiming timing{frames, order};
+            for (int code = 0; code <= 255; ++code) {
+                for (const double offset : {0.0, 0.4}) {
+                    const double duty = std::min((code + offset) / 255.0, 1.0);
+                    for (const double start : {0.0, 0.1234, 0.5, 0.999}) {
+                        EXPECT_NEAR(dlpWindowDuty(timing, duty, start), duty, 1e-12);
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(ProcamSimulator, ADlpWithAShortExposureMisreadsIntermediateLevelsOnly) {
+    const SimulatedCamera camera = quietCamera();
+    ProcamScene scene = planeScene();
+    const ProcamSimulator plain(scene, camera, 2);
+    scene.projector.dlp.exposureFrames = 0.3;
+    const ProcamSimulator shortExposure(scene, camera, 2);
+    scene.projector.dlp.exposureFrames = 2.0;
+    const ProcamSimulator wholeFrames(scene, camera, 2);
+    const auto centre = [&](const RgbImage& image) {
+        return static_cast<double>(image.pixel(40, 30)[1]);
+    };
+    const RgbImage grey = flat(64, 48, 0.4f), white = flat(64, 48, 1.0f);
+    // Off, or whole frames: each frame sees the time-average.
+    EXPECT_EQ(plain.radiance(grey, 3).values, plain.radiance(grey).values);
+    for (const std::uint64_t frame : {1, 2, 3}) {
+        EXPECT_NEAR(centre(wholeFrames.radiance(grey, frame)), centre(plain.radiance(grey)), 1e-6);
+        EXPECT_EQ(shortExposure.radiance(white, frame).values, plain.radiance(white).values);
+    }
+    // A short exposure: a grey differs from frame to frame, the same for the same frame.
+    const double first = centre(shortExposure.radiance(grey, 1));
+    EXPECT_EQ(centre(shortExposure.radiance(grey, 1)), first);
+    double spread = 0;
+    for (const std::uint64_t frame : {2, 3, 4, 5}) {
+        spread = std::max(spread, std::abs(centre(shortExposure.radiance(grey, frame)) - first));
+    }
+    EXPECT_GT(spread, 0.05 * centre(plain.radiance(grey)));
+}
+
 TEST(ProcamScene, RefusesWhatCannotBeSimulated) {
     ProcamScene scene = planeScene();
     EXPECT_EQ(checkProcamScene(scene), "");
@@ -278,6 +365,10 @@ TEST(ProcamScene, RefusesWhatCannotBeSimulated) {
     scene = planeScene();
     scene.object.reset();
     EXPECT_EQ(checkProcamScene(scene), "the scene has neither an object nor a checkerboard");
+    scene = planeScene();
+    scene.projector.dlp.exposureFrames = -0.5;
+    EXPECT_EQ(checkProcamScene(scene),
+              "projector: the DLP exposure must be in [0, 100] frames (0: off)");
     SimulatedCamera camera = quietCamera();
     camera.bits = 12;
     EXPECT_EQ(checkSimulatedCamera(camera), "camera: bits must be 8 or 10");

@@ -14,6 +14,7 @@
 #include "vpe/proto/pinhole_camera.h"
 #include "vpe/proto/response_function.h"
 #include "vpe/renderer/cpu/render_mesh.h"
+#include "vpe/renderer/procam/dlp_timing.h"
 
 namespace vpe::renderer::procam {
 
@@ -95,6 +96,9 @@ struct SimulatedProjector {
     // Defocus: the light of each pixel spread by a Gaussian of this σ (projector pixels) on top
     // of the pixel's own footprint; 0 keeps pixels sharp.
     double blurPixels = 0.7;
+    // A DLP's bit-planes against the camera's exposure (dlp_timing.h): off by default, every
+    // capture sees each level's time-average.
+    DlpTiming dlp;
 };
 
 enum class CameraResponse : std::uint8_t {

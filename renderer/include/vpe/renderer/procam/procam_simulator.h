@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -62,10 +63,16 @@ public:
 
     // The linear radiance on every camera pixel (RGB, averaged over its samples) when the
     // projector shows `levels`: drive levels in [0, 1], three per projector pixel, rows from the
-    // top. Throws std::invalid_argument for a size that is not the projector's.
+    // top. Each level's time-average: what an exposure of whole frames sees. Throws
+    // std::invalid_argument for a size that is not the projector's.
     RgbImage radiance(const RgbImage& levels) const;
+    // What capture `frame` integrates: with the projector's DLP timing on, its bit-planes over
+    // the frame's exposure window (its start deterministic in the camera's seed and `frame`, as
+    // the sensor's noise); with it off, the time-average above.
+    RgbImage radiance(const RgbImage& levels, std::uint64_t frame) const;
     // The same for 8-bit codes shown on all three channels (the scan's patterns).
     RgbImage radiance(std::span<const std::uint8_t> grayCodes) const;
+    RgbImage radiance(std::span<const std::uint8_t> grayCodes, std::uint64_t frame) const;
 
     // The sensor: exposure, shot and read noise (deterministic in the camera's seed and
     // `frame`), response, quantization.
@@ -81,6 +88,10 @@ public:
     ProjectorTruth projectorTruth() const;
 
 private:
+    RgbImage radianceAt(const RgbImage& levels, std::optional<double> windowStart) const;
+    static RgbImage levelsOf(const proto::PinholeCamera& projector,
+                             std::span<const std::uint8_t> grayCodes);
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
