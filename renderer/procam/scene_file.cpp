@@ -315,10 +315,10 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
         scene.board = b;
     }
 
-    const Section projector(
-        root["projector"].as_table(), source, "projector",
-        {"size", "K", "distortion", "R", "T", "gamma", "curve_red", "curve_green", "curve_blue",
-         "black_level", "mixing", "peak_irradiance", "blur_px"});
+    const Section projector(root["projector"].as_table(), source, "projector",
+                            {"size", "K", "distortion", "R", "T", "gamma", "curve_red",
+                             "curve_green", "curve_blue", "black_level", "mixing",
+                             "peak_irradiance", "blur_px", "dlp_exposure_frames", "dlp_bit_order"});
     if (!projector.present()) {
         throw SceneFileError(source + ": projector: missing section");
     }
@@ -353,6 +353,14 @@ SceneFile readSceneFile(const std::filesystem::path& path) {
     scene.projector.blackLevel = rgbOf(projector, "black_level", scene.projector.blackLevel);
     scene.projector.peakIrradiance = projector.number("peak_irradiance", 1.0, 1e-6, 1e6);
     scene.projector.blurPixels = projector.number("blur_px", 0.7, 0.0, 20.0);
+    // A DLP's bit-planes against a camera exposing this many frame periods (0: off).
+    DlpTiming& dlp = scene.projector.dlp;
+    dlp.exposureFrames = projector.number("dlp_exposure_frames", 0.0, 0.0, 100.0);
+    const std::string order = projector.string("dlp_bit_order").value_or("msb_first");
+    if (order != "msb_first" && order != "lsb_first") {
+        projector.fail("dlp_bit_order", "'" + order + "' is not msb_first or lsb_first");
+    }
+    dlp.order = order == "lsb_first" ? DlpBitOrder::kLsbFirst : DlpBitOrder::kMsbFirst;
 
     const Section camera(
         root["camera"].as_table(), source, "camera",
@@ -446,6 +454,11 @@ void writeSceneFile(const std::filesystem::path& path, const ProcamScene& scene,
     projector.insert("black_level", arrayOf(p.blackLevel));
     projector.insert("peak_irradiance", p.peakIrradiance);
     projector.insert("blur_px", p.blurPixels);
+    if (p.dlp.enabled()) {
+        projector.insert("dlp_exposure_frames", p.dlp.exposureFrames);
+        projector.insert("dlp_bit_order",
+                         p.dlp.order == DlpBitOrder::kLsbFirst ? "lsb_first" : "msb_first");
+    }
     root.insert("projector", projector);
     toml::table c = cameraTable(camera.camera);
     c.insert("exposure", camera.exposure);

@@ -422,6 +422,14 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
                     scene.projector.response.output(1, level), 1e-12);
     }
     EXPECT_EQ(curves.scene.projector.mixing, scene.projector.mixing);
+    EXPECT_FALSE(curves.scene.projector.dlp.enabled());
+
+    // A DLP's timing, written only when it is on.
+    scene.projector.dlp = {0.3, DlpBitOrder::kLsbFirst};
+    writeSceneFile(folder / "dlp.toml", scene, camera, "object.obj");
+    const SceneFile dlp = readSceneFile(folder / "dlp.toml");
+    EXPECT_DOUBLE_EQ(dlp.scene.projector.dlp.exposureFrames, 0.3);
+    EXPECT_EQ(dlp.scene.projector.dlp.order, DlpBitOrder::kLsbFirst);
 
     const auto errorOf = [&](const std::string& text) {
         std::ofstream(folder / "bad.toml") << text;
@@ -444,6 +452,13 @@ TEST(SceneFile, RoundTripsAndNamesBadKeys) {
     text = good.str();
     text.replace(text.find("[room]"), 6, "[room]\nglow = 1");
     EXPECT_EQ(errorOf(text), bad + ":room.glow: unknown key");
+    text = good.str();
+    text.replace(text.find("blur_px"), 7, "dlp_exposure_frames = 101\nblur_px");
+    EXPECT_EQ(errorOf(text), bad + ":projector.dlp_exposure_frames: outside [0, 100]");
+    text = good.str();
+    text.replace(text.find("blur_px"), 7, "dlp_bit_order = \"random\"\nblur_px");
+    EXPECT_EQ(errorOf(text),
+              bad + ":projector.dlp_bit_order: 'random' is not msb_first or lsb_first");
     EXPECT_EQ(errorOf("[camera]\n"), bad + ": projector: missing section");
     std::filesystem::remove_all(folder);
 }
