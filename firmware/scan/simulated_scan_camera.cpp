@@ -123,15 +123,17 @@ CameraImage SimulatedScanCamera::capture(std::int64_t notBeforeNs, const Capture
         }
     }
     const renderer::RgbImage black(projectorWidth(), projectorHeight());
-    const renderer::RgbImage radiance = simulator_->radiance(visible ? visible->levels : black);
+    const std::uint64_t number = captures_++;
+    const renderer::RgbImage radiance =
+        simulator_->radiance(visible ? visible->levels : black, number);
     procam::CameraFrame frame;
     if (request.colour || request.exposureScale != 1.0) {
         procam::SimulatedCamera sensor = scene_.camera;
         sensor.monochrome = !request.colour;
         sensor.exposure = scene_.camera.exposure * request.exposureScale;
-        frame = simulator_->expose(radiance, captures_++, sensor);
+        frame = simulator_->expose(radiance, number, sensor);
     } else {
-        frame = simulator_->expose(radiance, captures_++);
+        frame = simulator_->expose(radiance, number);
     }
     CameraImage image;
     image.width = frame.width;

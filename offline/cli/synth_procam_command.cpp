@@ -47,7 +47,7 @@ struct SynthProcamArguments {
     std::uint64_t seed = 1;
     std::string noise = "camera";
     // The sensor and the optics, for noise sweeps: 0 / "" keep the gallery's.
-    double fullWell = 0, blur = -1;
+    double fullWell = 0, blur = -1, dlpExposure = -1;
     std::string cameraOutput = "linear10";
     bool stains = false;
     bool realisticLight = false;
@@ -78,8 +78,8 @@ proto::PinholeCamera inCameraFrame(const proto::PinholeCamera& device,
 nlohmann::json poseJson(const sim::RigidPose& pose) {
     return {{"R", pose.R}, {"t", pose.t}};
 }
-// --full-well, --camera-output and --blur over the gallery's camera and projector, on every
-// capture (the board poses' too).
+// --full-well, --camera-output, --blur and --dlp-exposure over the gallery's camera and
+// projector, on every capture (the board poses' too).
 void applySensorOptions(const SynthProcamArguments& args, procam::GalleryInstallation& gallery) {
     renderer::procam::SimulatedCamera& camera = gallery.camera;
     if (args.fullWell != 0) {
@@ -103,6 +103,15 @@ void applySensorOptions(const SynthProcamArguments& args, procam::GalleryInstall
         gallery.objectScene.projector.blurPixels = args.blur;
         for (renderer::procam::ProcamScene& scene : gallery.boardScenes) {
             scene.projector.blurPixels = args.blur;
+        }
+    }
+    if (args.dlpExposure >= 0) {
+        if (!(args.dlpExposure <= 100)) {
+            throw common::InputError("--dlp-exposure must be in [0, 100] frames (0: off)");
+        }
+        gallery.objectScene.projector.dlp.exposureFrames = args.dlpExposure;
+        for (renderer::procam::ProcamScene& scene : gallery.boardScenes) {
+            scene.projector.dlp.exposureFrames = args.dlpExposure;
         }
     }
 }
@@ -557,6 +566,9 @@ void addSynthProcamCommand(CLI::App& app, Action& action) {
                     {"linear10", "gamma8"});
     command->add_option("--blur", args->blur,
                         "The projector's defocus, σ in projector pixels (default 0.7)");
+    command->add_option("--dlp-exposure", args->dlpExposure,
+                        "A DLP projector's bit-planes against the camera's exposure, in frame "
+                        "periods (0.3, 1.5: intermediate levels read wrong; 0: off, the default)");
     command->add_option("--noise", args->noise, "camera (shot + read noise) or none")
         ->check(CLI::IsMember({"camera", "none"}))
         ->capture_default_str();

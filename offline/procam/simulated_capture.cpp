@@ -44,8 +44,8 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
     for (std::size_t i = 0; i < patterns.size(); ++i) {
         sequence->render(patterns[i], codes);
-        const renderer::procam::CameraFrame frame =
-            simulator.expose(simulator.radiance(codes), options.firstFrame + i);
+        const renderer::procam::CameraFrame frame = simulator.expose(
+            simulator.radiance(codes, options.firstFrame + i), options.firstFrame + i);
         const std::string name = proto::scanImageName(i, patterns[i]);
         try {
             proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
@@ -113,8 +113,8 @@ void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator
         }
         renderer::procam::SimulatedCamera exposed = sensor;
         exposed.exposure = sensor.exposure * fields[i].exposureScale();
-        const renderer::procam::CameraFrame frame =
-            simulator.expose(simulator.radiance(levels), options.firstFrame + i, exposed);
+        const renderer::procam::CameraFrame frame = simulator.expose(
+            simulator.radiance(levels, options.firstFrame + i), options.firstFrame + i, exposed);
         const std::string name = proto::radiometryImageName(i, fields[i]);
         try {
             proto::writePnmAtomically(folder / name, frame.width, frame.height, frame.channels,
