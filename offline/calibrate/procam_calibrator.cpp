@@ -147,7 +147,8 @@ BoardPose measureBoardPose(const structured_light::ScanCapture& capture,
                         continue;
                     }
                     const std::size_t q = static_cast<std::size_t>(y) * w + x;
-                    if (std::isnan(decoded.projectorX[q])) {
+                    if (std::isnan(decoded.projectorX[q]) ||
+                        !(double(decoded.precision[q]) <= options.maxSigma)) {
                         continue;
                     }
                     from.emplace_back(x, y);

@@ -27,6 +27,10 @@ struct CornerOptions {
     // projector pixels).
     int minPoints = 24;
     double maxResidual = 0.5;
+    // Decoded pixels placed coarser than this (σ, projector pixels: DecodedScan::precision) stay
+    // out of the window: a wide Gray bin where the phase could not help. A Gray code down to
+    // single pixels (σ = 1/√12) stays in.
+    double maxSigma = 0.5;
 };
 
 // One board pose: where its inner corners are in the camera (all of them, row by row from the
