@@ -96,6 +96,15 @@ void runScan(const ScanArguments& args) {
                  "pixels; decode %.2f s, triangulate %.2f s, write %.2f s\n",
                  args.out.c_str(), decoded.decoded, decoded.lit, 100 * decodedShare,
                  surface.measured, decodeSeconds, triangulateSeconds, writeSeconds);
+    for (int a = 0; a < 2; ++a) {
+        if (decoded.phaseEqualized[a]) {
+            std::fprintf(stderr,
+                         "the %s phase was distorted (its histogram %.0f%% off even: a DLP "
+                         "projector and an exposure that is not a whole number of its frames?) "
+                         "and was equalized\n",
+                         a == 0 ? "column" : "row", 100 * decoded.phaseDistortion[a]);
+        }
+    }
     std::fprintf(stderr, "surface mesh: %zu triangles, %s chart%s\n",
                  surfaceMesh.mesh.triangleCount(),
                  registration::surfaceChartName(surfaceMesh.chart),
@@ -130,6 +139,8 @@ void runScan(const ScanArguments& args) {
         json["undecoded"] = reasons;
         json["noise_sigma_at_half"] = decoded.noise.sigma(0.5);
         json["camera_gamma"] = decoded.cameraGamma;
+        json["phase_distortion"] = {decoded.phaseDistortion[0], decoded.phaseDistortion[1]};
+        json["phase_equalized"] = {decoded.phaseEqualized[0], decoded.phaseEqualized[1]};
         nlohmann::json placedBy = nlohmann::json::object();
         for (int s = 1; s < structured_light::kPositionSourceCount; ++s) {
             placedBy[structured_light::positionSourceName(
@@ -154,6 +165,8 @@ void runScan(const ScanArguments& args) {
             json["normal_p95_deg"] = accuracy->normalP95Deg;
             json["wrong_decode_share"] = accuracy->wrongDecodeShare;
             json["wrong_code_share"] = accuracy->wrongCodeShare;
+            json["coarse_share"] = accuracy->coarseShare;
+            json["wrong_decode_share_with_coarse"] = accuracy->wrongAmongAllShare;
             json["lit_decoded_share"] = accuracy->litDecodedShare;
             json["lit_seen_pixels"] = accuracy->litSeen;
             nlohmann::json bySource = nlohmann::json::object();

@@ -14,6 +14,9 @@ namespace vpe::scan {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// A pixel placed to better than this (σ, projector pixels) is a surface point
+// (TriangulationOptions::maxSigma); coarser ones were placed by their Gray bin alone.
+constexpr double kFinePrecisionPx = 1.0;
 
 }  // namespace
 
@@ -90,8 +93,11 @@ ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
         const double ex = double(decoded.projectorX[q]) - double(tx),
                      ey = double(decoded.projectorY[q]) - double(ty);
         const double error = std::hypot(ex, ey);
+        const bool coarse = !(double(decoded.precision[q]) <= kFinePrecisionPx);
+        a.coarseDecodes += coarse ? 1 : 0;
         if (error > 1.0) {
-            ++a.wrongDecodes;
+            a.wrongAmongAll += 1;
+            a.wrongDecodes += coarse ? 0 : 1;
         }
         // Both axes may be off by their claim: √2 of it along the diagonal.
         const double claim = std::sqrt(2.0) * std::sqrt(3.0) * double(decoded.precision[q]);
@@ -116,7 +122,10 @@ ScanAccuracy compareWithTruth(const structured_light::DecodedScan& decoded,
     }
     a.litDecodedShare = a.litSeen ? double(a.decodedLitSeen) / double(a.litSeen) : 0;
     a.wrongCodeShare = a.decoded ? double(a.wrongCodes) / double(a.decoded) : 0;
-    a.wrongDecodeShare = a.decoded ? double(a.wrongDecodes) / double(a.decoded) : 0;
+    const std::size_t fine = compared - a.coarseDecodes;
+    a.wrongDecodeShare = fine ? double(a.wrongDecodes) / double(fine) : 0;
+    a.coarseShare = compared ? double(a.coarseDecodes) / double(compared) : 0;
+    a.wrongAmongAllShare = compared ? double(a.wrongAmongAll) / double(compared) : 0;
     a.wrongAtCentreShare = a.decoded ? double(a.wrongAtCentre) / double(a.decoded) : 0;
     a.decodeRmsPx = compared ? std::sqrt(squared / double(compared)) : 0;
     return a;

@@ -401,11 +401,39 @@ TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
          (out / "room" / "truth" / "calibration.yml").string(), "--out", (out / "result").string(),
          "--truth", (out / "room" / "truth").string(), "--min-coverage", "0"});
     EXPECT_NEAR(report["camera_gamma"].get<double>(), 2.2, 0.05);
+    EXPECT_FALSE(report["phase_equalized"][0].get<bool>());  // noise does not bend the phase
+    EXPECT_FALSE(report["phase_equalized"][1].get<bool>());
     EXPECT_GT(report["lit_decoded_share"].get<double>(), 0.945);
     EXPECT_LT(report["wrong_code_share"].get<double>(), 0.0005);
-    EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.015);
+    EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.001);
+    EXPECT_LT(report["coarse_share"].get<double>(), 0.02);
     EXPECT_GT(report["placed_by"]["phase_neighbourhood"].get<int>(), 500);
     EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.25);
+    fs::remove_all(out);
+}
+
+// A DLP projector makes its grey levels from bit-planes within each frame; a camera exposing
+// 0.3 of a frame catches a different part of them in every phase image, which bends every
+// pixel's phase by one function of the true phase. Undetected, 11.4 % of the small room's
+// pixels got a wrong code and the depth RMS was 1.02 mm; the decoder sees the phase's histogram
+// uneven (2.6 times the mean in its worst bin), equalizes it and sets the constant by the Gray
+// code. Measured: no wrong code, 0.019 % more than a pixel off, depth RMS 0.217 mm (0.089 mm
+// with whole frames).
+TEST(Install, ADlpCaughtByAShortExposureIsEqualized) {
+    const fs::path out = scratch("dlp");
+    const CommandResult synth = runCommand(vpeCommand(
+        {"synth-procam", "--out", (out / "room").string(), "--poses", "0", "--projector-size",
+         "640x360", "--camera-size", "656x492", "--phase-period", "16", "--dlp-exposure", "0.3"}));
+    ASSERT_EQ(synth.exitStatus, 0) << synth.err;
+    const nlohmann::json report = runWithJson(
+        {"scan", (out / "room" / "scan").string(), "--calibration",
+         (out / "room" / "truth" / "calibration.yml").string(), "--out", (out / "result").string(),
+         "--truth", (out / "room" / "truth").string(), "--min-coverage", "0"});
+    EXPECT_TRUE(report["phase_equalized"][0].get<bool>());
+    EXPECT_TRUE(report["phase_equalized"][1].get<bool>());
+    EXPECT_LT(report["wrong_code_share"].get<double>(), 0.0005);
+    EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.001);
+    EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.26);
     fs::remove_all(out);
 }
 

@@ -23,9 +23,13 @@ struct ScanAccuracy {
     std::size_t measuredWithoutTruth = 0;
     // Camera pixels: decoded, decoded more than one projector pixel from the coordinate the
     // pixel sees (the light-weighted mean over its area: CameraTruth), and their share; decoded
-    // where the pixel sees no lit point.
-    std::size_t decoded = 0, wrongDecodes = 0, decodedWithoutTruth = 0;
-    double wrongDecodeShare = 0;
+    // where the pixel sees no lit point. wrongDecodes counts the pixels placed to better than a
+    // projector pixel (precision ≤ 1 px: the surface's points); those its Gray bin alone placed
+    // are coarse by design, counted apart (coarseDecodes) and judged by wrongCodes.
+    std::size_t decoded = 0, wrongDecodes = 0, decodedWithoutTruth = 0, coarseDecodes = 0;
+    double wrongDecodeShare = 0, coarseShare = 0;
+    std::size_t wrongAmongAll = 0;  // more than a pixel off, the coarse ones too
+    double wrongAmongAllShare = 0;
     double decodeRmsPx = 0;  // over decoded pixels with a truth, both axes
     // Camera pixels that see a point the projector lights (the truth has a coordinate there: lit
     // and unshadowed), how many of them were decoded, and the share.

@@ -94,6 +94,11 @@ struct DecodedScan {
     // Measured on the capture (a pattern and its inverse add up to white + black in light, not in
     // codes).
     double cameraGamma = 1;
+    // Per axis (columns, rows): how far the decoded phase's histogram departs from even (the
+    // largest bin's share off the mean), and whether that distortion was undone by equalizing
+    // it (a DLP's bit-planes caught by a short exposure). 0 and false without phase images.
+    double phaseDistortion[2] = {0, 0};
+    bool phaseEqualized[2] = {false, false};
     NoiseModel noise;
     std::vector<std::size_t> statusCounts;  // kDecodeStatusCount entries
     std::size_t decoded = 0;
