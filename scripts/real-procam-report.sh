@@ -10,7 +10,7 @@
 #      against the reference the data's README gives (OpenCV 4.6 running the tool's own method);
 #   2. the noise sweep on a simulated small room: full well 400 → 20,000 e⁻, raw 10-bit and an
 #      ISP's 8-bit gamma 2.2 output (vpe synth-procam --full-well --camera-output; vpe scan
-#      --truth), with its plots.
+#      --truth), with its plots; and a DLP projector against exposures of 0.3 to 2 frames.
 #   scripts/real-procam-report.sh [--out DIR] [--figures DIR]
 # --figures (docs/install to refresh the docs) receives the plots and the real pose's sheet.
 # The last line of stdout is one JSON object: real_heldout_projector_rms_px,
@@ -18,8 +18,10 @@
 # real_rotation_deg (vpe's angle between camera and projector; the reference's is 4.11°),
 # real_translation_dir_deg (between vpe's T and the reference's), real_import_calibrate_seconds
 # (the import, decoding and calibration with the five held-out calibrations),
-# noise_sweep (per level: output, full_well, coverage, wrong_code_share, wrong_decode_share,
-# depth_rms_mm, placed_by), seconds.
+# noise_sweep (per level: output, full_well, coverage, wrong_code_share, wrong_decode_share (of
+# the pixels placed to better than a pixel), wrong_decode_share_with_coarse, coarse_share (placed
+# by a Gray bin alone), depth_rms_mm, placed_by), dlp_sweep (per camera exposure in DLP frames:
+# coverage, wrong shares, depth_rms_mm, phase_distortion, phase_equalized), seconds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=real-procam-report figures=""
@@ -85,7 +87,8 @@ for output in linear10 gamma8; do
             --json 2>/dev/null | tail -1 > "$out/sweep/$name.json"
         jq -c --arg output "$output" --argjson well "$well" '
             {output: $output, full_well: $well, coverage: .lit_decoded_share,
-             wrong_code_share, wrong_decode_share, depth_rms_mm, camera_gamma,
+             wrong_code_share, wrong_decode_share, wrong_decode_share_with_coarse,
+             coarse_share, depth_rms_mm, camera_gamma,
              placed_by}' "$out/sweep/$name.json" > "$out/sweep/$name.level.json"
         jq -c '.' "$out/sweep/$name.level.json" >&2
         jq -c --slurpfile level "$out/sweep/$name.level.json" '. + $level' "$sweep" > "$sweep.new"
@@ -93,10 +96,30 @@ for output in linear10 gamma8; do
         rm -rf "$out/sweep/$name"
     done
 done
+step "a DLP projector against short exposures (vpe synth-procam --dlp-exposure FRAMES)"
+dlp="$out/dlp.json"
+echo '[]' > "$dlp"
+for frames in 0.3 0.5 1.5 2; do
+    name="dlp-$frames"
+    "$vpe" synth-procam --out "$out/sweep/$name" --poses 0 --projector-size 640x360 \
+        --camera-size 656x492 --phase-period 16 --dlp-exposure "$frames" >/dev/null 2>&1
+    "$vpe" scan "$out/sweep/$name/scan" --calibration "$out/sweep/$name/truth/calibration.yml" \
+        --out "$out/sweep/$name/result" --truth "$out/sweep/$name/truth" --min-coverage 0 \
+        --json 2>/dev/null | tail -1 > "$out/sweep/$name.json"
+    jq -c --argjson frames "$frames" '
+        {exposure_frames: $frames, coverage: .lit_decoded_share, wrong_code_share,
+         wrong_decode_share, depth_rms_mm, phase_distortion, phase_equalized}' \
+        "$out/sweep/$name.json" > "$out/sweep/$name.level.json"
+    jq -c '.' "$out/sweep/$name.level.json" >&2
+    jq -c --slurpfile level "$out/sweep/$name.level.json" '. + $level' "$dlp" > "$dlp.new"
+    mv "$dlp.new" "$dlp"
+    rm -rf "$out/sweep/$name"
+done
+
 if [[ -n "$figures" ]]; then
     cmake --build --preset release --target vpe_noise_sweep_plot -j "$(nproc)" >/dev/null
     build/release/tests/benchmarks/vpe_noise_sweep_plot "$sweep" --out "$figures" >&2
 fi
 
-jq -c --argjson real "$real" --argjson seconds "$SECONDS" \
-    '$real + {noise_sweep: ., seconds: $seconds}' "$sweep"
+jq -c --argjson real "$real" --slurpfile dlp "$dlp" --argjson seconds "$SECONDS" \
+    '$real + {noise_sweep: ., dlp_sweep: $dlp[0], seconds: $seconds}' "$sweep"
