@@ -3,9 +3,11 @@
 //
 // The plots of scripts/real-procam-report.sh's noise sweep: a JSON array of levels, each
 // {"output": "gamma8" | "linear10", "full_well": e⁻, "coverage": share of the lit, unshadowed
-// camera pixels decoded, "wrong_code_share", "wrong_decode_share", "depth_rms_mm"}; writes
+// camera pixels decoded, "wrong_code_share", "wrong_decode_share", "coarse_share",
+// "depth_rms_mm"}; writes
 // DIR/noise-coverage.svg (the share decoded), DIR/noise-wrong.svg (decoded more than a pixel
-// off, and outside their own precision) and DIR/noise-depth.svg (depth RMS), each against the
+// off among those placed finer than a pixel, outside their own precision, and placed by a Gray
+// bin alone) and DIR/noise-depth.svg (depth RMS), each against the
 // full well.
 #include <cmath>
 #include <cstdio>
@@ -22,7 +24,7 @@
 namespace {
 
 struct Curve {
-    std::vector<double> fullWell, coverage, wrongCode, wrongDecode, depth;
+    std::vector<double> fullWell, coverage, wrongCode, wrongDecode, coarse, depth;
 };
 
 }  // namespace
@@ -48,6 +50,7 @@ int main(int argc, char** argv) {
         c.coverage.push_back(100 * level.at("coverage").get<double>());
         c.wrongCode.push_back(100 * level.at("wrong_code_share").get<double>());
         c.wrongDecode.push_back(100 * level.at("wrong_decode_share").get<double>());
+        c.coarse.push_back(100 * level.at("coarse_share").get<double>());
         c.depth.push_back(level.at("depth_rms_mm").get<double>());
     }
     const std::filesystem::path out = argv[3];
@@ -62,6 +65,7 @@ int main(int argc, char** argv) {
         const std::string dash = name == "gamma8" ? "6 3" : "";
         coverage.addSeries(name, c.fullWell, c.coverage, dash);
         wrong.addSeries(name + " > 1 px", c.fullWell, c.wrongDecode, dash);
+        wrong.addSeries(name + " Gray bin", c.fullWell, c.coarse, name == "gamma8" ? "1 2" : "3 1");
         wrong.addSeries(name + " beyond σ", c.fullWell, c.wrongCode,
                         name == "gamma8" ? "2 3" : "8 2 2 2");
         depth.addSeries(name, c.fullWell, c.depth, dash);

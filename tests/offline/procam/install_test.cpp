@@ -386,9 +386,10 @@ TEST(Install, RefusesABrokenScanInOneLine) {
 // output, in the tests' small room. The decoder undoes the curve it measures on the capture,
 // sums the phase over neighbours where the noise demands it and keeps the Gray bin where even
 // that cannot place a pixel. Measured: γ 2.196; 94.99 % of the lit, unshadowed pixels decoded
-// (13,866 by their own phase, 1,251 by their neighbourhood's, 199 by the Gray bin); 0.0065 %
-// outside their stated precision, 0.91 % more than a pixel off (the Gray bins' rounding); depth
-// RMS 0.210 mm. Before: 10.9 % decoded (issue's independent renderer), low_modulation.
+// (13,866 by their own phase, 1,251 by their neighbourhood's, 199 by the Gray bin alone: 1.30 %);
+// 0.0065 % outside their stated precision; of those placed finer than a pixel, 0.05 % more than
+// a pixel off; depth RMS 0.210 mm. Before: 10.9 % decoded (the independent renderer),
+// the rest low_modulation.
 TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
     const fs::path out = scratch("noisy");
     const CommandResult synth = runCommand(
