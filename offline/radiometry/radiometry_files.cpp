@@ -188,8 +188,8 @@ ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {
     r.mixing = arrayOf<9>(json, measured, "mixing");
     r.mixingSpread = arrayOf<9>(json, measured, "mixing_spread");
     r.mixingNoise = arrayOf<9>(json, measured, "mixing_noise");
-    // The split as written (a file from before issue 45 has the projector's black as
-    // black_level, and no errors).
+    // The split as written (an older file has the projector's black as black_level, and
+    // no errors).
     FloorSplit& split = r.floorSplit;
     split.floor = measuredArrayOf<3>(json, measured, "floor");
     split.separable = json.value("floor_separable", true);

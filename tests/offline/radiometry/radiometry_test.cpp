@@ -4,7 +4,7 @@
 // gamma, crosstalk, room light at 2 %), vpe scan, vpe radiometry, vpe bake --radiometry and vpe
 // synth-procam --check-light, on a small rig (projector 640 × 360, camera 656 × 492); the floor
 // split into the camera's black and the room's light with a camera that has a black level, or
-// said not to split on plaster of one albedo (issue 45); and every bad capture refused in one
+// said not to split on plaster of one albedo; and every bad capture refused in one
 // line (from a smaller room of its own). The full-size figures are
 // scripts/radiometry-report.sh's.
 #include <filesystem>

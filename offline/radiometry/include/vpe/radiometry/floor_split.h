@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // splitFloor: what the camera sees with the projector at level 0 (the floor D), split into what
 // the camera adds and the light that falls on the object, with how well the object's albedo and
-// geometry tell them apart (docs/radiometry.md, issue 45). Per camera channel and projector pixel:
+// geometry tell them apart (docs/radiometry.md, "The ambient, apart"). Per camera channel and
+// projector pixel:
 //
 //   D = black + projectorBlack · F + ambient · F / S
 //
