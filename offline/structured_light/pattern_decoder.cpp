@@ -44,6 +44,8 @@ constexpr double kEqualizationGain = 0.95;
 // direct: the finest pairs' estimate of it misses a concave corner's mirror-like bounce, which
 // can flip a difference that clears it.
 constexpr double kLittleGlobal = 0.1;
+// settleByNeighbours' verdict: the bit settled, and to one (above any bit's weight).
+constexpr std::uint32_t kSettledOne = 1u << 31;
 
 // A frame whose median over the lit pixels sits this far from where it must (its pair's sum, or
 // inside white and black) was captured wrong: black (the camera missed it) or saturated.
@@ -52,6 +54,8 @@ constexpr double kFrameTolerance = 0.4;
 // The Gray bits read so far, and Σ I_s sin δ_s, Σ I_s cos δ_s over the phase shifts.
 struct AxisState : detail::AxisCode {
     std::vector<float> sine, cosine;
+    // Per pixel, the bits its own pair left open, and those of them its neighbours settled.
+    std::vector<std::uint32_t> open, settled;
 };
 
 // Every lit pixel's index, in order: the tests below work on these only.
@@ -125,6 +129,17 @@ private:
     void checkPair(const std::vector<float>& p, const std::vector<float>& i,
                    const proto::PatternSpec& on, const proto::PatternSpec& off) const;
     void readGrayBits(int a);
+    // A Gray pair's difference p − i at one pixel (or summed over several), its noise variance,
+    // and the global and direct light under it.
+    struct PairDifference {
+        double difference = 0, variance = 0, global = 0, direct = 0;
+    };
+    PairDifference pairDifference(const std::vector<float>& p, const std::vector<float>& i,
+                                  std::size_t q) const;
+    bool settlesTheBit(const PairDifference& pair) const;
+    void settleByNeighbours(int a, int bit, const std::vector<float>& p,
+                            const std::vector<float>& i);
+    void markUncertainBits(int a);
     void accumulatePhase(int a);
     AxisPosition placeAxis(int a, std::size_t q, const std::vector<std::uint8_t>& isLit) const;
     AxisPosition placeByGrayBin(int a, std::size_t q) const;
@@ -296,15 +311,16 @@ void PhaseShiftDecoder::checkPair(const std::vector<float>& p, const std::vector
 
 // The Gray bits of axis `a`, most significant first. A bit is read where Xu and Aliaga's test
 // finds it in the direct light alone, or where the pair's difference exceeds all the global light
-// and the camera's noise could make of it; else it is left open (one per axis is an edge
-// between two bins).
+// and the camera's noise could make of it; else it is open. One open bit per axis is an edge
+// between two bins (the phase, or the bins' edge, places the pixel); where the noise leaves more
+// open, the pixel's 3 × 3 neighbourhood settles them (settleByNeighbours).
 void PhaseShiftDecoder::readGrayBits(int a) {
     const proto::PatternAxis axis = kAxes[a];
     AxisState& s = state_[a];
     s.code.assign(pixels_, 0);
-    s.uncertain.assign(pixels_, kNoUncertainBit);
+    s.open.assign(pixels_, 0);
+    s.settled.assign(pixels_, 0);
     const int lowest = sequence_.lowestGrayBit();
-    const NoiseModel& noise = scan_.noise;
     for (int bit = sequence_.grayBits(axis) - 1; bit >= lowest; --bit) {
         const proto::PatternSpec on = grayPattern(axis, bit, false),
                                  off = grayPattern(axis, bit, true);
@@ -325,24 +341,118 @@ void PhaseShiftDecoder::readGrayBits(int a) {
                     s.code[q] |= one ? weight : 0u;
                     continue;
                 }
-                // p − i = d·(2x − 1) + g_p − g_i, and |g_p − g_i| ≤ g: a difference beyond g and
-                // the noise of var(p − i) = 2a + b·(p + i) has the direct light's sign.
-                const double difference = pl - il;
-                const double spread = std::sqrt(std::max(
-                    0.0, 2 * noise.constant +
-                             noise.perSignal * std::max(double(p[q]) + double(i[q]), 0.0)));
-                s.code[q] |= difference > 0 ? weight : 0u;
-                if (g < kLittleGlobal * d &&
-                    std::abs(difference) > 2 * g + options_.noiseSigmas * spread) {
-                    continue;
+                const PairDifference pair = pairDifference(p, i, q);
+                s.code[q] |= pair.difference > 0 ? weight : 0u;
+                if (!settlesTheBit(pair)) {
+                    // Undecided: at a stripe's edge (both half lit) or drowned in global light
+                    // or noise.
+                    s.open[q] |= weight;
                 }
-                // Undecided: at a stripe's edge (both half lit) or drowned in global light. One
-                // per axis is allowed, and settled by the phase or placed on the bins' edge.
-                s.uncertain[q] = s.uncertain[q] == kNoUncertainBit
-                                     ? static_cast<std::int8_t>(bit - lowest)
-                                     : static_cast<std::int8_t>(kTooManyUncertainBits);
             }
         });
+        settleByNeighbours(a, bit, p, i);
+    }
+    markUncertainBits(a);
+}
+
+// p − i = d·(2x − 1) + g_p − g_i, and |g_p − g_i| ≤ g: a difference beyond g and the noise of
+// var(p − i) = 2a + b·(p + i) has the direct light's sign.
+PhaseShiftDecoder::PairDifference PhaseShiftDecoder::pairDifference(const std::vector<float>& p,
+                                                                    const std::vector<float>& i,
+                                                                    std::size_t q) const {
+    const NoiseModel& noise = scan_.noise;
+    PairDifference pair;
+    pair.difference = double(p[q]) - double(i[q]);
+    pair.variance = std::max(
+        0.0, 2 * noise.constant + noise.perSignal * std::max(double(p[q]) + double(i[q]), 0.0));
+    pair.global = scan_.global[q];
+    pair.direct = scan_.direct[q];
+    return pair;
+}
+
+bool PhaseShiftDecoder::settlesTheBit(const PairDifference& pair) const {
+    return pair.global < kLittleGlobal * pair.direct &&
+           std::abs(pair.difference) >
+               2 * pair.global + options_.noiseSigmas * std::sqrt(pair.variance);
+}
+
+// A bit the noise left open at a pixel is, away from its stripe's edge, the bit its neighbours
+// show too: their differences add, the noise only as its square root (a 3 × 3 sum is 3 times
+// surer). Neighbours count where lit and on the same stripes so far (their coarser bits the
+// pixel's), so a silhouette's other surface does not outvote it; at the stripe's own edge the
+// sum cancels and leaves the bit open, or sides with the majority, one bin away, which the
+// phase's unwrapping (half a period = two bins) absorbs.
+void PhaseShiftDecoder::settleByNeighbours(int a, int bit, const std::vector<float>& p,
+                                           const std::vector<float>& i) {
+    AxisState& s = state_[a];
+    const int lowest = sequence_.lowestGrayBit();
+    const std::uint32_t weight = 1u << (bit - lowest);
+    const std::uint32_t coarser = ~((weight << 1) - 1);
+    const int w = scan_.width, h = scan_.height;
+    std::vector<std::uint32_t> verdict(pixels_, 0);
+    common::parallelFor(lit_.size(), kGrain, threads_, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::size_t q = lit_[k];
+            if ((s.open[q] & weight) == 0) {
+                continue;
+            }
+            const int x = static_cast<int>(q % static_cast<std::size_t>(w));
+            const int y = static_cast<int>(q / static_cast<std::size_t>(w));
+            PairDifference sum;
+            for (int v = std::max(0, y - 1); v <= std::min(h - 1, y + 1); ++v) {
+                for (int u = std::max(0, x - 1); u <= std::min(w - 1, x + 1); ++u) {
+                    const std::size_t r = static_cast<std::size_t>(v) * w + u;
+                    if (scan_.status[r] != DecodeStatus::kDecoded ||
+                        (s.code[r] & coarser) != (s.code[q] & coarser)) {
+                        continue;
+                    }
+                    const PairDifference one = pairDifference(p, i, r);
+                    sum.difference += one.difference;
+                    sum.variance += one.variance;
+                    sum.global += one.global;
+                    sum.direct += one.direct;
+                }
+            }
+            if (settlesTheBit(sum)) {
+                verdict[q] = weight | (sum.difference > 0 ? kSettledOne : 0u);
+            }
+        }
+    });
+    for (const std::size_t q : lit_) {
+        if (verdict[q] != 0) {
+            s.settled[q] |= weight;
+            s.code[q] = (s.code[q] & ~weight) | ((verdict[q] & kSettledOne) != 0 ? weight : 0u);
+        }
+    }
+}
+
+// The one bit per pixel left for the phase or the bins' edge to settle: a pixel's only open bit
+// where flipping it names the next bin (an edge, kept open even where the neighbours lean one
+// way), else the one bit its neighbours could not settle; more than one left is ambiguous.
+void PhaseShiftDecoder::markUncertainBits(int a) {
+    AxisState& s = state_[a];
+    s.uncertain.assign(pixels_, kNoUncertainBit);
+    const auto lowestBit = [](std::uint32_t mask) {
+        return static_cast<std::int8_t>(__builtin_ctz(mask));
+    };
+    for (const std::size_t q : lit_) {
+        const std::uint32_t open = s.open[q];
+        if (open == 0) {
+            continue;
+        }
+        if ((open & (open - 1)) == 0) {
+            const auto here = static_cast<long>(proto::grayDecode(s.code[q]));
+            const auto flipped = static_cast<long>(proto::grayDecode(s.code[q] ^ open));
+            if ((s.settled[q] & open) == 0 || std::abs(here - flipped) == 1) {
+                s.uncertain[q] = lowestBit(open);
+                continue;
+            }
+        }
+        const std::uint32_t left = open & ~s.settled[q];
+        if (left == 0) {
+            continue;
+        }
+        s.uncertain[q] = (left & (left - 1)) == 0 ? lowestBit(left) : kTooManyUncertainBits;
     }
 }
 

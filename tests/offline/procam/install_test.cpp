@@ -384,12 +384,14 @@ TEST(Install, RefusesABrokenScanInOneLine) {
 // a vase's neck does its shoulder but more.
 // A noisy camera costs precision, not coverage: a 400 e⁻ sensor behind an ISP's 8-bit γ 2.2
 // output, in the tests' small room. The decoder undoes the curve it measures on the capture,
-// sums the phase over neighbours where the noise demands it and keeps the Gray bin where even
-// that cannot place a pixel. Measured: γ 2.196; 94.99 % of the lit, unshadowed pixels decoded
-// (13,866 by their own phase, 1,251 by their neighbourhood's, 199 by the Gray bin alone: 1.30 %);
-// 0.0065 % outside their stated precision; of those placed finer than a pixel, 0.05 % more than
-// a pixel off; depth RMS 0.210 mm. Before: 10.9 % decoded (the independent renderer),
-// the rest low_modulation.
+// settles the Gray bits a dim pixel's own pair leaves open by its neighbourhood's, sums the phase
+// over neighbours where the noise demands it and keeps the Gray bin where even that cannot place
+// a pixel. Measured: γ 2.196; 97.04 % of the lit, unshadowed pixels decoded (13,866 by their own
+// phase, 1,286 by their neighbourhood's, 495 by the Gray bin alone: 3.16 %); 0.058 % outside
+// their stated precision (9 pixels, 8 of them one bin off beside a stripe's edge); of those placed
+// finer than a pixel, 0.05 % more than a pixel off; depth RMS 0.211 mm. Before the neighbours
+// settled bits: 94.99 % decoded, 382 pixels ambiguous. Before this decoder: 10.9 % decoded (the
+// issue's independent renderer), the rest low_modulation.
 TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
     const fs::path out = scratch("noisy");
     const CommandResult synth = runCommand(
@@ -404,10 +406,10 @@ TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
     EXPECT_NEAR(report["camera_gamma"].get<double>(), 2.2, 0.05);
     EXPECT_FALSE(report["phase_equalized"][0].get<bool>());  // noise does not bend the phase
     EXPECT_FALSE(report["phase_equalized"][1].get<bool>());
-    EXPECT_GT(report["lit_decoded_share"].get<double>(), 0.945);
-    EXPECT_LT(report["wrong_code_share"].get<double>(), 0.0005);
+    EXPECT_GT(report["lit_decoded_share"].get<double>(), 0.965);
+    EXPECT_LT(report["wrong_code_share"].get<double>(), 0.001);
     EXPECT_LT(report["wrong_decode_share"].get<double>(), 0.001);
-    EXPECT_LT(report["coarse_share"].get<double>(), 0.02);
+    EXPECT_LT(report["coarse_share"].get<double>(), 0.04);
     EXPECT_GT(report["placed_by"]["phase_neighbourhood"].get<int>(), 500);
     EXPECT_LT(report["depth_rms_mm"].get<double>(), 0.25);
     fs::remove_all(out);
