@@ -16,8 +16,42 @@
 #include "vpe/renderer/cpu/projector_pixels.h"
 
 #include "target_radiance.h"
+#include "vector_math.h"
 
 namespace vpe::renderer {
+
+namespace {
+
+// The target at a point: for the scene's viewer, or the mean over the viewing zone's eyes that
+// see the point's side (its geometric normal towards them). A zone's eye behind the point sees
+// the other side of the object; a point no eye sees is rendered for the viewer.
+std::array<double, 3> zoneTargetRadiance(const RenderScene& scene, const SurfacePoint& point,
+                                         const RenderOptions& options) {
+    if (scene.viewingZone.empty()) {
+        return targetRadiance(scene, point, scene.viewer, options.gain);
+    }
+    std::array<double, 3> sum{0, 0, 0};
+    int seeing = 0;
+    for (const Vec3d& eye : scene.viewingZone) {
+        if (dot(point.geometricNormal, eye - point.position) <= 0) {
+            continue;
+        }
+        const std::array<double, 3> one = targetRadiance(scene, point, eye, options.gain);
+        for (std::size_t c = 0; c < 3; ++c) {
+            sum[c] += one[c];
+        }
+        ++seeing;
+    }
+    if (seeing == 0) {
+        return targetRadiance(scene, point, scene.viewer, options.gain);
+    }
+    for (double& v : sum) {
+        v /= seeing;
+    }
+    return sum;
+}
+
+}  // namespace
 
 ProjectorFrame renderProjectorFrame(const RenderScene& scene, const RenderOptions& options) {
     if (auto problem = checkRenderScene(scene); !problem.empty()) {
@@ -64,8 +98,7 @@ ProjectorFrame renderProjectorFrame(const RenderScene& scene, const ProjectorPix
             if (!traced) {
                 continue;
             }
-            const std::array<double, 3> target =
-                targetRadiance(scene, traced->point, scene.viewer, options.gain);
+            const std::array<double, 3> target = zoneTargetRadiance(scene, traced->point, options);
             const MeasuredLightMaps* measured = scene.measuredLight.get();
             const std::size_t at = 3 * (static_cast<std::size_t>(y) * width + x);
             CompensatedPixel pixel;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "vpe/renderer/cpu/image_buffers.h"
 #include "vpe/renderer/cpu/material_textures.h"
@@ -22,6 +23,11 @@ struct RenderScene {
     MaterialTextures material;
     VirtualLight light;
     Vec3d viewer{0, 0, 1};  // the eye the view-dependent terms are rendered for, metres
+    // A viewing zone (several visitors at once), when not empty: each point's target is the mean
+    // over the zone's eyes above its horizon of what each should see, and `viewer` is used
+    // where none is. The CPU reference's, for measuring what a zone gives a show
+    // (docs/visitors.md); the device renders for one eye.
+    std::vector<Vec3d> viewingZone;
     // The light measured on site (bundle 1.4): when set, the compensation inverts it instead of
     // `surface` and the projector's irradiance scale, and projector.response is the response
     // above black. Shared: the maps are the projector's size, the same for every frame.
