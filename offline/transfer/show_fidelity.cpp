@@ -21,6 +21,8 @@
 #include "vpe/transfer/synthetic_truth.h"
 #include "vpe/transfer/transfer_fidelity.h"
 
+#include "show_inputs.h"
+
 namespace vpe::transfer {
 
 namespace {
@@ -208,44 +210,14 @@ std::vector<std::uint8_t> reachPicture(const renderer::SimulatedShowView& view) 
 
 ShowCheckReport checkShow(const ShowCheckOptions& options) {
     const auto start = std::chrono::steady_clock::now();
-    if (options.bundles.empty() || options.bundles.size() > 32) {
-        throw common::InputError("show check: give 1 to 32 bundles, one per projector");
-    }
     if (options.views < 1) {
         throw common::InputError("--views: expected at least 1");
     }
-    const SyntheticTruth truth(options.capture);
-    std::vector<proto::BundleFile> files;
-    for (const std::filesystem::path& path : options.bundles) {
-        try {
-            files.push_back(proto::BundleFile::open(path));
-        } catch (const proto::BundleError& error) {
-            throw common::InputError(error.what());
-        }
-        const proto::BundleView& bundle = files.back().view();
-        if (bundle.textureWidth() != truth.width() || bundle.textureHeight() != truth.height()) {
-            throw common::InputError(
-                path, "textures of " + std::to_string(bundle.textureWidth()) + " x " +
-                          std::to_string(bundle.textureHeight()) + ", the capture's truth is " +
-                          std::to_string(truth.width()) + " x " + std::to_string(truth.height()));
-        }
-        if (bundle.mesh().positions.size() != files.front().view().mesh().positions.size()) {
-            throw common::InputError(path, "not the same object as the first bundle's");
-        }
-    }
-    std::vector<std::unique_ptr<renderer::BundleScene>> scenes;
-    for (const proto::BundleFile& file : files) {
-        scenes.push_back(std::make_unique<renderer::BundleScene>(file.view(), ""));
-    }
-    const auto& positions = files.front().view().mesh().positions;
-    const MeshBounds bounds = meshBounds({positions.begin(), positions.end()});
-    const proto::Vec3d centre = bounds.centre();
-    const double distance = 4.0 * (bounds.upper.y - bounds.lower.y);
-    const auto at = [&](double azimuth, double elevation) {
-        const proto::Vec3d d = directionAt(azimuth, elevation);
-        return proto::Vec3d{centre.x + distance * d.x, centre.y + distance * d.y,
-                            centre.z + distance * d.z};
-    };
+    const detail::ShowInputs inputs(options.capture, options.bundles);
+    const SyntheticTruth& truth = inputs.truth();
+    const auto& scenes = inputs.scenes();
+    const auto at = [&](double azimuth, double elevation) { return inputs.at(azimuth, elevation); };
+    const proto::Vec3d centre = inputs.centre();
     if (!options.out.empty()) {
         std::filesystem::create_directories(options.out);
     }
