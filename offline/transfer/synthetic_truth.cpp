@@ -79,6 +79,19 @@ SyntheticTruth::SyntheticTruth(const std::filesystem::path& capture) {
 std::array<double, 3> SyntheticTruth::radiance(const renderer::SurfacePoint& point,
                                                const renderer::VirtualLight& light,
                                                const renderer::Vec3d& viewer) const {
+    return radianceParts(point, light, viewer, false);
+}
+
+std::array<double, 3> SyntheticTruth::viewDependentRadiance(const renderer::SurfacePoint& point,
+                                                            const renderer::VirtualLight& light,
+                                                            const renderer::Vec3d& viewer) const {
+    return radianceParts(point, light, viewer, true);
+}
+
+std::array<double, 3> SyntheticTruth::radianceParts(const renderer::SurfacePoint& point,
+                                                    const renderer::VirtualLight& light,
+                                                    const renderer::Vec3d& viewer,
+                                                    bool viewDependentOnly) const {
     const auto unit = [](const proto::Vec3d& from, const proto::Vec3d& to) {
         const proto::Vec3d d{to.x - from.x, to.y - from.y, to.z - from.z};
         return proto::normalized(d);
@@ -97,7 +110,13 @@ std::array<double, 3> SyntheticTruth::radiance(const renderer::SurfacePoint& poi
     material.albedo = {values[0], values[1], values[2]};
     material.roughness = std::max(values[3], kMinRoughness);
     material.f0 = values[4];
-    const proto::Vec3d f = synth::microfacetRadiance(material, n, l, v);
+    proto::Vec3d f = synth::microfacetRadiance(material, n, l, v);
+    if (viewDependentOnly) {
+        // (ρ + π f_spec)·max(n·l, 0) less the Lambert part ρ·max(n·l, 0).
+        const double lambert = std::max(proto::dot(n, l), 0.0);
+        f = {f.x - material.albedo.x * lambert, f.y - material.albedo.y * lambert,
+             f.z - material.albedo.z * lambert};
+    }
     const std::array<double, 3> irradiance = light.irradianceAt(point.position);
     return {irradiance[0] * horizon * f.x, irradiance[1] * horizon * f.y,
             irradiance[2] * horizon * f.z};

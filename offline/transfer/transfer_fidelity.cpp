@@ -71,8 +71,12 @@ double truthExposure(const renderer::RgbImage& image, const renderer::MaskImage&
 
 // The truth seen by the camera: the pipeline's direct view with the true material.
 renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const SyntheticTruth& truth,
-                                   const proto::PinholeCamera& camera, int threads) {
+                                   const proto::PinholeCamera& camera, int threads,
+                                   renderer::RgbImage* viewDependent) {
     renderer::RgbImage image(camera.width, camera.height);
+    if (viewDependent != nullptr) {
+        *viewDependent = renderer::RgbImage(camera.width, camera.height);
+    }
     const renderer::RayCaster caster(scene.mesh);
     const proto::Vec3d eye = camera.center();
     renderer::forEachRow(camera.height, threads, [&](int y) {
@@ -87,6 +91,14 @@ renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const Syn
             float* out = image.pixel(x, y);
             for (std::size_t c = 0; c < 3; ++c) {
                 out[c] = static_cast<float>(std::max(radiance[c], 0.0));
+            }
+            if (viewDependent != nullptr) {
+                const std::array<double, 3> part =
+                    truth.viewDependentRadiance(point, scene.light, eye);
+                float* to = viewDependent->pixel(x, y);
+                for (std::size_t c = 0; c < 3; ++c) {
+                    to[c] = static_cast<float>(part[c]);
+                }
             }
         }
     });

@@ -38,8 +38,19 @@ public:
     std::array<double, 3> radiance(const renderer::SurfacePoint& point,
                                    const renderer::VirtualLight& light,
                                    const renderer::Vec3d& viewer) const;
+    // Of that radiance, the part that depends on where the viewer stands: E · H · π f_spec ·
+    // max(n·l, 0), the highlights (the rest, E · H · ρ · max(n·l, 0), is the same from anywhere
+    // the horizon allows).
+    std::array<double, 3> viewDependentRadiance(const renderer::SurfacePoint& point,
+                                                const renderer::VirtualLight& light,
+                                                const renderer::Vec3d& viewer) const;
 
 private:
+    std::array<double, 3> radianceParts(const renderer::SurfacePoint& point,
+                                        const renderer::VirtualLight& light,
+                                        const renderer::Vec3d& viewer,
+                                        bool viewDependentOnly) const;
+
     int width_ = 0, height_ = 0;
     // Albedo RGB, then roughness, F0 and 0 per texel, read through the renderer's own sampler
     // (a "material" of M = 0: 6 values a texel) so that truth and pipeline sample a texel alike.

@@ -82,9 +82,11 @@ MeshBounds meshBounds(const std::vector<float>& positions);
 renderer::Vec3d directionAt(double azimuthDegrees, double elevationDegrees);
 
 // The true material seen by `camera` on the scene's mesh under its light (no cast shadows):
-// what both checks compare against.
+// what both checks compare against. With `viewDependent`, also its part that depends on where
+// the camera stands (SyntheticTruth::viewDependentRadiance), the camera's size.
 renderer::RgbImage renderTruthView(const renderer::RenderScene& scene, const SyntheticTruth& truth,
-                                   const proto::PinholeCamera& camera, int threads);
+                                   const proto::PinholeCamera& camera, int threads,
+                                   renderer::RgbImage* viewDependent = nullptr);
 
 // The exposure both pictures are shown at: the 99th percentile of the lit pixels' brightest
 // channel at 0.8 (as `vpe render` previews do), taken from the truth.
