@@ -26,6 +26,8 @@ packages=(
     zlib1g-dev libflatbuffers-dev flatbuffers-compiler  # device bundle (proto/BUNDLE.md)
     libopenimageio-dev openimageio-tools      # image codecs (JPEG, PNG, TIFF), oiiotool
     libeigen3-dev nlohmann-json3-dev libcli11-dev libfftw3-dev
+    libhwy-dev                                # the fit's SIMD kernels, one source for AVX-512, AVX2,
+                                              # SSE4 and NEON, picked at run time (Google Highway)
     libassimp-dev libopencv-core-dev          # screen meshes, projector calibration files
     libopencv-imgproc-dev                     # streak widths (exact distance transform)
     libopencv-calib3d-dev                     # vpe calibrate: checkerboards, camera + stereo calibration
