@@ -1,32 +1,152 @@
 // SPDX-License-Identifier: MIT
 // Normal equations of the Fourier BRDF fit: accumulation (the hot loop, SIMD over pixels)
-// and batched Cholesky solve.
+// and batched Cholesky solve. Written once with Google Highway: this file is compiled again
+// for each SIMD target (hwy/foreach_target.h) and the CPU picks one at run time.
+
+// The target-independent part, compiled once.
+#ifndef VPE_FIT_NORMAL_EQUATIONS_ONCE
+#define VPE_FIT_NORMAL_EQUATIONS_ONCE
+
 #include "vpe/fit/normal_equations.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <new>
+#include <type_traits>
 
-#include "vpe/fit/simd_pack.h"
 #include "vpe/proto/reflection_geometry.h"
 
+// Scalable vectors (SVE) have no size at compile time and cannot be members of the structs the
+// kernels keep their vectors in; arm64 gets NEON.
+#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128)
+
 namespace vpe::fit {
-
 namespace {
-
-using FloatPack = simd::Pack<float, kLanes>;
-using DoublePack = simd::Pack<double, kLanes>;
-using proto::cosineIndex;
-using proto::kMaxHarmonics;
-using proto::sineIndex;
 
 // Samples summed in float before the block is added to the double sums: short enough that
 // float rounding stays near 1e-7 relative, long enough to keep the flush cheap.
 constexpr int kSampleBlock = 64;
 constexpr int kPrefetchDistance = 8;
 
-template <typename P>
+// Lower triangle, packed row by row: the whole factor of a 22-coefficient model stays in L1.
+constexpr int packedIndex(int i, int j) {
+    return i * (i + 1) / 2 + j;
+}
+
+}  // namespace
+}  // namespace vpe::fit
+
+#endif  // VPE_FIT_NORMAL_EQUATIONS_ONCE
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "normal_equations.cpp"
+#include <hwy/cache_control.h>
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace vpe::fit::HWY_NAMESPACE {
+
+namespace hn = hwy::HWY_NAMESPACE;
+using proto::cosineIndex;
+using proto::kMaxHarmonics;
+using proto::sineIndex;
+
+// One pixel per lane of a Highway vector, with the arithmetic and the ADL-visible fmax, fmin
+// and sqrt that proto's templated model code needs: the fitter runs the model's own basis and
+// angles, so it cannot drift from their definition.
+template <class D>
+struct PixelLanes {
+    using Scalar = hn::TFromD<D>;
+    hn::Vec<D> v;
+
+    PixelLanes() = default;
+    // NOLINTNEXTLINE: broadcast, like a scalar.
+    PixelLanes(Scalar scalar) : v(hn::Set(D(), scalar)) {}
+    explicit PixelLanes(hn::Vec<D> vector) : v(vector) {}
+};
+
+// Outside the class: GCC does not give friends defined in a class template the target's
+// instruction set (#pragma GCC target), and they could not inline Highway's operations. Not
+// always_inline: proto's templates were defined outside the target's region, so their own
+// instantiations may not inline them (an error for always_inline); the kernels are flattened
+// instead, and once inside a kernel every call inlines.
+template <class D>
+inline PixelLanes<D> operator+(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Add(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> operator-(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Sub(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> operator*(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Mul(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> operator/(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Div(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> fmax(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Max(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> fmin(PixelLanes<D> a, PixelLanes<D> b) {
+    return PixelLanes<D>(hn::Min(a.v, b.v));
+}
+template <class D>
+inline PixelLanes<D> sqrt(PixelLanes<D> a) {
+    return PixelLanes<D>(hn::Sqrt(a.v));
+}
+
+// sum += a·b in one fused multiply-add.
+template <class D>
+HWY_INLINE void addProduct(PixelLanes<D> a, PixelLanes<D> b, PixelLanes<D>& sum) {
+    sum.v = hn::MulAdd(a.v, b.v, sum.v);
+}
+
+// Harmonics whose accumulators a sample pass keeps in registers. Ten accumulators a harmonic:
+// two harmonics fill half of a 32-register file (AVX-512, NEON) but spill from the 16 of
+// AVX2 and SSE4.
+#if HWY_ARCH_X86 && HWY_TARGET > HWY_AVX3
+constexpr int kHarmonicsPerPass = 1;
+#else
+constexpr int kHarmonicsPerPass = 2;
+#endif
+
+// Observations are stored in float; the exact path widens them to double.
+template <class D>
+HWY_INLINE PixelLanes<D> loadObservation(D d, const float* p) {
+    if constexpr (std::is_same_v<hn::TFromD<D>, float>) {
+        return PixelLanes<D>(hn::LoadU(d, p));
+    } else {
+        return PixelLanes<D>(hn::PromoteTo(d, hn::LoadU(hn::Rebind<float, D>(), p)));
+    }
+}
+
+// sums[0 .. Lanes(d)) += partial, in double; the partial is cleared.
+template <class D>
+HWY_INLINE void flushPartial(D d, PixelLanes<D>& partial, double* sums) {
+    if constexpr (std::is_same_v<hn::TFromD<D>, double>) {
+        hn::StoreU(hn::Add(hn::LoadU(d, sums), partial.v), d, sums);
+    } else {
+#if HWY_TARGET == HWY_SCALAR  // one lane: no halves
+        sums[0] += static_cast<double>(hn::GetLane(partial.v));
+#else
+        const hn::Half<D> half;
+        const hn::Rebind<double, decltype(half)> wide;
+        const auto lower = hn::PromoteTo(wide, hn::LowerHalf(half, partial.v));
+        const auto upper = hn::PromoteTo(wide, hn::UpperHalf(half, partial.v));
+        double* upperSums = sums + hn::Lanes(wide);
+        hn::StoreU(hn::Add(hn::LoadU(wide, sums), lower), wide, sums);
+        hn::StoreU(hn::Add(hn::LoadU(wide, upperSums), upper), wide, upperSums);
+#endif
+    }
+    partial = PixelLanes<D>(0);
+}
+
+template <class P>
 struct Partials {
     P cosine[2 * kMaxHarmonics + 1];
     P sine[2 * kMaxHarmonics + 1];
@@ -38,36 +158,8 @@ struct Partials {
     P count;
 };
 
-template <typename P, int N>
-[[gnu::always_inline]] inline void flushRows(P (&from)[N], double (&to)[N][kLanes], int rows) {
-    for (int r = 0; r < rows; ++r) {
-        for (int lane = 0; lane < kLanes; ++lane) {
-            to[r][lane] += static_cast<double>(from[r][lane]);
-        }
-        from[r] = P(0);
-    }
-}
-
-template <typename P>
-[[gnu::always_inline]] inline void flushOne(P& from, double (&to)[kLanes]) {
-    for (int lane = 0; lane < kLanes; ++lane) {
-        to[lane] += static_cast<double>(from[lane]);
-    }
-    from = P(0);
-}
-
-// Float packs for the fast path; the exact path accumulates in double throughout.
-template <typename P>
-[[gnu::always_inline]] inline P loadPack(const float* p) {
-    if constexpr (sizeof(typename P::Vector) == sizeof(FloatPack::Vector)) {
-        return P::load(p);
-    } else {
-        return P(__builtin_convertvector(FloatPack::load(p).v, typename P::Vector));
-    }
-}
-
-// What one sample contributes, for kLanes pixels.
-template <typename P>
+// What one sample contributes, for the pixels of a slice.
+template <class P>
 struct SampleTerms {
     P cosThetaS;
     P lambert;                   // max(cos θd, 0)
@@ -77,17 +169,43 @@ struct SampleTerms {
     P value[kChannels];          // y, normalized by the light's irradiance
 };
 
-template <typename P, bool kPointLights>
-[[gnu::always_inline]] inline SampleTerms<P> sampleTerms(
-    const proto::Vec3<P>& normal, const proto::Vec3<P>& view, const proto::Vec3<P>& position,
-    const KernelLightSet& lights, const ChunkObservations& observations, int s, bool dummy) {
+// The pixels [first, first + Lanes(d)) of a chunk: their geometry and where their samples are.
+template <class D>
+struct Slice {
+    using P = PixelLanes<D>;
+    D d;
+    int first;
+    proto::Vec3<P> normal, view, position;
+};
+
+template <class D, bool kPointLights>
+HWY_INLINE Slice<D> loadSlice(D d, const ChunkGeometry& geometry, int first) {
+    using P = PixelLanes<D>;
+    const auto load = [&](const float(&row)[kLanes])
+                          HWY_ATTR { return loadObservation(d, row + first); };
+    Slice<D> slice{d, first, {}, {}, {}};
+    slice.normal = {load(geometry.normal[0]), load(geometry.normal[1]), load(geometry.normal[2])};
+    slice.view = {load(geometry.view[0]), load(geometry.view[1]), load(geometry.view[2])};
+    slice.position = {P(0), P(0), P(0)};
+    if constexpr (kPointLights) {
+        slice.position = {load(geometry.position[0]), load(geometry.position[1]),
+                          load(geometry.position[2])};
+    }
+    return slice;
+}
+
+template <class D, bool kPointLights>
+HWY_INLINE SampleTerms<PixelLanes<D>> sampleTerms(const Slice<D>& slice,
+                                                  const KernelLightSet& lights,
+                                                  const ChunkObservations& observations, int s) {
+    using P = PixelLanes<D>;
     const KernelLight& light = lights.lights[s];
     proto::Vec3<P> toLight;
     P scale;
     if constexpr (kPointLights) {
-        const P dx = P(light.x) - position.x;
-        const P dy = P(light.y) - position.y;
-        const P dz = P(light.z) - position.z;
+        const P dx = P(light.x) - slice.position.x;
+        const P dy = P(light.y) - slice.position.y;
+        const P dz = P(light.z) - slice.position.z;
         const P distanceSquared = dx * dx + dy * dy + dz * dz;
         const P inverseDistance = P(1) / sqrt(distanceSquared);
         toLight = {dx * inverseDistance, dy * inverseDistance, dz * inverseDistance};
@@ -96,18 +214,19 @@ template <typename P, bool kPointLights>
         toLight = {P(light.x), P(light.y), P(light.z)};
         scale = P(light.inverseIntensity);
     }
-    const proto::ReflectionAngles<P> angles = proto::reflectionAngles(normal, toLight, view);
+    const proto::ReflectionAngles<P> angles =
+        proto::reflectionAngles(slice.normal, toLight, slice.view);
     SampleTerms<P> terms;
     terms.cosThetaS = angles.cosThetaS;
     terms.lambert = proto::lambertBasis(angles.cosThetaD);
-    terms.weight = dummy ? P(0)
-                   : observations.weights
-                       ? loadPack<P>(observations.weights + s * observations.weightStride)
+    terms.weight = observations.weights
+                       ? loadObservation(slice.d, observations.weights +
+                                                      s * observations.weightStride + slice.first)
                        : P(1);
     terms.weightedLambert = terms.weight * terms.lambert;
-    const float* values = observations.values + s * observations.sampleStride;
+    const float* values = observations.values + s * observations.sampleStride + slice.first;
     for (int c = 0; c < kChannels; ++c) {
-        terms.value[c] = loadPack<P>(values + c * observations.channelStride) * scale;
+        terms.value[c] = loadObservation(slice.d, values + c * observations.channelStride) * scale;
         terms.weightedValue[c] = terms.weight * terms.value[c];
     }
     return terms;
@@ -117,10 +236,10 @@ template <typename P, bool kPointLights>
 // registers: each sample's recurrence state is loaded, advanced G steps and stored back, so
 // memory traffic is per group of harmonics, not per accumulator update. `full` adds the
 // Lambert and projection sums (harmonics ≤ M); beyond M only the plain sums continue.
-template <int G, bool kFull, typename P>
-[[gnu::always_inline]] inline void accumulateHarmonicGroup(const SampleTerms<P>* terms,
-                                                           proto::HarmonicRecurrence<P>* state,
-                                                           int count, int m0, Partials<P>& p) {
+template <int G, bool kFull, class P>
+HWY_INLINE void accumulateHarmonicGroup(const SampleTerms<P>* terms,
+                                        proto::HarmonicRecurrence<P>* state, int count, int m0,
+                                        Partials<P>& p) {
     constexpr int kSums = kFull ? 4 + 2 * kChannels : 2;
     P acc[G][kSums];
     for (int j = 0; j < G; ++j) {
@@ -135,66 +254,132 @@ template <int G, bool kFull, typename P>
             const P c = h.cosine();
             const P sn = h.sine();
             h.next();
-            acc[j][0] += t.weight * c;
-            acc[j][1] += t.weight * sn;
+            addProduct(t.weight, c, acc[j][0]);
+            addProduct(t.weight, sn, acc[j][1]);
             if constexpr (kFull) {
-                acc[j][2] += t.weightedLambert * c;
-                acc[j][3] += t.weightedLambert * sn;
+                addProduct(t.weightedLambert, c, acc[j][2]);
+                addProduct(t.weightedLambert, sn, acc[j][3]);
                 for (int k = 0; k < kChannels; ++k) {
-                    acc[j][4 + 2 * k] += t.weightedValue[k] * c;
-                    acc[j][5 + 2 * k] += t.weightedValue[k] * sn;
+                    addProduct(t.weightedValue[k], c, acc[j][4 + 2 * k]);
+                    addProduct(t.weightedValue[k], sn, acc[j][5 + 2 * k]);
                 }
             }
         }
     }
     for (int j = 0; j < G; ++j) {
         const int m = m0 + j;
-        p.cosine[m] += acc[j][0];
-        p.sine[m] += acc[j][1];
+        p.cosine[m] = p.cosine[m] + acc[j][0];
+        p.sine[m] = p.sine[m] + acc[j][1];
         if constexpr (kFull) {
-            p.lambertCosine[m] += acc[j][2];
-            p.lambertSine[m] += acc[j][3];
+            p.lambertCosine[m] = p.lambertCosine[m] + acc[j][2];
+            p.lambertSine[m] = p.lambertSine[m] + acc[j][3];
             for (int k = 0; k < kChannels; ++k) {
-                p.projection[k][cosineIndex(m)] += acc[j][4 + 2 * k];
-                p.projection[k][sineIndex(m)] += acc[j][5 + 2 * k];
+                P& cosineSum = p.projection[k][cosineIndex(m)];
+                P& sineSum = p.projection[k][sineIndex(m)];
+                cosineSum = cosineSum + acc[j][4 + 2 * k];
+                sineSum = sineSum + acc[j][5 + 2 * k];
             }
         }
     }
 }
 
-template <typename P, bool kPointLights>
-[[gnu::always_inline]] inline void accumulateSamples(const ChunkGeometry& geometry,
-                                                     const KernelLightSet& lights,
-                                                     const ChunkObservations& observations,
-                                                     int harmonics, NormalEquationSums& sums) {
+// Adds the samples [begin, begin + count) of one slice's pixels to the sums.
+template <class D, bool kPointLights>
+HWY_INLINE void accumulateBlock(const Slice<D>& slice, const KernelLightSet& lights,
+                                const ChunkObservations& observations, int harmonics, int begin,
+                                int count, Partials<PixelLanes<D>>& partial,
+                                SampleTerms<PixelLanes<D>>* terms,
+                                proto::HarmonicRecurrence<PixelLanes<D>>* state,
+                                NormalEquationSums& sums) {
+    using P = PixelLanes<D>;
     const int coefficients = proto::coefficientCount(harmonics);
     const int gramHarmonics = 2 * harmonics;
-    const proto::Vec3<P> normal{loadPack<P>(geometry.normal[0]), loadPack<P>(geometry.normal[1]),
-                                loadPack<P>(geometry.normal[2])};
-    const proto::Vec3<P> view{loadPack<P>(geometry.view[0]), loadPack<P>(geometry.view[1]),
-                              loadPack<P>(geometry.view[2])};
-    proto::Vec3<P> position{P(0), P(0), P(0)};
-    if constexpr (kPointLights) {
-        position = {loadPack<P>(geometry.position[0]), loadPack<P>(geometry.position[1]),
-                    loadPack<P>(geometry.position[2])};
+    for (int i = 0; i < count; ++i) {
+        // The band streams from memory at ~5 GB/s; ask for samples a few ahead.
+        const int ahead = begin + i + kPrefetchDistance;
+        if (ahead < lights.count) {
+            const float* next =
+                observations.values + ahead * observations.sampleStride + slice.first;
+            for (int c = 0; c < kChannels; ++c) {
+                hwy::Prefetch(next + c * observations.channelStride);
+            }
+            if (observations.weights) {
+                hwy::Prefetch(observations.weights + ahead * observations.weightStride +
+                              slice.first);
+            }
+        }
+        terms[i] = sampleTerms<D, kPointLights>(slice, lights, observations, begin + i);
+        new (&state[i]) proto::HarmonicRecurrence<P>(terms[i].cosThetaS);
+        const SampleTerms<P>& t = terms[i];
+        partial.count = partial.count + t.weight;
+        partial.cosine[0] = partial.cosine[0] + t.weight;
+        addProduct(t.weightedLambert, t.lambert, partial.lambertSquare);
+        partial.lambertCosine[0] = partial.lambertCosine[0] + t.weightedLambert;
+        for (int c = 0; c < kChannels; ++c) {
+            addProduct(t.weightedValue[c], t.value[c], partial.squares[c]);
+            addProduct(t.weightedValue[c], t.lambert, partial.projection[c][proto::kLambertIndex]);
+            addProduct(t.weightedValue[c], P(proto::kConstantBasis),
+                       partial.projection[c][proto::kConstantIndex]);
+        }
     }
-    // Float packs keep two harmonics' ten accumulators in registers; double packs are two
-    // registers each, so one.
-    constexpr int kPair = sizeof(typename P::Vector) == sizeof(FloatPack::Vector) ? 2 : 1;
+    int m = 1;
+    for (; m + kHarmonicsPerPass - 1 <= harmonics; m += kHarmonicsPerPass) {
+        accumulateHarmonicGroup<kHarmonicsPerPass, true>(terms, state, count, m, partial);
+    }
+    for (; m <= harmonics; ++m) {
+        accumulateHarmonicGroup<1, true>(terms, state, count, m, partial);
+    }
+    // Products of two harmonics reach 2M: only the plain sums continue.
+    for (; m + 3 <= gramHarmonics; m += 4) {
+        accumulateHarmonicGroup<4, false>(terms, state, count, m, partial);
+    }
+    for (; m <= gramHarmonics; ++m) {
+        accumulateHarmonicGroup<1, false>(terms, state, count, m, partial);
+    }
 
-    // Only the rows this M uses are cleared (the full arrays are sized for kMaxHarmonics);
-    // flushing clears them again after each block.
-    Partials<P> partial;
+    const D d = slice.d;
+    const int first = slice.first;
     for (int k = 0; k <= gramHarmonics; ++k) {
+        flushPartial(d, partial.cosine[k], sums.cosine[k] + first);
+        flushPartial(d, partial.sine[k], sums.sine[k] + first);
+    }
+    for (int k = 0; k <= harmonics; ++k) {
+        flushPartial(d, partial.lambertCosine[k], sums.lambertCosine[k] + first);
+        flushPartial(d, partial.lambertSine[k], sums.lambertSine[k] + first);
+    }
+    flushPartial(d, partial.lambertSquare, sums.lambertSquare + first);
+    for (int c = 0; c < kChannels; ++c) {
+        for (int j = 0; j < coefficients; ++j) {
+            flushPartial(d, partial.projection[c][j], sums.projection[c][j] + first);
+        }
+        flushPartial(d, partial.squares[c], sums.squares[c] + first);
+    }
+    flushPartial(d, partial.count, sums.count + first);
+}
+
+// The chunk's kLanes pixels in slices of Lanes(d): one vector per value, never a pair of
+// registers (as 8-lane vectors on AVX2 the loops spilled them to the stack). Each block of
+// samples is read by every slice while it is in L1.
+template <class D, bool kPointLights>
+HWY_INLINE void accumulateChunk(D d, const ChunkGeometry& geometry, const KernelLightSet& lights,
+                                const ChunkObservations& observations, int harmonics,
+                                NormalEquationSums& sums) {
+    using P = PixelLanes<D>;
+    static_assert(kLanes % hn::MaxLanes(D()) == 0, "a chunk is a whole number of slices");
+    const int sliceLanes = static_cast<int>(hn::Lanes(d));
+    // Only the rows this M uses are cleared (the arrays are sized for kMaxHarmonics); flushing
+    // clears them again after each block.
+    Partials<P> partial;
+    for (int k = 0; k <= 2 * harmonics; ++k) {
         partial.cosine[k] = P(0);
         partial.sine[k] = P(0);
     }
-    for (int m = 0; m <= harmonics; ++m) {
-        partial.lambertCosine[m] = P(0);
-        partial.lambertSine[m] = P(0);
+    for (int k = 0; k <= harmonics; ++k) {
+        partial.lambertCosine[k] = P(0);
+        partial.lambertSine[k] = P(0);
     }
     for (int c = 0; c < kChannels; ++c) {
-        for (int j = 0; j < coefficients; ++j) {
+        for (int j = 0; j < proto::coefficientCount(harmonics); ++j) {
             partial.projection[c][j] = P(0);
         }
         partial.squares[c] = P(0);
@@ -204,96 +389,50 @@ template <typename P, bool kPointLights>
     SampleTerms<P> terms[kSampleBlock];
     alignas(64) unsigned char stateStorage[kSampleBlock * sizeof(proto::HarmonicRecurrence<P>)];
     auto* state = reinterpret_cast<proto::HarmonicRecurrence<P>*>(stateStorage);
-    for (int blockBegin = 0; blockBegin < lights.count; blockBegin += kSampleBlock) {
-        const int count = std::min(lights.count - blockBegin, kSampleBlock);
-        for (int i = 0; i < count; ++i) {
-            // The band streams from memory at ~5 GB/s; ask for samples a few ahead.
-            const int ahead = blockBegin + i + kPrefetchDistance;
-            if (ahead < lights.count) {
-                const float* next = observations.values + ahead * observations.sampleStride;
-                for (std::size_t offset = 0; offset < 3 * kLanes; offset += 16) {
-                    __builtin_prefetch(next + offset);
-                }
-                if (observations.weights) {
-                    __builtin_prefetch(observations.weights + ahead * observations.weightStride);
-                }
-            }
-            terms[i] = sampleTerms<P, kPointLights>(normal, view, position, lights, observations,
-                                                    blockBegin + i, false);
-            new (&state[i]) proto::HarmonicRecurrence<P>(terms[i].cosThetaS);
-            const SampleTerms<P>& t = terms[i];
-            partial.count += t.weight;
-            partial.cosine[0] += t.weight;
-            partial.lambertSquare += t.weightedLambert * t.lambert;
-            partial.lambertCosine[0] += t.weightedLambert;
-            for (int c = 0; c < kChannels; ++c) {
-                partial.squares[c] += t.weightedValue[c] * t.value[c];
-                partial.projection[c][proto::kLambertIndex] += t.weightedValue[c] * t.lambert;
-                partial.projection[c][proto::kConstantIndex] +=
-                    t.weightedValue[c] * P(proto::kConstantBasis);
-            }
+    for (int begin = 0; begin < lights.count; begin += kSampleBlock) {
+        const int count = std::min(lights.count - begin, kSampleBlock);
+        for (int first = 0; first < kLanes; first += sliceLanes) {
+            const Slice<D> slice = loadSlice<D, kPointLights>(d, geometry, first);
+            accumulateBlock<D, kPointLights>(slice, lights, observations, harmonics, begin, count,
+                                             partial, terms, state, sums);
         }
-        int m = 1;
-        for (; m + kPair - 1 <= harmonics; m += kPair) {
-            accumulateHarmonicGroup<kPair, true>(terms, state, count, m, partial);
-        }
-        for (; m <= harmonics; ++m) {
-            accumulateHarmonicGroup<1, true>(terms, state, count, m, partial);
-        }
-        // Products of two harmonics reach 2M: only the plain sums continue.
-        for (; m + 3 <= gramHarmonics; m += 4) {
-            accumulateHarmonicGroup<4, false>(terms, state, count, m, partial);
-        }
-        for (; m <= gramHarmonics; ++m) {
-            accumulateHarmonicGroup<1, false>(terms, state, count, m, partial);
-        }
-        flushRows(partial.cosine, sums.cosine, gramHarmonics + 1);
-        flushRows(partial.sine, sums.sine, gramHarmonics + 1);
-        flushRows(partial.lambertCosine, sums.lambertCosine, harmonics + 1);
-        flushRows(partial.lambertSine, sums.lambertSine, harmonics + 1);
-        flushOne(partial.lambertSquare, sums.lambertSquare);
-        for (int c = 0; c < kChannels; ++c) {
-            flushRows(partial.projection[c], sums.projection[c], coefficients);
-            flushOne(partial.squares[c], sums.squares[c]);
-        }
-        flushOne(partial.count, sums.count);
     }
 }
 
-VPE_KERNEL_CLONES
-void accumulateFast(const ChunkGeometry& geometry, const KernelLightSet& lights,
-                    const ChunkObservations& observations, int harmonics,
-                    NormalEquationSums& sums) {
+HWY_FLATTEN void accumulateInFloatBlocks(const ChunkGeometry& geometry,
+                                         const KernelLightSet& lights,
+                                         const ChunkObservations& observations, int harmonics,
+                                         NormalEquationSums& sums) {
+    using D = hn::ScalableTag<float>;
     if (lights.point) {
-        accumulateSamples<FloatPack, true>(geometry, lights, observations, harmonics, sums);
+        accumulateChunk<D, true>(D(), geometry, lights, observations, harmonics, sums);
     } else {
-        accumulateSamples<FloatPack, false>(geometry, lights, observations, harmonics, sums);
+        accumulateChunk<D, false>(D(), geometry, lights, observations, harmonics, sums);
     }
 }
 
-VPE_KERNEL_CLONES
-void accumulateExact(const ChunkGeometry& geometry, const KernelLightSet& lights,
-                     const ChunkObservations& observations, int harmonics,
-                     NormalEquationSums& sums) {
+HWY_FLATTEN void accumulateInDouble(const ChunkGeometry& geometry, const KernelLightSet& lights,
+                                    const ChunkObservations& observations, int harmonics,
+                                    NormalEquationSums& sums) {
+    using D = hn::ScalableTag<double>;
     if (lights.point) {
-        accumulateSamples<DoublePack, true>(geometry, lights, observations, harmonics, sums);
+        accumulateChunk<D, true>(D(), geometry, lights, observations, harmonics, sums);
     } else {
-        accumulateSamples<DoublePack, false>(geometry, lights, observations, harmonics, sums);
+        accumulateChunk<D, false>(D(), geometry, lights, observations, harmonics, sums);
     }
 }
 
 // One entry of the normal matrix from the sums (product-to-sum identities), for T = double
-// (one lane) or DoublePack (all lanes); get(row) reads a [kLanes] row of the sums.
+// (one lane) or PixelLanes (a slice); get(row) reads a [kLanes] row of the sums.
 template <typename T, typename Get>
-[[gnu::always_inline]] inline T normalMatrixEntry(const NormalEquationSums& sums, int i, int j,
-                                                  Get get) {
+HWY_INLINE T normalMatrixEntry(const NormalEquationSums& sums, int i, int j, Get get) {
     if (i > j) {
         std::swap(i, j);
     }
     constexpr double kHalf = 0.5;
     const T r2 = T(proto::kConstantBasis);
-    auto cosSum = [&](int k) { return get(sums.cosine[k < 0 ? -k : k]); };
-    auto sinSum = [&](int k) {
+    auto cosSum = [&](int k) HWY_ATTR { return get(sums.cosine[k < 0 ? -k : k]); };
+    auto sinSum = [&](int k) HWY_ATTR {
         if (k == 0) {
             return T(0.0);
         }
@@ -330,12 +469,187 @@ template <typename T, typename Get>
     return (sinSum(q + p) + sinSum(q - p)) * T(kHalf);
 }
 
-}  // namespace
+HWY_FLATTEN void assembleLaneMatrix(const NormalEquationSums& sums, int lane, int harmonics,
+                                    double* matrix) {
+    const int k = proto::coefficientCount(harmonics);
+    auto get = [lane](const double(&row)[kLanes]) { return row[lane]; };
+    for (int i = 0; i < k; ++i) {
+        for (int j = 0; j < k; ++j) {
+            matrix[i * k + j] = normalMatrixEntry<double>(sums, i, j, get);
+        }
+    }
+}
+
+// Solves the pixels [first, first + Lanes(d)) of the chunk: one vector of doubles per value.
+template <class D>
+HWY_INLINE void solveSlice(D d, const NormalEquationSums& sums, int harmonics, double lambda,
+                           int first, ChunkSolution& solution) {
+    using P = PixelLanes<D>;
+    const int sliceLanes = static_cast<int>(hn::Lanes(d));
+    const int k = proto::coefficientCount(harmonics);
+    auto get = [d, first](const double(&row)[kLanes])
+                   HWY_ATTR { return P(hn::LoadU(d, row + first)); };
+
+    P factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
+    P diagonal[kMaxCoefficients];
+    P trace(0.0);
+    for (int i = 0; i < k; ++i) {
+        for (int j = 0; j <= i; ++j) {
+            factor[packedIndex(i, j)] = normalMatrixEntry<P>(sums, i, j, get);
+        }
+        trace = trace + factor[packedIndex(i, i)];
+    }
+    const P ridge = trace * P(sums.roundingLevel / k);
+    for (int i = 0; i < k; ++i) {
+        factor[packedIndex(i, i)] =
+            factor[packedIndex(i, i)] + ridge + P(lambda * proto::smoothnessWeight(i));
+        diagonal[i] = factor[packedIndex(i, i)];
+    }
+
+    // Left-looking Cholesky. Each dot product is a chain of dependent FMAs, so four rows
+    // are reduced together to keep the FMA units busy.
+    auto singular = hn::FirstN(d, 0);
+    P inverseDiagonal[kMaxCoefficients];
+    for (int j = 0; j < k; ++j) {
+        const P* rowJ = &factor[packedIndex(j, 0)];
+        P pivot = rowJ[j];
+        for (int p = 0; p < j; ++p) {
+            pivot = pivot - rowJ[p] * rowJ[p];
+        }
+        // A pivot that cancels to rounding noise (or is NaN) means the samples do not determine
+        // this coefficient; substitute 1 to keep the arithmetic finite and mark the lane.
+        const auto undetermined =
+            hn::Not(hn::Gt(pivot.v, hn::Mul(hn::Set(d, 1e-11), hn::Abs(diagonal[j].v))));
+        singular = hn::Or(singular, undetermined);
+        pivot = P(hn::IfThenElse(undetermined, hn::Set(d, 1.0), pivot.v));
+        const P root = sqrt(pivot);
+        inverseDiagonal[j] = P(1.0) / root;
+        factor[packedIndex(j, j)] = root;
+        int i = j + 1;
+        for (; i + 3 < k; i += 4) {
+            P* r0 = &factor[packedIndex(i, 0)];
+            P* r1 = &factor[packedIndex(i + 1, 0)];
+            P* r2 = &factor[packedIndex(i + 2, 0)];
+            P* r3 = &factor[packedIndex(i + 3, 0)];
+            P v0 = r0[j], v1 = r1[j], v2 = r2[j], v3 = r3[j];
+            for (int p = 0; p < j; ++p) {
+                const P l = rowJ[p];
+                v0 = v0 - r0[p] * l;
+                v1 = v1 - r1[p] * l;
+                v2 = v2 - r2[p] * l;
+                v3 = v3 - r3[p] * l;
+            }
+            r0[j] = v0 * inverseDiagonal[j];
+            r1[j] = v1 * inverseDiagonal[j];
+            r2[j] = v2 * inverseDiagonal[j];
+            r3[j] = v3 * inverseDiagonal[j];
+        }
+        for (; i < k; ++i) {
+            P* row = &factor[packedIndex(i, 0)];
+            P value = row[j];
+            for (int p = 0; p < j; ++p) {
+                value = value - row[p] * rowJ[p];
+            }
+            row[j] = value * inverseDiagonal[j];
+        }
+    }
+
+    // Both triangular solves run the three channels side by side (independent chains).
+    P x[kChannels][kMaxCoefficients];
+    for (int i = 0; i < k; ++i) {  // L z = b
+        const P* row = &factor[packedIndex(i, 0)];
+        P v[kChannels];
+        for (int c = 0; c < kChannels; ++c) {
+            v[c] = get(sums.projection[c][i]);
+        }
+        for (int p = 0; p < i; ++p) {
+            for (int c = 0; c < kChannels; ++c) {
+                v[c] = v[c] - row[p] * x[c][p];
+            }
+        }
+        for (int c = 0; c < kChannels; ++c) {
+            x[c][i] = v[c] * inverseDiagonal[i];
+        }
+    }
+    for (int i = k - 1; i >= 0; --i) {  // Lᵀ x = z
+        P v[kChannels] = {x[0][i], x[1][i], x[2][i]};
+        for (int p = i + 1; p < k; ++p) {
+            const P l = factor[packedIndex(p, i)];
+            for (int c = 0; c < kChannels; ++c) {
+                v[c] = v[c] - l * x[c][p];
+            }
+        }
+        for (int c = 0; c < kChannels; ++c) {
+            x[c][i] = v[c] * inverseDiagonal[i];
+        }
+    }
+
+    // The lanes' values, one slice of the chunk at a time, for the per-pixel outputs.
+    HWY_ALIGN double lanes[kLanes];
+    hn::StoreU(hn::VecFromMask(d, singular), d, lanes);
+    for (int lane = 0; lane < sliceLanes; ++lane) {
+        solution.valid[first + lane] = lanes[lane] == 0.0 && sums.count[first + lane] >= k - 0.5;
+    }
+    for (int c = 0; c < kChannels; ++c) {
+        for (int i = 0; i < k; ++i) {
+            hn::StoreU(x[c][i].v, d, lanes);
+            for (int lane = 0; lane < sliceLanes; ++lane) {
+                // Only the 2M + 2 coefficients of this M are written; readers never look
+                // further.
+                solution.coefficients[first + lane][c][i] =
+                    solution.valid[first + lane] ? static_cast<float>(lanes[lane]) : 0.0f;
+            }
+        }
+        // Residual from the sums: with (G + λR + δI)x = b, Σ r² = Σy² − xᵀb − xᵀ(λR + δI)x.
+        P explained(0.0), penalty(0.0);
+        for (int i = 0; i < k; ++i) {
+            explained = explained + x[c][i] * get(sums.projection[c][i]);
+            penalty =
+                penalty + x[c][i] * x[c][i] * (P(lambda * proto::smoothnessWeight(i)) + ridge);
+        }
+        const P residual = get(sums.squares[c]) - explained - penalty;
+        hn::StoreU(residual.v, d, lanes);
+        for (int lane = 0; lane < sliceLanes; ++lane) {
+            solution.rms[first + lane][c] =
+                solution.valid[first + lane]
+                    ? static_cast<float>(
+                          std::sqrt(std::max(lanes[lane], 0.0) / sums.count[first + lane]))
+                    : 0.0f;
+        }
+    }
+}
+
+HWY_FLATTEN void solveChunk(const NormalEquationSums& sums, int harmonics, double lambda,
+                            ChunkSolution& solution) {
+    using D = hn::ScalableTag<double>;
+    const D d;
+    static_assert(kLanes % hn::MaxLanes(D()) == 0, "a chunk is a whole number of slices");
+    for (int first = 0; first < kLanes; first += static_cast<int>(hn::Lanes(d))) {
+        solveSlice(d, sums, harmonics, lambda, first, solution);
+    }
+}
+
+std::int64_t compiledTarget() {
+    return HWY_TARGET;
+}
+
+}  // namespace vpe::fit::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+
+namespace vpe::fit {
+
+HWY_EXPORT(accumulateInFloatBlocks);
+HWY_EXPORT(accumulateInDouble);
+HWY_EXPORT(assembleLaneMatrix);
+HWY_EXPORT(solveChunk);
+HWY_EXPORT(compiledTarget);
 
 void accumulateNormalEquations(const ChunkGeometry& geometry, const KernelLightSet& lights,
                                const ChunkObservations& observations, int harmonics,
                                AccumulationPrecision precision, NormalEquationSums& sums) {
-    sums.harmonics = std::clamp(harmonics, 0, kMaxHarmonics);
+    sums.harmonics = std::clamp(harmonics, 0, proto::kMaxHarmonics);
     // Clear only what this M reads and writes; the arrays are sized for kMaxHarmonics.
     const int m = sums.harmonics;
     const auto clear = [](double(&row)[kLanes]) { std::fill(row, row + kLanes, 0.0); };
@@ -357,172 +671,29 @@ void accumulateNormalEquations(const ChunkGeometry& geometry, const KernelLightS
     clear(sums.count);
     sums.roundingLevel = precision == AccumulationPrecision::kFloatBlocks ? 1e-7 : 1e-13;
     if (precision == AccumulationPrecision::kFloatBlocks) {
-        accumulateFast(geometry, lights, observations, sums.harmonics, sums);
+        HWY_DYNAMIC_DISPATCH(accumulateInFloatBlocks)(geometry, lights, observations, m, sums);
     } else {
-        accumulateExact(geometry, lights, observations, sums.harmonics, sums);
+        HWY_DYNAMIC_DISPATCH(accumulateInDouble)(geometry, lights, observations, m, sums);
     }
 }
 
 void assembleNormalMatrix(const NormalEquationSums& sums, int lane, int harmonics, double* matrix) {
-    const int k = proto::coefficientCount(harmonics);
-    auto get = [lane](const double(&row)[kLanes]) { return row[lane]; };
-    for (int i = 0; i < k; ++i) {
-        for (int j = 0; j < k; ++j) {
-            matrix[i * k + j] = normalMatrixEntry<double>(sums, i, j, get);
-        }
-    }
+    HWY_DYNAMIC_DISPATCH(assembleLaneMatrix)(sums, lane, harmonics, matrix);
 }
 
-// Lower triangle, packed row by row: the whole factor of a 22-coefficient model stays in L1.
-constexpr int packedIndex(int i, int j) {
-    return i * (i + 1) / 2 + j;
-}
-
-namespace {
-
-// Solves kHalfLanes lanes from `first` on. Two halves of one zmm of doubles each, not one
-// 16-lane pack: the 16-lane form kept two registers per value and spilled most of them, and
-// the solve took a quarter of the fit's time.
-using HalfPack = simd::Pack<double, kHalfLanes>;
-
-[[gnu::always_inline]] inline void solveLanes(const NormalEquationSums& sums, int harmonics,
-                                              double lambda, int first, ChunkSolution& solution) {
-    const int k = proto::coefficientCount(harmonics);
-    auto get = [first](const double(&row)[kLanes]) __attribute__((always_inline)) {
-        return HalfPack::load(row + first);
-    };
-
-    HalfPack factor[kMaxCoefficients * (kMaxCoefficients + 1) / 2];
-    HalfPack diagonal[kMaxCoefficients];
-    HalfPack trace(0.0);
-    for (int i = 0; i < k; ++i) {
-        for (int j = 0; j <= i; ++j) {
-            factor[packedIndex(i, j)] = normalMatrixEntry<HalfPack>(sums, i, j, get);
-        }
-        trace = trace + factor[packedIndex(i, i)];
-    }
-    const HalfPack ridge = trace * HalfPack(sums.roundingLevel / k);
-    for (int i = 0; i < k; ++i) {
-        factor[packedIndex(i, i)] =
-            factor[packedIndex(i, i)] + ridge + HalfPack(lambda * proto::smoothnessWeight(i));
-        diagonal[i] = factor[packedIndex(i, i)];
-    }
-
-    // Left-looking Cholesky. Each dot product is a chain of dependent FMAs, so four rows
-    // are reduced together to keep the FMA units busy.
-    bool singular[kHalfLanes] = {};
-    HalfPack inverseDiagonal[kMaxCoefficients];
-    for (int j = 0; j < k; ++j) {
-        const HalfPack* rowJ = &factor[packedIndex(j, 0)];
-        HalfPack pivot = rowJ[j];
-        for (int p = 0; p < j; ++p) {
-            pivot = pivot - rowJ[p] * rowJ[p];
-        }
-        // A pivot that cancels to rounding noise means the samples do not determine this
-        // coefficient; substitute 1 to keep the arithmetic finite and mark the lane.
-        for (int lane = 0; lane < kHalfLanes; ++lane) {
-            if (!(pivot.v[lane] > 1e-11 * std::fabs(diagonal[j][lane]))) {
-                singular[lane] = true;
-                pivot.v[lane] = 1.0;
-            }
-        }
-        const HalfPack root = sqrt(pivot);
-        inverseDiagonal[j] = HalfPack(1.0) / root;
-        factor[packedIndex(j, j)] = root;
-        int i = j + 1;
-        for (; i + 3 < k; i += 4) {
-            HalfPack* r0 = &factor[packedIndex(i, 0)];
-            HalfPack* r1 = &factor[packedIndex(i + 1, 0)];
-            HalfPack* r2 = &factor[packedIndex(i + 2, 0)];
-            HalfPack* r3 = &factor[packedIndex(i + 3, 0)];
-            HalfPack v0 = r0[j], v1 = r1[j], v2 = r2[j], v3 = r3[j];
-            for (int p = 0; p < j; ++p) {
-                const HalfPack l = rowJ[p];
-                v0 = v0 - r0[p] * l;
-                v1 = v1 - r1[p] * l;
-                v2 = v2 - r2[p] * l;
-                v3 = v3 - r3[p] * l;
-            }
-            r0[j] = v0 * inverseDiagonal[j];
-            r1[j] = v1 * inverseDiagonal[j];
-            r2[j] = v2 * inverseDiagonal[j];
-            r3[j] = v3 * inverseDiagonal[j];
-        }
-        for (; i < k; ++i) {
-            HalfPack* row = &factor[packedIndex(i, 0)];
-            HalfPack value = row[j];
-            for (int p = 0; p < j; ++p) {
-                value = value - row[p] * rowJ[p];
-            }
-            row[j] = value * inverseDiagonal[j];
-        }
-    }
-
-    // Both triangular solves run the three channels side by side (independent chains).
-    HalfPack x[kChannels][kMaxCoefficients];
-    for (int i = 0; i < k; ++i) {  // L z = b
-        const HalfPack* row = &factor[packedIndex(i, 0)];
-        HalfPack v[kChannels];
-        for (int c = 0; c < kChannels; ++c) {
-            v[c] = get(sums.projection[c][i]);
-        }
-        for (int p = 0; p < i; ++p) {
-            for (int c = 0; c < kChannels; ++c) {
-                v[c] = v[c] - row[p] * x[c][p];
-            }
-        }
-        for (int c = 0; c < kChannels; ++c) {
-            x[c][i] = v[c] * inverseDiagonal[i];
-        }
-    }
-    for (int i = k - 1; i >= 0; --i) {  // Lᵀ x = z
-        HalfPack v[kChannels] = {x[0][i], x[1][i], x[2][i]};
-        for (int p = i + 1; p < k; ++p) {
-            const HalfPack l = factor[packedIndex(p, i)];
-            for (int c = 0; c < kChannels; ++c) {
-                v[c] = v[c] - l * x[c][p];
-            }
-        }
-        for (int c = 0; c < kChannels; ++c) {
-            x[c][i] = v[c] * inverseDiagonal[i];
-        }
-    }
-
-    for (int lane = 0; lane < kHalfLanes; ++lane) {
-        solution.valid[first + lane] = !singular[lane] && sums.count[first + lane] >= k - 0.5;
-    }
-    for (int c = 0; c < kChannels; ++c) {
-        // Residual from the sums: with (G + λR + δI)x = b, Σ r² = Σy² − xᵀb − xᵀ(λR + δI)x.
-        HalfPack explained(0.0), penalty(0.0);
-        for (int i = 0; i < k; ++i) {
-            explained = explained + x[c][i] * get(sums.projection[c][i]);
-            penalty = penalty +
-                      x[c][i] * x[c][i] * (HalfPack(lambda * proto::smoothnessWeight(i)) + ridge);
-        }
-        const HalfPack residual = get(sums.squares[c]) - explained - penalty;
-        for (int lane = 0; lane < kHalfLanes; ++lane) {
-            const bool valid = solution.valid[first + lane];
-            // Only the 2M + 2 coefficients of this M are written; readers never look further.
-            for (int i = 0; i < k; ++i) {
-                solution.coefficients[first + lane][c][i] =
-                    valid ? static_cast<float>(x[c][i][lane]) : 0.0f;
-            }
-            solution.rms[first + lane][c] =
-                valid ? static_cast<float>(
-                            std::sqrt(std::max(residual[lane], 0.0) / sums.count[first + lane]))
-                      : 0.0f;
-        }
-    }
-}
-
-}  // namespace
-
-VPE_KERNEL_CLONES
 void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double lambda,
                           ChunkSolution& solution) {
-    harmonics = std::min(harmonics, sums.harmonics);
-    solveLanes(sums, harmonics, lambda, 0, solution);
-    solveLanes(sums, harmonics, lambda, kHalfLanes, solution);
+    HWY_DYNAMIC_DISPATCH(solveChunk)(sums, std::min(harmonics, sums.harmonics), lambda, solution);
+}
+
+std::vector<std::int64_t> kernelTargets() {
+    return hwy::SupportedAndGeneratedTargets();
+}
+
+std::int64_t activeKernelTarget() {
+    return HWY_DYNAMIC_DISPATCH(compiledTarget)();
 }
 
 }  // namespace vpe::fit
+
+#endif  // HWY_ONCE

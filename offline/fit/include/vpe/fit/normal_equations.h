@@ -5,14 +5,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "vpe/proto/fourier_brdf.h"
 
 namespace vpe::fit {
 
-inline constexpr int kLanes = 16;  // pixels per kernel call (one AVX-512 float vector)
-// Half a chunk: the lanes of one AVX-512 vector of doubles, what the double-precision kernels
-// take at a time (a 16-lane double vector kept its values on the stack).
+// Pixels per kernel call. The kernels take them in slices of one vector of the CPU's SIMD target
+// (16 floats on AVX-512, 8 on AVX2, 4 on SSE4 and NEON).
+inline constexpr int kLanes = 16;
+// Half a chunk: the lanes of one AVX-512 vector of doubles, what the extended fit's
+// double-precision lane kernels take at a time (a 16-lane double vector kept its values on the
+// stack).
 inline constexpr int kHalfLanes = kLanes / 2;
 inline constexpr int kChannels = 3;  // RGB
 inline constexpr int kMaxCoefficients = proto::coefficientCount(proto::kMaxHarmonics);
@@ -99,5 +103,12 @@ void assembleNormalMatrix(const NormalEquationSums& sums, int lane, int harmonic
 // invalid when it has fewer than 2M + 2 samples or a singular system; its output is zero.
 void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double lambda,
                           ChunkSolution& solution);
+
+// The SIMD targets (Highway's HWY_* bits) the kernels above are compiled for and this CPU
+// runs, best first. The best one runs unless hwy::SetSupportedTargetsForTest narrows the
+// choice, as the tests and the benchmark do to run each.
+std::vector<std::int64_t> kernelTargets();
+// The target the kernels dispatch to now.
+std::int64_t activeKernelTarget();
 
 }  // namespace vpe::fit
