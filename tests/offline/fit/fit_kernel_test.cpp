@@ -1,11 +1,16 @@
 // SPDX-License-Identifier: MIT
-// The product-to-sum normal-equation kernel against the textbook fit.
+// The product-to-sum normal-equation kernel against the textbook fit, on every SIMD target the
+// kernel is compiled for and this CPU runs.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 
 #include "vpe/fit/naive_fourier_fit.h"
 #include "vpe/fit/normal_equations.h"
@@ -129,7 +134,47 @@ std::vector<proto::Vec3d> dome() {
     return testing::domeLights({10, 30, 50, 70, 90}, 12);
 }
 
-TEST(NormalEquations, ProductToSumMatrixEqualsDesignGram) {
+// Runs each test with the kernels restricted to one SIMD target (AVX-512, AVX2, SSE4, NEON,
+// the scalar fallback, ...): every target must give the textbook fit's coefficients.
+class NormalEquations : public ::testing::TestWithParam<std::int64_t> {
+protected:
+    void SetUp() override {
+        hwy::SetSupportedTargetsForTest(GetParam());
+        ASSERT_EQ(activeKernelTarget(), GetParam()) << "the kernels did not switch target";
+    }
+    void TearDown() override { hwy::SetSupportedTargetsForTest(0); }
+};
+
+INSTANTIATE_TEST_SUITE_P(FitKernelTargets, NormalEquations, ::testing::ValuesIn(kernelTargets()),
+                         [](const ::testing::TestParamInfo<std::int64_t>& target) {
+                             return std::string(hwy::TargetName(target.param));
+                         });
+
+// A build that compiled only the baseline would still pass the tests above, on one target.
+TEST(FitKernelTargets, EveryVectorUnitOfThisCpuHasItsKernel) {
+    const std::vector<std::int64_t> targets = kernelTargets();
+    const auto compiled = [&](std::int64_t target) {
+        return std::find(targets.begin(), targets.end(), target) != targets.end();
+    };
+#if defined(__x86_64__)
+    if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+        __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("f16c")) {
+        EXPECT_TRUE(compiled(HWY_AVX2));
+    }
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw")) {
+        EXPECT_TRUE(compiled(HWY_AVX3) || compiled(HWY_AVX3_DL));
+    }
+    if (__builtin_cpu_supports("sse4.2")) {
+        EXPECT_TRUE(compiled(HWY_SSE4));
+    }
+#elif defined(__aarch64__)
+    EXPECT_TRUE(compiled(HWY_NEON));
+#endif
+    EXPECT_EQ(activeKernelTarget(), targets.front()) << "the best target runs by default";
+}
+
+TEST_P(NormalEquations, ProductToSumMatrixEqualsDesignGram) {
     const KernelFixture f(10, dome(), 0.4, 0.0, 1);
     auto sums = std::make_unique<NormalEquationSums>();
     accumulateNormalEquations(f.geometry, f.lightSet(), f.observations(), 10,
@@ -158,7 +203,7 @@ TEST(NormalEquations, ProductToSumMatrixEqualsDesignGram) {
     }
 }
 
-TEST(NormalEquations, FastAndExactMatchTheNaiveFitWhenRegularized) {
+TEST_P(NormalEquations, FastAndExactMatchTheNaiveFitWhenRegularized) {
     const KernelFixture f(10, dome(), 0.4, 0.01, 2);
     const auto fast = f.solve(3.14, AccumulationPrecision::kFloatBlocks);
     const auto exact = f.solve(3.14, AccumulationPrecision::kDouble);
@@ -176,7 +221,7 @@ TEST(NormalEquations, FastAndExactMatchTheNaiveFitWhenRegularized) {
     }
 }
 
-TEST(NormalEquations, NoiselessDataFromKnownCoefficientsIsRecovered) {
+TEST_P(NormalEquations, NoiselessDataFromKnownCoefficientsIsRecovered) {
     // λ = 0 over lights on the whole sphere: the system is exact, and the recovery is limited
     // only by the conditioning of the basis, which grows fast with M (cos mθ and sin mθ both
     // span functions on [0, π]); M = 4 keeps it well within 1e-5.
@@ -195,7 +240,7 @@ TEST(NormalEquations, NoiselessDataFromKnownCoefficientsIsRecovered) {
     }
 }
 
-TEST(NormalEquations, PointLightsNormalizeByInverseSquareDistance) {
+TEST_P(NormalEquations, PointLightsNormalizeByInverseSquareDistance) {
     const KernelFixture f(3, testing::sphereLights(80), 0.5, 0.0, 4, /*pointLights=*/true);
     const auto exact = f.solve(0.0, AccumulationPrecision::kDouble);
     for (int lane = 0; lane < kLanes; ++lane) {
@@ -207,7 +252,7 @@ TEST(NormalEquations, PointLightsNormalizeByInverseSquareDistance) {
     }
 }
 
-TEST(NormalEquations, HugeLambdaDrivesEveryHarmonicToZero) {
+TEST_P(NormalEquations, HugeLambdaDrivesEveryHarmonicToZero) {
     const KernelFixture f(10, dome(), 0.4, 0.01, 5);
     const auto solution = f.solve(1e12, AccumulationPrecision::kDouble);
     for (int lane = 0; lane < kLanes; ++lane) {
@@ -224,7 +269,7 @@ TEST(NormalEquations, HugeLambdaDrivesEveryHarmonicToZero) {
     }
 }
 
-TEST(NormalEquations, ZeroWeightSamplesAreIgnored) {
+TEST_P(NormalEquations, ZeroWeightSamplesAreIgnored) {
     KernelFixture f(5, dome(), 0.3, 0.01, 6);
     // Corrupt every third sample, then drop it: the fit must equal the naive fit without it.
     for (int s = 0; s < f.samples; s += 3) {
@@ -244,7 +289,7 @@ TEST(NormalEquations, ZeroWeightSamplesAreIgnored) {
     }
 }
 
-TEST(NormalEquations, TooFewSamplesMarkTheLaneInvalidNotNaN) {
+TEST_P(NormalEquations, TooFewSamplesMarkTheLaneInvalidNotNaN) {
     KernelFixture f(10, dome(), 0.3, 0.0, 7);
     for (int s = 5; s < f.samples; ++s) {
         f.weights[static_cast<std::size_t>(s) * kLanes] = 0.0f;  // lane 0 keeps 5 samples
@@ -260,7 +305,7 @@ TEST(NormalEquations, TooFewSamplesMarkTheLaneInvalidNotNaN) {
     }
 }
 
-TEST(NormalEquations, ResidualRmsMatchesDirectComputation) {
+TEST_P(NormalEquations, ResidualRmsMatchesDirectComputation) {
     const KernelFixture f(6, dome(), 0.4, 0.02, 8);
     const auto solution = f.solve(2.0, AccumulationPrecision::kDouble);
     const int k = proto::coefficientCount(6);
