@@ -2,7 +2,9 @@
 // Fitting speed: N = 330 lights (the paper's rig), M = 10, RGB, a normal per pixel, on all
 // cores. BM_FitBand runs `vpe fit`'s own band stage (BandFitter); BM_NaivePerPixel is the
 // textbook per-pixel fit (build A, AᵀA + λR, LDLT) on the same threads. The run ends with
-// the ratio of the two. Decoding is not included: see vpe_fit_memory_benchmark for the
+// the ratio of the two. BM_FitBandOnTarget/<target> runs the band stage on each SIMD target the
+// kernels are compiled for and this CPU runs (AVX3 = AVX-512, AVX2, SSE4, NEON, ...), each
+// against the same naive rate. Decoding is not included: see vpe_fit_memory_benchmark for the
 // end-to-end figure.
 #include <cmath>
 #include <cstdio>
@@ -11,11 +13,13 @@
 #include <string>
 
 #include <benchmark/benchmark.h>
+#include <hwy/targets.h>
 
 #include "vpe/capture/surface_geometry.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/fit/band_fitter.h"
 #include "vpe/fit/naive_fourier_fit.h"
+#include "vpe/fit/normal_equations.h"
 
 #include "paper_rig.h"
 
@@ -103,6 +107,27 @@ void BM_FitBand(benchmark::State& state) {
     measureBandFit(state, sharedBand(), fit::BandFitSettings{});
 }
 
+// The band stage with the kernels restricted to one SIMD target.
+void fitBandOnTarget(benchmark::State& state, std::int64_t target) {
+    hwy::SetSupportedTargetsForTest(target);
+    if (fit::activeKernelTarget() == target) {
+        measureBandFit(state, sharedBand(), fit::BandFitSettings{});
+    } else {
+        state.SkipWithError("the kernels did not switch to this target");
+    }
+    hwy::SetSupportedTargetsForTest(0);
+}
+
+void registerTargetBenchmarks() {
+    for (const std::int64_t target : fit::kernelTargets()) {
+        const std::string name = std::string("BM_FitBandOnTarget/") + hwy::TargetName(target);
+        benchmark::RegisterBenchmark(name.c_str(), fitBandOnTarget, target)
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(2.0);
+    }
+}
+
 // The extended fit on a narrower band of the same kind: with the normal search it runs 13
 // alternating fits per texel.
 void BM_FitBandExtended(benchmark::State& state) {
@@ -170,8 +195,13 @@ public:
     void Finalize() override {
         ConsoleReporter::Finalize();
         double fast = 0, naive = 0, extended = 0, refining = 0;
+        std::map<std::string, double> onTarget;  // by target name
+        const std::string targetPrefix = "BM_FitBandOnTarget/";
         for (const auto& [name, rate] : rates_) {
-            if (name.rfind("BM_FitBand/", 0) == 0) {
+            if (name.rfind(targetPrefix, 0) == 0) {
+                const std::size_t end = name.find('/', targetPrefix.size());
+                onTarget[name.substr(targetPrefix.size(), end - targetPrefix.size())] = rate;
+            } else if (name.rfind("BM_FitBand/", 0) == 0) {
                 fast = rate;
             } else if (name.rfind("BM_NaivePerPixel", 0) == 0) {
                 naive = rate;
@@ -185,6 +215,12 @@ public:
             std::printf(
                 "\nfit: %.0f pixels/s; naive per-pixel baseline: %.0f pixels/s; ratio %.1fx\n",
                 fast, naive, fast / naive);
+        }
+        for (const auto& [target, rate] : onTarget) {
+            if (naive > 0) {
+                std::printf("fit on %s: %.0f pixels/s; ratio %.1fx to the naive fit\n",
+                            target.c_str(), rate, rate / naive);
+            }
         }
         if (extended > 0 && refining > 0) {
             std::printf(
@@ -203,6 +239,7 @@ private:
 
 int main(int argc, char** argv) {
     benchmark::Initialize(&argc, argv);
+    vpe::registerTargetBenchmarks();
     vpe::RatioReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
     benchmark::Shutdown();
