@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Pack<S, L>: L lanes of scalar S in one GCC vector, with the arithmetic and the ADL-visible
 // fmax/fmin/sqrt that proto's templated model code needs. Lane i is one pixel, so the model's
-// own basis function runs on L pixels at once and the fitter shares its definition.
+// own basis function runs on L pixels at once and the fitter shares its definition. Used by the
+// extended fit's lane kernels; the BRDF's normal equations are written with Highway instead
+// (normal_equations.cpp), with a vector width per SIMD target.
 #pragma once
 
 #include <cmath>
@@ -22,14 +24,6 @@ namespace vpe::simd {
 // GCC ignores vector_size on a dependent type, so each lane shape is spelled out once.
 template <typename S, int L>
 struct VectorOf;
-template <>
-struct VectorOf<float, 16> {
-    typedef float Type __attribute__((vector_size(64)));
-};
-template <>
-struct VectorOf<double, 16> {
-    typedef double Type __attribute__((vector_size(128)));
-};
 template <>
 struct VectorOf<double, 8> {
     typedef double Type __attribute__((vector_size(64)));
