@@ -194,10 +194,12 @@ HWY_INLINE Slice<D> loadSlice(D d, const ChunkGeometry& geometry, int first) {
     return slice;
 }
 
+// Written in place: returned by value, the ten vectors were copied to the block's array with a
+// `rep movs` per sample, a tenth of the fit's time on AVX2.
 template <class D, bool kPointLights>
-HWY_INLINE SampleTerms<PixelLanes<D>> sampleTerms(const Slice<D>& slice,
-                                                  const KernelLightSet& lights,
-                                                  const ChunkObservations& observations, int s) {
+HWY_INLINE void sampleTerms(const Slice<D>& slice, const KernelLightSet& lights,
+                            const ChunkObservations& observations, int s,
+                            SampleTerms<PixelLanes<D>>& terms) {
     using P = PixelLanes<D>;
     const KernelLight& light = lights.lights[s];
     proto::Vec3<P> toLight;
@@ -216,7 +218,6 @@ HWY_INLINE SampleTerms<PixelLanes<D>> sampleTerms(const Slice<D>& slice,
     }
     const proto::ReflectionAngles<P> angles =
         proto::reflectionAngles(slice.normal, toLight, slice.view);
-    SampleTerms<P> terms;
     terms.cosThetaS = angles.cosThetaS;
     terms.lambert = proto::lambertBasis(angles.cosThetaD);
     terms.weight = observations.weights
@@ -229,7 +230,6 @@ HWY_INLINE SampleTerms<PixelLanes<D>> sampleTerms(const Slice<D>& slice,
         terms.value[c] = loadObservation(slice.d, values + c * observations.channelStride) * scale;
         terms.weightedValue[c] = terms.weight * terms.value[c];
     }
-    return terms;
 }
 
 // Harmonics m0 .. m0 + G − 1 over one block of samples, with their accumulators held in
@@ -308,7 +308,7 @@ HWY_INLINE void accumulateBlock(const Slice<D>& slice, const KernelLightSet& lig
                               slice.first);
             }
         }
-        terms[i] = sampleTerms<D, kPointLights>(slice, lights, observations, begin + i);
+        sampleTerms<D, kPointLights>(slice, lights, observations, begin + i, terms[i]);
         new (&state[i]) proto::HarmonicRecurrence<P>(terms[i].cosThetaS);
         const SampleTerms<P>& t = terms[i];
         partial.count = partial.count + t.weight;
