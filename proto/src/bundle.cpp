@@ -316,6 +316,11 @@ private:
         }
         s.peakIrradiance = settings->peak_irradiance();
         s.gain = settings->gain();
+        if (const auto* zone = settings->viewing_zone(); zone != nullptr) {
+            for (const fb::Vec3f* eye : *zone) {
+                s.viewingZone.push_back({eye->x(), eye->y(), eye->z()});
+            }
+        }
         if (const fb::GammaResponse* gamma = settings->response_as_GammaResponse()) {
             const fb::Rgb* exponents = gamma->gamma();
             if (exponents == nullptr) {

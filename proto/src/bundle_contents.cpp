@@ -9,6 +9,7 @@
 #include "vpe/proto/bundle_format.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/theta_basis.h"
+#include "vpe/proto/viewing_zone.h"
 
 namespace vpe::proto {
 
@@ -124,6 +125,15 @@ std::string checkBundleCamera(const ProjectorCalibration& camera) {
 std::string checkSettings(const RenderSettings& s) {
     if (!allFinite(s.viewerPosition)) {
         return "viewer position is not finite";
+    }
+    if (s.viewingZone.size() > static_cast<std::size_t>(kMaxViewingZone)) {
+        return "viewing zone has " + std::to_string(s.viewingZone.size()) + " eyes, more than " +
+               std::to_string(kMaxViewingZone);
+    }
+    for (const auto& eye : s.viewingZone) {
+        if (!allFinite(eye)) {
+            return "viewing zone: an eye is not finite";
+        }
     }
     for (int c = 0; c < 3; ++c) {
         if (!(s.screenAlbedo[c] > 0 && s.screenAlbedo[c] <= 1)) {

@@ -45,6 +45,9 @@ struct RenderSettings {
     // (it falls off as cos θ / d², renderer/README.md).
     float peakIrradiance = 1.0f;
     float gain = 1.0f;  // global exposure of the rendered radiance
+    // Format 1.6: the visitors' eyes the view-dependent light is drawn for (proto/viewing_zone.h),
+    // object frame, metres, at most kMaxViewingZone; empty: viewerPosition alone.
+    std::vector<std::array<float, 3>> viewingZone;
 };
 
 // The Fourier BRDF model the textures hold (proto/MODEL.md).

@@ -21,8 +21,8 @@ inline constexpr std::array<char, 4> kBundleMagic{'V', 'P', 'E', 'B'};
 // Readers accept any minor version of their major one (minor versions only append fields).
 inline constexpr std::uint16_t kBundleMajorVersion = 1;
 // 1.1 appended Model.theta_basis; 1.2 Textures.wrap_u and CoefficientMap.detail_normals; 1.3
-// Bundle.camera.
-inline constexpr std::uint16_t kBundleMinorVersion = 5;
+// Bundle.camera; 1.4 Bundle.radiometry; 1.5 Bundle.blend; 1.6 RenderSettings.viewing_zone.
+inline constexpr std::uint16_t kBundleMinorVersion = 6;
 
 inline constexpr std::size_t kBundleHeaderSize = 64;
 // Where the header keeps the checksum (a little-endian uint32, like every header field).
