@@ -171,7 +171,8 @@ void runRenderShow(const RenderArguments& args) {
     const renderer::VirtualLight virtualLight = virtualLightOf(args, light);
     std::vector<renderer::RenderScene> scenes;
     for (const auto& bundleScene : bundleScenes) {
-        scenes.push_back(bundleScene->scene(virtualLight, viewer));
+        scenes.push_back(args.viewer.empty() ? bundleScene->scene(virtualLight)
+                                             : bundleScene->scene(virtualLight, viewer));
     }
     renderer::RenderOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
@@ -284,7 +285,10 @@ void runRender(const RenderArguments& args) {
     }();
     const proto::Vec3d viewer = viewerOf(args, bundleScene);
     const renderer::VirtualLight virtualLight = virtualLightOf(args, light);
-    const renderer::RenderScene scene = bundleScene.scene(virtualLight, viewer);
+    // --viewer draws for that one eye; without it, as the device draws the bundle.
+    const renderer::RenderScene scene = args.viewer.empty()
+                                            ? bundleScene.scene(virtualLight)
+                                            : bundleScene.scene(virtualLight, viewer);
     renderer::RenderOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     options.gain = static_cast<double>(file.view().settings().gain);

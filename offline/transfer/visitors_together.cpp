@@ -165,15 +165,21 @@ TogetherReport checkVisitorsTogether(const TogetherOptions& options, ViewerModel
         renderScenes.clear();
         frames.clear();
         for (const auto& scene : scenes) {
-            Vec3d viewer = scene->bundleViewer();
-            renderer::RenderScene rs = scene->scene(light, viewer);
+            // As the device draws the bundle (its viewer, and its zone where it has one), or for
+            // one eye, or for the visitors themselves as the zone.
+            renderer::RenderScene rs = scene->scene(light);
             if (trackedEye != nullptr) {
-                rs.viewer = *trackedEye;
+                rs = scene->scene(light, *trackedEye);
             } else if (model == ViewerModel::kProjectorSide) {
-                rs.viewer = inputs.at(azimuthOf(rs.projector.camera.center(), inputs.centre()),
-                                      show.elevationDegrees);
+                rs = scene->scene(
+                    light, inputs.at(azimuthOf(rs.projector.camera.center(), inputs.centre()),
+                                     show.elevationDegrees));
             } else if (model == ViewerModel::kZone) {
-                rs.viewingZone = eyes;
+                rs.viewingZone.clear();
+                for (const Vec3d& eye : eyes) {
+                    rs.viewingZone.push_back({static_cast<float>(eye.x), static_cast<float>(eye.y),
+                                              static_cast<float>(eye.z)});
+                }
             }
             renderOptions.gain = static_cast<double>(scene->bundle().settings().gain);
             frames.push_back(quantized(renderer::renderProjectorFrame(rs, renderOptions).level));

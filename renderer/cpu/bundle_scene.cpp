@@ -137,6 +137,12 @@ Vec3d BundleScene::bundleViewer() const {
     return {static_cast<double>(v[0]), static_cast<double>(v[1]), static_cast<double>(v[2])};
 }
 
+RenderScene BundleScene::scene(const VirtualLight& light) const {
+    RenderScene drawn = scene(light, bundleViewer());
+    drawn.viewingZone = bundle_.settings().viewingZone;
+    return drawn;
+}
+
 RenderScene BundleScene::scene(const VirtualLight& light, const Vec3d& viewer) const {
     RenderScene scene;
     scene.mesh.positions = positions_;

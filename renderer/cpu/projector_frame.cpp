@@ -11,44 +11,24 @@
 #include <string>
 #include <vector>
 
+#include "vpe/proto/viewing_zone.h"
 #include "vpe/renderer/cpu/lambertian_screen.h"
 #include "vpe/renderer/cpu/parallel_rows.h"
 #include "vpe/renderer/cpu/projector_pixels.h"
 
 #include "target_radiance.h"
-#include "vector_math.h"
 
 namespace vpe::renderer {
 
 namespace {
 
-// The target at a point: for the scene's viewer, or the mean over the viewing zone's eyes that
-// see the point's side (its geometric normal towards them). A zone's eye behind the point sees
-// the other side of the object; a point no eye sees is rendered for the viewer.
+// The target at a point, for the eye the scene's viewing zone gives it (its viewer without one).
 std::array<double, 3> zoneTargetRadiance(const RenderScene& scene, const SurfacePoint& point,
                                          const RenderOptions& options) {
-    if (scene.viewingZone.empty()) {
-        return targetRadiance(scene, point, scene.viewer, options.gain);
-    }
-    std::array<double, 3> sum{0, 0, 0};
-    int seeing = 0;
-    for (const Vec3d& eye : scene.viewingZone) {
-        if (dot(point.geometricNormal, eye - point.position) <= 0) {
-            continue;
-        }
-        const std::array<double, 3> one = targetRadiance(scene, point, eye, options.gain);
-        for (std::size_t c = 0; c < 3; ++c) {
-            sum[c] += one[c];
-        }
-        ++seeing;
-    }
-    if (seeing == 0) {
-        return targetRadiance(scene, point, scene.viewer, options.gain);
-    }
-    for (double& v : sum) {
-        v /= seeing;
-    }
-    return sum;
+    const Vec3d eye =
+        proto::zoneEye(point.position, point.geometricNormal,
+                       std::span<const std::array<float, 3>>(scene.viewingZone), scene.viewer);
+    return targetRadiance(scene, point, eye, options.gain);
 }
 
 }  // namespace

@@ -23,8 +23,7 @@ std::vector<GpuFidelity> measureGpuFidelity(const proto::BundleView& bundle,
                                             const std::string& preset) {
     namespace gles = renderer::gles;
     const renderer::BundleScene scene(bundle, preset);
-    const renderer::Vec3d viewer = scene.bundleViewer();
-    const renderer::RenderScene any = scene.scene({}, viewer);
+    const renderer::RenderScene any = scene.scene({});
     const renderer::ProjectorPixels pixels(any.mesh, any.projector, any.lightShare);
     gles::GlesFrameRenderer gpu(bundle);
     gpu.selectPreset(scene.presetName(), false);
@@ -34,7 +33,7 @@ std::vector<GpuFidelity> measureGpuFidelity(const proto::BundleView& bundle,
     for (const ReferenceLight& light : referenceLights()) {
         renderer::VirtualLight virtualLight;
         virtualLight.position = light.position;
-        const renderer::RenderScene lit = scene.scene(virtualLight, viewer);
+        const renderer::RenderScene lit = scene.scene(virtualLight);  // as the device draws it
         renderer::RenderOptions options;
         renderer::ProjectorFrame reference = renderer::renderProjectorFrame(lit, pixels, options);
         options.gain = renderer::gainForClippedFraction(reference, kClippedFraction);

@@ -21,8 +21,12 @@ public:
     // the preset when the bundle has no such one.
     BundleScene(const proto::BundleView& bundle, const std::string& preset);
 
-    // The scene for a light and a viewer; the bundle's settings give everything else.
+    // The scene for a light and one viewer (a tracked visitor; no viewing zone); the bundle's
+    // settings give everything else.
     RenderScene scene(const VirtualLight& light, const Vec3d& viewer) const;
+    // The scene for a light as the device draws the bundle: for its viewer and its viewing zone
+    // (format 1.6, proto/viewing_zone.h).
+    RenderScene scene(const VirtualLight& light) const;
     const proto::BundleView& bundle() const { return bundle_; }
     Vec3d bundleViewer() const;
     const std::string& presetName() const { return presetName_; }

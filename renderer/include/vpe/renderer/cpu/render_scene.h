@@ -3,6 +3,7 @@
 // options of a render call.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -23,11 +24,10 @@ struct RenderScene {
     MaterialTextures material;
     VirtualLight light;
     Vec3d viewer{0, 0, 1};  // the eye the view-dependent terms are rendered for, metres
-    // A viewing zone (several visitors at once), when not empty: each point's target is the mean
-    // over the zone's eyes above its horizon of what each should see, and `viewer` is used
-    // where none is. The CPU reference's, for measuring what a zone gives a show
-    // (docs/visitors.md); the device renders for one eye.
-    std::vector<Vec3d> viewingZone;
+    // A viewing zone (several visitors at once; bundle 1.6), when not empty: each point is drawn
+    // for proto::zoneEye, the mean direction to the eyes that see its side, and `viewer` where
+    // none does (docs/visitors.md).
+    std::vector<std::array<float, 3>> viewingZone;
     // The light measured on site (bundle 1.4): when set, the compensation inverts it instead of
     // `surface` and the projector's irradiance scale, and projector.response is the response
     // above black. Shared: the maps are the projector's size, the same for every frame.
