@@ -260,6 +260,8 @@ std::string materialPassShaderSource(const ShaderLayout& layout, int first, int 
     s += R"GLSL(uniform highp sampler2DArray uWeights;  // α, one layer per region
 uniform int uRegion;  // ≥ 0: that region alone; −1: all, weighted by uWeights
 uniform vec3 uViewer;
+uniform vec3 uZone[VPE_MAX_VIEWING_ZONE];  // the viewing zone's eyes (ViewerEyes)
+uniform int uZoneCount;
 uniform float uDiffuseLow;    // the coding (material_codes.h): kd's low end,
 uniform float uDiffuseScale;  // 1023 / its span,
 uniform float uInverseBasisStep[)GLSL" +
@@ -280,8 +282,9 @@ void main() {
     vec3 geometric = vec3(0.0);
     if (geometry0.w >= 0.0) {  // sees the object
         uvec4 geometry1 = texelFetch(uGeometry1, pixel, 0);
-        vec3 v = normalize(uViewer - geometry0.xyz);
         geometric = vpeOctahedralNormal(geometry1.w);
+        vec3 eye = vpeZoneViewer(geometry0.xyz, geometric, uViewer, uZone, uZoneCount);
+        vec3 v = normalize(eye - geometry0.xyz);
         viewerHorizon = vpeHorizonFactor(min(dot(uintBitsToFloat(geometry1.xyz), v),
                                              dot(geometric, v)));
         uv = texelFetch(uUv, pixel, 0).xy;

@@ -135,6 +135,9 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
     width_ = static_cast<int>(calibration.width);
     height_ = static_cast<int>(calibration.height);
     viewer_ = options.viewer.value_or(settings_.viewerPosition);
+    if (!options.viewer) {  // one given viewer (a tracked visitor) replaces the zone
+        zone_ = settings_.viewingZone;
+    }
     GLint maxTexture = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
     const int maxSize = std::min(maxTexture, options.maxTextureSize);
@@ -224,8 +227,9 @@ GlesFrameRenderer::GlesFrameRenderer(const proto::BundleView& bundle,
 
     start = Clock::now();
     tiles_ = std::make_unique<TileCover>(width_, height_, geometry_->coveredTiles());
-    materialPass_ = std::make_unique<MaterialPass>(*textures_, *geometry_, *tiles_, viewer_);
-    shadingPass_ = std::make_unique<ShadingGeometryPass>(*geometry_, *tiles_, viewer_);
+    const ViewerEyes eyes{viewer_, zone_};
+    materialPass_ = std::make_unique<MaterialPass>(*textures_, *geometry_, *tiles_, eyes);
+    shadingPass_ = std::make_unique<ShadingGeometryPass>(*geometry_, *tiles_, eyes);
     if (geometry_->relief()) {
         reliefPass_ = std::make_unique<ReliefPass>(bundle, *geometry_, *textures_, *tiles_);
     }

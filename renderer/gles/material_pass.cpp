@@ -31,8 +31,8 @@ void bind(int unit, GLenum kind, unsigned texture) {
 }  // namespace
 
 MaterialPass::MaterialPass(const ThetaTextures& textures, const GeometryBuffer& geometry,
-                           const TileCover& tiles, const std::array<float, 3>& viewer)
-    : textures_(textures), geometry_(geometry), tiles_(tiles), viewer_(viewer) {
+                           const TileCover& tiles, const ViewerEyes& eyes)
+    : textures_(textures), geometry_(geometry), tiles_(tiles), eyes_(eyes) {
     const ShaderLayout& layout = textures.layout();
     GLint units = 0;
     glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
@@ -109,7 +109,7 @@ std::vector<MaterialPass::Group> MaterialPass::groups(bool compose) {
             }
             glUniform1fv(location("uInverseBasisStep"), layout.basisSize, inverseSteps.data());
             group.region = location("uRegion");
-            group.viewer = location("uViewer");
+            eyes_.setUniforms(program);
         }
         result.push_back(std::move(group));
     }
@@ -146,7 +146,6 @@ void MaterialPass::sample(const CodedMaterial& target, int region, const GlObjec
     for (const Group& group : sample_) {
         glUseProgram(group.program.get());
         glUniform1i(group.region, region);
-        glUniform3fv(group.viewer, 1, viewer_.data());
         draw(target, group);
     }
 }

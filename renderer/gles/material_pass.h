@@ -15,6 +15,7 @@
 #include "gl_program.h"
 #include "theta_textures.h"
 #include "tile_cover.h"
+#include "viewer_eyes.h"
 
 namespace vpe::renderer::gles {
 
@@ -29,7 +30,7 @@ public:
     // Compiles the pass's programs (up to four colour attachments a draw: GLES 3.1 guarantees
     // four). The textures, geometry and tiles must outlive the pass.
     MaterialPass(const ThetaTextures& textures, const GeometryBuffer& geometry,
-                 const TileCover& tiles, const std::array<float, 3>& viewer);
+                 const TileCover& tiles, const ViewerEyes& eyes);
 
     // Textures of the projector's size for one coded material.
     CodedMaterial makeTarget() const;
@@ -48,7 +49,7 @@ private:
         int first = 0, count = 0;
         bool diffuse = false;
         GlObject program;
-        int region = -1, viewer = -1;
+        int region = -1;
     };
     std::vector<Group> groups(bool compose);
     // The sampling pass: `region` alone (≥ 0) or all weighted by `weights`.
@@ -58,7 +59,7 @@ private:
     const ThetaTextures& textures_;
     const GeometryBuffer& geometry_;
     const TileCover& tiles_;
-    std::array<float, 3> viewer_;
+    ViewerEyes eyes_;
     std::vector<Group> sample_, blend_;
     GlObject framebuffer_;
 };

@@ -33,6 +33,8 @@ precision highp usampler2D;
 uniform highp sampler2D uGeometry0;   // X, 1/S
 uniform highp usampler2D uGeometry1;  // n (float bits), g (octahedral)
 uniform vec3 uViewer;
+uniform vec3 uZone[VPE_MAX_VIEWING_ZONE];  // the viewing zone's eyes (ViewerEyes)
+uniform int uZoneCount;
 uniform vec3 uCubeLow;   // the covered positions' cube: its low corner
 uniform float uCubeScale;  // 1023 / its side
 layout(location = 0) out uvec4 outShading;
@@ -53,7 +55,8 @@ void main() {
     uvec4 geometry1 = texelFetch(uGeometry1, pixel, 0);
     vec3 normal = uintBitsToFloat(geometry1.xyz);
     vec3 geometric = vpeOctahedralNormal(geometry1.w);
-    vec3 mirrored = vpeMirroredViewer(normal, normalize(uViewer - position));
+    vec3 eye = vpeZoneViewer(position, geometric, uViewer, uZone, uZoneCount);
+    vec3 mirrored = vpeMirroredViewer(normal, normalize(eye - position));
     outShading = uvec4(packHalf2x16(normal.xy), packHalf2x16(vec2(normal.z, mirrored.x)),
                        packHalf2x16(mirrored.yz), packHalf2x16(geometric.xy));
 }
@@ -61,8 +64,8 @@ void main() {
 }
 
 ShadingGeometryPass::ShadingGeometryPass(const GeometryBuffer& geometry, const TileCover& tiles,
-                                         const std::array<float, 3>& viewer)
-    : geometry_(geometry), tiles_(tiles), viewer_(viewer) {
+                                         const ViewerEyes& eyes)
+    : geometry_(geometry), tiles_(tiles), eyes_(eyes) {
     shading_ = makeTexture2D(kShadingFormat, geometry.width(), geometry.height(), GL_RGBA_INTEGER,
                              GL_UNSIGNED_INT, nullptr);
     position_ = makeTexture2D(kPositionFormat, geometry.width(), geometry.height(), GL_RGBA,
@@ -83,7 +86,7 @@ ShadingGeometryPass::ShadingGeometryPass(const GeometryBuffer& geometry, const T
     glUniform1i(glGetUniformLocation(program, "uTopRowAtOrigin"), 1);
     glUniform2f(glGetUniformLocation(program, "uSize"), static_cast<float>(geometry.width()),
                 static_cast<float>(geometry.height()));
-    glUniform3fv(glGetUniformLocation(program, "uViewer"), 1, viewer_.data());
+    eyes_.setUniforms(program);
     const GeometryBuffer::Cube& cube = geometry.cube();
     glUniform3f(glGetUniformLocation(program, "uCubeLow"), static_cast<float>(cube.low[0]),
                 static_cast<float>(cube.low[1]), static_cast<float>(cube.low[2]));

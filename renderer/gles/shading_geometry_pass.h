@@ -15,6 +15,7 @@
 #include "geometry_buffer.h"
 #include "gl_program.h"
 #include "tile_cover.h"
+#include "viewer_eyes.h"
 
 namespace vpe::renderer::gles {
 
@@ -22,7 +23,7 @@ class ShadingGeometryPass {
 public:
     // Compiles the pass and allocates its target; the geometry and tiles must outlive it.
     ShadingGeometryPass(const GeometryBuffer& geometry, const TileCover& tiles,
-                        const std::array<float, 3>& viewer);
+                        const ViewerEyes& eyes);
 
     // Packs geometry1 (as traced, or as the relief pass left it) into shading().
     void run();
@@ -32,7 +33,7 @@ public:
 private:
     const GeometryBuffer& geometry_;
     const TileCover& tiles_;
-    std::array<float, 3> viewer_;
+    ViewerEyes eyes_;
     GlObject shading_, position_, program_, framebuffer_;
 };
 

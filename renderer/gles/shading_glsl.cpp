@@ -11,6 +11,7 @@
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/response_function.h"
 #include "vpe/proto/surface_horizon.h"
+#include "vpe/proto/viewing_zone.h"
 #include "vpe/renderer/cpu/measured_light.h"
 
 namespace vpe::renderer::gles {
@@ -27,7 +28,9 @@ std::string glslFloat(float value) {
 
 std::string shadingStepsGlsl() {
     return "const float VPE_HORIZON_SCALE = " +
-           glslFloat(static_cast<float>(1.0 / proto::kHorizonWidth)) + ";\n" + R"GLSL(
+           glslFloat(static_cast<float>(1.0 / proto::kHorizonWidth)) + ";\n" +
+           "#define VPE_MAX_VIEWING_ZONE " + std::to_string(proto::kMaxViewingZone) + "\n" +
+           R"GLSL(
 // proto::horizonFactor: smoothstep(0, kHorizonWidth, cosine).
 float vpeHorizonFactor(float cosine) {
     float t = clamp(cosine * VPE_HORIZON_SCALE, 0.0, 1.0);
@@ -62,6 +65,34 @@ vec3 vpeOctahedralNormal(uint bits) {
     n.x += n.x >= 0.0 ? -fold : fold;
     n.y += n.y >= 0.0 ? -fold : fold;
     return normalize(n);
+}
+
+// proto::zoneEye: the eye a point is drawn for, the mean direction to the zone's eyes that see
+// its side (weighted by the cosine at its geometric normal) at their mean distance; `viewer`
+// where none does.
+vec3 vpeZoneViewer(vec3 position, vec3 geometric, vec3 viewer, vec3 zone[VPE_MAX_VIEWING_ZONE],
+                   int count) {
+    vec3 direction = vec3(0.0);
+    float weightSum = 0.0;
+    float distanceSum = 0.0;
+    for (int i = 0; i < count; ++i) {
+        vec3 to = zone[i] - position;
+        float d = length(to);
+        if (!(d > 0.0)) {
+            continue;
+        }
+        float w = dot(geometric, to) / d;
+        if (!(w > 0.0)) {
+            continue;
+        }
+        direction += (w / d) * to;
+        weightSum += w;
+        distanceSum += w * d;
+    }
+    if (!(weightSum > 0.0)) {
+        return viewer;
+    }
+    return position + (distanceSum / weightSum / length(direction)) * direction;
 }
 
 // mirroredViewer: 2(n·v)n − v, fixed per pixel.

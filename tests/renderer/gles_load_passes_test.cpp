@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@
 #include "vpe/proto/half_float.h"
 #include "vpe/proto/surface_horizon.h"
 #include "vpe/proto/theta_basis.h"
+#include "vpe/proto/viewing_zone.h"
 #include "vpe/renderer/cpu/bundle_scene.h"
 #include "vpe/renderer/cpu/projector_pixels.h"
 #include "vpe/renderer/cpu/theta_material.h"
@@ -140,14 +142,31 @@ TEST_F(GlesLoadPassesTest, GeometryBufferHoldsTheCpuReferencesTracedPixels) {
 // (mirroredViewer of the traced normal and the direction to the viewer, in double) and the
 // geometric normal's x, y, within half-float rounding; 1/S and the geometric normal's z are the
 // material's (tested with the material pass).
+void checkShadingGeometry(const TracedVase& vase, const gles::ViewerEyes& eyes);
+
+// For one viewer, and for a viewing zone (proto::zoneEye of the stored geometric normal: 8 eyes
+// around the vase, the viewer where none sees a point).
 TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
     const TracedVase vase;
+    const Vec3d eye = vase.scene.bundleViewer();
+    gles::ViewerEyes one;
+    one.viewer = {static_cast<float>(eye.x), static_cast<float>(eye.y), static_cast<float>(eye.z)};
+    gles::ViewerEyes zone = one;
+    for (int k = 0; k < 8; ++k) {
+        const double azimuth = 2 * 3.14159265358979 * k / 8;
+        zone.zone.push_back(
+            {static_cast<float>(std::sin(azimuth)), 0.075f, static_cast<float>(std::cos(azimuth))});
+    }
+    for (const gles::ViewerEyes* eyes : {&one, &zone}) {
+        SCOPED_TRACE(eyes->zone.empty() ? "one viewer" : "a viewing zone");
+        checkShadingGeometry(vase, *eyes);
+    }
+}
+
+void checkShadingGeometry(const TracedVase& vase, const gles::ViewerEyes& eyes) {
     const gles::GeometryBuffer& geometry = vase.geometry;
     const gles::TileCover tiles(geometry.width(), geometry.height(), geometry.coveredTiles());
-    const Vec3d eye = vase.scene.bundleViewer();
-    const std::array<float, 3> viewer{static_cast<float>(eye.x), static_cast<float>(eye.y),
-                                      static_cast<float>(eye.z)};
-    gles::ShadingGeometryPass pass(geometry, tiles, viewer);
+    gles::ShadingGeometryPass pass(geometry, tiles, eyes);
     pass.run();
     const int w = geometry.width(), h = geometry.height();
     const auto shading = readTexels(pass.shading().get(), w, h, "usampler2D");
@@ -181,11 +200,14 @@ TEST_F(GlesLoadPassesTest, ShadingGeometryPacksTheTracedPixels) {
             }
             const Vec3d& X = traced->point.position;
             const Vec3d& n = traced->point.normal;
-            const Vec3d toViewer = proto::normalized(Vec3d{static_cast<double>(viewer[0]) - X.x,
-                                                           static_cast<double>(viewer[1]) - X.y,
-                                                           static_cast<double>(viewer[2]) - X.z});
-            const Vec3d m = gles::mirroredViewer(n, toViewer);
             const Vec3d g = gles::decodeOctahedralNormal(packed.geometry1[3]);
+            const Vec3d viewer = proto::zoneEye(
+                X, g, std::span<const std::array<float, 3>>(eyes.zone),
+                Vec3d{static_cast<double>(eyes.viewer[0]), static_cast<double>(eyes.viewer[1]),
+                      static_cast<double>(eyes.viewer[2])});
+            const Vec3d toViewer =
+                proto::normalized(Vec3d{viewer.x - X.x, viewer.y - X.y, viewer.z - X.z});
+            const Vec3d m = gles::mirroredViewer(n, toViewer);
             const auto half = [&](std::size_t word, int high) {
                 const auto bits = static_cast<std::uint16_t>(shading[i + word] >> (16 * high));
                 return static_cast<double>(proto::halfToFloat(bits));
@@ -292,7 +314,7 @@ TEST_F(GlesLoadPassesTest, MaterialPassSamplesBlendsAndCodesAsItsDefinition) {
     const proto::ThetaBasis& basis = in.basis;
     const gles::ThetaTextures& textures = in.textures;
     const std::array<float, 3> viewer = view.settings().viewerPosition;
-    gles::MaterialPass pass(textures, geometry, in.tiles, viewer);
+    gles::MaterialPass pass(textures, geometry, in.tiles, gles::ViewerEyes{viewer, {}});
     const gles::CodedMaterial target = pass.makeTarget();
     const std::size_t preset = 1;  // "radial": half-float weights
     pass.composePreset(target, preset);
@@ -386,7 +408,7 @@ TEST_F(GlesLoadPassesTest, BlendingCodedRegionsGivesThePresetsMaterial) {
     const gles::GeometryBuffer& geometry = in.geometry;
     const gles::ThetaTextures& textures = in.textures;
     gles::MaterialPass pass(textures, geometry, in.tiles,
-                            in.bundle.view().settings().viewerPosition);
+                            gles::ViewerEyes{in.bundle.view().settings().viewerPosition, {}});
     const gles::WeightPass weights(textures, geometry, in.tiles);
     std::vector<gles::CodedMaterial> regions;
     for (int r = 0; r < textures.layout().regions; ++r) {

@@ -150,6 +150,7 @@ private:
     proto::RenderSettings settings_;
     int width_ = 0, height_ = 0;
     std::array<float, 3> viewer_{};
+    std::vector<std::array<float, 3>> zone_;  // the bundle's viewing zone, unless a viewer is given
     GlesRendererOptions options_;
     std::unique_ptr<GeometryBuffer> geometry_;
     std::unique_ptr<ThetaTextures> textures_;
