@@ -603,8 +603,13 @@ private:
         const fb::Rgb albedo(s.screenAlbedo[0], s.screenAlbedo[1], s.screenAlbedo[2]);
         const fb::Rgb ambient(s.ambientIrradiance[0], s.ambientIrradiance[1],
                               s.ambientIrradiance[2]);
+        std::vector<fb::Vec3f> zone;
+        for (const auto& eye : s.viewingZone) {
+            zone.emplace_back(eye[0], eye[1], eye[2]);
+        }
         return fb::CreateRenderSettings(b, &viewer, &albedo, &ambient, kind, response,
-                                        s.peakIrradiance, s.gain);
+                                        s.peakIrradiance, s.gain,
+                                        zone.empty() ? 0 : b.CreateVectorOfStructs(zone));
     }
 
     flatbuffers::Offset<fb::CoefficientMap> buildMap(flatbuffers::FlatBufferBuilder& b,

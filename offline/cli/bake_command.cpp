@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <set>
 #include <string>
 #include <system_error>
@@ -19,6 +20,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/viewing_zone.h"
 #include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/scene_settings.h"
 
@@ -29,6 +31,30 @@
 namespace vpe::cli {
 
 namespace {
+
+// `count` eyes evenly around the object frame's vertical (y) axis, at the viewer's height and
+// distance from the axis, the first at the viewer (docs/visitors.md).
+std::vector<std::array<float, 3>> viewingRing(int count, const proto::Vec3<double>& viewer) {
+    if (count < 0 || count > proto::kMaxViewingZone) {
+        throw common::InputError("--viewing-zone: " + std::to_string(count) +
+                                 " eyes, expected 0 to " + std::to_string(proto::kMaxViewingZone));
+    }
+    const double radius = std::hypot(viewer.x, viewer.z);
+    if (count > 0 && !(radius > 0)) {
+        throw common::InputError(
+            "--viewing-zone: --viewer stands on the object's vertical axis, "
+            "so the ring around it has no radius");
+    }
+    const double start = std::atan2(viewer.x, viewer.z);
+    std::vector<std::array<float, 3>> eyes;
+    for (int k = 0; k < count; ++k) {
+        const double azimuth = start + 2 * std::numbers::pi * k / count;
+        eyes.push_back({static_cast<float>(radius * std::sin(azimuth)),
+                        static_cast<float>(viewer.y),
+                        static_cast<float>(radius * std::cos(azimuth))});
+    }
+    return eyes;
+}
 
 std::array<float, 3> toFloats(const std::array<double, 3>& values) {
     return {static_cast<float>(values[0]), static_cast<float>(values[1]),
@@ -74,6 +100,7 @@ struct BakeArguments {
     std::string relief = "on";
     std::string thetaBasis;
     int threads = 0;
+    int viewingZone = 0;  // eyes in a ring at the viewer's height and distance; 0: the viewer alone
     bool json = false;
 };
 
@@ -104,6 +131,7 @@ void runBake(const BakeArguments& args) {
     const auto viewer = scene::parsePosition(args.viewer, "--viewer");
     options.settings.viewerPosition = {static_cast<float>(viewer.x), static_cast<float>(viewer.y),
                                        static_cast<float>(viewer.z)};
+    options.settings.viewingZone = viewingRing(args.viewingZone, viewer);
     options.settings.screenAlbedo = toFloats(scene::parseAlbedo(args.albedo, "--albedo"));
     options.settings.ambientIrradiance = toFloats(scene::parseAmbient(args.ambient, "--ambient"));
     options.lowRank = args.encoding == "low-rank";
@@ -370,6 +398,13 @@ void addBakeCommand(CLI::App& app, Action& action) {
     command
         ->add_option("--demo-distance", args->options.demoDistance,
                      "Distance of the demo projector from the object (m)")
+        ->capture_default_str();
+    command
+        ->add_option("--viewing-zone", args->viewingZone,
+                     "Visitors around the object at once: N eyes in a ring around the object "
+                     "frame's vertical axis at --viewer's height and distance, the first at "
+                     "--viewer; each point is drawn for the mean direction to those that see it "
+                     "(docs/visitors.md). 0: --viewer alone")
         ->capture_default_str();
     command->add_option("--viewer", args->viewer, "Viewer position x,y,z (m, object frame)")
         ->capture_default_str();

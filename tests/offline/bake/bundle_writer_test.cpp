@@ -187,6 +187,20 @@ TEST_F(BundleWriter, WritesNoThetaBasisWhenThereIsNone) {
     EXPECT_EQ(file->header().minorVersion, proto::kBundleMinorVersion);  // whatever it holds
 }
 
+// Format 1.6: the visitors' eyes a show is drawn for; at most 16, each finite.
+TEST_F(BundleWriter, WritesAViewingZoneAndRefusesABadOne) {
+    EXPECT_TRUE(BundleFile::open((bake::writeBundle(path(), contents_), path()))
+                    ->settings()
+                    .viewingZone.empty());
+    contents_.settings.viewingZone = {{1.0f, 0.2f, 0.0f}, {-1.0f, 0.2f, 0.5f}};
+    bake::writeBundle(path(), contents_);
+    EXPECT_EQ(BundleFile::open(path())->settings().viewingZone, contents_.settings.viewingZone);
+    contents_.settings.viewingZone.assign(17, {0.0f, 0.0f, 1.0f});
+    EXPECT_EQ(refusal(contents_), path().string() + ": viewing zone has 17 eyes, more than 16");
+    contents_.settings.viewingZone = {{0.0f, std::nanf(""), 1.0f}};
+    EXPECT_EQ(refusal(contents_), path().string() + ": viewing zone: an eye is not finite");
+}
+
 TEST_F(BundleWriter, RefusesABadThetaBasis) {
     contents_.model.thetaBasis[1] = 1.0f;  // cos θs unscaled: norm² π/2
     EXPECT_EQ(refusal(contents_), path().string() +
