@@ -293,7 +293,7 @@ TEST_F(Show, BakeWritesABundlePerProjectorWithItsShare) {
         EXPECT_EQ(file->blend()->projectors, 3);
         EXPECT_EQ(file->blend()->index, i);
         EXPECT_EQ(file->blend()->share.size(), 480u * 270u);
-        EXPECT_EQ(file->header().minorVersion, 5);
+        EXPECT_GE(file->header().minorVersion, 5);  // the blend came in 1.5
         EXPECT_TRUE(
             std::filesystem::exists(path("show/projector" + std::to_string(i + 1) + "-share.png")));
     }
@@ -363,9 +363,9 @@ TEST_F(Show, VisitorsAroundTheVaseSeeNoSeam) {
 
 // Visitors standing at once under one light, the frames drawn once: the bundle's one eye (in
 // front) leaves the far side's visitors a show drawn for someone who cannot see what they see;
-// a viewing zone (each point's mean over the visitors who see it) serves them all better, and a
-// visitor tracked alone is the bound. The room's 160² capture (docs/visitors.md): worst 18.9 /
-// 26.6 / 28.9 dB, mean 27.7 / 33.1 / 40.3, highlights seen 82 / 97 / 100 %.
+// a viewing zone (each point drawn for the mean direction to the visitors who see it) serves them
+// all better, and a visitor tracked alone is the bound. docs/visitors.md's 160² capture: worst
+// 18.9 / 25.6 / 28.9 dB, mean 27.7 / 34.3 / 40.3, highlights seen 82 / 99.7 / 100 %.
 TEST_F(Show, VisitorsTogetherAreServedBetterByAZone) {
     std::vector<std::string> arguments = {"show-check", path("capture")};
     for (const std::string& b : bundles()) {
