@@ -40,19 +40,13 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
         if (inputs.camera && !inputs.camera->calibration.empty()) {
             LampCalibration::fit(inputs.camera->calibration);
         }
-    } catch (const BoardConfigError& error) {
-        throw PlayerInputError(error.what());
     } catch (const CalibrationError& error) {
         throw PlayerInputError(board.source + ":camera.calibration: " + error.what());
     }
     // The bundle, when given, is opened first: its camera may be what maps the lamp.
     std::optional<proto::BundleFile> bundle;
     if (!options.bundle.empty()) {
-        try {
-            bundle.emplace(proto::BundleFile::open(options.bundle));
-        } catch (const proto::BundleError& error) {
-            throw PlayerInputError(error.what());
-        }
+        bundle.emplace(proto::BundleFile::open(options.bundle));
     }
     std::ostringstream out;
     out << board.source << ": valid board file";
@@ -92,14 +86,10 @@ std::string checkBoard(const BoardConfig& board, const PlayerOptions& options) {
         if (!inputs.camera->calibration.empty()) {
             out << inputs.camera->calibration.size() << " calibration points (fit ok";
         } else if (bundle) {
-            try {
-                out << "the lamp mapped by "
-                    << describeLampDirectionMap(
-                           lampDirectionFor(*inputs.camera, inputs, bundle->view()))
-                    << " (";
-            } catch (const BoardConfigError& error) {
-                throw PlayerInputError(error.what());
-            }
+            out << "the lamp mapped by "
+                << describeLampDirectionMap(
+                       lampDirectionFor(*inputs.camera, inputs, bundle->view()))
+                << " (";
         } else {
             out << "no calibration table: the lamp needs the bundle's camera (not checked "
                    "without --bundle";

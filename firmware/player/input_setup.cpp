@@ -163,30 +163,26 @@ bus::LightBus* addInputs(Player& player, const InputSettings& settings,
                 // A disabled camera is needed only by camera events, and the replay refuses
                 // those without a map.
                 if (settings.camera->enabled) {
-                    throw PlayerInputError(error.what());
+                    throw;
                 }
             }
         }
         decoders.oscLimits = oscLimitsOf(player.rig().limits());
         decoders.presetNames = presetNamesOf(player.bundle());
-        try {
-            auto replay =
-                std::make_unique<ReplayInput>(*options.replay, readReplayFile(*options.replay),
-                                              decoders, options.replayLoop, monotonicNowNs());
-            ReplayInput* raw = replay.get();
-            playerLog(raw->description());
-            player.addInput(std::move(replay));
-            if (decoders.lampDirection &&
-                std::holds_alternative<CameraLampModel>(*decoders.lampDirection)) {
-                followBundleCamera(player, *settings.camera, settings, [raw](LampDirectionMap map) {
-                    raw->setLampDirection(std::move(map));
-                });
-            }
-            if (options.frames == 0) {
-                player.stopWhen([raw] { return raw->finished(); }, "replay");
-            }
-        } catch (const ReplayError& error) {
-            throw PlayerInputError(error.what());
+        auto replay =
+            std::make_unique<ReplayInput>(*options.replay, readReplayFile(*options.replay),
+                                          decoders, options.replayLoop, monotonicNowNs());
+        ReplayInput* raw = replay.get();
+        playerLog(raw->description());
+        player.addInput(std::move(replay));
+        if (decoders.lampDirection &&
+            std::holds_alternative<CameraLampModel>(*decoders.lampDirection)) {
+            followBundleCamera(player, *settings.camera, settings, [raw](LampDirectionMap map) {
+                raw->setLampDirection(std::move(map));
+            });
+        }
+        if (options.frames == 0) {
+            player.stopWhen([raw] { return raw->finished(); }, "replay");
         }
         return lightBus;
     }
@@ -202,13 +198,7 @@ bus::LightBus* addInputs(Player& player, const InputSettings& settings,
     if (settings.camera && settings.camera->enabled) {
         // Resolved before the camera is opened: a board that cannot map the lamp is refused
         // whether or not a camera is attached.
-        const LampDirectionMap map = [&] {
-            try {
-                return lampDirectionFor(*settings.camera, settings, player.bundle());
-            } catch (const BoardConfigError& error) {
-                throw PlayerInputError(error.what());
-            }
-        }();
+        const LampDirectionMap map = lampDirectionFor(*settings.camera, settings, player.bundle());
         try {
             auto camera = std::make_unique<LibcameraLamp>(*settings.camera, map);
             LibcameraLamp* raw = camera.get();

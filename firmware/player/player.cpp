@@ -39,14 +39,6 @@ std::unique_ptr<gles::GraphicsPlatform> createPlatform(const BoardConfig& board,
     return createDisplayPlatform(board);
 }
 
-std::unique_ptr<SceneSlot> loadScene(const PlayerOptions& options) {
-    try {
-        return SceneSlot::load(options.bundle, options.preset);
-    } catch (const SceneLoadError& error) {
-        throw PlayerInputError(error.what());
-    }
-}
-
 }  // namespace
 
 std::unique_ptr<gles::GraphicsPlatform> createDisplayPlatform(const BoardConfig& board) {
@@ -81,7 +73,7 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
       clock_(clock),
       headless_(board.display.backend == DisplayBackend::kHeadless),
       platform_(createPlatform(board, options)),
-      scene_(loadScene(options)),
+      scene_(SceneSlot::load(options.bundle, options.preset)),
       rig_(board.light, board.idle, sphereOf(scene_->view()),
            static_cast<int>(scene_->view().presets().size()), clock_.nowNs()) {
     gles::GlesFrameRenderer& renderer = scene_->renderer();
@@ -115,11 +107,7 @@ Player::Player(const PlayerOptions& options, const BoardConfig& board, std::int6
         }
     }
     if (options_.lightLog) {
-        try {
-            lightLog_.emplace(*options_.lightLog);
-        } catch (const LightLogError& error) {
-            throw PlayerInputError(error.what());
-        }
+        lightLog_.emplace(*options_.lightLog);
     }
     adoptRenderersPreset();
     report_.width = width;

@@ -18,18 +18,14 @@
 #include "vpe/firmware/player_options.h"
 #include "vpe/firmware/scan/install_capture.h"
 #include "vpe/firmware/scan/scan_run.h"
+#include "vpe/proto/input_error.h"
 
 namespace {
 
 namespace fw = vpe::firmware;
 
 int run(const fw::PlayerOptions& options, std::int64_t startNs) {
-    fw::BoardConfig board;
-    try {
-        board = fw::loadBoardConfig(options.board);
-    } catch (const fw::BoardConfigError& error) {
-        throw fw::PlayerInputError(error.what());
-    }
+    const fw::BoardConfig board = fw::loadBoardConfig(options.board);
     if (options.scan) {
         const fw::ScanReport report = fw::runScan(options, board, startNs);
         std::cout << report.summaryLine() << "\n";
@@ -69,13 +65,8 @@ int main(int argc, char** argv) {
             return 0;
         }
         return run(options, startNs);
-    } catch (const fw::PlayerUsageError& error) {
-        fw::playerLog(error.what());
-        return 2;
-    } catch (const fw::PlayerInputError& error) {
-        fw::playerLog(error.what());
-        return 2;
-    } catch (const fw::BoardConfigError& error) {
+    } catch (const vpe::proto::InputError& error) {
+        // Usage, the board file, the bundle, a replay: one line naming the input.
         fw::playerLog(error.what());
         return 2;
     } catch (const std::exception& error) {

@@ -29,12 +29,7 @@ RadiometryReport captureRadiometry(CaptureLoop& loop, const ScanCamera& camera,
     manifest.fields.height = settings.projectorHeight;
     manifest.fields.levels = settings.levels;
     manifest.fields.cameraResponse = colour.response;
-    std::vector<proto::FlatField> fields;
-    try {
-        fields = proto::radiometrySequence(manifest.fields);
-    } catch (const proto::StructuredLightError& error) {
-        throw PlayerInputError(error.what());
-    }
+    const std::vector<proto::FlatField> fields = proto::radiometrySequence(manifest.fields);
     report.fields = fields.size();
     const ScanCameraInfo& info = camera.info();
     manifest.camera.width = info.width;

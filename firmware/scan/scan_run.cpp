@@ -247,11 +247,7 @@ ScanReport runCapture(const BoardConfig& board, CaptureKind kind, ScanFolder& fo
         fieldParameters.height = height;
         fieldParameters.levels = scan.radiometryLevels;
         fieldParameters.cameraResponse = colour.response;
-        try {
-            fields = proto::radiometrySequence(fieldParameters).size();
-        } catch (const proto::StructuredLightError& error) {
-            throw PlayerInputError(error.what());
-        }
+        fields = proto::radiometrySequence(fieldParameters).size();
     }
 
     const std::vector<proto::PatternSpec>& patterns = sequence->patterns();

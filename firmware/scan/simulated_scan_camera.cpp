@@ -25,12 +25,9 @@ std::string numberText(double value) {
 }  // namespace
 
 SimulatedScanCamera::SimulatedScanCamera(const std::filesystem::path& sceneFile, double latencyMs)
-    : sceneFile_(sceneFile), latencyNs_(static_cast<std::int64_t>(latencyMs * 1e6)) {
-    try {
-        scene_ = procam::readSceneFile(sceneFile);
-    } catch (const procam::SceneFileError& error) {
-        throw PlayerInputError(error.what());
-    }
+    : sceneFile_(sceneFile),
+      scene_(procam::readSceneFile(sceneFile)),
+      latencyNs_(static_cast<std::int64_t>(latencyMs * 1e6)) {
     if (!scene_.camera.monochrome) {
         throw PlayerInputError(sceneFile.string() +
                                ":camera.monochrome: false; a scan's camera records luminance "

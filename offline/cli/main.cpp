@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-// vpe: the offline tools. Bad input ends with one line on stderr and exit status 2.
+// vpe: the offline tools. Bad input (proto::InputError, and every error derived from it: a
+// bundle, a scan manifest, a scene file, ...) ends with one line on stderr and exit status 2.
 #include <cstdio>
 #include <exception>
 
-#include "vpe/common/input_error.h"
+#include "vpe/proto/input_error.h"
 
 #include "cli/commands.h"
 
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
     }
     try {
         action();
-    } catch (const vpe::common::InputError& error) {
+    } catch (const vpe::proto::InputError& error) {
         std::fprintf(stderr, "vpe: %s\n", error.what());
         return 2;
     } catch (const std::bad_alloc&) {

@@ -109,14 +109,6 @@ double parseGain(const std::string& text) {
     return gain;
 }
 
-proto::BundleFile openBundle(const std::string& path) {
-    try {
-        return proto::BundleFile::open(path);
-    } catch (const proto::BundleError& error) {
-        throw common::InputError(error.what());
-    }
-}
-
 // Where the visitor stands: --viewer, or the bundle's viewer.
 proto::Vec3d viewerOf(const RenderArguments& args, const renderer::BundleScene& bundleScene) {
     if (args.viewer.empty()) {
@@ -150,7 +142,7 @@ void runRenderShow(const RenderArguments& args) {
     std::vector<proto::BundleFile> files;
     std::vector<std::unique_ptr<renderer::BundleScene>> bundleScenes;
     for (const std::string& path : args.bundles) {
-        files.push_back(openBundle(path));
+        files.push_back(proto::BundleFile::open(path));
     }
     for (std::size_t i = 0; i < files.size(); ++i) {
         try {
@@ -275,7 +267,7 @@ void runRender(const RenderArguments& args) {
     if (!(args.intensity > 0) || !std::isfinite(args.intensity)) {
         throw common::InputError("--intensity must be a positive number");
     }
-    proto::BundleFile file = openBundle(args.bundle);
+    proto::BundleFile file = proto::BundleFile::open(args.bundle);
     const renderer::BundleScene bundleScene = [&] {
         try {
             return renderer::BundleScene(file.view(), args.weights);

@@ -239,14 +239,6 @@ void runGallery(const SynthProcamArguments& args) {
     }
 }
 
-proto::BundleFile openBundle(const std::string& path) {
-    try {
-        return proto::BundleFile::open(path);
-    } catch (const proto::BundleError& error) {
-        throw common::InputError(error.what());
-    }
-}
-
 // A camera view for people: the linear signal divided by `white`, sRGB-encoded.
 image::SheetTile linearTile(std::string label, const renderer::RgbImage& image, double white) {
     image::SheetTile tile{std::move(label), image.width, image.height, 3, {}};
@@ -264,12 +256,12 @@ void runLightCheck(const SynthProcamArguments& args, const renderer::procam::Sce
     const auto start = std::chrono::steady_clock::now();
     procam::RadiometryCheckOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
-    const proto::BundleFile bundle = openBundle(args.checkLight);
+    const proto::BundleFile bundle = proto::BundleFile::open(args.checkLight);
     const procam::RadiometryCheck check =
         procam::checkRadiometry(file.scene, file.camera, bundle.view(), options);
     std::optional<procam::RadiometryCheck> baseline;
     if (!args.baseline.empty()) {
-        const proto::BundleFile other = openBundle(args.baseline);
+        const proto::BundleFile other = proto::BundleFile::open(args.baseline);
         baseline = procam::checkRadiometry(file.scene, file.camera, other.view(), options);
     }
     std::vector<image::SheetTile> tiles;
@@ -341,13 +333,7 @@ void runLightCheck(const SynthProcamArguments& args, const renderer::procam::Sce
 // a visitor sees.
 void runCheck(const SynthProcamArguments& args, const renderer::procam::SceneFile& file) {
     const auto start = std::chrono::steady_clock::now();
-    proto::BundleFile bundle = [&] {
-        try {
-            return proto::BundleFile::open(args.check);
-        } catch (const proto::BundleError& error) {
-            throw common::InputError(error.what());
-        }
-    }();
+    proto::BundleFile bundle = proto::BundleFile::open(args.check);
     procam::InstallationCheckOptions options;
     options.threads = static_cast<int>(common::resolveThreadCount(args.threads));
     const procam::InstallationCheck check =
@@ -417,12 +403,7 @@ void runCheck(const SynthProcamArguments& args, const renderer::procam::SceneFil
 
 void runScene(const SynthProcamArguments& args) {
     const auto start = std::chrono::steady_clock::now();
-    renderer::procam::SceneFile file;
-    try {
-        file = renderer::procam::readSceneFile(args.scene);
-    } catch (const renderer::procam::SceneFileError& error) {
-        throw common::InputError(error.what());
-    }
+    const renderer::procam::SceneFile file = renderer::procam::readSceneFile(args.scene);
     if (!args.check.empty()) {
         runCheck(args, file);
         return;

@@ -21,12 +21,7 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     parameters.height = projector.height;
     parameters.phasePeriod = options.phasePeriod;
     parameters.phaseSteps = options.phaseSteps;
-    std::optional<proto::StructuredLightSequence> sequence;
-    try {
-        sequence.emplace(parameters);
-    } catch (const proto::StructuredLightError& error) {
-        throw common::InputError(error.what());
-    }
+    const proto::StructuredLightSequence sequence(parameters);
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) {
@@ -41,9 +36,9 @@ void writeSimulatedScan(const renderer::procam::ProcamSimulator& simulator,
     manifest.camera.source = options.source;
     manifest.createdBy = "vpe synth-procam";
     std::vector<std::uint8_t> codes(static_cast<std::size_t>(parameters.width) * parameters.height);
-    const std::vector<proto::PatternSpec>& patterns = sequence->patterns();
+    const std::vector<proto::PatternSpec>& patterns = sequence.patterns();
     for (std::size_t i = 0; i < patterns.size(); ++i) {
-        sequence->render(patterns[i], codes);
+        sequence.render(patterns[i], codes);
         const renderer::procam::CameraFrame frame = simulator.expose(
             simulator.radiance(codes, options.firstFrame + i), options.firstFrame + i);
         const std::string name = proto::scanImageName(i, patterns[i]);
@@ -89,12 +84,7 @@ void writeSimulatedRadiometry(const renderer::procam::ProcamSimulator& simulator
     manifest.camera.response = manifest.fields.cameraResponse;
     manifest.camera.source = options.source;
     manifest.createdBy = "vpe synth-procam";
-    std::vector<proto::FlatField> fields;
-    try {
-        fields = proto::radiometrySequence(manifest.fields);
-    } catch (const proto::StructuredLightError& error) {
-        throw common::InputError(error.what());
-    }
+    const std::vector<proto::FlatField> fields = proto::radiometrySequence(manifest.fields);
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) {

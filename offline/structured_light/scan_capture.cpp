@@ -19,11 +19,7 @@ proto::ScanManifest readManifest(const std::filesystem::path& path) {
                                            ? "not a scan folder (a folder holding scan.json)"
                                            : "no such scan folder");
     }
-    try {
-        return proto::readScanManifest(path);
-    } catch (const proto::ScanManifestError& error) {
-        throw common::InputError(error.what());
-    }
+    return proto::readScanManifest(path);
 }
 
 }  // namespace

@@ -15,11 +15,7 @@ ShowInputs::ShowInputs(const std::filesystem::path& capture,
         throw common::InputError("show check: give 1 to 32 bundles, one per projector");
     }
     for (const std::filesystem::path& path : bundles) {
-        try {
-            files_.push_back(proto::BundleFile::open(path));
-        } catch (const proto::BundleError& error) {
-            throw common::InputError(error.what());
-        }
+        files_.push_back(proto::BundleFile::open(path));  // a BundleError is bad input
         const proto::BundleView& bundle = files_.back().view();
         if (bundle.textureWidth() != truth_.width() || bundle.textureHeight() != truth_.height()) {
             throw common::InputError(

@@ -158,13 +158,7 @@ std::vector<TransferView> transferViews(const proto::Vec3d& lower, const proto::
 TransferReport measureTransferFidelity(const TransferOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const SyntheticTruth truth(options.capture);
-    proto::BundleFile file = [&] {
-        try {
-            return proto::BundleFile::open(options.bundle);
-        } catch (const proto::BundleError& error) {
-            throw common::InputError(error.what());
-        }
-    }();
+    proto::BundleFile file = proto::BundleFile::open(options.bundle);
     const proto::BundleView& bundle = file.view();
     if (bundle.textureWidth() != truth.width() || bundle.textureHeight() != truth.height()) {
         throw common::InputError(

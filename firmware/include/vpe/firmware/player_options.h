@@ -5,15 +5,16 @@
 
 #include <filesystem>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "vpe/proto/input_error.h"
+
 namespace vpe::firmware {
 
-class PlayerUsageError : public std::runtime_error {
+class PlayerUsageError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 struct PlayerOptions {

@@ -9,8 +9,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <stdexcept>
 #include <string>
+
+#include "vpe/proto/input_error.h"
 
 namespace vpe::proto {
 
@@ -42,16 +43,12 @@ constexpr int bundleCoefficientIndex(int coefficient, int channel) {
     return 3 * coefficient + channel;
 }
 
-// Every problem with a bundle: what() is one line, "<file>: <problem>".
-class BundleError : public std::runtime_error {
+// Every problem with a bundle: what() is one line, "<file>: <problem>"; problem() is the
+// message without the file name.
+class BundleError : public InputError {
 public:
     BundleError(const std::string& file, const std::string& problem)
-        : std::runtime_error(file + ": " + problem), problem_(problem) {}
-    // The message without the file name.
-    const std::string& problem() const { return problem_; }
-
-private:
-    std::string problem_;
+        : InputError(std::filesystem::path(file), problem) {}
 };
 
 // The header, decoded. On disk (little-endian):

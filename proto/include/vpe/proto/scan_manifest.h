@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vpe/proto/input_error.h"
 #include "vpe/proto/structured_light.h"
 
 namespace vpe::proto {
@@ -41,9 +42,9 @@ struct ScanManifest {
 };
 
 // Every problem with a manifest, one line: "<path>: <problem>".
-class ScanManifestError : public std::runtime_error {
+class ScanManifestError : public InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using InputError::InputError;
 };
 
 // JSON text (indented, one image per line).

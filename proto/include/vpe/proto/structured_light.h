@@ -8,10 +8,11 @@
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "vpe/proto/input_error.h"
 
 namespace vpe::proto {
 
@@ -61,9 +62,9 @@ struct StructuredLightParameters {
 };
 
 // One line naming the problem, for parameters or manifests that cannot describe a scan.
-class StructuredLightError : public std::runtime_error {
+class StructuredLightError : public InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using InputError::InputError;
 };
 
 // Pixel centres are at integer coordinates: column x covers [x − ½, x + ½). A Gray pattern

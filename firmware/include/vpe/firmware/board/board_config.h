@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -16,12 +15,13 @@
 
 #include "vpe/firmware/light/light_config.h"
 #include "vpe/firmware/scan/scan_config.h"
+#include "vpe/proto/input_error.h"
 
 namespace vpe::firmware {
 
-class BoardConfigError : public std::runtime_error {
+class BoardConfigError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 enum class DisplayBackend { kHeadless, kKms };

@@ -11,15 +11,15 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <stdexcept>
 
 #include "vpe/firmware/light/light_sphere.h"
+#include "vpe/proto/input_error.h"
 
 namespace vpe::firmware {
 
-class LightLogError : public std::runtime_error {
+class LightLogError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 class LightLog {

@@ -16,7 +16,6 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,14 +31,15 @@
 #include "vpe/firmware/player/scene_slot.h"
 #include "vpe/firmware/player/service_watchdog.h"
 #include "vpe/firmware/player_options.h"
+#include "vpe/proto/input_error.h"
 #include "vpe/renderer/gles/graphics_platform.h"
 
 namespace vpe::firmware {
 
 // Bad input at start (board, bundle, display, sizes): vpe-player exits with status 2.
-class PlayerInputError : public std::runtime_error {
+class PlayerInputError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 // The board's display: headless EGL, or KMS with the board's device, connector, mode and

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -24,14 +23,15 @@
 #include "vpe/firmware/tracking/camera_config.h"
 #include "vpe/firmware/tracking/lamp_tracker.h"
 #include "vpe/firmware/tracking/synthetic_lamp_frame.h"
+#include "vpe/proto/input_error.h"
 
 namespace vpe::firmware {
 
 // One line naming the file and line: "events.jsonl:12: \"edge\": expected \"rising\" or
 // \"falling\"".
-class ReplayError : public std::runtime_error {
+class ReplayError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 struct ReplayEvent {

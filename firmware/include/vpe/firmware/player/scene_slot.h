@@ -6,18 +6,18 @@
 
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 #include <string>
 
 #include "vpe/proto/bundle.h"
+#include "vpe/proto/input_error.h"
 #include "vpe/renderer/gles/gles_frame_renderer.h"
 
 namespace vpe::firmware {
 
 // One line naming the bundle: "scene.vpeb: checksum mismatch …".
-class SceneLoadError : public std::runtime_error {
+class SceneLoadError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 class SceneSlot {

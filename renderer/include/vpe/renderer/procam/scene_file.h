@@ -5,9 +5,9 @@
 #pragma once
 
 #include <filesystem>
-#include <stdexcept>
 #include <string>
 
+#include "vpe/proto/input_error.h"
 #include "vpe/renderer/procam/procam_scene.h"
 
 namespace vpe::renderer::procam {
@@ -19,9 +19,9 @@ struct SceneFile {
 };
 
 // One line: "file:section.key: problem" or "file: problem".
-class SceneFileError : public std::runtime_error {
+class SceneFileError : public proto::InputError {
 public:
-    using std::runtime_error::runtime_error;
+    using proto::InputError::InputError;
 };
 
 // Reads and checks the file and the object's OBJ (tinyobjloader; triangulated; every vertex
