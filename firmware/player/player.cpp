@@ -4,11 +4,12 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 
 #include <poll.h>
 
 #include "vpe/firmware/player/player_log.h"
-#include "vpe/firmware/ppm_writer.h"
+#include "vpe/proto/pnm_image.h"
 #include "vpe/renderer/gles/headless_egl_platform.h"
 #include "vpe/renderer/gles/kms_platform.h"
 #include "vpe/renderer/gles/target_drawing.h"
@@ -384,9 +385,14 @@ void Player::renderFrame() {
         // Read back only to write it, after the frame is timed: a display scans the frame out
         // by itself (KMS: present() queued the flip and returned), no CPU copy is part of it.
         const std::vector<std::uint8_t> rgba = target_->readRgba8();
+        std::vector<std::uint8_t> rgb(rgba.size() / 4 * 3);
+        for (std::size_t p = 0; p < rgba.size() / 4; ++p) {
+            std::memcpy(&rgb[3 * p], &rgba[4 * p], 3);  // alpha dropped
+        }
         char name[32];
         std::snprintf(name, sizeof name, "frame_%05ld.ppm", report_.frames);
-        writePpmAtomically(*options_.out / name, target_->width(), target_->height(), rgba);
+        proto::writePnmAtomically(*options_.out / name, target_->width(), target_->height(), 3,
+                                  rgb);
         ++report_.written;
     }
     ++report_.frames;

@@ -16,8 +16,8 @@
 
 #include <unistd.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/bundle_generated.h"
 #include "vpe/proto/bundle_layout.h"
 #include "vpe/proto/half_float.h"
@@ -648,7 +648,7 @@ BundleWriteResult writeBundle(const std::filesystem::path& path, const BundleCon
             return MetadataBuilder(contents, placed, index).build();
         });
 
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     proto::BundleHeader header = payloads.layout.header();
     {
         BundleOutput out(output.temporaryPath(), path);

@@ -16,10 +16,10 @@
 
 #include "vpe/bake/scene_baker.h"
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/viewing_zone.h"
 #include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/scene_settings.h"
@@ -353,7 +353,7 @@ void runShow(const BakeArguments& args, const bake::BakeOptions& options) {
     json["overlap_share"] = show.blend.overlapShare;
     json["seconds"] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    common::writeTextFileAtomically(folder.temporaryPath() / "show.json", json.dump(2) + "\n");
+    proto::writeTextFileAtomically(folder.temporaryPath() / "show.json", json.dump(2) + "\n");
     folder.commit();
     std::fprintf(stderr,
                  "%s: %zu projectors, one bundle each; %.2f%% of the surface reached by none "

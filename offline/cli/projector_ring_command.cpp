@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/scene/projector_calibration.h"
 #include "vpe/scene/scene_settings.h"
 
@@ -62,7 +62,7 @@ void runProjectorRing(const ProjectorRingArguments& args) {
         json["projectors"].push_back(
             {{"file", name}, {"azimuth", azimuth}, {"position", {eye.x, eye.y, eye.z}}});
     }
-    common::writeTextFileAtomically(folder.temporaryPath() / "ring.json", json.dump(2) + "\n");
+    proto::writeTextFileAtomically(folder.temporaryPath() / "ring.json", json.dump(2) + "\n");
     folder.commit();
     std::fprintf(stderr, "%s: %d projectors %.2f m from the object, %.0f° up, every %.0f°\n",
                  args.out.c_str(), args.count, args.distance, args.elevation, 360.0 / args.count);

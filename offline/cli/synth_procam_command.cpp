@@ -11,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
@@ -22,6 +21,7 @@
 #include "vpe/procam/installation_check.h"
 #include "vpe/procam/radiometry_check.h"
 #include "vpe/procam/simulated_capture.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/pnm_image.h"
 #include "vpe/proto/radiometry_capture.h"
 #include "vpe/proto/scan_manifest.h"
@@ -212,7 +212,7 @@ void runGallery(const SynthProcamArguments& args) {
                                      &progress);
     progress.setPhase("truth");
     procam::writeSimulationTruth(simulator, root / "truth");
-    common::writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
+    proto::writeTextFileAtomically(root / "truth" / "truth.json", truth.dump(2) + "\n");
 
     progress.finish();
     folder.commit();

@@ -11,7 +11,6 @@
 
 #include "vpe/capture/image_band_reader.h"
 #include "vpe/capture/surface_geometry.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
@@ -19,6 +18,7 @@
 #include "vpe/fit/chunk_setup.h"
 #include "vpe/normals/normal_source.h"
 #include "vpe/plot/svg_line_plot.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/srgb.h"
 
 namespace vpe::eval {
@@ -278,7 +278,7 @@ void writeSweepCsv(const std::filesystem::path& path, const SweepResult& result)
             csv << line;
         }
     }
-    common::writeTextFileAtomically(path, csv.str());
+    proto::writeTextFileAtomically(path, csv.str());
 }
 
 void writeSweepPlot(const std::filesystem::path& path, const SweepResult& result) {

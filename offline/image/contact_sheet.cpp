@@ -9,8 +9,8 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::image {
 
@@ -57,7 +57,7 @@ void writeContactSheet(const std::filesystem::path& path, const std::vector<Shee
         OIIO::ImageBufAlgo::paste(sheet, kPad + column * (tileWidth + kPad),
                                   kPad + row * (rowHeight + kPad), 0, 0, scaled[i]);
     }
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     if (!sheet.write(output.temporaryPath().string(), OIIO::TypeDesc::UINT8)) {
         throw common::InputError(path, "cannot write the contact sheet: " + sheet.geterror());
     }

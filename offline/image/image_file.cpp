@@ -4,8 +4,8 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::image {
 
@@ -85,7 +85,7 @@ FloatImage readImageChannels(const std::filesystem::path& path,
 void writeImage(const std::filesystem::path& path, int width, int height, int channels,
                 const std::vector<float>& pixels, PixelFormat format,
                 const std::vector<std::string>& channelNames) {
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) {
         throw common::InputError(path, "cannot write this image format: " + OIIO::geterror());
@@ -114,7 +114,7 @@ void writeImage(const std::filesystem::path& path, int width, int height, int ch
 
 void writeImage8(const std::filesystem::path& path, int width, int height, int channels,
                  const std::vector<std::uint8_t>& pixels) {
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) {
         throw common::InputError(path, "cannot write this image format: " + OIIO::geterror());

@@ -14,10 +14,10 @@
 #include <cpuid.h>
 #include <immintrin.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/model/light_transport.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/fourier_brdf.h"
 
 namespace vpe::model {
@@ -230,7 +230,7 @@ struct PackedRows {
 
 struct ModelWriter::Impl {
     std::filesystem::path path;
-    common::AtomicOutput output;
+    proto::AtomicFile output;
     std::unique_ptr<OIIO::ImageOutput> image;
     std::vector<std::string> names;
     int channels = 0;

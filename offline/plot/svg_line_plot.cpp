@@ -8,7 +8,7 @@
 #include <limits>
 #include <sstream>
 
-#include "vpe/common/atomic_output.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::plot {
 
@@ -166,7 +166,7 @@ std::string SvgLinePlot::render() const {
 }
 
 void SvgLinePlot::write(const std::filesystem::path& path) const {
-    common::writeTextFileAtomically(path, render());
+    proto::writeTextFileAtomically(path, render());
 }
 
 }  // namespace vpe::plot

@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
@@ -17,6 +16,7 @@
 #include "vpe/image/image_file.h"
 #include "vpe/model/coefficient_image.h"
 #include "vpe/model/fourier_model_file.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/quilt/quilt_folder.h"
 #include "vpe/scene/procedural_vase.h"
 #include "vpe/scene/screen_mesh.h"
@@ -299,7 +299,7 @@ QuiltTextureReport quiltTexture(const QuiltTextureOptions& options) {
     progress.finish();
     report.seconds = common::secondsSince(start);
     description["seconds"] = report.seconds;
-    common::writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
+    proto::writeTextFileAtomically(partial / "quilt.json", description.dump(1) + "\n");
     folder.commit();
     return report;
 }

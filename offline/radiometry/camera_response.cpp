@@ -17,8 +17,8 @@
 
 #include <opencv2/photo.hpp>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/text/line_reader.h"
 
 namespace vpe::radiometry {
@@ -516,7 +516,7 @@ void writeCameraResponseCsv(const std::filesystem::path& path,
         }
         csv << '\n';
     }
-    common::writeTextFileAtomically(path, csv.str());
+    proto::writeTextFileAtomically(path, csv.str());
 }
 
 CameraLinearization readCameraResponseCsv(const std::filesystem::path& path) {

@@ -10,11 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/quantile.h"
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/srgb.h"
 #include "vpe/radiometry/projector_radiometry.h"
 
@@ -140,7 +140,7 @@ void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& 
                       r.response[1][l], r.response[2][l]);
         csv << line;
     }
-    common::writeTextFileAtomically(folder / kResponseFile, csv.str());
+    proto::writeTextFileAtomically(folder / kResponseFile, csv.str());
     nlohmann::json json;
     json["format"] = "vpe-measured-radiometry";
     json["version"] = 1;
@@ -166,7 +166,7 @@ void writeRadiometry(const ProjectorRadiometry& r, const std::filesystem::path& 
     json["white_signal"] = r.whiteSignal;
     json["camera_linear"] = r.cameraLinear;
     json["exposure_us"] = r.exposureUs;
-    common::writeTextFileAtomically(folder / kMeasuredFile, json.dump(2) + "\n");
+    proto::writeTextFileAtomically(folder / kMeasuredFile, json.dump(2) + "\n");
 }
 
 ProjectorRadiometry readRadiometry(const std::filesystem::path& folder) {

@@ -10,8 +10,8 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::registration {
 
@@ -290,7 +290,7 @@ void writeSurfaceMesh(const SurfaceMesh& surface, const std::filesystem::path& f
           {"point", surface.axis.point},
           {"rms_m", surface.axis.rmsM},
           {"pitch", surface.axis.pitch}}}};
-    common::writeTextFileAtomically(folder / kSurfaceFrameFile, json.dump(2) + "\n");
+    proto::writeTextFileAtomically(folder / kSurfaceFrameFile, json.dump(2) + "\n");
 }
 
 SurfaceMesh readSurfaceMesh(const std::filesystem::path& folder) {

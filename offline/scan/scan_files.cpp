@@ -8,10 +8,10 @@
 #include <open3d/geometry/PointCloud.h>
 #include <open3d/io/PointCloudIO.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/image/contact_sheet.h"
 #include "vpe/image/image_file.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/srgb.h"
 
 namespace vpe::scan {
@@ -108,7 +108,7 @@ void writePointCloud(const ProjectorSurface& s, const std::filesystem::path& pat
         const double c = s.confidence[p];
         cloud.colors_.emplace_back(c, c, c);
     }
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     open3d::io::WritePointCloudOption options;
     options.write_ascii = open3d::io::WritePointCloudOption::IsAscii::Binary;
     if (!open3d::io::WritePointCloudToPLY(output.temporaryPath().string(), cloud, options)) {

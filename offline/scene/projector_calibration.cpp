@@ -28,8 +28,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/text/line_reader.h"
 
 namespace vpe::scene {
@@ -534,7 +534,7 @@ void writeCalibrationFile(const std::filesystem::path& path, const char* comment
                                            path.extension().string() +
                                            "' (.yml, .yaml, .xml or .json)");
     }
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     try {
         cv::FileStorage storage(output.temporaryPath().string(), cv::FileStorage::WRITE);
         if (!storage.isOpened()) {

@@ -16,8 +16,8 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
+#include "vpe/proto/atomic_file.h"
 
 namespace vpe::scene {
 
@@ -345,7 +345,7 @@ ScreenMesh loadScreenMesh(const std::filesystem::path& path, const ScreenMeshLoa
 }
 
 void writeScreenMeshObj(const ScreenMesh& mesh, const std::filesystem::path& path) {
-    common::AtomicOutput output(path);
+    proto::AtomicFile output(path);
     {
         std::ofstream stream(output.temporaryPath(), std::ios::binary);
         std::array<char, 128> line{};

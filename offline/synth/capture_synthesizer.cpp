@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "vpe/common/atomic_folder.h"
-#include "vpe/common/atomic_output.h"
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/common/progress_bar.h"
 #include "vpe/common/random_bits.h"
 #include "vpe/image/image_file.h"
 #include "vpe/model/fourier_model_file.h"
+#include "vpe/proto/atomic_file.h"
 #include "vpe/proto/fourier_brdf.h"
 #include "vpe/proto/srgb.h"
 #include "vpe/synth/light_rigs.h"
@@ -99,7 +99,7 @@ void writeManifest(const std::filesystem::path& folder, const PotteryScene& scen
     for (std::size_t i = 0; i < lights.size(); ++i) {
         manifest["images"].push_back({{"file", files[i]}, {"light", vectorJson(lights[i])}});
     }
-    common::writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
+    proto::writeTextFileAtomically(folder / "capture.json", manifest.dump(1) + "\n");
 }
 
 void checkOptions(const SynthOptions& options) {
@@ -423,7 +423,7 @@ SynthReport synthesizeCapture(const SynthOptions& options) {
         writeFourierTruth(truth, surface, fourier, options.fourierHarmonics, options.size,
                           scene.texelMillimetres());
     }
-    common::writeTextFileAtomically(
+    proto::writeTextFileAtomically(
         truth / "synth.json",
         describeCapture(options, scene, rig, !fourier.empty()).dump(1) + "\n");
     // Swap the finished capture into place.
