@@ -65,7 +65,7 @@ BoardConfig parseBoardConfig(std::string_view text, const std::string& source) {
                                description);
     }
     std::set<std::string, std::less<>> sections{"board", "display", "render", "light", "idle"};
-    sections.insert("scan");  // scan/scan_config.h: what vpe-player --scan needs
+    sections.insert("scan");  // board/scan_config.h: what vpe-player --scan needs
     sections.insert(kInputSections.begin(), kInputSections.end());
     checkKeys(root, source, "", sections);
     for (const std::string& input : kInputSections) {

@@ -6,8 +6,6 @@
 #include <map>
 #include <optional>
 
-#include "vpe/firmware/knobs/knobs_config_parser.h"
-
 #include "board/toml_fields.h"
 
 namespace vpe::firmware::knobs {

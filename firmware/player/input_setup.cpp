@@ -7,7 +7,6 @@
 
 #include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/knobs/gpio_knobs.h"
-#include "vpe/firmware/knobs/knobs_config_parser.h"
 #include "vpe/firmware/osc/osc_server.h"
 #include "vpe/firmware/player/player_log.h"
 #include "vpe/firmware/player/replay_input.h"

@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
 // parseKnobsConfig: a full [gpio] section, defaults, and one-line errors naming
 // file:gpio.encoder[i].key for every kind of bad value.
+#include "vpe/firmware/knobs/knobs_config.h"
+
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include "vpe/firmware/board/board_config.h"
-#include "vpe/firmware/knobs/knobs_config_parser.h"
 
 #include "test_paths.h"
 

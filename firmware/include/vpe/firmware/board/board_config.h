@@ -13,8 +13,8 @@
 
 #include <toml++/impl/forward_declarations.h>  // toml::table, without the parser
 
-#include "vpe/firmware/light/light_config.h"
-#include "vpe/firmware/scan/scan_config.h"
+#include "vpe/firmware/board/light_config.h"
+#include "vpe/firmware/board/scan_config.h"
 #include "vpe/proto/input_error.h"
 
 namespace vpe::firmware {

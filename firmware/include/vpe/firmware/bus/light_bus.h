@@ -17,13 +17,13 @@
 #include <string>
 #include <vector>
 
+#include "vpe/firmware/board/light_config.h"
 #include "vpe/firmware/bus/bus_config.h"
 #include "vpe/firmware/bus/install_message.h"
 #include "vpe/firmware/bus/light_message.h"
 #include "vpe/firmware/bus/mqtt_connection.h"
 #include "vpe/firmware/bus/node_status.h"
 #include "vpe/firmware/input/input_device.h"
-#include "vpe/firmware/light/light_config.h"
 #include "vpe/firmware/light/shared_light_publisher.h"
 #include "vpe/firmware/loop/rate_limited_log.h"
 

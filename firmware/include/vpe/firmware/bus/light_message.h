@@ -11,7 +11,7 @@
 #include <string_view>
 #include <variant>
 
-#include "vpe/firmware/light/light_config.h"
+#include "vpe/firmware/board/light_config.h"
 #include "vpe/firmware/light/light_sphere.h"
 
 namespace vpe::firmware::bus {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <ctime>
 #include <map>
 #include <string>
 #include <vector>
@@ -40,6 +41,10 @@ public:
 
 // CLOCK_MONOTONIC in nanoseconds: the clock of GPIO event timestamps (libgpiod 1.6 reports
 // CLOCK_MONOTONIC by default), libcamera's SensorTimestamp and the loop's timer.
-std::int64_t monotonicNowNs();
+inline std::int64_t monotonicNowNs() {
+    timespec now{};
+    ::clock_gettime(CLOCK_MONOTONIC, &now);
+    return static_cast<std::int64_t>(now.tv_sec) * 1'000'000'000 + now.tv_nsec;
+}
 
 }  // namespace vpe::firmware

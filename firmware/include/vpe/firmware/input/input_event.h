@@ -10,7 +10,7 @@
 #include <variant>
 
 #include "vpe/firmware/input/input_source.h"
-#include "vpe/firmware/light/shared_light.h"
+#include "vpe/firmware/input/shared_light.h"
 
 namespace vpe::firmware {
 

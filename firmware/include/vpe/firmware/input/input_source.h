@@ -12,6 +12,20 @@ namespace vpe::firmware {
 enum class InputSource : std::uint8_t { kKnobs, kCamera, kOsc, kIdle, kBus };
 
 // "knobs", "camera", "osc", "idle", "bus".
-const char* inputSourceName(InputSource source);
+inline const char* inputSourceName(InputSource source) {
+    switch (source) {
+        case InputSource::kKnobs:
+            return "knobs";
+        case InputSource::kCamera:
+            return "camera";
+        case InputSource::kOsc:
+            return "osc";
+        case InputSource::kIdle:
+            return "idle";
+        case InputSource::kBus:
+            return "bus";
+    }
+    return "unknown";
+}
 
 }  // namespace vpe::firmware

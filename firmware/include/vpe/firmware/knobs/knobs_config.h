@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <toml++/impl/forward_declarations.h>  // toml::table, without the parser
+
 #include "vpe/firmware/knobs/turn_acceleration.h"
 
 namespace vpe::firmware::knobs {
@@ -43,5 +45,10 @@ struct KnobsConfig {
     std::vector<EncoderConfig> encoders;
     std::vector<ButtonConfig> buttons;
 };
+
+// Reads a board file's [gpio] table strictly: unknown keys, wrong types and bad values are
+// refused with BoardConfigError, one line naming "file:gpio.encoder[1].axis: …" (array indices
+// count from 0). `source` names the board file in errors.
+KnobsConfig parseKnobsConfig(const toml::table& gpio, const std::string& source);
 
 }  // namespace vpe::firmware::knobs

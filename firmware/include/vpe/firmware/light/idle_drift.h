@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "vpe/firmware/light/light_config.h"
+#include "vpe/firmware/board/light_config.h"
 #include "vpe/firmware/light/light_sphere.h"
 
 namespace vpe::firmware {

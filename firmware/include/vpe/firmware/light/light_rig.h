@@ -16,11 +16,11 @@
 #include <cstdint>
 #include <optional>
 
+#include "vpe/firmware/board/light_config.h"
 #include "vpe/firmware/input/input_event.h"
+#include "vpe/firmware/input/shared_light.h"
 #include "vpe/firmware/light/idle_drift.h"
-#include "vpe/firmware/light/light_config.h"
 #include "vpe/firmware/light/light_sphere.h"
-#include "vpe/firmware/light/shared_light.h"
 
 namespace vpe::firmware {
 

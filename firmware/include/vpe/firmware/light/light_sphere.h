@@ -9,12 +9,9 @@
 #include <array>
 #include <span>
 
-namespace vpe::firmware {
+#include "vpe/firmware/input/spherical_position.h"
 
-// Where the light stands on its sphere about the object: degrees, metres.
-struct SphericalPosition {
-    double azimuthDeg = 0, elevationDeg = 0, distanceM = 1;
-};
+namespace vpe::firmware {
 
 class LightSphere {
 public:

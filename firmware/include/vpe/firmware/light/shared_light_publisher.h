@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "vpe/firmware/light/shared_light.h"
+#include "vpe/firmware/input/shared_light.h"
 
 namespace vpe::firmware {
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "vpe/firmware/board/board_config.h"
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 
 namespace vpe::firmware {
 

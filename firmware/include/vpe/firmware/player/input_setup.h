@@ -15,7 +15,7 @@
 #include "vpe/firmware/osc/osc_config.h"
 #include "vpe/firmware/osc/osc_dispatcher.h"
 #include "vpe/firmware/player/player.h"
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 #include "vpe/firmware/tracking/camera_config.h"
 
 namespace vpe::firmware {

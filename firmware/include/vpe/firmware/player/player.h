@@ -28,9 +28,9 @@
 #include "vpe/firmware/loop/show_clock.h"
 #include "vpe/firmware/player/frame_report.h"
 #include "vpe/firmware/player/light_log.h"
+#include "vpe/firmware/player/player_options.h"
 #include "vpe/firmware/player/scene_slot.h"
 #include "vpe/firmware/player/service_watchdog.h"
-#include "vpe/firmware/player_options.h"
 #include "vpe/proto/input_error.h"
 #include "vpe/renderer/gles/graphics_platform.h"
 

@@ -13,7 +13,7 @@
 #include "vpe/firmware/board/board_config.h"
 #include "vpe/firmware/bus/light_bus.h"
 #include "vpe/firmware/player/player.h"
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 
 namespace vpe::firmware {
 

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "vpe/firmware/board/board_config.h"
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 #include "vpe/firmware/scan/capture_loop.h"
 #include "vpe/firmware/scan/frame_check.h"
 #include "vpe/firmware/scan/install_images.h"

@@ -10,7 +10,7 @@
 
 #include <toml++/impl/forward_declarations.h>  // toml::table, without the parser
 
-#include "vpe/firmware/light/light_config.h"
+#include "vpe/firmware/board/light_config.h"
 #include "vpe/firmware/light/light_sphere.h"
 #include "vpe/firmware/tracking/lamp_calibration.h"
 #include "vpe/firmware/tracking/lamp_tracker.h"

@@ -11,7 +11,7 @@
 #include <optional>
 
 #include "vpe/firmware/input/input_source.h"
-#include "vpe/firmware/light/light_sphere.h"
+#include "vpe/firmware/input/spherical_position.h"
 
 namespace vpe::firmware {
 

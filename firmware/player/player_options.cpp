@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // PlayerOptions: vpe-player's argument parser.
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 
 #include <charconv>
 #include <cstdlib>

@@ -15,7 +15,7 @@
 #include "vpe/firmware/player/input_setup.h"
 #include "vpe/firmware/player/player.h"
 #include "vpe/firmware/player/player_log.h"
-#include "vpe/firmware/player_options.h"
+#include "vpe/firmware/player/player_options.h"
 #include "vpe/firmware/scan/install_capture.h"
 #include "vpe/firmware/scan/scan_run.h"
 #include "vpe/proto/input_error.h"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The [scan] section, read strictly with the shared board-file helpers.
-#include "vpe/firmware/scan/scan_config.h"
+#include "vpe/firmware/board/scan_config.h"
 
 #include <toml++/toml.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "vpe/firmware/light/light_config.h"
+#include "vpe/firmware/board/light_config.h"
 
 #include "board/toml_fields.h"
 
