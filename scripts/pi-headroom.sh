@@ -119,10 +119,11 @@ EOF
         "$work/benchmark.json"
     cat <<'EOF'
 
-**Before**, on the same counter: the renderer before issue 31 part 4 (its bytes counted with the
-formats it allocated: position RGBA32F, normals RGBA32UI, material 2 × RGBA32UI, with live
-weights uv RG32F and two 8-bit weight texels), and the first round of part 4 (half floats about
-the object's centre, the material as 16 half floats, live weights blended every frame).
+**Before**, on the same counter: the renderer before it was fitted to the Pi 4's memory (its
+bytes counted with the formats it allocated: position RGBA32F, normals RGBA32UI, material 2 ×
+RGBA32UI, with live weights uv RG32F and two 8-bit weight texels), and the first round of that
+work (half floats about the object's centre, the material as 16 half floats, live weights
+blended every frame).
 
 | scene | FLOP-eq. | fetches | bytes | Pi 4 fps, ops | Pi 4 fps, bytes |
 |---|---|---|---|---|---|
@@ -146,9 +147,9 @@ halves no longer unpacked, +3 to take the word of 1/S and g.z), the position in 
 targetRadiance's max(L, 0) left to the response table's clamped edge (−3), 1/S and kd's scale
 folded into the scalar factors, and the falloff in its own program (−3 for a still light).
 
-Issue 6's renderer, for the record: low-rank 3,733 FLOP-eq. and 16 fetches per shaded pixel (the
-shading pass re-intersected the ray, read six triangle-table texels and evaluated 13 × 22 basis
-products per region), full precision 697 and 44.
+The first GLES renderer, for the record: low-rank 3,733 FLOP-eq. and 16 fetches per shaded
+pixel (the shading pass re-intersected the ray, read six triangle-table texels and evaluated 13 ×
+22 basis products per region), full precision 697 and 44.
 
 ## Roofline frame rates
 
@@ -173,7 +174,7 @@ EOF
     for scene in "${scenes[@]}"; do bound "$scene"; done
     cat <<'EOF'
 
-Issue 31's goal — a Pi 4 at 1080p ≥ 60 fps for a static preset and ≥ 45 fps with live
+The goal — a Pi 4 at 1080p ≥ 60 fps for a static preset and ≥ 45 fps with live
 weights, by both bounds:
 
 EOF

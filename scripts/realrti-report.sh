@@ -139,7 +139,7 @@ done
          END { printf "| **mean** | | %.2f | %.2f | %.2f | %.2f | %.2f | **%.2f** | %+.2f | %.2f |\n",
                       s[3]/n, s[4]/n, s[5]/n, s[6]/n, s[8]/n, s[7]/n, (s[7]-s[5])/n, sb/n }' "$rows"
     echo
-    echo "Goal (issue 16): extended mean ≥ the per-item best basis averaged (30.65 dB published),"
+    echo "Goal: extended mean ≥ the per-item best basis averaged (30.65 dB published),"
     echo "no item below its HSH-16."
     echo
     echo "## What the extended fit is, and what the bake uses"
@@ -208,7 +208,7 @@ done
     echo
     echo "\`vpe fit\`'s total seconds (decode, normals, search and fit, write; its \`--json\`), the"
     echo "paper's model and the extended one fitted one after the other on the same machine, under"
-    echo "nice, per item and rotation; the ratio is extended / paper (goal, issue 28: ≤ 3)."
+    echo "nice, per item and rotation; the ratio is extended / paper (goal: ≤ 3)."
     echo
     echo "| item | rotation | paper (s) | extended (s) | ratio |"
     echo "|---|---|---|---|---|"

@@ -109,7 +109,7 @@ default_worst=$(awk '$1 == "extended" && $2 == "detail-map" { printf "%.2f", $5 
     echo "  model — texel (x, y) is capture pixel (x, y), no quilting — and renders them directly: the"
     echo "  microfacet radiance with the relief's normal (applied as the pipeline applies its own:"
     echo "  \`proto/detail_normal.h\`), the same horizon factor — the smooth terminator of"
-    echo "  \`proto/surface_horizon.h\`, which landed with issue 13, before this measurement — and no"
+    echo "  \`proto/surface_horizon.h\`, which came with the corrected terminator, before this measurement — and no"
     echo "  cast shadows (the virtual light casts none)."
     echo "- **The pipeline.** \`vpe fit\` (paper or extended model), \`vpe bake --texture MODEL.exr\` (one"
     echo "  region, low-rank rank 12, half floats: the device's data), and the CPU reference's direct"
