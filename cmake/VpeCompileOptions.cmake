@@ -31,8 +31,9 @@ if(VPE_SANITIZE)
     # and were a third of this build's compile time (extended_chunk_fit.cpp: 26 s → 17 s, two
     # jobs): ASan reports a null dereference itself (SEGV on address 0, with the stack), and
     # the fuzz build below keeps both checks on the parsers of file and packet bytes, where a
-    # misaligned read would come from. (The asan preset builds with clang since issue 44,
-    # whose instrumentation costs far less; the checks stay off until measured there.)
+    # misaligned read would come from. (The asan preset builds with clang since CI's time was
+    # halved, docs/ci-budget.md; its instrumentation costs far less, and the checks stay off
+    # until measured there.)
     add_compile_options(-fsanitize=address,undefined -fno-sanitize=null,alignment
                         -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
     add_link_options(-fsanitize=address,undefined)

@@ -7,7 +7,7 @@
 #                    [PUBLIC_INCLUDES <dirs>...] [PRIVATE_INCLUDES <dirs>...]
 #                    [PUBLIC_LIBS <targets>...] [PRIVATE_LIBS <targets>...])
 #
-# A hardware or file library belongs in PRIVATE_LIBS: it stays in its room (issue 7).
+# A hardware or file library belongs in PRIVATE_LIBS: it stays in its room.
 
 function(vpe_room_library name)
     cmake_parse_arguments(ROOM "" ""

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The show's control page (issue 30, docs/control-page.md) in a real browser against a real
+# The show's control page (docs/control-page.md) in a real browser against a real
 # broker, measured on this machine: Debian's headless Chromium driven by chromedriver
 # (python3-selenium), a mosquitto of the script's own on loopback (MQTT for the players,
 # WebSockets and the page's files for the browser, boards/mosquitto/acl as shipped), three

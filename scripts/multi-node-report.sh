@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# One light shared by several vpe-player nodes through an MQTT broker (issue 27,
-# docs/multi-node.md), measured on this machine: three headless players at 60 Hz on a small
+# One light shared by several vpe-player nodes through an MQTT broker
+# (docs/multi-node.md), measured on this machine: three headless players at 60 Hz on a small
 # bundle (160 × 90) and a mosquitto of the script's own on a free loopback port, with the
 # password file, boards/mosquitto/acl and the board [bus] sections a gallery would use.
 #   1. agreement: node-a (controller) replays knob turns, node-b and node-c (players) follow;

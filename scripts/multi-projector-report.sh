@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Several projectors on one object (issue 27, part 1): three 1080p projectors around the vase,
+# Several projectors on one object: three 1080p projectors around the vase,
 # blended from the geometry, seen by visitors from 8 positions around it (docs/multi-projector.md).
 #   vpe synth, vpe fit --model extended   the built-in synthetic Bizen capture and its model
 #   vpe projector-ring --count 3          three projectors 120° apart, 0.6 m away, 15° up

@@ -103,7 +103,7 @@ void addRadiometryCommand(CLI::App& app, Action& action) {
     CLI::App* command = app.add_subcommand(
         "radiometry",
         "Measure the projector's light on the object from flat fields: per projector pixel the "
-        "irradiance factor and the floor, the crosstalk and the response (issue 26)");
+        "irradiance factor and the floor, the crosstalk and the response");
     command
         ->add_option("capture", args->capture,
                      "The radiometric capture (radiometry.json and its images), or the scan "

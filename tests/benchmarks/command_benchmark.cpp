@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The texture commands as users run them, on issue 17's recipe: the synthetic pot at 512²
+// The texture commands as users run them, on one recipe: the synthetic pot at 512²
 // (`vpe synth --size 512 --seed 2`, 330 training images), fitted and split into two regions
 // once into a cache folder; then, `--runs` times each (default 3), as child processes:
 //   fit    `vpe fit S/train`: the command's phases and its fitting rate (seconds.fit; goal
@@ -86,7 +86,7 @@ void benchmarkQuilt(const std::filesystem::path& dir, int runs) {
         std::printf("quilt run %d: %.2f s end to end (its own seconds %.2f);", run + 1,
                     result.seconds, own.back());
         for (int p = 0; p < 3; ++p) {
-            // NaN from a vpe that does not report the phase (builds before issue 17).
+            // NaN from a vpe that does not report the phase (older builds).
             phaseSeconds[p].push_back(result.report.value(phases[p], std::nan("")));
             std::printf(" %s %.2f", phases[p], phaseSeconds[p].back());
         }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// vpe_player_figures: issue 7's two measurements of the real vpe-player, headless, on the GLES
-// tests' vase bundle (160 × 120: low resolution), with inputs replayed through the decoders.
+// vpe_player_figures: docs/player.md's two measurements of the real vpe-player, headless, on the
+// GLES tests' vase bundle (160 × 120: low resolution), with inputs replayed through the decoders.
 //
 //   latency  knob detents (4 bouncy edges each) at random phases against the 60 Hz frame
 //            timer; input-to-frame latency = the event's timestamp → the frame showing it

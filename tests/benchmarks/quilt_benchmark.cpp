@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Quilting speed: a 512² source of 66 channels (M = 10, RGB) quilted to 2048² with the FFT
-// search on all cores — the figure — and, in the same run, the FFT search against
+// search on all cores — docs/quilting.md's figure — and, in the same run, the FFT search against
 // the exhaustive one (every candidate scored on all channels) on a small case.
 // Timed cases repeat and report the median (the exhaustive search, ~7 s of fixed work, runs
 // once).

@@ -50,7 +50,7 @@ TEST_F(GlesFidelity, DeviceFramesStayWithinTheBudgetOfTheExactModel) {
         worstFrame = std::min(worstFrame, light.psnrFrame);
     }
     // Measured 49.0 dB on the vase and 58.7 dB over the frame (the front light, at gain 1; 49.1
-    // before issue 31's half-float shading geometry and response table; the
+    // before the shading geometry was stored in half floats and the response became a table; the
     // bundle carries the fit's relief, folded into the geometry by the relief pass):
     // this 64² fit of a noisy capture, mapped unquilted, is harder for K = 4 than the demo's
     // quilted texture (52.3 and 62.0 dB, vpe_gles_fidelity in demo-output/summary.txt).

@@ -390,8 +390,8 @@ TEST(Install, RefusesABrokenScanInOneLine) {
 // phase, 1,286 by their neighbourhood's, 495 by the Gray bin alone: 3.16 %); 0.058 % outside
 // their stated precision (9 pixels, 8 of them one bin off beside a stripe's edge); of those placed
 // finer than a pixel, 0.05 % more than a pixel off; depth RMS 0.211 mm. Before the neighbours
-// settled bits: 94.99 % decoded, 382 pixels ambiguous. Before this decoder: 10.9 % decoded (the
-// issue's independent renderer), the rest low_modulation.
+// settled bits: 94.99 % decoded, 382 pixels ambiguous. Before this decoder: 10.9 % decoded (on an
+// independent renderer's captures), the rest low_modulation.
 TEST(Install, ANoisyGammaCameraCostsPrecisionNotCoverage) {
     const fs::path out = scratch("noisy");
     const CommandResult synth = runCommand(

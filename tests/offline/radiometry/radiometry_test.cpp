@@ -74,9 +74,9 @@ double roomLight(std::size_t channel) {
     return truth[channel];
 }
 
-// Issue 45's rooms: the gallery's light with a camera whose black level is 0.004 of its range
-// (a linear 10-bit sensor), on the stained plaster (PARTIAL/stained) and on plaster of one
-// albedo (PARTIAL/uniform), each scanned.
+// The gallery's light with a camera whose black level is 0.004 of its range (a linear 10-bit
+// sensor), on the stained plaster (PARTIAL/stained) and on plaster of one albedo
+// (PARTIAL/uniform), each scanned.
 constexpr double kCameraBlack = 0.004;
 const fs::path& blackCameraGalleries() {
     static const fs::path folder =
@@ -262,7 +262,7 @@ TEST(Radiometry, AnIspCameraIsLinearizedFromItsBracket) {
 }
 
 TEST(RadiometryFloor, StainedPlasterSplitsTheCamerasBlackFromTheRoomsLight) {
-    // Issue 45: room light at 2 % of white, a camera black of 0.004, stained plaster. The fit of
+    // Room light at 2 % of white, a camera black of 0.004, stained plaster. The fit of
     // D / F on 1 / S read the black as projector light and gave the room 0.0747, 0.0782, 0.0696
     // here (another renderer's flatter object: 0.0005 for 0.056).
     const fs::path out = scratch("floor-stained");

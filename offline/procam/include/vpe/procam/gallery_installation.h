@@ -25,8 +25,8 @@ struct GalleryOptions {
     // Chooses the object's pose (a turn about its axis, a lean, an offset) and the noise.
     std::uint64_t seed = 1;
     bool stains = false;  // non-uniform plaster (greyer foot, stains)
-    // The light as a real gallery has it (issue 26): plaster stained by ±30 % around its mean
-    // albedo, a projector whose curves are no gamma (a toe and a shoulder, different per
+    // The light as a real gallery has it (docs/radiometry.md): plaster stained by ±30 % around its
+    // mean albedo, a projector whose curves are no gamma (a toe and a shoulder, different per
     // channel) with crosstalk between its primaries, and the room's light at 2 % of the
     // projector's full white on the object. Implies stains.
     bool realisticLight = false;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // checkRadiometry: how closely the light a bundle's frames put on the true installation matches
-// the appearance they aim for, as the installation's camera sees it (issue 26) — the test of a
-// compensation against what the projector, the plaster and the room really do, not against the
+// the appearance they aim for, as the installation's camera sees it (docs/radiometry.md) — the test
+// of a compensation against what the projector, the plaster and the room really do, not against the
 // renderer's own assumptions.
 #pragma once
 

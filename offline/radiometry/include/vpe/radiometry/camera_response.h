@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The camera's own response, measured from exposure brackets: every radiometric measurement
 // vpe makes goes through the camera, so a camera whose codes are not proportional to light (an
-// ISP's 8-bit output, gamma-encoded) must be linearized first (issue 26). CameraLinearization
-// is the code → linear signal table; fitCameraResponse measures it from photographs of a static
-// scene at several exposures (Debevec & Malik 1997, through OpenCV's photo module); the CSV
-// functions keep it beside a capture.
+// ISP's 8-bit output, gamma-encoded) must be linearized first (docs/radiometry.md).
+// CameraLinearization is the code → linear signal table; fitCameraResponse measures it from
+// photographs of a static scene at several exposures (Debevec & Malik 1997, through OpenCV's photo
+// module); the CSV functions keep it beside a capture.
 #pragma once
 
 #include <cstdint>
