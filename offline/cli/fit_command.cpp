@@ -10,6 +10,7 @@
 #include "vpe/common/input_error.h"
 #include "vpe/common/parallel_for.h"
 #include "vpe/fit/capture_fitter.h"
+#include "vpe/fit/normal_equations.h"
 #include "vpe/model/rti_basis.h"
 
 #include "cli/commands.h"
@@ -208,6 +209,7 @@ void runFit(const FitArguments& args) {
         if (!report.preview.empty()) {
             json["preview"] = report.preview.string();
         }
+        json["simd"] = fit::activeKernelTargetName();  // VPE_SIMD, or the best this CPU runs
         json["seconds"] = {{"decode", report.decodeSeconds},
                            {"normals", report.normalsSeconds},
                            {"fit", report.fitSeconds},

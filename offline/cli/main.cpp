@@ -2,8 +2,10 @@
 // vpe: the offline tools. Bad input (proto::InputError, and every error derived from it: a
 // bundle, a scan manifest, a scene file, ...) ends with one line on stderr and exit status 2.
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 
+#include "vpe/fit/normal_equations.h"
 #include "vpe/proto/input_error.h"
 
 #include "cli/commands.h"
@@ -55,6 +57,11 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        // The fit's SIMD kernels on another target than the best this CPU runs
+        // (docs/fitting.md): to measure here what another machine would run.
+        if (const char* simd = std::getenv("VPE_SIMD"); simd != nullptr && *simd != '\0') {
+            vpe::fit::restrictKernelTarget(simd);
+        }
         action();
     } catch (const vpe::proto::InputError& error) {
         std::fprintf(stderr, "vpe: %s\n", error.what());

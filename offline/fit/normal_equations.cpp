@@ -10,10 +10,13 @@
 #include "vpe/fit/normal_equations.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <new>
+#include <string>
 #include <type_traits>
 
+#include "vpe/common/input_error.h"
 #include "vpe/proto/reflection_geometry.h"
 
 // Scalable vectors (SVE) have no size at compile time and cannot be members of the structs the
@@ -692,6 +695,31 @@ std::vector<std::int64_t> kernelTargets() {
 
 std::int64_t activeKernelTarget() {
     return HWY_DYNAMIC_DISPATCH(compiledTarget)();
+}
+
+const char* activeKernelTargetName() {
+    return hwy::TargetName(activeKernelTarget());
+}
+
+void restrictKernelTarget(std::string_view name) {
+    const auto sameName = [name](std::string_view target) {
+        return std::equal(name.begin(), name.end(), target.begin(), target.end(),
+                          [](char a, char b) {
+                              return std::toupper(static_cast<unsigned char>(a)) ==
+                                     std::toupper(static_cast<unsigned char>(b));
+                          });
+    };
+    std::string choices;
+    for (const std::int64_t target : kernelTargets()) {
+        if (sameName(hwy::TargetName(target))) {
+            // Every better target off: the dispatch then picks this one.
+            hwy::DisableTargets(target - 1);
+            return;
+        }
+        choices += (choices.empty() ? "" : ", ") + std::string(hwy::TargetName(target));
+    }
+    throw common::InputError("VPE_SIMD=" + std::string(name) +
+                             ": not a SIMD target this build and CPU run (" + choices + ")");
 }
 
 }  // namespace vpe::fit

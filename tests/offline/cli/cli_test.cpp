@@ -235,6 +235,30 @@ TEST(Cli, FitWritesHalfFloatChannelsUnlessToldFloat) {
     }
 }
 
+// VPE_SIMD picks the fit's SIMD target for the whole process (docs/fitting.md); the fit's JSON
+// names the one that ran.
+TEST(Cli, FitRunsOnTheSimdTargetVpeSimdNames) {
+    testing::TemporaryFolder folder;
+    writeSyntheticCapture(folder / "capture", smallSpec());
+    const auto fitOn = [&](const std::string& simd) {
+        std::vector<std::string> command = {"/usr/bin/env", "VPE_SIMD=" + simd};
+        for (const std::string& argument :
+             vpe({"fit", (folder / "capture").string(), "--out",
+                  (folder / ("out-" + simd + ".exr")).string(), "--harmonics", "2", "--json"})) {
+            command.push_back(argument);
+        }
+        return runCommand(command);
+    };
+    const CommandResult scalar = fitOn("scalar");
+    ASSERT_EQ(scalar.exitStatus, 0) << scalar.err;
+    EXPECT_EQ(lastJsonLine(scalar.out).at("simd").get<std::string>(), "SCALAR");
+    const CommandResult best = fitOn("");
+    ASSERT_EQ(best.exitStatus, 0) << best.err;
+    EXPECT_NEAR(lastJsonLine(best.out).at("mean_rms").get<double>(),
+                lastJsonLine(scalar.out).at("mean_rms").get<double>(), 1e-4);
+    expectInputError(fitOn("AVX9"), {"VPE_SIMD=AVX9", "SCALAR"});
+}
+
 TEST(Cli, StorageOtherThanHalfOrFloatIsAUsageError) {
     testing::TemporaryFolder folder;
     writeSyntheticCapture(folder / "capture", smallSpec());

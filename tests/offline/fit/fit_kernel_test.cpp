@@ -2,6 +2,7 @@
 // The product-to-sum normal-equation kernel against the textbook fit, on every SIMD target the
 // kernel is compiled for and this CPU runs.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 
+#include "vpe/common/input_error.h"
 #include "vpe/fit/naive_fourier_fit.h"
 #include "vpe/fit/normal_equations.h"
 
@@ -149,6 +151,21 @@ INSTANTIATE_TEST_SUITE_P(FitKernelTargets, NormalEquations, ::testing::ValuesIn(
                          [](const ::testing::TestParamInfo<std::int64_t>& target) {
                              return std::string(hwy::TargetName(target.param));
                          });
+
+// What VPE_SIMD does for the `vpe` command: every kernel on the target named, any case.
+TEST(FitKernelTargets, RestrictingToATargetByNameDispatchesToIt) {
+    for (const std::int64_t target : kernelTargets()) {
+        std::string name = hwy::TargetName(target);
+        std::transform(name.begin(), name.end(), name.begin(),
+                       [](char c) { return static_cast<char>(std::tolower(c)); });
+        restrictKernelTarget(name);
+        EXPECT_EQ(activeKernelTarget(), target) << name;
+        EXPECT_STREQ(activeKernelTargetName(), hwy::TargetName(target));
+        hwy::DisableTargets(0);  // the process's own choice again
+    }
+    EXPECT_EQ(activeKernelTarget(), kernelTargets().front());
+    EXPECT_THROW(restrictKernelTarget("AVX9"), common::InputError);
+}
 
 // A build that compiled only the baseline would still pass the tests above, on one target.
 TEST(FitKernelTargets, EveryVectorUnitOfThisCpuHasItsKernel) {

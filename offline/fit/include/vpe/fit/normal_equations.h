@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "vpe/proto/fourier_brdf.h"
@@ -108,7 +109,15 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
 // runs, best first. The best one runs unless hwy::SetSupportedTargetsForTest narrows the
 // choice, as the tests and the benchmark do to run each.
 std::vector<std::int64_t> kernelTargets();
-// The target the kernels dispatch to now.
+// The target the kernels dispatch to now, and its name (AVX3, AVX2, SSE4, NEON, ...).
 std::int64_t activeKernelTarget();
+const char* activeKernelTargetName();
+
+// Restricts every SIMD kernel of the fit, for the rest of the process, to the target called
+// `name` (Highway's names, any case: AVX3 for AVX-512, AVX2, SSE4, SSSE3, SCALAR; NEON on
+// arm64), so that one machine can measure the code another CPU would run. The `vpe` command
+// calls it with its environment's VPE_SIMD. Throws common::InputError naming `name` and the
+// choices where it is not one of kernelTargets().
+void restrictKernelTarget(std::string_view name);
 
 }  // namespace vpe::fit
