@@ -8,7 +8,9 @@
 //          command's load, quilt and write phases, and the size of what it writes.
 // Medians at the end. The kernels alone: vpe_fit_benchmark, vpe_quilt_benchmark. `--vpe PATH`
 // times another build of vpe (a before/after comparison); the cache is made by the one timed.
-//   vpe_command_benchmark [fit|quilt|all] [--dir DIR] [--runs 3] [--vpe PATH]
+// `--simd AVX3,AVX2` runs the fit on each SIMD target named (VPE_SIMD), in turn within each run,
+// and gives each one's medians and their ratios to the first's.
+//   vpe_command_benchmark [fit|quilt|all] [--dir DIR] [--runs 3] [--vpe PATH] [--simd LIST]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -42,33 +44,59 @@ void prepare(const std::filesystem::path& dir) {
     runCommand({kVpe, "segment", m, "--auto", "2", "--out", (dir / "L.png").string(), "--json"});
 }
 
-void benchmarkFit(const std::filesystem::path& dir, int runs) {
+// `targets`: the SIMD targets to run the fit on (VPE_SIMD), taken in turn within each run so
+// that every target sees the same moments of a busy machine; empty, the best the CPU has.
+void benchmarkFit(const std::filesystem::path& dir, int runs,
+                  const std::vector<std::string>& targets) {
     const std::string model = (dir / "fit-run.exr").string();
     const char* const phases[] = {"decode", "normals", "fit", "write"};
-    std::vector<double> totals, rates, phaseSeconds[4];
+    const std::vector<std::string> each = targets.empty() ? std::vector<std::string>{""} : targets;
+    struct Figures {
+        std::vector<double> totals, rates, phaseSeconds[4];
+    };
+    std::vector<Figures> figures(each.size());
     double pixels = 0;
     for (int run = 0; run < runs; ++run) {
-        const CommandRun result =
-            runCommand({kVpe, "fit", (dir / "S" / "train").string(), "--out", model, "--json"});
-        pixels = result.report["pixels"].get<double>();
-        totals.push_back(result.seconds);
-        std::printf("fit run %d: %.2f s end to end;", run + 1, result.seconds);
-        for (int p = 0; p < 4; ++p) {
-            phaseSeconds[p].push_back(result.report["seconds"][phases[p]].get<double>());
-            std::printf(" %s %.3f s", phases[p], phaseSeconds[p].back());
+        for (std::size_t t = 0; t < each.size(); ++t) {
+            if (each[t].empty()) {
+                unsetenv("VPE_SIMD");
+            } else {
+                setenv("VPE_SIMD", each[t].c_str(), 1);
+            }
+            const CommandRun result =
+                runCommand({kVpe, "fit", (dir / "S" / "train").string(), "--out", model, "--json"});
+            Figures& f = figures[t];
+            pixels = result.report["pixels"].get<double>();
+            f.totals.push_back(result.seconds);
+            std::printf("fit run %d (%s): %.2f s end to end;", run + 1,
+                        result.report.value("simd", std::string("?")).c_str(), result.seconds);
+            for (int p = 0; p < 4; ++p) {
+                f.phaseSeconds[p].push_back(result.report["seconds"][phases[p]].get<double>());
+                std::printf(" %s %.3f s", phases[p], f.phaseSeconds[p].back());
+            }
+            f.rates.push_back(pixels / f.phaseSeconds[2].back() / 1e6);
+            std::printf("; fit %.2f M pixels/s\n", f.rates.back());
+            std::fflush(stdout);
         }
-        rates.push_back(pixels / phaseSeconds[2].back() / 1e6);
-        std::printf("; fit %.2f M pixels/s\n", rates.back());
-        std::fflush(stdout);
     }
+    unsetenv("VPE_SIMD");
     std::filesystem::remove(model);
     std::filesystem::remove(dir / "fit-run.preview.png");
-    std::printf("vpe fit, 330 × 512² synthetic pot, median of %d: %.2f s end to end;", runs,
-                median(totals));
-    for (int p = 0; p < 4; ++p) {
-        std::printf(" %s %.3f s", phases[p], median(phaseSeconds[p]));
+    for (std::size_t t = 0; t < each.size(); ++t) {
+        const Figures& f = figures[t];
+        std::printf("vpe fit%s%s, 330 × 512² synthetic pot, median of %d: %.2f s end to end;",
+                    each[t].empty() ? "" : " on ", each[t].c_str(), runs, median(f.totals));
+        for (int p = 0; p < 4; ++p) {
+            std::printf(" %s %.3f s", phases[p], median(f.phaseSeconds[p]));
+        }
+        std::printf("; seconds.fit at %.2f M pixels/s (goal >= 1)", median(f.rates));
+        if (t > 0) {
+            std::printf("; against %s: seconds.fit %.2fx, end to end %.2fx", each[0].c_str(),
+                        median(f.phaseSeconds[2]) / median(figures[0].phaseSeconds[2]),
+                        median(f.totals) / median(figures[0].totals));
+        }
+        std::printf("\n");
     }
-    std::printf("; seconds.fit at %.2f M pixels/s (goal >= 1)\n", median(rates));
 }
 
 void benchmarkQuilt(const std::filesystem::path& dir, int runs) {
@@ -110,6 +138,7 @@ int main(int argc, char** argv) {
     std::string mode = "all";
     std::filesystem::path dir = std::filesystem::temp_directory_path() / "vpe-command-benchmark";
     int runs = 3;
+    std::vector<std::string> targets;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--dir") == 0 && i + 1 < argc) {
             dir = argv[++i];
@@ -117,6 +146,13 @@ int main(int argc, char** argv) {
             runs = std::max(1, std::atoi(argv[++i]));
         } else if (std::strcmp(argv[i], "--vpe") == 0 && i + 1 < argc) {
             kVpe = argv[++i];
+        } else if (std::strcmp(argv[i], "--simd") == 0 && i + 1 < argc) {
+            std::string list = argv[++i];
+            for (std::size_t at = 0; at <= list.size();) {
+                const std::size_t comma = std::min(list.find(',', at), list.size());
+                targets.push_back(list.substr(at, comma - at));
+                at = comma + 1;
+            }
         } else {
             mode = argv[i];
         }
@@ -124,13 +160,13 @@ int main(int argc, char** argv) {
     if (mode != "fit" && mode != "quilt" && mode != "all") {
         std::fprintf(stderr,
                      "usage: vpe_command_benchmark [fit|quilt|all] [--dir DIR] [--runs N] "
-                     "[--vpe PATH]\n");
+                     "[--vpe PATH] [--simd AVX3,AVX2,...]\n");
         return 2;
     }
     try {
         prepare(dir);
         if (mode != "quilt") {
-            benchmarkFit(dir, runs);
+            benchmarkFit(dir, runs, targets);
         }
         if (mode != "fit") {
             benchmarkQuilt(dir, runs);
