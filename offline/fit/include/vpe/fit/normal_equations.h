@@ -15,10 +15,6 @@ namespace vpe::fit {
 // Pixels per kernel call. The kernels take them in slices of one vector of the CPU's SIMD target
 // (16 floats on AVX-512, 8 on AVX2, 4 on SSE4 and NEON).
 inline constexpr int kLanes = 16;
-// Half a chunk: the lanes of one AVX-512 vector of doubles, what the extended fit's
-// double-precision lane kernels take at a time (a 16-lane double vector kept its values on the
-// stack).
-inline constexpr int kHalfLanes = kLanes / 2;
 inline constexpr int kChannels = 3;  // RGB
 inline constexpr int kMaxCoefficients = proto::coefficientCount(proto::kMaxHarmonics);
 
