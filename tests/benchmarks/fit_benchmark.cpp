@@ -4,7 +4,8 @@
 // textbook per-pixel fit (build A, AᵀA + λR, LDLT) on the same threads. The run ends with
 // the ratio of the two. BM_FitBandOnTarget/<target> runs the band stage on each SIMD target the
 // kernels are compiled for and this CPU runs (AVX3 = AVX-512, AVX2, SSE4, NEON, ...), each
-// against the same naive rate. Decoding is not included: see vpe_fit_memory_benchmark for the
+// against the same naive rate; BM_FitBandExtendedOnTarget/<target> the extended fit with the
+// normal search. Decoding is not included: see vpe_fit_memory_benchmark for the
 // end-to-end figure.
 #include <cmath>
 #include <cstdio>
@@ -118,6 +119,31 @@ void fitBandOnTarget(benchmark::State& state, std::int64_t target) {
     hwy::SetSupportedTargetsForTest(0);
 }
 
+// The extended fit on a narrower band of the same kind: with the normal search it runs 13
+// alternating fits per texel.
+void fitBandExtended(benchmark::State& state, double normalSearchDegrees) {
+    static const BenchmarkBand data(256, 16);
+    fit::BandFitSettings settings;
+    settings.extended = true;
+    settings.fit.normalSearchDegrees = normalSearchDegrees;
+    measureBandFit(state, data, settings);
+}
+
+void BM_FitBandExtended(benchmark::State& state) {
+    fitBandExtended(state, static_cast<double>(state.range(0)));
+}
+
+// The extended fit with the normal search, its kernels restricted to one SIMD target.
+void fitBandExtendedOnTarget(benchmark::State& state, std::int64_t target) {
+    hwy::SetSupportedTargetsForTest(target);
+    if (fit::activeKernelTarget() == target) {
+        fitBandExtended(state, 4);
+    } else {
+        state.SkipWithError("the kernels did not switch to this target");
+    }
+    hwy::SetSupportedTargetsForTest(0);
+}
+
 void registerTargetBenchmarks() {
     for (const std::int64_t target : fit::kernelTargets()) {
         const std::string name = std::string("BM_FitBandOnTarget/") + hwy::TargetName(target);
@@ -126,16 +152,14 @@ void registerTargetBenchmarks() {
             ->Unit(benchmark::kMillisecond)
             ->MinTime(2.0);
     }
-}
-
-// The extended fit on a narrower band of the same kind: with the normal search it runs 13
-// alternating fits per texel.
-void BM_FitBandExtended(benchmark::State& state) {
-    static const BenchmarkBand data(256, 16);
-    fit::BandFitSettings settings;
-    settings.extended = true;
-    settings.fit.normalSearchDegrees = static_cast<double>(state.range(0));
-    measureBandFit(state, data, settings);
+    for (const std::int64_t target : fit::kernelTargets()) {
+        const std::string name =
+            std::string("BM_FitBandExtendedOnTarget/") + hwy::TargetName(target);
+        benchmark::RegisterBenchmark(name.c_str(), fitBandExtendedOnTarget, target)
+            ->UseRealTime()
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(2.0);
+    }
 }
 
 void BM_NaivePerPixel(benchmark::State& state) {
@@ -195,13 +219,22 @@ public:
     void Finalize() override {
         ConsoleReporter::Finalize();
         double fast = 0, naive = 0, extended = 0, refining = 0;
-        std::map<std::string, double> onTarget;  // by target name
-        const std::string targetPrefix = "BM_FitBandOnTarget/";
+        std::map<std::string, double> onTarget, extendedOnTarget;  // by target name
+        const auto byTarget = [](const std::string& name, const std::string& prefix,
+                                 std::map<std::string, double>& rates, double rate) {
+            if (name.rfind(prefix, 0) != 0) {
+                return false;
+            }
+            const std::size_t end = name.find('/', prefix.size());
+            rates[name.substr(prefix.size(), end - prefix.size())] = rate;
+            return true;
+        };
         for (const auto& [name, rate] : rates_) {
-            if (name.rfind(targetPrefix, 0) == 0) {
-                const std::size_t end = name.find('/', targetPrefix.size());
-                onTarget[name.substr(targetPrefix.size(), end - targetPrefix.size())] = rate;
-            } else if (name.rfind("BM_FitBand/", 0) == 0) {
+            if (byTarget(name, "BM_FitBandOnTarget/", onTarget, rate) ||
+                byTarget(name, "BM_FitBandExtendedOnTarget/", extendedOnTarget, rate)) {
+                continue;
+            }
+            if (name.rfind("BM_FitBand/", 0) == 0) {
                 fast = rate;
             } else if (name.rfind("BM_NaivePerPixel", 0) == 0) {
                 naive = rate;
@@ -227,6 +260,10 @@ public:
                 "extended fit: %.0f pixels/s; with the normal search: %.0f pixels/s "
                 "(%.1fx the time)\n",
                 extended, refining, extended / refining);
+        }
+        for (const auto& [target, rate] : extendedOnTarget) {
+            std::printf("extended fit with the normal search on %s: %.0f pixels/s\n",
+                        target.c_str(), rate);
         }
     }
 
