@@ -651,8 +651,14 @@ std::int64_t activeKernelTarget() {
     return HWY_DYNAMIC_DISPATCH(compiledTarget)();
 }
 
+const char* kernelTargetName(std::int64_t target) {
+    // Highway's portable fallback is SCALAR with GCC and EMU128 (128-bit vectors emulated in
+    // plain C++) with clang: to a user both are the code without a vector unit.
+    return target == HWY_SCALAR || target == HWY_EMU128 ? "SCALAR" : hwy::TargetName(target);
+}
+
 const char* activeKernelTargetName() {
-    return hwy::TargetName(activeKernelTarget());
+    return kernelTargetName(activeKernelTarget());
 }
 
 void restrictKernelTarget(std::string_view name) {
@@ -665,12 +671,12 @@ void restrictKernelTarget(std::string_view name) {
     };
     std::string choices;
     for (const std::int64_t target : kernelTargets()) {
-        if (sameName(hwy::TargetName(target))) {
+        if (sameName(kernelTargetName(target))) {
             // Every better target off: the dispatch then picks this one.
             hwy::DisableTargets(target - 1);
             return;
         }
-        choices += (choices.empty() ? "" : ", ") + std::string(hwy::TargetName(target));
+        choices += (choices.empty() ? "" : ", ") + std::string(kernelTargetName(target));
     }
     throw common::InputError("VPE_SIMD=" + std::string(name) +
                              ": not a SIMD target this build and CPU run (" + choices + ")");

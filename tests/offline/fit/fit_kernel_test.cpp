@@ -155,12 +155,12 @@ INSTANTIATE_TEST_SUITE_P(FitKernelTargets, NormalEquations, ::testing::ValuesIn(
 // What VPE_SIMD does for the `vpe` command: every kernel on the target named, any case.
 TEST(FitKernelTargets, RestrictingToATargetByNameDispatchesToIt) {
     for (const std::int64_t target : kernelTargets()) {
-        std::string name = hwy::TargetName(target);
+        std::string name = kernelTargetName(target);
         std::transform(name.begin(), name.end(), name.begin(),
                        [](char c) { return static_cast<char>(std::tolower(c)); });
         restrictKernelTarget(name);
         EXPECT_EQ(activeKernelTarget(), target) << name;
-        EXPECT_STREQ(activeKernelTargetName(), hwy::TargetName(target));
+        EXPECT_STREQ(activeKernelTargetName(), kernelTargetName(target));
         hwy::DisableTargets(0);  // the process's own choice again
     }
     EXPECT_EQ(activeKernelTarget(), kernelTargets().front());

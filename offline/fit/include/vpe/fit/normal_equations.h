@@ -105,8 +105,10 @@ void solveNormalEquations(const NormalEquationSums& sums, int harmonics, double 
 // runs, best first. The best one runs unless hwy::SetSupportedTargetsForTest narrows the
 // choice, as the tests and the benchmark do to run each.
 std::vector<std::int64_t> kernelTargets();
-// The target the kernels dispatch to now, and its name (AVX3, AVX2, SSE4, NEON, ...).
+// The target the kernels dispatch to now, and its name (AVX3, AVX2, SSE4, NEON, ...; SCALAR for
+// Highway's portable fallback, whichever the compiler built).
 std::int64_t activeKernelTarget();
+const char* kernelTargetName(std::int64_t target);
 const char* activeKernelTargetName();
 
 // Restricts every SIMD kernel of the fit, for the rest of the process, to the target called
