@@ -33,14 +33,6 @@ using renderer::Vec3d;
 // variation there (texture, shading, foreshortening), which a seamless blend leaves alone.
 constexpr int kSeamWindow = 4;
 
-// The frame a projector is sent: 8-bit levels, as the device's framebuffer holds them.
-renderer::RgbImage quantized(renderer::RgbImage levels) {
-    for (float& v : levels.values) {
-        v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
-    }
-    return levels;
-}
-
 struct SeamSteps {
     double ratio = 0;
     std::size_t boundaryPairs = 0;
@@ -239,7 +231,7 @@ ShowCheckReport checkShow(const ShowCheckOptions& options) {
         for (const auto& scene : scenes) {
             renderScenes.push_back(scene->scene(light, viewer));
             renderOptions.gain = static_cast<double>(scene->bundle().settings().gain);
-            frames.push_back(quantized(
+            frames.push_back(detail::quantized(
                 renderer::renderProjectorFrame(renderScenes.back(), renderOptions).level));
         }
         std::vector<const renderer::RenderScene*> scenePointers;

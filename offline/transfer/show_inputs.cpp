@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "show_inputs.h"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "vpe/common/input_error.h"
@@ -39,6 +41,13 @@ ShowInputs::ShowInputs(const std::filesystem::path& capture,
 renderer::Vec3d ShowInputs::at(double azimuthDegrees, double elevationDegrees) const {
     const renderer::Vec3d d = directionAt(azimuthDegrees, elevationDegrees);
     return {centre_.x + distance_ * d.x, centre_.y + distance_ * d.y, centre_.z + distance_ * d.z};
+}
+
+renderer::RgbImage quantized(renderer::RgbImage levels) {
+    for (float& v : levels.values) {
+        v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+    }
+    return levels;
 }
 
 }  // namespace vpe::transfer::detail

@@ -38,4 +38,7 @@ private:
     double distance_ = 0;
 };
 
+// The frame a projector is sent: 8-bit levels, as the device's framebuffer holds them.
+renderer::RgbImage quantized(renderer::RgbImage levels);
+
 }  // namespace vpe::transfer::detail

@@ -49,14 +49,6 @@ std::vector<Visitor> standingVisitors(const TogetherOptions& options) {
     return visitors;
 }
 
-// The frame a projector is sent: 8-bit levels, as the device's framebuffer holds them.
-renderer::RgbImage quantized(renderer::RgbImage levels) {
-    for (float& v : levels.values) {
-        v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
-    }
-    return levels;
-}
-
 // The azimuth (degrees, directionAt's) of a point seen from the object's middle.
 double azimuthOf(const Vec3d& point, const Vec3d& centre) {
     return std::atan2(point.x - centre.x, point.z - centre.z) * 180.0 / std::numbers::pi;
@@ -182,7 +174,8 @@ TogetherReport checkVisitorsTogether(const TogetherOptions& options, ViewerModel
                 }
             }
             renderOptions.gain = static_cast<double>(scene->bundle().settings().gain);
-            frames.push_back(quantized(renderer::renderProjectorFrame(rs, renderOptions).level));
+            frames.push_back(
+                detail::quantized(renderer::renderProjectorFrame(rs, renderOptions).level));
             renderScenes.push_back(std::move(rs));
         }
     };
